@@ -1,0 +1,17 @@
+//! wavetrace: a research testbed comparing megakernel and wavefront GPU path tracing.
+//!
+//! The CPU reference ([`cpu`]) is the ground truth; the GPU methods ([`gpu`]) run on wgpu.
+//! All of them draw random numbers from [`rng`], so they trace the same paths.
+
+pub mod bvh;
+pub mod camera;
+pub mod cpu;
+pub mod film;
+pub mod gpu;
+pub mod image_io;
+pub mod progress;
+pub mod report;
+pub mod rng;
+pub mod scene;
+pub mod settings;
+pub mod stats;

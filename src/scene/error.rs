@@ -1,0 +1,23 @@
+//! Errors from reading a scene: each names the file, the JSON path and the reason.
+use std::fmt;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneError {
+    /// The file, or `<built-in NAME>` / `<string>`.
+    pub file: String,
+    /// JSON path of the offending value, e.g. `objects[3].radius`; empty for whole-file errors.
+    pub path: String,
+    pub reason: String,
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.path.is_empty() {
+            write!(f, "{}: {}", self.file, self.reason)
+        } else {
+            write!(f, "{}: {}: {}", self.file, self.path, self.reason)
+        }
+    }
+}
+
+impl std::error::Error for SceneError {}

@@ -1,0 +1,101 @@
+//! The scene model: what Ray Tracing in One Weekend's scenes need, and nothing more.
+//!
+//! A [`Scene`] is built-in ([`builtin`]) or read from a versioned JSON file ([`load`]); it can be
+//! written back out ([`export`]) and loaded again unchanged.
+
+pub mod builtin;
+pub mod error;
+pub mod export;
+pub mod load;
+
+use glam::Vec3;
+
+pub use error::SceneError;
+
+/// The format tag every scene file carries in its `"format"` field.
+pub const FORMAT: &str = "wavetrace-scene/1";
+
+/// Camera as in Ray Tracing in One Weekend (4th edition): the image size comes from the render
+/// settings, not the scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CameraSpec {
+    pub lookfrom: Vec3,
+    pub lookat: Vec3,
+    pub vup: Vec3,
+    /// Vertical field of view, degrees.
+    pub vfov: f32,
+    /// Angle of the defocus cone through each pixel, degrees; 0 is a pinhole.
+    pub defocus_angle: f32,
+    /// Distance from `lookfrom` to the plane of perfect focus.
+    pub focus_dist: f32,
+}
+
+/// What a ray that leaves the scene sees.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Background {
+    /// The book's gradient: white at the horizon blending to (0.5, 0.7, 1.0) straight up.
+    Sky,
+    /// The same radiance in every direction (the furnace test).
+    Constant(Vec3),
+}
+
+/// The four material kinds the book's scenes use.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Material {
+    Lambertian { albedo: Vec3 },
+    Metal { albedo: Vec3, fuzz: f32 },
+    /// Schlick's approximation for reflectance; `ior < 1` models a bubble.
+    Dielectric { ior: f32 },
+    /// A light: adds `radiance` and ends the path.
+    Emissive { radiance: Vec3 },
+}
+
+impl Material {
+    /// The stable name used in scene files, GPU kind ids and reports.
+    pub fn kind_name(&self) -> &'static str {
+        match self {
+            Material::Lambertian { .. } => "lambertian",
+            Material::Metal { .. } => "metal",
+            Material::Dielectric { .. } => "dielectric",
+            Material::Emissive { .. } => "emissive",
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct NamedMaterial {
+    pub name: String,
+    pub material: Material,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere {
+    pub center: Vec3,
+    pub radius: f32,
+    /// Index into [`Scene::materials`].
+    pub material: u32,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    /// A built-in name, or the file's stem.
+    pub name: String,
+    pub camera: CameraSpec,
+    pub background: Background,
+    pub materials: Vec<NamedMaterial>,
+    pub spheres: Vec<Sphere>,
+}
+
+impl Scene {
+    /// Resolves a `--scene` argument: a built-in name, otherwise a path to a scene file.
+    pub fn resolve(arg: &str) -> Result<Scene, SceneError> {
+        match builtin::by_name(arg) {
+            Some(scene) => Ok(scene),
+            None => load::from_file(std::path::Path::new(arg)),
+        }
+    }
+
+    pub fn material(&self, sphere: &Sphere) -> &Material {
+        &self.materials[sphere.material as usize].material
+    }
+}
