@@ -1,1 +1,62 @@
-fn main() {}
+//! Composes every entry shader (`shaders/*.wgsl`, `shaders/tests/*.wgsl`) with its includes and
+//! validates it with naga, so a shader error is a build error. The composed sources land in
+//! OUT_DIR and are embedded by `src/gpu/shaders.rs`.
+
+#[path = "src/shader_include.rs"]
+mod shader_include;
+
+use std::path::{Path, PathBuf};
+
+fn main() {
+    let root = Path::new("shaders");
+    let out = PathBuf::from(std::env::var("OUT_DIR").unwrap());
+    println!("cargo:rerun-if-changed=shaders");
+    println!("cargo:rerun-if-changed=src/shader_include.rs");
+    let mut entries = Vec::new();
+    for dir in ["", "tests"] {
+        for e in std::fs::read_dir(root.join(dir)).expect("read shaders/") {
+            let p = e.unwrap().path();
+            if p.extension().is_some_and(|x| x == "wgsl") {
+                entries.push(p.strip_prefix(root).unwrap().to_string_lossy().into_owned());
+            }
+        }
+    }
+    entries.sort();
+    let read = |p: &Path| std::fs::read_to_string(p).map_err(|e| e.to_string());
+    let mut failed = false;
+    for entry in &entries {
+        let (src, files) = match shader_include::compose(root, entry, &read) {
+            Ok(x) => x,
+            Err(e) => {
+                println!("cargo:warning=shader {entry}: {e}");
+                failed = true;
+                continue;
+            }
+        };
+        for f in files {
+            println!("cargo:rerun-if-changed=shaders/{f}");
+        }
+        if let Err(e) = validate(&src) {
+            println!("cargo:warning=shader {entry} is invalid:");
+            for line in e.lines() {
+                println!("cargo:warning={line}");
+            }
+            failed = true;
+        }
+        let name = entry.replace('/', "_");
+        std::fs::write(out.join(name), src).unwrap();
+    }
+    if failed {
+        panic!("WGSL shaders failed to compose or validate (see warnings above)");
+    }
+}
+
+fn validate(src: &str) -> Result<(), String> {
+    let module = naga::front::wgsl::parse_str(src).map_err(|e| e.emit_to_string(src))?;
+    let mut v = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    );
+    v.validate(&module).map_err(|e| e.emit_to_string(src))?;
+    Ok(())
+}

@@ -1,1 +1,117 @@
-//! TODO: being written.
+//! Per-pixel sample statistics: the sum and sum of squares of every finite sample, and a count of
+//! the NaN/infinite samples that were dropped instead of accumulated.
+
+use crate::layout::FilmPixel;
+
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PixelStats {
+    pub sum: [f64; 3],
+    pub sum_sq: [f64; 3],
+    /// Samples accumulated.
+    pub count: u32,
+    /// Samples dropped for being NaN or infinite.
+    pub invalid: u32,
+}
+
+impl PixelStats {
+    #[inline]
+    pub fn add(&mut self, v: [f64; 3]) {
+        if v.iter().all(|c| c.is_finite()) {
+            for i in 0..3 {
+                self.sum[i] += v[i];
+                self.sum_sq[i] += v[i] * v[i];
+            }
+            self.count += 1;
+        } else {
+            self.invalid += 1;
+        }
+    }
+
+    pub fn mean(&self) -> [f64; 3] {
+        if self.count == 0 {
+            return [0.0; 3];
+        }
+        self.sum.map(|s| s / self.count as f64)
+    }
+
+    /// Unbiased variance of the pixel's mean (sample variance / n); 0 with fewer than 2 samples.
+    pub fn variance_of_mean(&self) -> [f64; 3] {
+        let n = self.count as f64;
+        if self.count < 2 {
+            return [0.0; 3];
+        }
+        let m = self.mean();
+        std::array::from_fn(|i| ((self.sum_sq[i] / n - m[i] * m[i]).max(0.0) * n / (n - 1.0)) / n)
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Film {
+    pub width: u32,
+    pub height: u32,
+    /// Samples taken per pixel, valid or not.
+    pub spp: u32,
+    pub pixels: Vec<PixelStats>,
+}
+
+impl Film {
+    pub fn new(width: u32, height: u32, spp: u32) -> Self {
+        Self { width, height, spp, pixels: vec![PixelStats::default(); (width * height) as usize] }
+    }
+
+    /// Reads back the GPU film (f32 sums; `sum[3]` counts dropped samples).
+    pub fn from_gpu(width: u32, height: u32, spp: u32, gpu: &[FilmPixel]) -> Self {
+        let pixels = gpu
+            .iter()
+            .map(|p| {
+                let invalid = p.sum[3] as u32;
+                PixelStats {
+                    sum: [p.sum[0], p.sum[1], p.sum[2]].map(f64::from),
+                    sum_sq: [p.sum_sq[0], p.sum_sq[1], p.sum_sq[2]].map(f64::from),
+                    count: spp - invalid,
+                    invalid,
+                }
+            })
+            .collect();
+        Self { width, height, spp, pixels }
+    }
+
+    pub fn pixel(&self, x: u32, y: u32) -> &PixelStats {
+        &self.pixels[(y * self.width + x) as usize]
+    }
+
+    /// Interleaved RGB means, row-major from the top row, as f32.
+    pub fn mean_rgb(&self) -> Vec<f32> {
+        self.pixels.iter().flat_map(|p| p.mean().map(|c| c as f32)).collect()
+    }
+
+    /// Mean over all pixels and channels.
+    pub fn image_mean(&self) -> f64 {
+        let total: f64 = self.pixels.iter().map(|p| p.mean().iter().sum::<f64>()).sum();
+        total / (3 * self.pixels.len()) as f64
+    }
+
+    /// NaN/Inf samples dropped over the whole image.
+    pub fn invalid_samples(&self) -> u64 {
+        self.pixels.iter().map(|p| p.invalid as u64).sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn non_finite_samples_are_counted_not_accumulated() {
+        let mut p = PixelStats::default();
+        p.add([1.0, 2.0, 3.0]);
+        p.add([f64::NAN, 0.0, 0.0]);
+        p.add([3.0, 2.0, f64::INFINITY]);
+        p.add([3.0, 4.0, 5.0]);
+        assert_eq!(p.count, 2);
+        assert_eq!(p.invalid, 2);
+        assert_eq!(p.mean(), [2.0, 3.0, 4.0]);
+        // Sample variance of {1,3} is 2, so the mean's variance is 1.
+        assert!((p.variance_of_mean()[0] - 1.0).abs() < 1e-12);
+    }
+}

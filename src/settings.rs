@@ -1,1 +1,60 @@
-//! TODO: being written.
+//! Render settings shared by every method.
+
+/// How rays find their closest hit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Accel {
+    /// SAH bounding volume hierarchy (the default).
+    Bvh,
+    /// No hierarchy: every ray tests every sphere, as the seeds' megakernels did. Implemented as a
+    /// BVH with a single leaf, so all methods keep one traversal code path.
+    None,
+}
+
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    pub spp: u32,
+    /// Rays per path at most, as the book's `max_depth` (a path that needs more contributes 0).
+    pub max_depth: u32,
+    pub seed: u32,
+    pub accel: Accel,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self { width: 400, height: 225, spp: 16, max_depth: 50, seed: 0, accel: Accel::Bvh }
+    }
+}
+
+impl RenderSettings {
+    pub fn pixel_count(&self) -> u64 {
+        self.width as u64 * self.height as u64
+    }
+
+    pub fn sample_count(&self) -> u64 {
+        self.pixel_count() * self.spp as u64
+    }
+
+    /// Rejects settings no method can render; the message names the setting.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.width == 0 || self.height == 0 {
+            return Err(format!("image size {}x{} is empty", self.width, self.height));
+        }
+        if self.spp == 0 {
+            return Err("spp must be at least 1".into());
+        }
+        if self.max_depth == 0 {
+            return Err("max-depth must be at least 1".into());
+        }
+        // Pixel and sample indices key the RNG as u32, and a bounce has 24 bits in the key.
+        if self.pixel_count() > u32::MAX as u64 {
+            return Err(format!("{}x{} has more than 2^32 pixels", self.width, self.height));
+        }
+        if self.max_depth >= 1 << 24 {
+            return Err("max-depth must be below 2^24".into());
+        }
+        Ok(())
+    }
+}

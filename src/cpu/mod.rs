@@ -1,1 +1,54 @@
-//! TODO: being written.
+//! The CPU reference renderer: the accuracy ground truth and the seeds' CPU baseline. Rows are
+//! spread over threads with rayon; every sample's random numbers come from [`crate::rng`], so the
+//! result does not depend on the number of threads.
+
+pub mod background;
+pub mod bvh;
+pub mod camera;
+pub mod integrator;
+pub mod material;
+pub mod ray;
+pub mod real;
+pub mod sampling;
+pub mod sphere;
+pub mod vec3;
+
+use crate::camera::CameraFrame;
+use crate::film::{Film, PixelStats};
+use crate::packed_scene::PackedScene;
+use crate::settings::RenderSettings;
+use rayon::prelude::*;
+use real::Real;
+
+/// Renders with the integrator computing in `T`; `on_row` is called once per finished row.
+pub fn render<T: Real>(
+    scene: &PackedScene,
+    frame: &CameraFrame,
+    settings: &RenderSettings,
+    on_row: &(dyn Fn() + Sync),
+) -> Film {
+    let camera = camera::Camera::<T>::new(frame);
+    let w = settings.width;
+    let mut film = Film::new(w, settings.height, settings.spp);
+    film.pixels.par_chunks_mut(w as usize).enumerate().for_each(|(y, row)| {
+        for (x, px) in row.iter_mut().enumerate() {
+            let mut stats = PixelStats::default();
+            for s in 0..settings.spp {
+                let c = integrator::trace_path(
+                    scene,
+                    &camera,
+                    w,
+                    x as u32,
+                    y as u32,
+                    s,
+                    settings.max_depth,
+                    settings.seed,
+                );
+                stats.add(c.to_f64());
+            }
+            *px = stats;
+        }
+        on_row();
+    });
+    film
+}

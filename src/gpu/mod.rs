@@ -1,1 +1,16 @@
-//! TODO: being written.
+//! The GPU methods on wgpu, and the plumbing they share.
+
+pub mod buffers;
+pub mod context;
+pub mod megakernel;
+pub mod scene_buffers;
+pub mod shaders;
+pub mod timing;
+
+/// One static label per GPU pass: the same string names the pipeline, the WGSL entry point,
+/// the timestamp slot, the row of the timing table and the key in JSON reports.
+pub mod label {
+    pub const MEGAKERNEL: &str = "megakernel";
+}
+
+pub use context::GpuContext;

@@ -1,0 +1,95 @@
+// Closest-hit BVH traversal; twin of src/cpu/bvh.rs (same stack, same child order).
+// Needs `nodes` and `spheres` bound (shared/scene.wgsl).
+
+// Matches bvh::MAX_DEPTH: the builder never makes a deeper tree.
+const BVH_STACK: u32 = 64u;
+
+struct BvhNode {
+    min: vec3<f32>,
+    left_or_first: u32,
+    max: vec3<f32>,
+    count: u32,
+}
+
+struct Hit {
+    t: f32,
+    // Sphere slot, or 0xffffffff for a miss.
+    sphere: u32,
+}
+
+const NO_HIT: u32 = 0xffffffffu;
+
+fn safe_inverse(d: vec3<f32>) -> vec3<f32> {
+    let tiny = 1e-20;
+    let s = select(vec3<f32>(tiny), vec3<f32>(-tiny), d < vec3<f32>(0.0));
+    return 1.0 / select(d, s, abs(d) < vec3<f32>(tiny));
+}
+
+// Entry distance into the box if the ray enters before t_max, else -1.
+fn hit_box(n: BvhNode, o: vec3<f32>, inv: vec3<f32>, t_min: f32, t_max: f32) -> f32 {
+    let t1 = (n.min - o) * inv;
+    let t2 = (n.max - o) * inv;
+    let lo = min(t1, t2);
+    let hi = max(t1, t2);
+    let near = max(max(max(lo.x, lo.y), lo.z), t_min);
+    let far = min(min(min(hi.x, hi.y), hi.z), t_max);
+    if near <= far {
+        return near;
+    }
+    return -1.0;
+}
+
+fn closest_hit(ray: Ray, t_min: f32) -> Hit {
+    let inv = safe_inverse(ray.dir);
+    var closest = 3.4028235e38;
+    var hit = Hit(0.0, NO_HIT);
+    var stack: array<u32, BVH_STACK>;
+    var top = 0u;
+    var current = 0u;
+    if hit_box(nodes[0], ray.origin, inv, t_min, closest) < 0.0 {
+        return hit;
+    }
+    loop {
+        let n = nodes[current];
+        if n.count > 0u {
+            for (var slot = n.left_or_first; slot < n.left_or_first + n.count; slot++) {
+                let t = hit_sphere(spheres[slot], ray, t_min, closest);
+                if t >= 0.0 {
+                    closest = t;
+                    hit = Hit(t, slot);
+                }
+            }
+        } else {
+            let a = current + 1u;
+            let b = n.left_or_first;
+            let ta = hit_box(nodes[a], ray.origin, inv, t_min, closest);
+            let tb = hit_box(nodes[b], ray.origin, inv, t_min, closest);
+            if ta >= 0.0 && tb >= 0.0 {
+                // Nearer child first; the farther waits on the stack.
+                if ta <= tb {
+                    stack[top] = b;
+                    current = a;
+                } else {
+                    stack[top] = a;
+                    current = b;
+                }
+                top++;
+                continue;
+            }
+            if ta >= 0.0 {
+                current = a;
+                continue;
+            }
+            if tb >= 0.0 {
+                current = b;
+                continue;
+            }
+        }
+        if top == 0u {
+            break;
+        }
+        top--;
+        current = stack[top];
+    }
+    return hit;
+}

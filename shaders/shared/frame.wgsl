@@ -1,0 +1,21 @@
+// Per-render constants; twin of FrameUniform in src/layout.rs.
+
+const BACKGROUND_SKY: u32 = 0u;
+const BACKGROUND_CONSTANT: u32 = 1u;
+
+struct Frame {
+    camera_center: vec3<f32>,
+    has_defocus: u32,
+    pixel00: vec3<f32>,
+    width: u32,
+    pixel_delta_u: vec3<f32>,
+    height: u32,
+    pixel_delta_v: vec3<f32>,
+    max_depth: u32,
+    defocus_disk_u: vec3<f32>,
+    seed: u32,
+    defocus_disk_v: vec3<f32>,
+    background_kind: u32,
+    background_color: vec3<f32>,
+    _pad: u32,
+}

@@ -1,0 +1,91 @@
+// Scattering by the book's materials; twin of src/cpu/material.rs.
+
+const MATERIAL_LAMBERTIAN: u32 = 0u;
+const MATERIAL_METAL: u32 = 1u;
+const MATERIAL_DIELECTRIC: u32 = 2u;
+const MATERIAL_EMISSIVE: u32 = 3u;
+
+struct Material {
+    // Albedo, or radiance for an emitter.
+    color: vec3<f32>,
+    // Fuzz for metal, index of refraction for dielectric.
+    param: f32,
+    kind: u32,
+}
+
+struct Scatter {
+    attenuation: vec3<f32>,
+    dir: vec3<f32>,
+    // False: the path is absorbed.
+    ok: bool,
+}
+
+fn reflect_dir(v: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    return v - n * (2.0 * dot(v, n));
+}
+
+fn refract_dir(uv: vec3<f32>, n: vec3<f32>, eta_ratio: f32) -> vec3<f32> {
+    let cos_theta = min(dot(-uv, n), 1.0);
+    let perp = (uv + n * cos_theta) * eta_ratio;
+    let parallel = n * -sqrt(abs(1.0 - dot(perp, perp)));
+    return perp + parallel;
+}
+
+// Schlick's approximation; (1 - cosine)^5 by multiplication, as the CPU twin, not pow().
+fn reflectance(cosine: f32, eta_ratio: f32) -> f32 {
+    var r0 = (1.0 - eta_ratio) / (1.0 + eta_ratio);
+    r0 = r0 * r0;
+    let t = 1.0 - cosine;
+    let t2 = t * t;
+    return r0 + (1.0 - r0) * (t2 * t2 * t);
+}
+
+fn scatter_lambertian(m: Material, normal: vec3<f32>, u: vec4<f32>) -> Scatter {
+    var d = normal + unit_vector(u.x, u.y);
+    // The book's near_zero guard.
+    if all(abs(d) < vec3<f32>(1e-8)) {
+        d = normal;
+    }
+    return Scatter(m.color, normalize(d), true);
+}
+
+fn scatter_metal(m: Material, ray: Ray, normal: vec3<f32>, u: vec4<f32>) -> Scatter {
+    let d = reflect_dir(ray.dir, normal) + unit_vector(u.x, u.y) * m.param;
+    if dot(d, normal) <= 0.0 {
+        return Scatter(vec3<f32>(0.0), vec3<f32>(0.0), false);
+    }
+    return Scatter(m.color, normalize(d), true);
+}
+
+fn scatter_dielectric(m: Material, ray: Ray, normal: vec3<f32>, front_face: bool, u: vec4<f32>) -> Scatter {
+    var ri = m.param;
+    if front_face {
+        ri = 1.0 / m.param;
+    }
+    let cos_theta = min(dot(-ray.dir, normal), 1.0);
+    let sin_theta = sqrt(max(1.0 - cos_theta * cos_theta, 0.0));
+    var d: vec3<f32>;
+    if ri * sin_theta > 1.0 || reflectance(cos_theta, ri) > u.z {
+        d = reflect_dir(ray.dir, normal);
+    } else {
+        d = refract_dir(ray.dir, normal, ri);
+    }
+    return Scatter(vec3<f32>(1.0), normalize(d), true);
+}
+
+fn scatter(m: Material, ray: Ray, normal: vec3<f32>, front_face: bool, u: vec4<f32>) -> Scatter {
+    switch m.kind {
+        case MATERIAL_LAMBERTIAN: {
+            return scatter_lambertian(m, normal, u);
+        }
+        case MATERIAL_METAL: {
+            return scatter_metal(m, ray, normal, u);
+        }
+        case MATERIAL_DIELECTRIC: {
+            return scatter_dielectric(m, ray, normal, front_face, u);
+        }
+        default: {
+            return Scatter(vec3<f32>(0.0), vec3<f32>(0.0), false);
+        }
+    }
+}

@@ -1,0 +1,17 @@
+// The scene bindings every GPU method shares (group 0); Rust side: src/gpu/scene_buffers.rs.
+
+#include "shared/frame.wgsl"
+#include "shared/ray.wgsl"
+#include "shared/sphere.wgsl"
+#include "shared/sampling.wgsl"
+#include "shared/material.wgsl"
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var<storage, read> spheres: array<Sphere>;
+@group(0) @binding(2) var<storage, read> sphere_material: array<u32>;
+@group(0) @binding(3) var<storage, read> materials: array<Material>;
+@group(0) @binding(4) var<storage, read> nodes: array<BvhNode>;
+
+#include "shared/bvh.wgsl"
+#include "shared/camera.wgsl"
+#include "shared/background.wgsl"

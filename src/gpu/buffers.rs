@@ -1,0 +1,114 @@
+//! Buffer creation checked against the adapter's limits, bind-group-layout entries, and
+//! read-back: the wgpu plumbing every stage shares.
+
+use super::context::GpuContext;
+use anyhow::{anyhow, bail, Result};
+use wgpu::util::DeviceExt;
+
+/// A storage buffer holding `data` (at least 4 bytes: wgpu rejects empty bindings). Refused with
+/// a message naming `what` when it exceeds the adapter's storage-binding or buffer limit.
+pub fn storage_init(ctx: &GpuContext, label: &'static str, data: &[u8], extra: wgpu::BufferUsages) -> Result<wgpu::Buffer> {
+    let padded;
+    let contents = if data.is_empty() {
+        padded = [0u8; 16];
+        &padded[..]
+    } else {
+        data
+    };
+    check_size(ctx, label, contents.len() as u64)?;
+    Ok(ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents,
+        usage: wgpu::BufferUsages::STORAGE | extra,
+    }))
+}
+
+/// A zeroed storage buffer of `size` bytes, checked like [`storage_init`].
+pub fn storage_zeroed(ctx: &GpuContext, label: &'static str, size: u64, extra: wgpu::BufferUsages) -> Result<wgpu::Buffer> {
+    let size = size.max(16);
+    check_size(ctx, label, size)?;
+    Ok(ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::STORAGE | extra,
+        mapped_at_creation: false,
+    }))
+}
+
+/// Errors out, naming the buffer and both sizes, if one binding of `size` bytes cannot exist here.
+pub fn check_size(ctx: &GpuContext, label: &str, size: u64) -> Result<()> {
+    let limit = ctx.summary.max_storage_buffer_binding_size.min(ctx.summary.max_buffer_size);
+    if size > limit {
+        bail!(
+            "the {label} buffer needs {} but {} allows at most {} per storage binding; \
+             use a smaller image or scene",
+            human_bytes(size),
+            ctx.summary.name,
+            human_bytes(limit)
+        );
+    }
+    Ok(())
+}
+
+pub fn human_bytes(b: u64) -> String {
+    match b {
+        b if b >= 1 << 30 => format!("{:.2} GiB", b as f64 / (1u64 << 30) as f64),
+        b if b >= 1 << 20 => format!("{:.1} MiB", b as f64 / (1u64 << 20) as f64),
+        b if b >= 1 << 10 => format!("{:.1} KiB", b as f64 / 1024.0),
+        b => format!("{b} B"),
+    }
+}
+
+/// Layout entry for a compute-visible storage buffer.
+pub fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// Layout entry for a compute-visible uniform buffer.
+pub fn uniform_entry(binding: u32, dynamic_offset: bool) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: dynamic_offset,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// Copies `size` bytes of `src` to the host (in its own submission) and returns them as `T`s.
+pub fn read_back<T: bytemuck::Pod>(ctx: &GpuContext, src: &wgpu::Buffer, size: u64) -> Result<Vec<T>> {
+    let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("read-back"),
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut enc = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("read-back") });
+    enc.copy_buffer_to_buffer(src, 0, &staging, 0, size);
+    ctx.queue.submit([enc.finish()]);
+    let (tx, rx) = std::sync::mpsc::channel();
+    staging.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    ctx.wait()?;
+    rx.recv()
+        .map_err(|_| anyhow!("read-back was never completed"))?
+        .map_err(|e| anyhow!("mapping the read-back buffer failed: {e}"))?;
+    let view = staging.get_mapped_range(..).map_err(|e| anyhow!("read-back: {e}"))?;
+    let out = bytemuck::cast_slice::<u8, T>(&view).to_vec();
+    drop(view);
+    staging.unmap();
+    Ok(out)
+}

@@ -1,0 +1,213 @@
+//! Adapter choice and device set-up, shared by the CLI, tests and benches.
+//!
+//! A real GPU is preferred; `--adapter SUBSTRING` and `WGPU_BACKEND` narrow the choice; a
+//! software adapter (lavapipe) is used with a one-line notice. Device errors and device loss
+//! are captured here and surfaced as `Err` by [`GpuContext::check`], never as panics.
+
+use anyhow::{anyhow, bail, Result};
+use std::sync::{Arc, Mutex};
+
+/// Shown when no adapter exists at all.
+pub const NO_ADAPTER_HELP: &str = "no GPU adapter found. On Debian/Ubuntu install the software \
+Vulkan driver with `sudo apt-get install -y mesa-vulkan-drivers` (or run ./scripts/setup.sh), \
+or install your GPU's Vulkan driver";
+
+/// What the tool needs to know about an adapter (also printed by `wavetrace info` and written
+/// into reports).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct AdapterSummary {
+    pub name: String,
+    pub backend: String,
+    pub device_type: String,
+    pub driver: String,
+    pub driver_info: String,
+    pub timestamps: bool,
+    pub subgroups: bool,
+    pub subgroup_min_size: u32,
+    pub subgroup_max_size: u32,
+    pub max_storage_buffer_binding_size: u64,
+    pub max_buffer_size: u64,
+    pub max_compute_workgroups_per_dimension: u32,
+    pub max_compute_invocations_per_workgroup: u32,
+}
+
+impl AdapterSummary {
+    pub fn of(adapter: &wgpu::Adapter) -> Self {
+        let info = adapter.get_info();
+        let f = adapter.features();
+        let l = adapter.limits();
+        Self {
+            name: info.name,
+            backend: format!("{:?}", info.backend),
+            device_type: format!("{:?}", info.device_type),
+            driver: info.driver,
+            driver_info: info.driver_info,
+            timestamps: f.contains(wgpu::Features::TIMESTAMP_QUERY),
+            subgroups: f.contains(wgpu::Features::SUBGROUP),
+            subgroup_min_size: info.subgroup_min_size,
+            subgroup_max_size: info.subgroup_max_size,
+            max_storage_buffer_binding_size: l.max_storage_buffer_binding_size as u64,
+            max_buffer_size: l.max_buffer_size,
+            max_compute_workgroups_per_dimension: l.max_compute_workgroups_per_dimension,
+            max_compute_invocations_per_workgroup: l.max_compute_invocations_per_workgroup,
+        }
+    }
+
+    pub fn is_software(&self) -> bool {
+        self.device_type == "Cpu"
+    }
+}
+
+/// All adapters found (honouring `WGPU_BACKEND`), each with why it ranks where it does.
+pub fn enumerate() -> (wgpu::Instance, Vec<wgpu::Adapter>) {
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+    (instance, adapters)
+}
+
+/// Higher is better: discrete > integrated > virtual > software > other; Vulkan breaks ties
+/// because the software driver and NVIDIA both speak it and it has every feature we use.
+fn rank(a: &wgpu::Adapter) -> (u32, u32) {
+    let info = a.get_info();
+    let t = match info.device_type {
+        wgpu::DeviceType::DiscreteGpu => 4,
+        wgpu::DeviceType::IntegratedGpu => 3,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Cpu => 1,
+        wgpu::DeviceType::Other => 0,
+    };
+    (t, (info.backend == wgpu::Backend::Vulkan) as u32)
+}
+
+/// Picks the adapter: the best-ranked one whose name contains `filter` (case-insensitive).
+/// Returns it and a sentence saying why.
+pub fn choose(adapters: &[wgpu::Adapter], filter: Option<&str>) -> Result<(usize, String)> {
+    if adapters.is_empty() {
+        bail!("{NO_ADAPTER_HELP}");
+    }
+    let wanted = |a: &wgpu::Adapter| match filter {
+        Some(f) => a.get_info().name.to_lowercase().contains(&f.to_lowercase()),
+        None => true,
+    };
+    let best = (0..adapters.len())
+        .filter(|&i| wanted(&adapters[i]))
+        .max_by_key(|&i| rank(&adapters[i]))
+        .ok_or_else(|| {
+            let names: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
+            anyhow!("no adapter name contains {:?}; found: {}", filter.unwrap_or(""), names.join(", "))
+        })?;
+    let info = adapters[best].get_info();
+    let why = match filter {
+        Some(f) => format!("the best-ranked adapter matching --adapter {f:?}"),
+        None => format!("the best-ranked adapter ({:?} on {:?})", info.device_type, info.backend),
+    };
+    Ok((best, why))
+}
+
+/// A device and queue with error capture, and what was chosen.
+pub struct GpuContext {
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub summary: AdapterSummary,
+    errors: Arc<Mutex<Vec<String>>>,
+}
+
+impl GpuContext {
+    /// Chooses an adapter (see [`choose`]) and opens a device on it with the adapter's own limits
+    /// (wgpu's defaults are far lower, e.g. for storage bindings) and the optional features we use.
+    pub fn new(filter: Option<&str>) -> Result<Self> {
+        let (_instance, mut adapters) = enumerate();
+        let (i, why) = choose(&adapters, filter)?;
+        let adapter = adapters.swap_remove(i);
+        let summary = AdapterSummary::of(&adapter);
+        log::info!("adapter: {} ({}), {why}", summary.name, summary.backend);
+        if summary.is_software() {
+            eprintln!(
+                "notice: using the software adapter {:?}: GPU timings reflect the CPU it runs on",
+                summary.name
+            );
+        }
+        Self::open(adapter, summary)
+    }
+
+    fn open(adapter: wgpu::Adapter, summary: AdapterSummary) -> Result<Self> {
+        let wanted = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::SUBGROUP;
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("wavetrace"),
+            required_features: adapter.features() & wanted,
+            required_limits: adapter.limits(),
+            ..Default::default()
+        }))
+        .map_err(|e| anyhow!("cannot open a device on {}: {e}", summary.name))?;
+        let errors = Arc::new(Mutex::new(Vec::new()));
+        let sink = errors.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            sink.lock().unwrap().push(e.to_string());
+        }));
+        let sink = errors.clone();
+        device.set_device_lost_callback(move |reason, msg| {
+            sink.lock().unwrap().push(format!("device lost ({reason:?}): {msg}"));
+        });
+        Ok(Self { adapter, device, queue, summary, errors })
+    }
+
+    /// Returns the first device error or loss reported since the last check.
+    pub fn check(&self) -> Result<()> {
+        let mut errors = self.errors.lock().unwrap();
+        if errors.is_empty() {
+            return Ok(());
+        }
+        let all = std::mem::take(&mut *errors);
+        bail!("GPU error: {}", all.join("; "))
+    }
+
+    /// Waits for all submitted work, then reports any error or device loss.
+    pub fn wait(&self) -> Result<()> {
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| anyhow!("waiting for the GPU failed: {e}"))?;
+        self.check()
+    }
+
+    /// Creates a compute pipeline, turning validation errors, out-of-memory and internal errors
+    /// (e.g. a shader needing too much scratch memory, wgpu #10027) into `Err`.
+    pub fn compute_pipeline(
+        &self,
+        label: &'static str,
+        module: &wgpu::ShaderModule,
+        layout: &wgpu::PipelineLayout,
+        constants: &[(&str, f64)],
+    ) -> Result<wgpu::ComputePipeline> {
+        let scopes = [wgpu::ErrorFilter::Validation, wgpu::ErrorFilter::OutOfMemory, wgpu::ErrorFilter::Internal]
+            .map(|f| self.device.push_error_scope(f));
+        let pipeline = self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(label),
+            layout: Some(layout),
+            module,
+            entry_point: Some(label),
+            compilation_options: wgpu::PipelineCompilationOptions { constants, ..Default::default() },
+            cache: None,
+        });
+        for scope in scopes.into_iter().rev() {
+            if let Some(e) = pollster::block_on(scope.pop()) {
+                bail!("creating the {label} pipeline failed: {e}");
+            }
+        }
+        self.check()?;
+        Ok(pipeline)
+    }
+
+    /// Creates a shader module from composed WGSL, reporting compilation errors as `Err`.
+    pub fn shader(&self, label: &'static str, source: &str) -> Result<wgpu::ShaderModule> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            bail!("compiling shader {label} failed: {e}");
+        }
+        Ok(module)
+    }
+}

@@ -1,0 +1,131 @@
+//! GPU time per labelled pass: timestamp queries where the adapter has them, otherwise the wall
+//! clock around each submission (and the report says which).
+//!
+//! Resolving and copying timestamps in one encoder can read zeros on Vulkan (wgpu #6406), so the
+//! copy to the host goes in a submission of its own ([`read_back`]).
+
+use super::buffers::read_back;
+use super::context::GpuContext;
+use anyhow::Result;
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+/// Where GPU times come from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TimeSource {
+    /// Timestamp queries at the start and end of every pass.
+    Timestamps,
+    /// Host clock from submit to completion: includes submission overhead and idle gaps.
+    WallClock,
+}
+
+/// Total GPU time and pass count of one label.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct PassTime {
+    pub seconds: f64,
+    pub passes: u64,
+}
+
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Timings {
+    pub source: TimeSource,
+    pub passes: BTreeMap<&'static str, PassTime>,
+}
+
+impl Timings {
+    pub fn total_seconds(&self) -> f64 {
+        self.passes.values().map(|p| p.seconds).sum()
+    }
+}
+
+/// Most passes between two reads: wgpu caps a query set at 4096 queries.
+pub const MAX_PASSES_PER_BATCH: u32 = 2048;
+
+pub struct GpuTimer {
+    queries: Option<(wgpu::QuerySet, wgpu::Buffer)>,
+    labels: Vec<&'static str>,
+    timings: Timings,
+    submitted_at: Option<Instant>,
+}
+
+impl GpuTimer {
+    pub fn new(ctx: &GpuContext) -> Self {
+        let queries = ctx.summary.timestamps.then(|| {
+            let count = 2 * MAX_PASSES_PER_BATCH;
+            let set = ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("pass timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count,
+            });
+            let resolve = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamp resolve"),
+                size: count as u64 * 8,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            (set, resolve)
+        });
+        let source = if queries.is_some() { TimeSource::Timestamps } else { TimeSource::WallClock };
+        Self { queries, labels: Vec::new(), timings: Timings { source, passes: BTreeMap::new() }, submitted_at: None }
+    }
+
+    /// Timestamp writes for the next pass, labelled `label`. At most [`MAX_PASSES_PER_BATCH`]
+    /// passes between [`GpuTimer::finish_batch`] calls.
+    pub fn pass(&mut self, label: &'static str) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        assert!((self.labels.len() as u32) < MAX_PASSES_PER_BATCH, "too many passes in one timing batch");
+        let i = self.labels.len() as u32;
+        self.labels.push(label);
+        self.queries.as_ref().map(|(set, _)| wgpu::ComputePassTimestampWrites {
+            query_set: set,
+            beginning_of_pass_write_index: Some(2 * i),
+            end_of_pass_write_index: Some(2 * i + 1),
+        })
+    }
+
+    /// Records the resolve of this batch's queries; call last in the batch's encoder.
+    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+        if let Some((set, buf)) = &self.queries {
+            if !self.labels.is_empty() {
+                encoder.resolve_query_set(set, 0..2 * self.labels.len() as u32, buf, 0);
+            }
+        }
+    }
+
+    /// Call right after submitting the batch.
+    pub fn submitted(&mut self) {
+        self.submitted_at = Some(Instant::now());
+    }
+
+    /// Waits for the batch and adds its pass times.
+    pub fn finish_batch(&mut self, ctx: &GpuContext) -> Result<()> {
+        ctx.wait()?;
+        let labels = std::mem::take(&mut self.labels);
+        match &self.queries {
+            Some((_, buf)) if !labels.is_empty() => {
+                let ticks: Vec<u64> = read_back(ctx, buf, labels.len() as u64 * 16)?;
+                let ns_per_tick = ctx.queue.get_timestamp_period() as f64;
+                for (i, label) in labels.iter().enumerate() {
+                    let dt = ticks[2 * i + 1].saturating_sub(ticks[2 * i]) as f64 * ns_per_tick * 1e-9;
+                    let e = self.timings.passes.entry(label).or_default();
+                    e.seconds += dt;
+                    e.passes += 1;
+                }
+            }
+            _ => {
+                // Wall clock: the batch's time is split evenly over its passes.
+                let dt = self.submitted_at.take().map_or(0.0, |t| t.elapsed().as_secs_f64());
+                for label in &labels {
+                    let e = self.timings.passes.entry(label).or_default();
+                    e.seconds += dt / labels.len() as f64;
+                    e.passes += 1;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    pub fn into_timings(self) -> Timings {
+        self.timings
+    }
+}

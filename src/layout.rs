@@ -1,0 +1,90 @@
+//! Records shared bit-for-bit between Rust and WGSL. The CPU reference traverses these same
+//! arrays, so it and the GPU read identical scene data. Each struct names its WGSL twin; the
+//! tests in `tests/layout.rs` check sizes and offsets against naga's layout of the shaders.
+
+use bytemuck::{Pod, Zeroable};
+
+/// WGSL: `Sphere` in `shaders/shared/sphere.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct SphereRecord {
+    pub center: [f32; 3],
+    pub radius: f32,
+}
+
+/// Material kinds as stored in [`MaterialRecord::kind`] (WGSL: `MATERIAL_*` in `material.wgsl`).
+pub mod material_kind {
+    pub const LAMBERTIAN: u32 = 0;
+    pub const METAL: u32 = 1;
+    pub const DIELECTRIC: u32 = 2;
+    pub const EMISSIVE: u32 = 3;
+}
+
+/// WGSL: `Material` in `shaders/shared/material.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct MaterialRecord {
+    /// Albedo, or radiance for an emitter.
+    pub color: [f32; 3],
+    /// Fuzz for metal, index of refraction for dielectric, unused otherwise.
+    pub param: f32,
+    pub kind: u32,
+    pub _pad: [u32; 3],
+}
+
+/// WGSL: `BvhNode` in `shaders/shared/bvh.wgsl`. An interior node has `count == 0`, its left
+/// child right after it and its right child at `left_or_first`; a leaf holds spheres
+/// `left_or_first .. left_or_first + count`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct BvhNode {
+    pub min: [f32; 3],
+    pub left_or_first: u32,
+    pub max: [f32; 3],
+    pub count: u32,
+}
+
+/// Background kinds as stored in [`FrameUniform::background_kind`].
+pub mod background_kind {
+    pub const SKY: u32 = 0;
+    pub const CONSTANT: u32 = 1;
+}
+
+/// WGSL: `Frame` in `shaders/shared/frame.wgsl`: everything constant over a render.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct FrameUniform {
+    pub camera_center: [f32; 3],
+    pub has_defocus: u32,
+    pub pixel00: [f32; 3],
+    pub width: u32,
+    pub pixel_delta_u: [f32; 3],
+    pub height: u32,
+    pub pixel_delta_v: [f32; 3],
+    pub max_depth: u32,
+    pub defocus_disk_u: [f32; 3],
+    pub seed: u32,
+    pub defocus_disk_v: [f32; 3],
+    pub background_kind: u32,
+    pub background_color: [f32; 3],
+    pub _pad: u32,
+}
+
+/// WGSL: `Dispatch` in `shaders/megakernel.wgsl`: one dispatch's share of the render.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct DispatchParams {
+    pub pixel_offset: u32,
+    pub pixel_count: u32,
+    pub sample_start: u32,
+    pub sample_count: u32,
+}
+
+/// WGSL: `FilmPixel` in `shaders/shared/film.wgsl`: running sums for one pixel. `sum.w` counts
+/// the samples dropped for being NaN or infinite (exact as f32 up to 2^24).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct FilmPixel {
+    pub sum: [f32; 4],
+    pub sum_sq: [f32; 4],
+}
