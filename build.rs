@@ -8,6 +8,7 @@ mod shader_include;
 use std::path::{Path, PathBuf};
 
 fn main() {
+    git_commit();
     let root = Path::new("shaders");
     let out = PathBuf::from(std::env::var("OUT_DIR").unwrap());
     println!("cargo:rerun-if-changed=shaders");
@@ -59,4 +60,25 @@ fn validate(src: &str) -> Result<(), String> {
     );
     v.validate(&module).map_err(|e| e.emit_to_string(src))?;
     Ok(())
+}
+
+/// The commit the binary is built from, for reports (`WAVETRACE_GIT_COMMIT`; "unknown" outside
+/// a git checkout). Rebuilt when HEAD moves.
+fn git_commit() {
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .args(args)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    let commit = git(&["rev-parse", "HEAD"]).unwrap_or_else(|| "unknown".into());
+    println!("cargo:rustc-env=WAVETRACE_GIT_COMMIT={commit}");
+    if let Some(dir) = git(&["rev-parse", "--git-dir"]) {
+        println!("cargo:rerun-if-changed={dir}/HEAD");
+        if let Some(head_ref) = git(&["symbolic-ref", "-q", "HEAD"]) {
+            println!("cargo:rerun-if-changed={dir}/{head_ref}");
+        }
+    }
 }

@@ -3,13 +3,16 @@
 //! The CPU reference ([`cpu`]) is the ground truth; the GPU methods ([`gpu`]) run on wgpu.
 //! All of them draw random numbers from [`rng`], so they trace the same paths.
 
+pub mod atomic_file;
 pub mod bvh;
 pub mod camera;
+pub mod cli;
 pub mod cpu;
 pub mod film;
 pub mod gpu;
 pub mod image_io;
 pub mod layout;
+pub mod method;
 pub mod packed_scene;
 pub mod progress;
 pub mod report;

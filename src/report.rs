@@ -1,1 +1,115 @@
-//! TODO: being written.
+//! The JSON record of one render (`--report`): what ran, where, how long, and how it went, so a
+//! figure can be traced back to its run.
+
+use crate::gpu::context::AdapterSummary;
+use crate::gpu::timing::{PassTime, TimeSource};
+use crate::method::{Method, MethodOptions, RenderOutput};
+use crate::scene::Scene;
+use crate::settings::RenderSettings;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+pub const RUN_SCHEMA: &str = "wavetrace-run/1";
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Machine {
+    pub hostname: String,
+    pub os: String,
+    pub cpu: String,
+    pub logical_cores: usize,
+}
+
+impl Machine {
+    pub fn this() -> Self {
+        let read = |p: &str| std::fs::read_to_string(p).unwrap_or_default();
+        let cpu = read("/proc/cpuinfo")
+            .lines()
+            .find_map(|l| l.strip_prefix("model name").map(|r| r.trim_start_matches([' ', '\t', ':']).to_string()))
+            .unwrap_or_else(|| std::env::consts::ARCH.to_string());
+        Self {
+            hostname: read("/etc/hostname").trim().to_string(),
+            os: std::env::consts::OS.to_string(),
+            cpu,
+            logical_cores: std::thread::available_parallelism().map_or(1, |n| n.get()),
+        }
+    }
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Build {
+    pub version: &'static str,
+    /// The commit the binary was built from.
+    pub git_commit: &'static str,
+}
+
+impl Build {
+    pub fn this() -> Self {
+        Self { version: env!("CARGO_PKG_VERSION"), git_commit: env!("WAVETRACE_GIT_COMMIT") }
+    }
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneSummary {
+    pub name: String,
+    pub spheres: usize,
+    pub materials: usize,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct RunReport {
+    pub schema: &'static str,
+    pub build: Build,
+    pub machine: Machine,
+    /// None for CPU methods.
+    pub adapter: Option<AdapterSummary>,
+    pub scene: SceneSummary,
+    pub method: Method,
+    pub settings: RenderSettings,
+    pub options: MethodOptions,
+    pub wall_seconds: f64,
+    /// Sum of pass times (None for CPU methods).
+    pub gpu_seconds: Option<f64>,
+    pub time_source: Option<TimeSource>,
+    pub passes: BTreeMap<&'static str, PassTime>,
+    pub dispatches: u64,
+    pub samples: u64,
+    /// Samples per second of GPU time where measured, else of wall time.
+    pub samples_per_second: f64,
+    /// NaN/Inf samples dropped instead of accumulated.
+    pub invalid_samples: u64,
+    pub image_mean: f64,
+}
+
+impl RunReport {
+    pub fn new(
+        scene: &Scene,
+        method: Method,
+        settings: &RenderSettings,
+        options: &MethodOptions,
+        adapter: Option<&AdapterSummary>,
+        out: &RenderOutput,
+    ) -> Self {
+        let gpu_seconds = out.timings.as_ref().map(|t| t.total_seconds());
+        let samples = settings.sample_count();
+        let seconds = gpu_seconds.filter(|&s| s > 0.0).unwrap_or(out.wall_seconds);
+        Self {
+            schema: RUN_SCHEMA,
+            build: Build::this(),
+            machine: Machine::this(),
+            adapter: adapter.cloned(),
+            scene: SceneSummary { name: scene.name.clone(), spheres: scene.spheres.len(), materials: scene.materials.len() },
+            method,
+            settings: settings.clone(),
+            options: options.clone(),
+            wall_seconds: out.wall_seconds,
+            gpu_seconds,
+            time_source: out.timings.as_ref().map(|t| t.source),
+            passes: out.timings.as_ref().map(|t| t.passes.clone()).unwrap_or_default(),
+            dispatches: out.dispatches,
+            samples,
+            samples_per_second: samples as f64 / seconds,
+            invalid_samples: out.film.invalid_samples(),
+            image_mean: out.film.image_mean(),
+        }
+    }
+}

@@ -1,0 +1,43 @@
+//! `wavetrace info`: what GPUs wgpu sees and which one a render would use.
+
+use crate::gpu::buffers::human_bytes;
+use crate::gpu::context::{choose, enumerate, AdapterSummary, NO_ADAPTER_HELP};
+
+#[derive(clap::Args, Debug)]
+#[command(after_help = "Examples:\n  wavetrace info\n  WGPU_BACKEND=vulkan wavetrace info --adapter llvmpipe")]
+pub struct InfoArgs {
+    /// Prefer the adapter whose name contains this (case-insensitive).
+    #[arg(long)]
+    pub adapter: Option<String>,
+}
+
+pub fn run(args: InfoArgs) -> anyhow::Result<()> {
+    let (_instance, adapters) = enumerate();
+    if adapters.is_empty() {
+        anyhow::bail!("{NO_ADAPTER_HELP}");
+    }
+    println!("adapters found: {}", adapters.len());
+    for (i, a) in adapters.iter().enumerate() {
+        let s = AdapterSummary::of(a);
+        println!("  [{i}] {} ({}, {}), driver {} {}", s.name, s.backend, s.device_type, s.driver, s.driver_info);
+    }
+    let (chosen, why) = choose(&adapters, args.adapter.as_deref())?;
+    let s = AdapterSummary::of(&adapters[chosen]);
+    println!("chosen: [{chosen}] {}: {why}", s.name);
+    if s.is_software() {
+        println!("  note: a software adapter; GPU timings measure the CPU it runs on");
+    }
+    println!("  backend:                   {}", s.backend);
+    println!("  driver:                    {} {}", s.driver, s.driver_info);
+    println!("  timestamp queries:         {}", if s.timestamps { "yes" } else { "no (wall-clock timing)" });
+    if s.subgroups {
+        println!("  subgroups:                 yes, size {}..={}", s.subgroup_min_size, s.subgroup_max_size);
+    } else {
+        println!("  subgroups:                 no");
+    }
+    println!("  max storage binding:       {}", human_bytes(s.max_storage_buffer_binding_size));
+    println!("  max buffer size:           {}", human_bytes(s.max_buffer_size));
+    println!("  max workgroups per dim:    {}", s.max_compute_workgroups_per_dimension);
+    println!("  max invocations per group: {}", s.max_compute_invocations_per_workgroup);
+    Ok(())
+}

@@ -1,0 +1,47 @@
+//! The `wavetrace` command line.
+
+pub mod info;
+pub mod render;
+pub mod scene;
+
+use clap::{Parser, Subcommand};
+
+const EXAMPLES: &str = "\
+Examples:
+  wavetrace render --scene rtiow-final --method megakernel --width 1200 --height 675 --spp 10 \\
+      --out final.exr --png final.png
+  wavetrace render --scene three-spheres --method cpu --spp 64 --out cpu.exr --report cpu.json
+  wavetrace render --scene my_scene.json --method megakernel --adapter nvidia --out gpu.exr
+  wavetrace info
+  wavetrace scene list
+  wavetrace scene export rtiow-final > final.json
+
+Environment:
+  RUST_LOG=info|debug    logging (e.g. adapter choice, dispatch plan)
+  WGPU_BACKEND=vulkan    restrict the adapters considered to one backend";
+
+#[derive(Parser, Debug)]
+#[command(name = "wavetrace", version, about = "Megakernel vs wavefront GPU path tracing: a research testbed", after_help = EXAMPLES)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Render a scene with one method to EXR (and optionally PNG and a JSON report).
+    Render(render::RenderArgs),
+    /// List GPU adapters, the one chosen and why, and the features and limits that matter.
+    Info(info::InfoArgs),
+    /// List or export the built-in scenes.
+    #[command(subcommand)]
+    Scene(scene::SceneCommand),
+}
+
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Render(a) => render::run(a),
+        Command::Info(a) => info::run(a),
+        Command::Scene(c) => scene::run(c),
+    }
+}

@@ -1,0 +1,35 @@
+//! `wavetrace scene list|export`.
+
+use crate::scene::{builtin, export};
+
+#[derive(clap::Subcommand, Debug)]
+pub enum SceneCommand {
+    /// List the built-in scenes.
+    List,
+    /// Print a built-in scene as JSON (loadable again with `--scene FILE`).
+    #[command(after_help = "Example:\n  wavetrace scene export rtiow-final > final.json\n  wavetrace render --scene final.json --out final.exr")]
+    Export {
+        /// Built-in scene name (see `wavetrace scene list`).
+        name: String,
+    },
+}
+
+pub fn run(cmd: SceneCommand) -> anyhow::Result<()> {
+    match cmd {
+        SceneCommand::List => {
+            for (name, about) in builtin::list() {
+                let spheres = builtin::by_name(name).map_or(0, |s| s.spheres.len());
+                println!("{name:16} {spheres:6} spheres  {about}");
+            }
+            Ok(())
+        }
+        SceneCommand::Export { name } => {
+            let scene = builtin::by_name(&name).ok_or_else(|| {
+                let names: Vec<&str> = builtin::list().iter().map(|(n, _)| *n).collect();
+                anyhow::anyhow!("no built-in scene {name:?}; built-ins: {}", names.join(", "))
+            })?;
+            println!("{}", export::to_json(&scene));
+            Ok(())
+        }
+    }
+}

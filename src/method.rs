@@ -1,0 +1,92 @@
+//! The rendering methods and the one entry point that runs any of them.
+
+use crate::camera::CameraFrame;
+use crate::cpu;
+use crate::film::Film;
+use crate::gpu::megakernel::{self, MegakernelOptions};
+use crate::gpu::timing::Timings;
+use crate::gpu::GpuContext;
+use crate::packed_scene::PackedScene;
+use crate::scene::Scene;
+use crate::settings::RenderSettings;
+use anyhow::{anyhow, Result};
+use std::time::Instant;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// CPU reference computing in f32 (the GPU's arithmetic), rayon-parallel.
+    Cpu,
+    /// CPU reference computing in f64: the accuracy ground truth.
+    CpuF64,
+    /// GPU megakernel: one compute kernel traces whole paths.
+    Megakernel,
+}
+
+impl Method {
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Cpu => "cpu",
+            Method::CpuF64 => "cpu-f64",
+            Method::Megakernel => "megakernel",
+        }
+    }
+
+    pub fn needs_gpu(self) -> bool {
+        matches!(self, Method::Megakernel)
+    }
+}
+
+/// Per-method knobs; methods ignore the ones that are not theirs.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct MethodOptions {
+    pub megakernel: MegakernelOptions,
+}
+
+/// A finished render: the film and how long it took.
+#[derive(Clone, Debug)]
+pub struct RenderOutput {
+    pub film: Film,
+    /// Host time from the start of the method (scene upload and pipeline creation included for
+    /// GPU methods) to the film being on the host.
+    pub wall_seconds: f64,
+    /// GPU pass times (None for CPU methods).
+    pub timings: Option<Timings>,
+    pub dispatches: u64,
+}
+
+/// Renders `scene` with `method`. `on_progress` receives the number of path samples finished.
+pub fn render(
+    method: Method,
+    scene: &Scene,
+    settings: &RenderSettings,
+    options: &MethodOptions,
+    gpu: Option<&GpuContext>,
+    on_progress: &(dyn Fn(u64) + Sync),
+) -> Result<RenderOutput> {
+    settings.validate().map_err(anyhow::Error::msg)?;
+    let packed = PackedScene::new(scene, settings.accel);
+    let camera = CameraFrame::new(&scene.camera, settings.width, settings.height);
+    let start = Instant::now();
+    match method {
+        Method::Cpu | Method::CpuF64 => {
+            let done = std::sync::atomic::AtomicU64::new(0);
+            let row_samples = settings.width as u64 * settings.spp as u64;
+            let on_row = || {
+                let d = done.fetch_add(row_samples, std::sync::atomic::Ordering::Relaxed) + row_samples;
+                on_progress(d);
+            };
+            let film = if method == Method::Cpu {
+                cpu::render::<f32>(&packed, &camera, settings, &on_row)
+            } else {
+                cpu::render::<f64>(&packed, &camera, settings, &on_row)
+            };
+            Ok(RenderOutput { film, wall_seconds: start.elapsed().as_secs_f64(), timings: None, dispatches: 0 })
+        }
+        Method::Megakernel => {
+            let ctx = gpu.ok_or_else(|| anyhow!("--method megakernel needs a GPU adapter"))?;
+            let r = megakernel::render(ctx, &packed, &camera, settings, &options.megakernel, on_progress)?;
+            Ok(RenderOutput { film: r.film, wall_seconds: r.wall_seconds, timings: Some(r.timings), dispatches: r.dispatches })
+        }
+    }
+}

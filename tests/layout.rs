@@ -1,0 +1,81 @@
+//! Every Rust struct shared with WGSL has the size and field offsets naga computes for its twin.
+
+use std::mem::{offset_of, size_of};
+use wavetrace::gpu::shaders;
+use wavetrace::layout::*;
+
+/// (size, [(member, offset)]) of WGSL struct `name` in `source`, as naga lays it out.
+fn wgsl_layout(source: &str, name: &str) -> (u32, Vec<(String, u32)>) {
+    let module = naga::front::wgsl::parse_str(source).expect("shader parses");
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).unwrap();
+    let (handle, ty) = module
+        .types
+        .iter()
+        .find(|(_, t)| t.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("WGSL struct {name} not found"));
+    let naga::TypeInner::Struct { members, span } = &ty.inner else { panic!("{name} is not a struct") };
+    assert_eq!(layouter[handle].size, *span);
+    (*span, members.iter().map(|m| (m.name.clone().unwrap(), m.offset)).collect())
+}
+
+macro_rules! check {
+    ($rust:ty, $wgsl:literal, [$($field:ident),*]) => {{
+        let (size, members) = wgsl_layout(shaders::MEGAKERNEL, $wgsl);
+        assert_eq!(size as usize, size_of::<$rust>(), "size of {}", $wgsl);
+        let rust: Vec<(String, u32)> = vec![$((stringify!($field).to_string(), offset_of!($rust, $field) as u32)),*];
+        assert_eq!(members, rust, "members of {}", $wgsl);
+    }};
+}
+
+#[test]
+fn sphere() {
+    check!(SphereRecord, "Sphere", [center, radius]);
+}
+
+#[test]
+fn material() {
+    check!(MaterialRecord, "Material", [color, param, kind]);
+}
+
+#[test]
+fn bvh_node() {
+    check!(BvhNode, "BvhNode", [min, left_or_first, max, count]);
+}
+
+#[test]
+fn frame() {
+    check!(
+        FrameUniform,
+        "Frame",
+        [
+            camera_center, has_defocus, pixel00, width, pixel_delta_u, height, pixel_delta_v, max_depth,
+            defocus_disk_u, seed, defocus_disk_v, background_kind, background_color, _pad
+        ]
+    );
+}
+
+#[test]
+fn dispatch() {
+    check!(DispatchParams, "Dispatch", [pixel_offset, pixel_count, sample_start, sample_count]);
+}
+
+#[test]
+fn film_pixel() {
+    check!(FilmPixel, "FilmPixel", [sum, sum_sq]);
+}
+
+#[test]
+fn material_kinds_match() {
+    let src = shaders::MEGAKERNEL;
+    for (name, value) in [
+        ("MATERIAL_LAMBERTIAN", material_kind::LAMBERTIAN),
+        ("MATERIAL_METAL", material_kind::METAL),
+        ("MATERIAL_DIELECTRIC", material_kind::DIELECTRIC),
+        ("MATERIAL_EMISSIVE", material_kind::EMISSIVE),
+        ("BACKGROUND_SKY", background_kind::SKY),
+        ("BACKGROUND_CONSTANT", background_kind::CONSTANT),
+    ] {
+        assert!(src.contains(&format!("const {name}: u32 = {value}u;")), "{name} = {value} in WGSL");
+    }
+}
