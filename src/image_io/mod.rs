@@ -1,1 +1,13 @@
-//! TODO: being written.
+//! Image files: linear HDR RGB images in memory, OpenEXR for the data, 8-bit sRGB PNG for
+//! previews. Every write is atomic (temporary file + rename), so a crash mid-write never leaves
+//! a truncated image where a finished one is expected.
+mod atomic_file;
+mod error;
+mod exr;
+mod png;
+mod rgb_image;
+
+pub use self::error::ImageIoError;
+pub use self::exr::{read_exr, write_exr};
+pub use self::png::{linear_to_srgb8, write_png};
+pub use self::rgb_image::RgbImage;
