@@ -1,5 +1,763 @@
-//! Scene files. TODO: being written.
-use super::{Scene, SceneError};
-pub fn from_file(path: &std::path::Path) -> Result<Scene, SceneError> {
-    Err(SceneError { file: path.display().to_string(), path: String::new(), reason: "not yet".into() })
+//! Scene files: versioned JSON, read strictly.
+//!
+//! The text is parsed into a [`serde_json::Value`] and then walked by hand rather than derived
+//! with serde, so that every error can name the file, the JSON path of the offending value
+//! (`objects[3].radius`, `materials.red.albedo[1]`, `camera.vfov`) and a reason a person can act
+//! on. The format (`"format": "wavetrace-scene/1"`):
+//!
+//! ```json
+//! {
+//!   "format": "wavetrace-scene/1",
+//!   "camera": {"lookfrom": [13, 2, 3], "lookat": [0, 0, 0], "vup": [0, 1, 0],
+//!              "vfov": 20, "defocus_angle": 0.6, "focus_dist": 10},
+//!   "background": {"type": "sky"},
+//!   "materials": {
+//!     "ground": {"type": "lambertian", "albedo": [0.5, 0.5, 0.5]},
+//!     "m": {"type": "metal", "albedo": [0.7, 0.6, 0.5], "fuzz": 0.0},
+//!     "g": {"type": "dielectric", "ior": 1.5},
+//!     "l": {"type": "emissive", "radiance": [4, 4, 4]}
+//!   },
+//!   "objects": [{"type": "sphere", "center": [0, -1000, 0], "radius": 1000, "material": "ground"}]
+//! }
+//! ```
+//! `background` is `{"type": "sky"}` or `{"type": "constant", "color": [r, g, b]}`.
+//!
+//! Rules:
+//! - Every field shown is required; there are no defaults, so a file says everything it means.
+//! - Unknown fields are errors (a typo such as `"radus"` must not pass silently), and so are
+//!   duplicate keys in any object (plain serde_json would keep the last one without a word).
+//! - Numbers are read as f64 and stored as f32; a value that is not finite as an f32 (`1e39`) is
+//!   an error.
+//! - Materials keep their file order in [`Scene::materials`]; objects name them and store an
+//!   index. Unused materials are allowed, and so is an empty `objects` list (the image is then
+//!   the background alone).
+//! - Value checks (radius > 0, fuzz in [0, 1], a camera that has a view direction, ...) are
+//!   [`validate`], which runs on every loaded scene and can be run on scenes built in code.
+//!
+//! Malformed input of any kind gives an `Err`, never a panic.
+
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::fmt::{self, Write as _};
+use std::path::Path;
+
+use glam::{DVec3, Vec3};
+use serde::de::{self, DeserializeSeed, MapAccess, SeqAccess, Visitor};
+use serde_json::{Map, Value};
+
+use super::{Background, CameraSpec, Material, NamedMaterial, Scene, SceneError, Sphere, FORMAT};
+
+/// The `format` tags this build reads.
+pub const SUPPORTED_FORMATS: &[&str] = &[FORMAT];
+
+/// Material `type`s, in the order error messages list them.
+const MATERIAL_TYPES: &[&str] = &["lambertian", "metal", "dielectric", "emissive"];
+const BACKGROUND_TYPES: &[&str] = &["sky", "constant"];
+const OBJECT_TYPES: &[&str] = &["sphere"];
+
+/// Below this sine of the angle between `vup` and the view direction the camera basis
+/// (`cross(vup, w)`) is too ill-conditioned in f32 to be trusted (about 0.006 degrees).
+const MIN_VUP_SINE: f64 = 1e-4;
+
+/// Reads a scene file; the scene is named after the file's stem.
+pub fn from_file(path: &Path) -> Result<Scene, SceneError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| SceneError::new(&file, "", format!("cannot read the file: {e}")))?;
+    let name = path
+        .file_stem()
+        .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
+    from_str(&text, &file, &name)
+}
+
+/// Reads a scene from text. `file_label` names the source in errors (a path, or `<string>`);
+/// `name` becomes [`Scene::name`].
+pub fn from_str(text: &str, file_label: &str, name: &str) -> Result<Scene, SceneError> {
+    let cx = Cx { file: file_label };
+    let root =
+        parse_strict(text).map_err(|(path, reason)| SceneError::new(file_label, path, reason))?;
+    let scene = cx.scene(&root, name)?;
+    validate(&scene, file_label)?;
+    Ok(scene)
+}
+
+impl Scene {
+    /// Checks the values a scene file may not hold (see [`validate`]); errors name the file as
+    /// `<scene NAME>`.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        validate(self, &format!("<scene {}>", self.name))
+    }
+}
+
+/// Checks what a well-formed scene may still get wrong: non-finite numbers, radius <= 0, fuzz
+/// outside [0, 1], ior <= 0, negative albedo / radiance / background colour, vfov outside
+/// (0, 180), defocus_angle outside [0, 180), focus_dist <= 0, lookat == lookfrom, vup zero or
+/// parallel to the view direction, empty or duplicate material names, material indices out of
+/// range. Paths in the errors are the ones the scene's file would have; `file` labels them.
+pub fn validate(scene: &Scene, file: &str) -> Result<(), SceneError> {
+    let err = |path: String, reason: String| Err(SceneError::new(file, path, reason));
+
+    let cam = &scene.camera;
+    for (field, v) in [
+        ("lookfrom", cam.lookfrom),
+        ("lookat", cam.lookat),
+        ("vup", cam.vup),
+    ] {
+        if let Some((path, reason)) = check_vec3(&format!("camera.{field}"), v, false) {
+            return err(path, reason);
+        }
+    }
+    let scalar = |field: &str, v: f32, ok: fn(f32) -> bool, rule: &str| {
+        // `ok` is only consulted once the value is known to be finite.
+        match check_finite(v).or_else(|| (!ok(v)).then(|| format!("{rule}, got {v}"))) {
+            Some(reason) => err(format!("camera.{field}"), reason),
+            None => Ok(()),
+        }
+    };
+    let in_0_180 = |v| v > 0.0 && v < 180.0;
+    scalar("vfov", cam.vfov, in_0_180, "must be in (0, 180) degrees")?;
+    let angle_ok = |v| (0.0..180.0).contains(&v);
+    scalar(
+        "defocus_angle",
+        cam.defocus_angle,
+        angle_ok,
+        "must be in [0, 180) degrees",
+    )?;
+    scalar("focus_dist", cam.focus_dist, |v| v > 0.0, "must be > 0")?;
+    // The direction and the up vector are checked in f64 after scaling each to a largest
+    // component of 1, so neither huge nor tiny inputs overflow or underflow the test.
+    let dir = cam.lookat.as_dvec3() - cam.lookfrom.as_dvec3();
+    if dir == DVec3::ZERO {
+        return err(
+            "camera.lookat".into(),
+            "equals camera.lookfrom, so the camera has no view direction".into(),
+        );
+    }
+    if cam.vup == Vec3::ZERO {
+        return err("camera.vup".into(), "must not be the zero vector".into());
+    }
+    let (d, u) = (
+        dir / dir.abs().max_element(),
+        cam.vup.as_dvec3() / cam.vup.abs().max_element() as f64,
+    );
+    let sine = d.cross(u).length() / (d.length() * u.length());
+    if sine < MIN_VUP_SINE {
+        return err(
+            "camera.vup".into(),
+            format!(
+                "is parallel (or nearly) to the view direction lookat - lookfrom = {}; \
+                 choose an up vector at an angle to it",
+                fmt_vec(dir.as_vec3())
+            ),
+        );
+    }
+
+    if let Background::Constant(color) = scene.background {
+        if let Some((path, reason)) = check_vec3("background.color", color, true) {
+            return err(path, reason);
+        }
+    }
+
+    let mut seen: HashMap<&str, usize> = HashMap::with_capacity(scene.materials.len());
+    for (i, m) in scene.materials.iter().enumerate() {
+        if m.name.is_empty() {
+            return err(
+                format!("materials[{i}]"),
+                "material name must not be empty".into(),
+            );
+        }
+        let path = join("materials", &m.name);
+        if let Some(first) = seen.insert(&m.name, i) {
+            return err(
+                path,
+                format!(
+                    "duplicate material name (materials {first} and {i}); names must be unique"
+                ),
+            );
+        }
+        let problem = match m.material {
+            Material::Lambertian { albedo } => check_vec3(&format!("{path}.albedo"), albedo, true),
+            Material::Metal { albedo, fuzz } => check_vec3(&format!("{path}.albedo"), albedo, true)
+                .or_else(|| {
+                    let reason = check_finite(fuzz).or_else(|| {
+                        (!(0.0..=1.0).contains(&fuzz))
+                            .then(|| format!("must be in [0, 1], got {fuzz}"))
+                    });
+                    reason.map(|r| (format!("{path}.fuzz"), r))
+                }),
+            Material::Dielectric { ior } => check_finite(ior)
+                .or_else(|| (ior <= 0.0).then(|| format!("must be > 0, got {ior}")))
+                .map(|r| (format!("{path}.ior"), r)),
+            Material::Emissive { radiance } => {
+                check_vec3(&format!("{path}.radiance"), radiance, true)
+            }
+        };
+        if let Some((path, reason)) = problem {
+            return err(path, reason);
+        }
+    }
+
+    for (i, s) in scene.spheres.iter().enumerate() {
+        let path = format!("objects[{i}]");
+        if let Some((path, reason)) = check_vec3(&format!("{path}.center"), s.center, false) {
+            return err(path, reason);
+        }
+        if let Some(reason) = check_finite(s.radius)
+            .or_else(|| (s.radius <= 0.0).then(|| format!("must be > 0, got {}", s.radius)))
+        {
+            return err(format!("{path}.radius"), reason);
+        }
+        if s.material as usize >= scene.materials.len() {
+            return err(
+                format!("{path}.material"),
+                format!(
+                    "refers to material index {}, but the scene has {} materials",
+                    s.material,
+                    scene.materials.len()
+                ),
+            );
+        }
+    }
+    Ok(())
+}
+
+fn check_finite(x: f32) -> Option<String> {
+    (!x.is_finite()).then(|| format!("not a finite number ({x})"))
+}
+
+/// The first component of `v` that is not finite, or negative when `non_negative`.
+fn check_vec3(path: &str, v: Vec3, non_negative: bool) -> Option<(String, String)> {
+    v.to_array().iter().enumerate().find_map(|(i, &c)| {
+        let reason = check_finite(c)
+            .or_else(|| (non_negative && c < 0.0).then(|| format!("must be >= 0, got {c}")));
+        reason.map(|r| (format!("{path}[{i}]"), r))
+    })
+}
+
+fn fmt_vec(v: Vec3) -> String {
+    format!("[{}, {}, {}]", v.x, v.y, v.z)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Parsing: serde_json into a Value, refusing duplicate keys.
+
+/// Where a duplicate key was met, for the error that serde_json then reports with a position.
+type DupSlot = RefCell<Option<String>>;
+
+/// Parses JSON like `serde_json::from_str::<Value>`, but a key repeated in one object is an
+/// error (with its JSON path) instead of silently keeping the last value. Errors are
+/// `(json path, reason)`.
+fn parse_strict(text: &str) -> Result<Value, (String, String)> {
+    let dup = DupSlot::default();
+    let mut de = serde_json::Deserializer::from_str(text);
+    let parsed = ValueSeed {
+        path: String::new(),
+        dup: &dup,
+    }
+    .deserialize(&mut de)
+    .and_then(|v| {
+        de.end()?;
+        Ok(v)
+    });
+    parsed.map_err(|e| match dup.take() {
+        Some(path) => (
+            path,
+            format!("{e}; each key may appear only once in an object"),
+        ),
+        None => (String::new(), format!("malformed JSON: {e}")),
+    })
+}
+
+/// Builds a [`Value`] while tracking the JSON path, so a duplicate key can be located.
+struct ValueSeed<'a> {
+    path: String,
+    dup: &'a DupSlot,
+}
+
+impl<'de> DeserializeSeed<'de> for ValueSeed<'_> {
+    type Value = Value;
+    fn deserialize<D: de::Deserializer<'de>>(self, d: D) -> Result<Value, D::Error> {
+        d.deserialize_any(self)
+    }
+}
+
+impl<'de> Visitor<'de> for ValueSeed<'_> {
+    type Value = Value;
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("any JSON value")
+    }
+    fn visit_unit<E>(self) -> Result<Value, E> {
+        Ok(Value::Null)
+    }
+    fn visit_bool<E>(self, b: bool) -> Result<Value, E> {
+        Ok(Value::Bool(b))
+    }
+    fn visit_i64<E>(self, x: i64) -> Result<Value, E> {
+        Ok(x.into())
+    }
+    fn visit_u64<E>(self, x: u64) -> Result<Value, E> {
+        Ok(x.into())
+    }
+    fn visit_f64<E>(self, x: f64) -> Result<Value, E> {
+        // serde_json never yields a non-finite f64 (it rejects out-of-range literals).
+        Ok(serde_json::Number::from_f64(x).map_or(Value::Null, Value::Number))
+    }
+    fn visit_str<E>(self, s: &str) -> Result<Value, E> {
+        Ok(Value::String(s.to_owned()))
+    }
+    fn visit_string<E>(self, s: String) -> Result<Value, E> {
+        Ok(Value::String(s))
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Value, A::Error> {
+        let mut items = Vec::new();
+        loop {
+            let seed = ValueSeed {
+                path: format!("{}[{}]", self.path, items.len()),
+                dup: self.dup,
+            };
+            match seq.next_element_seed(seed)? {
+                Some(v) => items.push(v),
+                None => return Ok(Value::Array(items)),
+            }
+        }
+    }
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Value, A::Error> {
+        let mut out = Map::new();
+        while let Some(key) = map.next_key::<String>()? {
+            let path = join(&self.path, &key);
+            if out.contains_key(&key) {
+                *self.dup.borrow_mut() = Some(path);
+                return Err(de::Error::custom(format_args!("duplicate key {key:?}")));
+            }
+            let value = map.next_value_seed(ValueSeed {
+                path,
+                dup: self.dup,
+            })?;
+            out.insert(key, value);
+        }
+        Ok(Value::Object(out))
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Walking the Value into the model.
+
+type Res<T> = Result<T, SceneError>;
+
+/// The walk's context: the file label every error carries.
+struct Cx<'a> {
+    file: &'a str,
+}
+
+/// A JSON object being read: its fields, its path, and the fields it may have.
+struct Obj<'v> {
+    map: &'v Map<String, Value>,
+    path: String,
+}
+
+impl Cx<'_> {
+    fn err<T>(&self, path: &str, reason: impl Into<String>) -> Res<T> {
+        Err(SceneError::new(self.file, path, reason))
+    }
+
+    fn scene(&self, root: &Value, name: &str) -> Res<Scene> {
+        let root = self.object(root, "")?;
+        // The version is checked before anything else, so a newer file is reported as newer
+        // rather than as a list of unknown fields.
+        let Some(format) = root.map.get("format") else {
+            return self.err(
+                "",
+                format!("missing required field \"format\" (expected \"format\": \"{FORMAT}\")"),
+            );
+        };
+        let format = self.string(format, "format")?;
+        if !SUPPORTED_FORMATS.contains(&format) {
+            return self.err(
+                "format",
+                format!(
+                    "unsupported format {format:?}; this build reads {}",
+                    quoted_list(SUPPORTED_FORMATS)
+                ),
+            );
+        }
+        self.only(
+            &root,
+            &["format", "camera", "background", "materials", "objects"],
+        )?;
+
+        let camera = self.camera(&root)?;
+        let background = self.background(&root)?;
+        let materials = self.materials(&root)?;
+        let spheres = self.objects(&root, &materials)?;
+        Ok(Scene {
+            name: name.to_owned(),
+            camera,
+            background,
+            materials,
+            spheres,
+        })
+    }
+
+    fn camera(&self, root: &Obj) -> Res<CameraSpec> {
+        let (v, path) = self.field(root, "camera")?;
+        let o = self.object(v, &path)?;
+        self.only(
+            &o,
+            &[
+                "lookfrom",
+                "lookat",
+                "vup",
+                "vfov",
+                "defocus_angle",
+                "focus_dist",
+            ],
+        )?;
+        Ok(CameraSpec {
+            lookfrom: self.vec3_field(&o, "lookfrom")?,
+            lookat: self.vec3_field(&o, "lookat")?,
+            vup: self.vec3_field(&o, "vup")?,
+            vfov: self.number_field(&o, "vfov")?,
+            defocus_angle: self.number_field(&o, "defocus_angle")?,
+            focus_dist: self.number_field(&o, "focus_dist")?,
+        })
+    }
+
+    fn background(&self, root: &Obj) -> Res<Background> {
+        let (v, path) = self.field(root, "background")?;
+        let o = self.object(v, &path)?;
+        match self.type_field(&o, "background", BACKGROUND_TYPES)? {
+            "sky" => {
+                self.only(&o, &["type"])?;
+                Ok(Background::Sky)
+            }
+            _ => {
+                self.only(&o, &["type", "color"])?;
+                Ok(Background::Constant(self.vec3_field(&o, "color")?))
+            }
+        }
+    }
+
+    fn materials(&self, root: &Obj) -> Res<Vec<NamedMaterial>> {
+        let (v, path) = self.field(root, "materials")?;
+        let all = self.object(v, &path)?;
+        let mut out = Vec::with_capacity(all.map.len());
+        for (name, v) in all.map {
+            let path = join(&all.path, name);
+            if name.is_empty() {
+                return self.err(&path, "material name must not be empty");
+            }
+            let o = self.object(v, &path)?;
+            let material = match self.type_field(&o, "material", MATERIAL_TYPES)? {
+                "lambertian" => {
+                    self.only(&o, &["type", "albedo"])?;
+                    Material::Lambertian {
+                        albedo: self.vec3_field(&o, "albedo")?,
+                    }
+                }
+                "metal" => {
+                    self.only(&o, &["type", "albedo", "fuzz"])?;
+                    Material::Metal {
+                        albedo: self.vec3_field(&o, "albedo")?,
+                        fuzz: self.number_field(&o, "fuzz")?,
+                    }
+                }
+                "dielectric" => {
+                    self.only(&o, &["type", "ior"])?;
+                    Material::Dielectric {
+                        ior: self.number_field(&o, "ior")?,
+                    }
+                }
+                _ => {
+                    self.only(&o, &["type", "radiance"])?;
+                    Material::Emissive {
+                        radiance: self.vec3_field(&o, "radiance")?,
+                    }
+                }
+            };
+            out.push(NamedMaterial {
+                name: name.clone(),
+                material,
+            });
+        }
+        Ok(out)
+    }
+
+    fn objects(&self, root: &Obj, materials: &[NamedMaterial]) -> Res<Vec<Sphere>> {
+        let (v, path) = self.field(root, "objects")?;
+        let Value::Array(items) = v else {
+            return self.err(
+                &path,
+                format!("expected an array of objects, found {}", describe(v)),
+            );
+        };
+        let index: HashMap<&str, u32> = materials
+            .iter()
+            .enumerate()
+            .map(|(i, m)| (m.name.as_str(), i as u32))
+            .collect();
+        let mut out = Vec::with_capacity(items.len());
+        for (i, v) in items.iter().enumerate() {
+            let o = self.object(v, &format!("{path}[{i}]"))?;
+            // "sphere" is the only object type so far.
+            self.type_field(&o, "object", OBJECT_TYPES)?;
+            self.only(&o, &["type", "center", "radius", "material"])?;
+            let center = self.vec3_field(&o, "center")?;
+            let radius = self.number_field(&o, "radius")?;
+            let (mv, mpath) = self.field(&o, "material")?;
+            let mname = self.string(mv, &mpath)?;
+            let Some(&material) = index.get(mname) else {
+                return self.err(&mpath, unknown_material(mname, materials));
+            };
+            out.push(Sphere {
+                center,
+                radius,
+                material,
+            });
+        }
+        Ok(out)
+    }
+
+    // -- Field helpers ----------------------------------------------------------------------
+
+    fn object<'v>(&self, v: &'v Value, path: &str) -> Res<Obj<'v>> {
+        match v {
+            Value::Object(map) => Ok(Obj {
+                map,
+                path: path.to_owned(),
+            }),
+            _ => self.err(path, format!("expected an object, found {}", describe(v))),
+        }
+    }
+
+    /// A required field and its path.
+    fn field<'v>(&self, o: &Obj<'v>, key: &str) -> Res<(&'v Value, String)> {
+        match o.map.get(key) {
+            Some(v) => Ok((v, join(&o.path, key))),
+            None => self.err(&o.path, format!("missing required field \"{key}\"")),
+        }
+    }
+
+    /// Rejects fields outside `allowed`, naming the first unknown one.
+    fn only(&self, o: &Obj, allowed: &[&str]) -> Res<()> {
+        match o.map.keys().find(|k| !allowed.contains(&k.as_str())) {
+            None => Ok(()),
+            Some(k) => self.err(
+                &join(&o.path, k),
+                format!(
+                    "unknown field{}; expected {}",
+                    did_you_mean(k, allowed),
+                    quoted_list(allowed)
+                ),
+            ),
+        }
+    }
+
+    /// The `type` field of a tagged object, which must be one of `types`.
+    fn type_field<'v>(&self, o: &Obj<'v>, what: &str, types: &[&'static str]) -> Res<&'static str> {
+        let (v, path) = self.field(o, "type")?;
+        let t = self.string(v, &path)?;
+        match types.iter().find(|&&known| known == t) {
+            Some(&known) => Ok(known),
+            None => self.err(
+                &path,
+                format!(
+                    "unknown {what} type {t:?}{}; expected {}",
+                    did_you_mean(t, types),
+                    quoted_list(types)
+                ),
+            ),
+        }
+    }
+
+    fn string<'v>(&self, v: &'v Value, path: &str) -> Res<&'v str> {
+        match v {
+            Value::String(s) => Ok(s),
+            _ => self.err(path, format!("expected a string, found {}", describe(v))),
+        }
+    }
+
+    fn number(&self, v: &Value, path: &str) -> Res<f32> {
+        let Some(x) = v.as_f64() else {
+            return self.err(path, format!("expected a number, found {}", describe(v)));
+        };
+        let y = x as f32;
+        if !y.is_finite() {
+            return self.err(
+                path,
+                format!("not a finite number: {x:e} is outside the f32 range"),
+            );
+        }
+        Ok(y)
+    }
+
+    fn number_field(&self, o: &Obj, key: &str) -> Res<f32> {
+        let (v, path) = self.field(o, key)?;
+        self.number(v, &path)
+    }
+
+    fn vec3_field(&self, o: &Obj, key: &str) -> Res<Vec3> {
+        let (v, path) = self.field(o, key)?;
+        match v {
+            Value::Array(a) if a.len() == 3 => {
+                let mut out = [0.0; 3];
+                for (i, (x, c)) in out.iter_mut().zip(a).enumerate() {
+                    *x = self.number(c, &format!("{path}[{i}]"))?;
+                }
+                Ok(Vec3::from_array(out))
+            }
+            _ => self.err(
+                &path,
+                format!("expected an array of 3 numbers, found {}", describe(v)),
+            ),
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Message helpers.
+
+/// `parent.key`, or `parent["key"]` when the key would not read as a plain name.
+fn join(parent: &str, key: &str) -> String {
+    let plain = !key.is_empty()
+        && key
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    match (parent.is_empty(), plain) {
+        (true, true) => key.to_owned(),
+        (false, true) => format!("{parent}.{key}"),
+        // Debug quoting escapes quotes, backslashes and control characters.
+        (_, false) => format!("{parent}[{key:?}]"),
+    }
+}
+
+/// What a value is, for "expected X, found Y".
+fn describe(v: &Value) -> String {
+    match v {
+        Value::Null => "null".into(),
+        Value::Bool(b) => format!("a boolean ({b})"),
+        Value::Number(n) => format!("a number ({n})"),
+        Value::String(s) if s.chars().count() <= 40 => format!("a string ({s:?})"),
+        Value::String(_) => "a string".into(),
+        Value::Array(a) if a.len() == 1 => "an array of 1 value".into(),
+        Value::Array(a) => format!("an array of {} values", a.len()),
+        Value::Object(_) => "an object".into(),
+    }
+}
+
+/// `"a", "b" or "c"`.
+fn quoted_list(items: &[&str]) -> String {
+    let quoted: Vec<String> = items.iter().map(|s| format!("{s:?}")).collect();
+    match quoted.split_last() {
+        None => "nothing".into(),
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+    }
+}
+
+/// ` (did you mean "x"?)` when a candidate is a likely typo of `word`.
+fn did_you_mean(word: &str, candidates: &[&str]) -> String {
+    let best = candidates
+        .iter()
+        .map(|c| (edit_distance(word, c), *c))
+        .filter(|&(d, c)| d <= 2.max(c.chars().count() / 3))
+        .min_by_key(|&(d, _)| d);
+    best.map_or_else(String::new, |(_, c)| format!(" (did you mean {c:?}?)"))
+}
+
+/// The reason for an object naming a material the file does not define.
+fn unknown_material(name: &str, materials: &[NamedMaterial]) -> String {
+    const SHOWN: usize = 8;
+    let names: Vec<&str> = materials.iter().map(|m| m.name.as_str()).collect();
+    let mut s = format!("unknown material {name:?}{}; ", did_you_mean(name, &names));
+    if names.is_empty() {
+        s.push_str("the file defines no materials");
+    } else {
+        let shown: Vec<String> = names.iter().take(SHOWN).map(|n| format!("{n:?}")).collect();
+        let _ = write!(s, "defined materials: {}", shown.join(", "));
+        if names.len() > SHOWN {
+            let _ = write!(s, " and {} more", names.len() - SHOWN);
+        }
+    }
+    s
+}
+
+/// Levenshtein distance over chars; inputs are short field and material names.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut diag = row[0];
+        row[0] = i + 1;
+        for (j, &cb) in b.iter().enumerate() {
+            let next = (diag + usize::from(ca != cb))
+                .min(row[j] + 1)
+                .min(row[j + 1] + 1);
+            diag = row[j + 1];
+            row[j + 1] = next;
+        }
+    }
+    row[b.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn paths_quote_keys_that_are_not_plain_names() {
+        assert_eq!(join("", "camera"), "camera");
+        assert_eq!(join("materials", "red-1_b"), "materials.red-1_b");
+        assert_eq!(join("materials", "my mat"), "materials[\"my mat\"]");
+        assert_eq!(join("materials", "a.b"), "materials[\"a.b\"]");
+        assert_eq!(join("materials", ""), "materials[\"\"]");
+    }
+
+    #[test]
+    fn edit_distance_counts_single_edits() {
+        assert_eq!(edit_distance("radius", "radius"), 0);
+        assert_eq!(edit_distance("radus", "radius"), 1);
+        assert_eq!(edit_distance("lambertain", "lambertian"), 2);
+        assert_eq!(edit_distance("", "abc"), 3);
+        assert_eq!(
+            did_you_mean("radus", &["center", "radius"]),
+            " (did you mean \"radius\"?)"
+        );
+        assert_eq!(did_you_mean("zzzzzz", &["center", "radius"]), "");
+    }
+
+    #[test]
+    fn lists_read_as_english() {
+        assert_eq!(quoted_list(&["a"]), "\"a\"");
+        assert_eq!(quoted_list(&["a", "b", "c"]), "\"a\", \"b\" or \"c\"");
+    }
+
+    #[test]
+    fn duplicate_keys_are_found_at_any_depth() {
+        let (path, reason) = parse_strict(r#"{"a": {"b": [1, {"c": 1, "c": 2}]}}"#).unwrap_err();
+        assert_eq!(path, "a.b[1].c");
+        assert!(reason.contains("duplicate key \"c\""), "{reason}");
+        assert!(reason.contains("line 1"), "{reason}");
+        assert_eq!(
+            parse_strict(r#"{"a": 1, "b": {"a": 2}}"#).unwrap()["b"]["a"],
+            2
+        );
+    }
+
+    #[test]
+    fn trailing_text_is_malformed() {
+        let (path, reason) = parse_strict("{} x").unwrap_err();
+        assert_eq!(path, "");
+        assert!(
+            reason.starts_with("malformed JSON: trailing characters"),
+            "{reason}"
+        );
+    }
+
+    #[test]
+    fn deep_nesting_is_an_error_not_a_stack_overflow() {
+        let text = "[".repeat(100_000);
+        let (_, reason) = parse_strict(&text).unwrap_err();
+        assert!(reason.contains("recursion limit"), "{reason}");
+    }
 }
