@@ -48,6 +48,11 @@ impl PackedScene {
         kinds
     }
 
+    /// Spheres in the largest BVH leaf (all of them with `--accel none`).
+    pub fn largest_leaf(&self) -> u32 {
+        self.nodes.iter().map(|n| n.count).max().unwrap_or(0)
+    }
+
     /// The per-render constants, in f32 as every f32 method sees them.
     pub fn frame_uniform(&self, camera: &CameraFrame, settings: &RenderSettings) -> FrameUniform {
         let f = |v: glam::DVec3| v.as_vec3().to_array();

@@ -20,8 +20,11 @@ fn wgsl_layout(source: &str, name: &str) -> (u32, Vec<(String, u32)>) {
 }
 
 macro_rules! check {
-    ($rust:ty, $wgsl:literal, [$($field:ident),*]) => {{
-        let (size, members) = wgsl_layout(shaders::MEGAKERNEL, $wgsl);
+    ($rust:ty, $wgsl:literal, [$($field:ident),*]) => {
+        check!($rust, $wgsl, shaders::MEGAKERNEL, [$($field),*])
+    };
+    ($rust:ty, $wgsl:literal, $source:expr, [$($field:ident),*]) => {{
+        let (size, members) = wgsl_layout($source, $wgsl);
         assert_eq!(size as usize, size_of::<$rust>(), "size of {}", $wgsl);
         let rust: Vec<(String, u32)> = vec![$((stringify!($field).to_string(), offset_of!($rust, $field) as u32)),*];
         assert_eq!(members, rust, "members of {}", $wgsl);
@@ -62,7 +65,7 @@ fn dispatch() {
 
 #[test]
 fn film_pixel() {
-    check!(FilmPixel, "FilmPixel", [sum, sum_sq]);
+    check!(FilmPixel, "FilmPixel", shaders::ACCUMULATE, [sum, sum_sq]);
 }
 
 #[test]

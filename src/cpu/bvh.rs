@@ -87,3 +87,45 @@ pub fn closest_hit<T: Real>(
         current = stack[top];
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::packed_scene::PackedScene;
+    use crate::scene::builtin;
+    use crate::settings::Accel;
+
+    /// The BVH and the linear loop (single leaf) find the same closest sphere at the same
+    /// distance for random rays through the final scene, from outside and inside spheres.
+    #[test]
+    fn bvh_and_linear_find_the_same_hits() {
+        let scene = builtin::by_name("rtiow-final").unwrap();
+        let bvh = PackedScene::new(&scene, Accel::Bvh);
+        let linear = PackedScene::new(&scene, Accel::None);
+        assert!(bvh.nodes.len() > 100 && linear.nodes.len() == 1);
+        let mut s = crate::rng::Stream::new(11);
+        let mut hits = 0;
+        for i in 0..20_000 {
+            let origin = if i % 4 == 0 {
+                // Start at a random sphere's centre (inside it).
+                V3::of(linear.spheres[(s.next_f32() * linear.spheres.len() as f32) as usize].center)
+            } else {
+                V3::new(s.range(-15.0, 15.0), s.range(0.0, 6.0), s.range(-15.0, 15.0))
+            };
+            let dir = V3::new(s.range(-1.0, 1.0), s.range(-1.0, 0.5), s.range(-1.0, 1.0)).normalize();
+            let ray = Ray { origin, dir };
+            let a = closest_hit(&bvh.nodes, &bvh.spheres, &ray, 1e-3f32);
+            let b = closest_hit(&linear.nodes, &linear.spheres, &ray, 1e-3f32);
+            match (a, b) {
+                (Some(a), Some(b)) => {
+                    hits += 1;
+                    assert_eq!(a.t, b.t, "ray {i}");
+                    assert_eq!(bvh.spheres[a.sphere as usize], linear.spheres[b.sphere as usize], "ray {i}");
+                }
+                (None, None) => {}
+                _ => panic!("ray {i}: BVH {a:?} vs linear {b:?}"),
+            }
+        }
+        assert!(hits > 10_000, "most rays hit something ({hits})");
+    }
+}

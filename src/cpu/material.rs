@@ -75,3 +75,88 @@ pub fn scatter<T: Real>(
         _ => None,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn record(kind: u32, color: [f32; 3], param: f32) -> MaterialRecord {
+        MaterialRecord { color, param, kind, _pad: [0; 3] }
+    }
+
+    fn ray(d: [f64; 3]) -> Ray<f64> {
+        Ray { origin: V3::splat(0.0), dir: V3::new(d[0], d[1], d[2]).normalize() }
+    }
+
+    #[test]
+    fn total_internal_reflection_inside_glass() {
+        // Leaving glass (ior 1.5) at 60° from the normal: sin 60° · 1.5 > 1, so every sample
+        // reflects back inside whatever the random choice.
+        let glass = record(material_kind::DIELECTRIC, [1.0; 3], 1.5);
+        let n = V3::new(0.0, -1.0, 0.0); // facing the ray, which travels up and out
+        let r = ray([60f64.to_radians().sin(), 60f64.to_radians().cos(), 0.0]);
+        for u in [0.0, 0.5, 0.999] {
+            let s = scatter(&glass, &r, n, false, [0.3, 0.3, u, 0.0]).unwrap();
+            assert!(s.dir.y < 0.0, "reflected back down into the glass");
+            assert!((s.dir.y + r.dir.y).abs() < 1e-12 && (s.dir.x - r.dir.x).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn refraction_obeys_snell_entering_glass() {
+        let glass = record(material_kind::DIELECTRIC, [1.0; 3], 1.5);
+        let n = V3::new(0.0, 1.0, 0.0);
+        let r = ray([30f64.to_radians().sin(), -30f64.to_radians().cos(), 0.0]);
+        // u = 0.999 > Schlick reflectance (~0.04): refracts.
+        let s = scatter(&glass, &r, n, true, [0.0, 0.0, 0.999, 0.0]).unwrap();
+        let sin_out = s.dir.x / s.dir.length();
+        assert!((sin_out - 0.5 / 1.5).abs() < 1e-12, "sin θt = sin θi / 1.5");
+        assert!(s.dir.y < 0.0);
+        // u = 0 < reflectance: reflects.
+        let s = scatter(&glass, &r, n, true, [0.0, 0.0, 0.0, 0.0]).unwrap();
+        assert!(s.dir.y > 0.0);
+    }
+
+    #[test]
+    fn schlick_matches_fresnel_at_normal_incidence() {
+        assert!((reflectance(1.0f64, 1.0 / 1.5) - 0.04).abs() < 1e-12);
+        assert!((reflectance(0.0f64, 1.0 / 1.5) - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn lambertian_goes_into_the_upper_hemisphere_with_albedo() {
+        let m = record(material_kind::LAMBERTIAN, [0.2, 0.4, 0.6], 0.0);
+        let n = V3::new(0.0, 0.0, 1.0);
+        let mut st = crate::rng::Stream::new(5);
+        for _ in 0..1000 {
+            let u = [st.next_f32(), st.next_f32(), 0.0, 0.0];
+            let s = scatter(&m, &ray([0.0, 0.0, -1.0]), n, true, u).unwrap();
+            assert!(s.dir.dot(n) >= 0.0);
+            assert!((s.dir.length() - 1.0).abs() < 1e-12);
+            assert_eq!(s.attenuation, V3::new(0.2f32 as f64, 0.4f32 as f64, 0.6f32 as f64));
+        }
+    }
+
+    #[test]
+    fn perfect_metal_mirrors_and_fuzzy_metal_absorbs_below_the_surface() {
+        let mirror = record(material_kind::METAL, [1.0; 3], 0.0);
+        let n = V3::new(0.0, 1.0, 0.0);
+        let r = ray([1.0, -1.0, 0.0]);
+        let s = scatter(&mirror, &r, n, true, [0.1, 0.2, 0.0, 0.0]).unwrap();
+        assert!((s.dir.x - r.dir.x).abs() < 1e-12 && (s.dir.y + r.dir.y).abs() < 1e-12);
+        // A grazing ray with full fuzz: some samples end below the surface and are absorbed.
+        let fuzzy = record(material_kind::METAL, [1.0; 3], 1.0);
+        let grazing = ray([1.0, -0.01, 0.0]);
+        let mut st = crate::rng::Stream::new(6);
+        let absorbed = (0..1000)
+            .filter(|_| scatter(&fuzzy, &grazing, n, true, [st.next_f32(), st.next_f32(), 0.0, 0.0]).is_none())
+            .count();
+        assert!(absorbed > 100 && absorbed < 900, "{absorbed}");
+    }
+
+    #[test]
+    fn emitters_do_not_scatter() {
+        let light = record(material_kind::EMISSIVE, [4.0; 3], 0.0);
+        assert!(scatter(&light, &ray([0.0, 0.0, 1.0]), V3::new(0.0, 0.0, -1.0), true, [0.5; 4]).is_none());
+    }
+}

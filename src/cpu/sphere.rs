@@ -41,3 +41,60 @@ pub fn hit_sphere<T: Real>(s: &SphereRecord, ray: &Ray<T>, t_min: T, t_max: T) -
 pub fn outward_normal<T: Real>(s: &SphereRecord, p: V3<T>) -> V3<T> {
     (p - V3::of(s.center)) / T::of(s.radius)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ray(o: [f64; 3], d: [f64; 3]) -> Ray<f64> {
+        Ray { origin: V3::new(o[0], o[1], o[2]), dir: V3::new(d[0], d[1], d[2]).normalize() }
+    }
+    const UNIT: SphereRecord = SphereRecord { center: [0.0, 0.0, 0.0], radius: 1.0 };
+
+    #[test]
+    fn hits_the_near_side_from_outside() {
+        let t = hit_sphere(&UNIT, &ray([0.0, 0.0, -5.0], [0.0, 0.0, 1.0]), 1e-3, f64::INFINITY);
+        assert!((t.unwrap() - 4.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn from_inside_hits_the_far_side() {
+        let r = ray([0.0, 0.2, 0.1], [1.0, 0.3, 0.0]);
+        let t = hit_sphere(&UNIT, &r, 1e-3, f64::INFINITY).unwrap();
+        assert!((r.at(t).length() - 1.0).abs() < 1e-12);
+        assert!(r.dir.dot(outward_normal(&UNIT, r.at(t))) > 0.0, "leaving through the surface");
+    }
+
+    #[test]
+    fn grazing_rays_hit_just_inside_and_miss_just_outside() {
+        let inside = hit_sphere(&UNIT, &ray([-5.0, 1.0 - 1e-6, 0.0], [1.0, 0.0, 0.0]), 1e-3, f64::INFINITY);
+        let t = inside.expect("a ray 1e-6 inside the silhouette hits");
+        assert!((t - 5.0).abs() < 0.01);
+        let outside = hit_sphere(&UNIT, &ray([-5.0, 1.0 + 1e-6, 0.0], [1.0, 0.0, 0.0]), 1e-3, f64::INFINITY);
+        assert!(outside.is_none());
+    }
+
+    #[test]
+    fn behind_the_origin_and_beyond_t_max_miss() {
+        assert!(hit_sphere(&UNIT, &ray([0.0, 0.0, 5.0], [0.0, 0.0, 1.0]), 1e-3, f64::INFINITY).is_none());
+        assert!(hit_sphere(&UNIT, &ray([0.0, 0.0, -5.0], [0.0, 0.0, 1.0]), 1e-3, 3.9).is_none());
+    }
+
+    #[test]
+    fn f32_hits_on_the_radius_1000_ground_stay_on_the_surface() {
+        // The book's ground sphere seen at a shallow angle from the final scene's camera: the
+        // textbook b² − 4ac form loses most digits here in f32.
+        let ground = SphereRecord { center: [0.0, -1000.0, 0.0], radius: 1000.0 };
+        let mut s = crate::rng::Stream::new(3);
+        for _ in 0..1000 {
+            // Steep enough (at least ~6° down) to meet the curved ground rather than pass over it.
+            let d = V3::new(-1.0, s.range(-0.35, -0.1), s.range(-0.5, 0.5)).normalize();
+            let r = Ray { origin: V3::new(13.0f32, 2.0, 3.0), dir: d };
+            let t = hit_sphere(&ground, &r, 1e-3, f32::INFINITY).expect("looking down steeply hits the ground");
+            let p = r.at(t);
+            // Distance from the surface, computed in f64: within a few f32 ulps of 1000.
+            let dist = ((p.x as f64).powi(2) + (p.y as f64 + 1000.0).powi(2) + (p.z as f64).powi(2)).sqrt() - 1000.0;
+            assert!(dist.abs() < 2e-3, "hit point {dist} off the surface");
+        }
+    }
+}

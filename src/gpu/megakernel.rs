@@ -1,17 +1,20 @@
-//! The megakernel method: one compute kernel (`shaders/megakernel.wgsl`) traces whole paths.
+//! The megakernel method: one compute kernel (`shaders/megakernel.wgsl`) traces whole paths, one
+//! path per thread.
 //!
-//! The render is cut into dispatches of at most `samples_per_dispatch` path samples, so no
-//! single dispatch runs long enough to trip a driver watchdog. Within a dispatch each pixel has
-//! one thread; a pixel's dispatches run in sample order, so accumulation is deterministic.
+//! The render is cut into dispatches of at most `samples_per_dispatch` paths, so no dispatch runs
+//! long enough to trip a driver watchdog. After each, the accumulate pass adds its samples to the
+//! film in sample order, so the same settings give bit-identical films.
 
+use super::accumulate::Accumulate;
 use super::buffers::{storage_entry, storage_zeroed, uniform_entry};
 use super::context::GpuContext;
+use super::dispatch_plan::{self, DispatchUniforms};
 use super::scene_buffers::SceneBuffers;
 use super::timing::{GpuTimer, Timings, MAX_PASSES_PER_BATCH};
 use super::{label, shaders};
 use crate::camera::CameraFrame;
 use crate::film::Film;
-use crate::layout::{DispatchParams, FilmPixel};
+use crate::layout::FilmPixel;
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
@@ -21,7 +24,7 @@ use std::time::Instant;
 pub struct MegakernelOptions {
     /// Threads per workgroup (the seeds' block size).
     pub workgroup_size: u32,
-    /// Upper bound on path samples per dispatch: bounds the time of one dispatch.
+    /// Most path samples per dispatch: bounds the time of one dispatch.
     pub samples_per_dispatch: u64,
     /// Dispatches per submission; the host waits (and updates progress) between submissions.
     pub dispatches_per_submit: u32,
@@ -42,24 +45,23 @@ pub struct GpuRender {
     pub wall_seconds: f64,
 }
 
-/// Splits the render into dispatches: sample chunks outermost, so every pixel sees its samples
-/// in increasing order; pixel chunks within, each at most `max_threads` pixels.
-pub fn plan_dispatches(pixels: u32, spp: u32, samples_per_dispatch: u64, max_threads: u32) -> Vec<DispatchParams> {
-    let pixels_per = (pixels as u64).min(max_threads as u64).min(samples_per_dispatch.max(1)).max(1) as u32;
-    let samples_per = (samples_per_dispatch / pixels_per as u64).clamp(1, spp as u64) as u32;
-    let mut plan = Vec::new();
-    let mut s = 0;
-    while s < spp {
-        let sample_count = samples_per.min(spp - s);
-        let mut p = 0;
-        while p < pixels {
-            let pixel_count = pixels_per.min(pixels - p);
-            plan.push(DispatchParams { pixel_offset: p, pixel_count, sample_start: s, sample_count });
-            p += pixel_count;
-        }
-        s += sample_count;
+/// llvmpipe (Mesa's software driver) ends all loops of a shader invocation after 65535
+/// iterations in total, silently. One path visits at most `max_depth` leaves; refuse renders
+/// whose worst case exceeds the cap rather than return a wrong image.
+fn check_loop_limit(ctx: &GpuContext, scene: &PackedScene, settings: &RenderSettings) -> Result<()> {
+    const LLVMPIPE_LOOP_LIMIT: u64 = 65_535;
+    let worst = settings.max_depth as u64 * (scene.largest_leaf() as u64 + crate::bvh::MAX_DEPTH as u64);
+    if ctx.summary.name.contains("llvmpipe") && worst > LLVMPIPE_LOOP_LIMIT {
+        bail!(
+            "on {} a path may need {worst} loop iterations (max depth {} x a leaf of {} spheres), \
+             past llvmpipe's limit of {LLVMPIPE_LOOP_LIMIT} per shader invocation, which would \
+             silently truncate paths; use --accel bvh or a smaller --max-depth",
+            ctx.summary.name,
+            settings.max_depth,
+            scene.largest_leaf()
+        );
     }
-    plan
+    Ok(())
 }
 
 pub fn render(
@@ -80,72 +82,69 @@ pub fn render(
             limits.name
         );
     }
+    check_loop_limit(ctx, scene, settings)?;
     let start = Instant::now();
     let frame = scene.frame_uniform(camera, settings);
     let scene_buffers = SceneBuffers::new(ctx, scene, &frame)?;
     let pixels = settings.width * settings.height;
+    let max_threads = limits.max_compute_workgroups_per_dimension.saturating_mul(opts.workgroup_size);
+    let plan = dispatch_plan::plan(pixels, settings.spp, opts.samples_per_dispatch, max_threads);
+    let params = DispatchUniforms::new(ctx, &plan);
     let film_bytes = pixels as u64 * std::mem::size_of::<FilmPixel>() as u64;
     let film = storage_zeroed(ctx, "film", film_bytes, wgpu::BufferUsages::COPY_SRC)?;
+    let most_threads = plan.iter().map(|d| d.pixel_count as u64 * d.sample_count as u64).max().unwrap_or(1);
+    let samples = storage_zeroed(ctx, "samples", most_threads * 16, wgpu::BufferUsages::empty())?;
+    let accumulate = Accumulate::new(ctx, &samples, &film, &params)?;
 
-    let max_threads = limits.max_compute_workgroups_per_dimension.saturating_mul(opts.workgroup_size);
-    let plan = plan_dispatches(pixels, settings.spp, opts.samples_per_dispatch, max_threads);
-    let stride = ctx.device.limits().min_uniform_buffer_offset_alignment.max(16) as usize;
-    let mut params = vec![0u8; plan.len() * stride];
-    for (i, d) in plan.iter().enumerate() {
-        params[i * stride..i * stride + 16].copy_from_slice(bytemuck::bytes_of(d));
-    }
-    let params_buf = wgpu::util::DeviceExt::create_buffer_init(
-        &ctx.device,
-        &wgpu::util::BufferInitDescriptor { label: Some("dispatch params"), contents: &params, usage: wgpu::BufferUsages::UNIFORM },
-    );
-
-    let film_layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("megakernel film"),
+    let layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label::MEGAKERNEL),
         entries: &[storage_entry(0, false), uniform_entry(1, true)],
     });
-    let film_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("megakernel film"),
-        layout: &film_layout,
+    let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label::MEGAKERNEL),
+        layout: &layout,
         entries: &[
-            wgpu::BindGroupEntry { binding: 0, resource: film.as_entire_binding() },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer: &params_buf,
-                    offset: 0,
-                    size: wgpu::BufferSize::new(16),
-                }),
-            },
+            wgpu::BindGroupEntry { binding: 0, resource: samples.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: params.binding() },
         ],
     });
-    let layout = ctx.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+    let pipeline_layout = ctx.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some(label::MEGAKERNEL),
-        bind_group_layouts: &[Some(&scene_buffers.layout), Some(&film_layout)],
+        bind_group_layouts: &[Some(&scene_buffers.layout), Some(&layout)],
         immediate_size: 0,
     });
     let module = ctx.shader(label::MEGAKERNEL, shaders::MEGAKERNEL)?;
     let pipeline = ctx.compute_pipeline(
         label::MEGAKERNEL,
         &module,
-        &layout,
+        &pipeline_layout,
         &[("WORKGROUP_SIZE", opts.workgroup_size as f64)],
     )?;
 
     let mut timer = GpuTimer::new(ctx);
-    let per_submit = opts.dispatches_per_submit.clamp(1, MAX_PASSES_PER_BATCH) as usize;
+    // Two passes (trace, accumulate) per dispatch.
+    let per_submit = opts.dispatches_per_submit.clamp(1, MAX_PASSES_PER_BATCH / 2) as usize;
     let mut done = 0u64;
     for (batch_index, batch) in plan.chunks(per_submit).enumerate() {
         let mut enc = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label::MEGAKERNEL) });
         for (i, d) in batch.iter().enumerate() {
-            let offset = ((batch_index * per_submit + i) * stride) as u32;
+            let offset = params.offset(batch_index * per_submit + i);
+            let threads = d.pixel_count * d.sample_count;
+            {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(label::MEGAKERNEL),
+                    timestamp_writes: timer.pass(label::MEGAKERNEL),
+                });
+                pass.set_pipeline(&pipeline);
+                pass.set_bind_group(0, &scene_buffers.bind_group, &[]);
+                pass.set_bind_group(1, &group, &[offset]);
+                pass.dispatch_workgroups(threads.div_ceil(opts.workgroup_size), 1, 1);
+            }
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some(label::MEGAKERNEL),
-                timestamp_writes: timer.pass(label::MEGAKERNEL),
+                label: Some(label::ACCUMULATE),
+                timestamp_writes: timer.pass(label::ACCUMULATE),
             });
-            pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, &scene_buffers.bind_group, &[]);
-            pass.set_bind_group(1, &film_group, &[offset]);
-            pass.dispatch_workgroups(d.pixel_count.div_ceil(opts.workgroup_size), 1, 1);
+            accumulate.record(&mut pass, offset, d.pixel_count);
         }
         timer.resolve(&mut enc);
         ctx.queue.submit([enc.finish()]);
@@ -157,26 +156,4 @@ pub fn render(
     let data: Vec<FilmPixel> = super::buffers::read_back(ctx, &film, film_bytes)?;
     let film = Film::from_gpu(settings.width, settings.height, settings.spp, &data);
     Ok(GpuRender { film, timings: timer.into_timings(), dispatches: plan.len() as u64, wall_seconds: start.elapsed().as_secs_f64() })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn plan_covers_every_pixel_sample_once_in_sample_order() {
-        for (pixels, spp, budget, max_threads) in [(100, 7, 64, 1000), (10, 100, 1 << 20, 1000), (5000, 3, 1 << 20, 1024)] {
-            let plan = plan_dispatches(pixels, spp, budget, max_threads);
-            let mut next = vec![0u32; pixels as usize];
-            for d in &plan {
-                assert!(d.pixel_count <= max_threads);
-                assert!(d.pixel_count as u64 * d.sample_count as u64 <= budget.max(spp as u64 * 0 + d.pixel_count as u64));
-                for p in d.pixel_offset..d.pixel_offset + d.pixel_count {
-                    assert_eq!(next[p as usize], d.sample_start, "pixel {p} sees samples in order");
-                    next[p as usize] += d.sample_count;
-                }
-            }
-            assert!(next.iter().all(|&n| n == spp));
-        }
-    }
 }

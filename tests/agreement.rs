@@ -1,0 +1,143 @@
+//! CPU reference vs megakernel: per-pixel z-tests and image means (DESIGN.md §4), the analytic
+//! furnace, and bit-identical repeat renders. Small images: these run on the software driver.
+
+mod common;
+
+use wavetrace::camera::CameraFrame;
+use wavetrace::film::Film;
+use wavetrace::method::{render, Method, MethodOptions};
+use wavetrace::scene::{builtin, Scene};
+use wavetrace::settings::{Accel, RenderSettings};
+use wavetrace::stats::z_test;
+
+fn settings(width: u32, height: u32, spp: u32) -> RenderSettings {
+    RenderSettings { width, height, spp, max_depth: 50, seed: 1, accel: Accel::Bvh }
+}
+
+fn run(method: Method, scene: &Scene, s: &RenderSettings) -> Film {
+    let gpu = if method.needs_gpu() { common::gpu() } else { None };
+    render(method, scene, s, &MethodOptions::default(), gpu, &|_| {}).unwrap().film
+}
+
+/// The bar: ≥ 99% of pixels pass a z-test at α = 0.01, image means within 1%.
+fn assert_agree(name: &str, a: &Film, b: &Film) {
+    let t = z_test(a, b, 0.01);
+    eprintln!("{name}: {:.4} of pixels pass, means differ by {:.2e}", t.pass_fraction, t.mean_rel_diff);
+    assert!(t.pass_fraction >= 0.99, "{name}: only {:.4} of pixels pass ({t:?})", t.pass_fraction);
+    assert!(t.mean_rel_diff <= 0.01, "{name}: image means differ by {:.4}", t.mean_rel_diff);
+}
+
+#[test]
+fn cpu_and_megakernel_agree_on_three_spheres() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let scene = builtin::by_name("three-spheres").unwrap();
+    let s = settings(96, 54, 64);
+    assert_agree("three-spheres", &run(Method::Cpu, &scene, &s), &run(Method::Megakernel, &scene, &s));
+}
+
+#[test]
+fn cpu_and_megakernel_agree_on_rtiow_final() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let scene = builtin::by_name("rtiow-final").unwrap();
+    let s = settings(96, 54, 32);
+    assert_agree("rtiow-final", &run(Method::Cpu, &scene, &s), &run(Method::Megakernel, &scene, &s));
+}
+
+#[test]
+fn cpu_f32_agrees_with_the_f64_ground_truth() {
+    let scene = builtin::by_name("rtiow-final").unwrap();
+    let s = settings(64, 36, 32);
+    assert_agree("f32 vs f64", &run(Method::Cpu, &scene, &s), &run(Method::CpuF64, &scene, &s));
+}
+
+#[test]
+fn linear_loop_and_bvh_agree_on_the_gpu() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let scene = builtin::by_name("rtiow-final").unwrap();
+    let s = settings(48, 27, 16);
+    let linear = RenderSettings { accel: Accel::None, ..s.clone() };
+    assert_agree("bvh vs none", &run(Method::Megakernel, &scene, &s), &run(Method::Megakernel, &scene, &linear));
+}
+
+#[test]
+fn megakernel_repeats_bit_identically() {
+    let Some(ctx) = common::gpu() else { return };
+    let scene = builtin::by_name("rtiow-final").unwrap();
+    let s = settings(40, 24, 8);
+    // Several dispatches per render, so accumulation across dispatches is exercised too.
+    let mut opts = MethodOptions::default();
+    opts.megakernel.samples_per_dispatch = 40 * 24 * 3;
+    let a = render(Method::Megakernel, &scene, &s, &opts, Some(ctx), &|_| {}).unwrap();
+    let b = render(Method::Megakernel, &scene, &s, &opts, Some(ctx), &|_| {}).unwrap();
+    assert!(a.dispatches >= 3);
+    assert_eq!(a.film, b.film);
+}
+
+/// Fraction of pixel (x, y) covered by the furnace sphere, from 16×16 pinhole rays in f64.
+fn coverage(scene: &Scene, s: &RenderSettings, x: u32, y: u32) -> f64 {
+    let f = CameraFrame::new(&scene.camera, s.width, s.height);
+    let sphere = &scene.spheres[0];
+    let (c, r) = (sphere.center.as_dvec3(), sphere.radius as f64);
+    let mut hits = 0;
+    for j in 0..16 {
+        for i in 0..16 {
+            let (dx, dy) = ((i as f64 + 0.5) / 16.0 - 0.5, (j as f64 + 0.5) / 16.0 - 0.5);
+            let p = f.pixel00 + (x as f64 + dx) * f.pixel_delta_u + (y as f64 + dy) * f.pixel_delta_v;
+            let d = (p - f.center).normalize();
+            let oc = f.center - c;
+            let b = oc.dot(d);
+            if b * b - (oc.length_squared() - r * r) >= 0.0 && b < 0.0 {
+                hits += 1;
+            }
+        }
+    }
+    hits as f64 / 256.0
+}
+
+/// Albedo 0.5 under white light: one bounce off a convex sphere always escapes, so the exact
+/// pixel value is 1 − 0.5 · coverage. pbrt-v4's bar: image mean within ±0.025.
+fn check_furnace(method: Method) {
+    let scene = builtin::by_name("furnace").unwrap();
+    let s = settings(48, 32, 16);
+    let film = run(method, &scene, &s);
+    let (mut want, mut got) = (0.0, 0.0);
+    for y in 0..s.height {
+        for x in 0..s.width {
+            let cov = coverage(&scene, &s, x, y);
+            let m = film.pixel(x, y).mean();
+            let expected = 1.0 - 0.5 * cov;
+            want += expected;
+            got += m.iter().sum::<f64>() / 3.0;
+            if cov == 0.0 || cov == 1.0 {
+                for c in m {
+                    assert!((c - expected).abs() < 0.025, "{method:?} pixel ({x},{y}) = {c}, want {expected}");
+                }
+            }
+        }
+    }
+    let n = (s.width * s.height) as f64;
+    let (want, got) = (want / n, got / n);
+    assert!((got - want).abs() <= 0.025, "{method:?}: furnace mean {got}, analytic {want}");
+    assert!(want < 0.9, "the sphere covers a good part of the frame");
+    assert_eq!(film.invalid_samples(), 0);
+}
+
+#[test]
+fn furnace_matches_its_analytic_image_on_cpu() {
+    check_furnace(Method::Cpu);
+    check_furnace(Method::CpuF64);
+}
+
+#[test]
+fn furnace_matches_its_analytic_image_on_the_gpu() {
+    if common::gpu().is_none() {
+        return;
+    }
+    check_furnace(Method::Megakernel);
+}
