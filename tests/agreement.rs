@@ -141,3 +141,28 @@ fn furnace_matches_its_analytic_image_on_the_gpu() {
     }
     check_furnace(Method::Megakernel);
 }
+
+/// Samples that overflow to infinity are dropped and counted, identically on CPU and GPU, and
+/// never reach the image.
+#[test]
+fn non_finite_samples_are_counted_and_dropped_on_cpu_and_gpu() {
+    // Albedo 1e30 under a background of 1e10: one bounce gives 1e40 = +inf in f32, while the
+    // background's own samples (and their squares, summed in the f32 film) stay finite.
+    let json = r#"{
+      "format": "wavetrace-scene/1",
+      "camera": {"lookfrom":[0,0,4],"lookat":[0,0,0],"vup":[0,1,0],"vfov":40,"defocus_angle":0,"focus_dist":4},
+      "background": {"type":"constant","color":[1e10,1e10,1e10]},
+      "materials": {"hot": {"type":"lambertian","albedo":[1e30,1e30,1e30]}},
+      "objects": [{"type":"sphere","center":[0,0,0],"radius":1,"material":"hot"}]
+    }"#;
+    let scene = wavetrace::scene::load::from_str(json, "<test>", "overflow").unwrap();
+    let s = settings(24, 16, 4);
+    let cpu = run(Method::Cpu, &scene, &s);
+    assert!(cpu.invalid_samples() > 0);
+    assert!(cpu.pixels.iter().all(|p| p.mean().iter().all(|c| c.is_finite())));
+    if common::gpu().is_some() {
+        let gpu = run(Method::Megakernel, &scene, &s);
+        assert_eq!(gpu.invalid_samples(), cpu.invalid_samples());
+        assert!(gpu.pixels.iter().all(|p| p.mean().iter().all(|c| c.is_finite())));
+    }
+}

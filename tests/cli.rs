@@ -1,0 +1,127 @@
+//! The `wavetrace` binary end to end: outputs, reports, and clear errors (never a panic) for bad
+//! input.
+
+mod common;
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn wavetrace(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_wavetrace")).args(args).output().expect("run wavetrace")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli");
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// Runs and expects failure with a message containing every one of `needles`.
+fn fails_with(args: &[&str], needles: &[&str]) {
+    let out = wavetrace(args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{args:?} should fail");
+    assert!(!stderr.contains("panicked"), "{args:?} panicked: {stderr}");
+    for n in needles {
+        assert!(stderr.contains(n), "{args:?}: stderr lacks {n:?}:\n{stderr}");
+    }
+}
+
+#[test]
+fn cpu_render_writes_exr_png_and_report() {
+    let (exr, png, json) = (scratch("cpu.exr"), scratch("cpu.png"), scratch("cpu.json"));
+    let out = wavetrace(&[
+        "render", "--scene", "three-spheres", "--method", "cpu", "--width", "32", "--height", "18", "--spp", "4",
+        "--out", exr.to_str().unwrap(), "--png", png.to_str().unwrap(), "--report", json.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let (img, attrs) = wavetrace::image_io::read_exr(&exr).unwrap();
+    assert_eq!((img.width, img.height), (32, 18));
+    let attr = |k: &str| attrs.iter().find(|(n, _)| n == k).map(|(_, v)| v.clone());
+    assert_eq!(attr("wavetrace.method").as_deref(), Some("cpu"));
+    assert_eq!(attr("wavetrace.spp").as_deref(), Some("4"));
+    assert_eq!(attr("wavetrace.scene").as_deref(), Some("three-spheres"));
+    assert!(attr("wavetrace.render_time_s").is_some());
+    assert!(std::fs::metadata(&png).unwrap().len() > 0);
+    let report: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(report["schema"], "wavetrace-run/1");
+    assert_eq!(report["method"], "cpu");
+    assert_eq!(report["samples"], 32 * 18 * 4);
+    assert_eq!(report["invalid_samples"], 0);
+    assert!(report["samples_per_second"].as_f64().unwrap() > 0.0);
+    assert!(report["build"]["git_commit"].is_string());
+    assert!(report["machine"]["logical_cores"].as_u64().unwrap() >= 1);
+    // The EXR's mean is the report's image mean.
+    let m = img.mean();
+    let mean = (m[0] + m[1] + m[2]) / 3.0;
+    assert!((mean - report["image_mean"].as_f64().unwrap()).abs() < 1e-5);
+}
+
+#[test]
+fn gpu_report_names_adapter_and_timing_source() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let (exr, json) = (scratch("mk.exr"), scratch("mk.json"));
+    let out = wavetrace(&[
+        "render", "--scene", "furnace", "--method", "megakernel", "--width", "16", "--height", "16", "--spp", "2",
+        "--out", exr.to_str().unwrap(), "--report", json.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let report: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert!(report["adapter"]["name"].is_string());
+    assert!(report["adapter"]["backend"].is_string());
+    assert!(report["adapter"]["driver"].is_string());
+    assert!(["timestamps", "wall-clock"].contains(&report["time_source"].as_str().unwrap()));
+    assert!(report["passes"]["megakernel"]["passes"].as_u64().unwrap() >= 1);
+    assert!(report["passes"]["accumulate"]["passes"].as_u64().unwrap() >= 1);
+    assert!(report["gpu_seconds"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn exported_scene_renders_like_the_builtin() {
+    let out = wavetrace(&["scene", "export", "three-spheres"]);
+    assert!(out.status.success());
+    let file = scratch("three.json");
+    std::fs::write(&file, &out.stdout).unwrap();
+    let render = |scene: &str, name: &str| {
+        let exr = scratch(name);
+        let o = wavetrace(&[
+            "render", "--scene", scene, "--method", "cpu", "--width", "16", "--height", "9", "--spp", "2", "--out",
+            exr.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        wavetrace::image_io::read_exr(&exr).unwrap().0
+    };
+    assert_eq!(render("three-spheres", "a.exr").data, render(file.to_str().unwrap(), "b.exr").data);
+}
+
+#[test]
+fn bad_input_gives_clear_errors() {
+    let out = scratch("x.exr");
+    let out = out.to_str().unwrap();
+    fails_with(&["render", "--scene", "no-such-scene", "--out", out], &["no-such-scene"]);
+    let bad = scratch("bad.json");
+    std::fs::write(&bad, "{\"format\": \"wavetrace-scene/1\",\n \"camera\": [}").unwrap();
+    fails_with(&["render", "--scene", bad.to_str().unwrap(), "--method", "cpu", "--out", out], &["bad.json", "line 2"]);
+    let radius = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/scenes/bad-radius.json");
+    fails_with(&["render", "--scene", radius, "--method", "cpu", "--out", out], &["bad-radius.json", "radius"]);
+    fails_with(&["render", "--scene", "furnace", "--spp", "0", "--method", "cpu", "--out", out], &["spp"]);
+    fails_with(&["render", "--scene", "furnace", "--width", "0", "--method", "cpu", "--out", out], &["empty"]);
+    fails_with(&["scene", "export", "nope"], &["nope", "rtiow-final"]);
+    let unwritable = "/nonexistent-dir/x.exr";
+    fails_with(&["render", "--scene", "furnace", "--method", "cpu", "--width", "8", "--height", "8", "--out", unwritable], &["nonexistent-dir"]);
+    if common::gpu().is_some() {
+        fails_with(&["render", "--scene", "furnace", "--method", "megakernel", "--adapter", "no-such-gpu", "--out", out], &["no-such-gpu"]);
+        fails_with(&["render", "--scene", "furnace", "--method", "megakernel", "--workgroup-size", "0", "--out", out], &["workgroup size"]);
+    }
+}
+
+#[test]
+fn help_shows_examples() {
+    let out = wavetrace(&["render", "--help"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("Examples:") && text.contains("--scene rtiow-final"));
+    let out = wavetrace(&["--help"]);
+    assert!(String::from_utf8_lossy(&out.stdout).contains("wavetrace scene export"));
+}
