@@ -54,10 +54,7 @@ impl Bvh {
     pub fn single_leaf(boxes: &[Aabb]) -> Bvh {
         let bounds = boxes.iter().fold(Aabb::EMPTY, |a, b| a.union(*b));
         let bounds = if boxes.is_empty() { Aabb { min: Vec3::ZERO, max: Vec3::ZERO } } else { bounds };
-        Bvh {
-            nodes: vec![node(bounds, 0, boxes.len() as u32)],
-            order: (0..boxes.len() as u32).collect(),
-        }
+        Bvh { nodes: vec![node(bounds, 0, boxes.len() as u32)], order: (0..boxes.len() as u32).collect() }
     }
 
     /// Binned SAH build (16 bins per axis over centroid bounds).
@@ -134,8 +131,8 @@ impl Builder<'_> {
         let scale = BINS as f32 / extent[axis];
         let bin_of = |c: Vec3| (((c[axis] - lo) * scale) as usize).min(BINS - 1);
         let centroids = &self.centroids;
-        let mid = start
-            + partition(&mut self.order[start..end], |&i| bin_of(centroids[i as usize]) < bin_split);
+        let mid =
+            start + partition(&mut self.order[start..end], |&i| bin_of(centroids[i as usize]) < bin_split);
         if mid == start || mid == end {
             return index as u32;
         }

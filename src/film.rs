@@ -17,9 +17,9 @@ impl PixelStats {
     #[inline]
     pub fn add(&mut self, v: [f64; 3]) {
         if v.iter().all(|c| c.is_finite()) {
-            for i in 0..3 {
-                self.sum[i] += v[i];
-                self.sum_sq[i] += v[i] * v[i];
+            for (i, c) in v.into_iter().enumerate() {
+                self.sum[i] += c;
+                self.sum_sq[i] += c * c;
             }
             self.count += 1;
         } else {

@@ -81,12 +81,22 @@ pub fn render(
             } else {
                 cpu::render::<f64>(&packed, &camera, settings, &on_row)
             };
-            Ok(RenderOutput { film, wall_seconds: start.elapsed().as_secs_f64(), timings: None, dispatches: 0 })
+            Ok(RenderOutput {
+                film,
+                wall_seconds: start.elapsed().as_secs_f64(),
+                timings: None,
+                dispatches: 0,
+            })
         }
         Method::Megakernel => {
             let ctx = gpu.ok_or_else(|| anyhow!("--method megakernel needs a GPU adapter"))?;
             let r = megakernel::render(ctx, &packed, &camera, settings, &options.megakernel, on_progress)?;
-            Ok(RenderOutput { film: r.film, wall_seconds: r.wall_seconds, timings: Some(r.timings), dispatches: r.dispatches })
+            Ok(RenderOutput {
+                film: r.film,
+                wall_seconds: r.wall_seconds,
+                timings: Some(r.timings),
+                dispatches: r.dispatches,
+            })
         }
     }
 }

@@ -36,7 +36,13 @@ impl PackedScene {
             .collect();
         let sphere_material = bvh.order.iter().map(|&i| scene.spheres[i as usize].material).collect();
         let materials = scene.materials.iter().map(|m| material_record(&m.material)).collect();
-        PackedScene { spheres, sphere_material, materials, nodes: bvh.nodes, background: scene.background.clone() }
+        PackedScene {
+            spheres,
+            sphere_material,
+            materials,
+            nodes: bvh.nodes,
+            background: scene.background.clone(),
+        }
     }
 
     /// Material kinds (`layout::material_kind`) that at least one sphere uses, ascending.

@@ -22,15 +22,22 @@ impl Progress {
                 .progress_chars("=> "),
         );
         bar.set_message(what.to_string());
-        Self { bar, start: Instant::now(), shown: AtomicBool::new(false), tty: std::io::stderr().is_terminal() }
+        Self {
+            bar,
+            start: Instant::now(),
+            shown: AtomicBool::new(false),
+            tty: std::io::stderr().is_terminal(),
+        }
     }
 
     /// Sets the amount of work done (thread-safe).
     pub fn set(&self, done: u64) {
-        if self.tty && !self.shown.load(Ordering::Relaxed) && self.start.elapsed() > Duration::from_secs(1) {
-            if !self.shown.swap(true, Ordering::Relaxed) {
-                self.bar.set_draw_target(ProgressDrawTarget::stderr());
-            }
+        if self.tty
+            && !self.shown.load(Ordering::Relaxed)
+            && self.start.elapsed() > Duration::from_secs(1)
+            && !self.shown.swap(true, Ordering::Relaxed)
+        {
+            self.bar.set_draw_target(ProgressDrawTarget::stderr());
         }
         self.bar.set_position(done);
     }

@@ -24,7 +24,9 @@ impl Machine {
         let read = |p: &str| std::fs::read_to_string(p).unwrap_or_default();
         let cpu = read("/proc/cpuinfo")
             .lines()
-            .find_map(|l| l.strip_prefix("model name").map(|r| r.trim_start_matches([' ', '\t', ':']).to_string()))
+            .find_map(|l| {
+                l.strip_prefix("model name").map(|r| r.trim_start_matches([' ', '\t', ':']).to_string())
+            })
             .unwrap_or_else(|| std::env::consts::ARCH.to_string());
         Self {
             hostname: read("/etc/hostname").trim().to_string(),
@@ -97,7 +99,11 @@ impl RunReport {
             build: Build::this(),
             machine: Machine::this(),
             adapter: adapter.cloned(),
-            scene: SceneSummary { name: scene.name.clone(), spheres: scene.spheres.len(), materials: scene.materials.len() },
+            scene: SceneSummary {
+                name: scene.name.clone(),
+                spheres: scene.spheres.len(),
+                materials: scene.materials.len(),
+            },
             method,
             settings: settings.clone(),
             options: options.clone(),

@@ -22,14 +22,16 @@ pub fn normal_critical(alpha: f64) -> f64 {
 pub fn erfc(x: f64) -> f64 {
     let z = x.abs();
     let t = 1.0 / (1.0 + 0.5 * z);
-    let r = t * (-z * z - 1.265_512_23
-        + t * (1.000_023_68
-            + t * (0.374_091_96
-                + t * (0.096_784_18
-                    + t * (-0.186_288_06
-                        + t * (0.278_868_07
-                            + t * (-1.135_203_98 + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77)))))))))
-        .exp();
+    let r = t
+        * (-z * z - 1.265_512_23
+            + t * (1.000_023_68
+                + t * (0.374_091_96
+                    + t * (0.096_784_18
+                        + t * (-0.186_288_06
+                            + t * (0.278_868_07
+                                + t * (-1.135_203_98
+                                    + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77)))))))))
+            .exp();
     if x >= 0.0 {
         r
     } else {
@@ -71,7 +73,11 @@ pub fn z_test(a: &Film, b: &Film, alpha: f64) -> ZTest {
     }
     let n = a.pixels.len();
     let (ma, mb) = (a.image_mean(), b.image_mean());
-    ZTest { pass_fraction: 1.0 - failed as f64 / n as f64, failed_pixels: failed, mean_rel_diff: (ma - mb).abs() / mb.abs() }
+    ZTest {
+        pass_fraction: 1.0 - failed as f64 / n as f64,
+        failed_pixels: failed,
+        mean_rel_diff: (ma - mb).abs() / mb.abs(),
+    }
 }
 
 #[cfg(test)]

@@ -62,7 +62,11 @@ fn linear_loop_and_bvh_agree_on_the_gpu() {
     let scene = builtin::by_name("rtiow-final").unwrap();
     let s = settings(48, 27, 16);
     let linear = RenderSettings { accel: Accel::None, ..s.clone() };
-    assert_agree("bvh vs none", &run(Method::Megakernel, &scene, &s), &run(Method::Megakernel, &scene, &linear));
+    assert_agree(
+        "bvh vs none",
+        &run(Method::Megakernel, &scene, &s),
+        &run(Method::Megakernel, &scene, &linear),
+    );
 }
 
 #[test]
@@ -116,7 +120,10 @@ fn check_furnace(method: Method) {
             got += m.iter().sum::<f64>() / 3.0;
             if cov == 0.0 || cov == 1.0 {
                 for c in m {
-                    assert!((c - expected).abs() < 0.025, "{method:?} pixel ({x},{y}) = {c}, want {expected}");
+                    assert!(
+                        (c - expected).abs() < 0.025,
+                        "{method:?} pixel ({x},{y}) = {c}, want {expected}"
+                    );
                 }
             }
         }

@@ -31,8 +31,23 @@ fn fails_with(args: &[&str], needles: &[&str]) {
 fn cpu_render_writes_exr_png_and_report() {
     let (exr, png, json) = (scratch("cpu.exr"), scratch("cpu.png"), scratch("cpu.json"));
     let out = wavetrace(&[
-        "render", "--scene", "three-spheres", "--method", "cpu", "--width", "32", "--height", "18", "--spp", "4",
-        "--out", exr.to_str().unwrap(), "--png", png.to_str().unwrap(), "--report", json.to_str().unwrap(),
+        "render",
+        "--scene",
+        "three-spheres",
+        "--method",
+        "cpu",
+        "--width",
+        "32",
+        "--height",
+        "18",
+        "--spp",
+        "4",
+        "--out",
+        exr.to_str().unwrap(),
+        "--png",
+        png.to_str().unwrap(),
+        "--report",
+        json.to_str().unwrap(),
     ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let (img, attrs) = wavetrace::image_io::read_exr(&exr).unwrap();
@@ -64,8 +79,21 @@ fn gpu_report_names_adapter_and_timing_source() {
     }
     let (exr, json) = (scratch("mk.exr"), scratch("mk.json"));
     let out = wavetrace(&[
-        "render", "--scene", "furnace", "--method", "megakernel", "--width", "16", "--height", "16", "--spp", "2",
-        "--out", exr.to_str().unwrap(), "--report", json.to_str().unwrap(),
+        "render",
+        "--scene",
+        "furnace",
+        "--method",
+        "megakernel",
+        "--width",
+        "16",
+        "--height",
+        "16",
+        "--spp",
+        "2",
+        "--out",
+        exr.to_str().unwrap(),
+        "--report",
+        json.to_str().unwrap(),
     ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let report: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
@@ -87,7 +115,18 @@ fn exported_scene_renders_like_the_builtin() {
     let render = |scene: &str, name: &str| {
         let exr = scratch(name);
         let o = wavetrace(&[
-            "render", "--scene", scene, "--method", "cpu", "--width", "16", "--height", "9", "--spp", "2", "--out",
+            "render",
+            "--scene",
+            scene,
+            "--method",
+            "cpu",
+            "--width",
+            "16",
+            "--height",
+            "9",
+            "--spp",
+            "2",
+            "--out",
             exr.to_str().unwrap(),
         ]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -103,17 +142,58 @@ fn bad_input_gives_clear_errors() {
     fails_with(&["render", "--scene", "no-such-scene", "--out", out], &["no-such-scene"]);
     let bad = scratch("bad.json");
     std::fs::write(&bad, "{\"format\": \"wavetrace-scene/1\",\n \"camera\": [}").unwrap();
-    fails_with(&["render", "--scene", bad.to_str().unwrap(), "--method", "cpu", "--out", out], &["bad.json", "line 2"]);
+    fails_with(
+        &["render", "--scene", bad.to_str().unwrap(), "--method", "cpu", "--out", out],
+        &["bad.json", "line 2"],
+    );
     let radius = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/scenes/bad-radius.json");
-    fails_with(&["render", "--scene", radius, "--method", "cpu", "--out", out], &["bad-radius.json", "radius"]);
+    fails_with(
+        &["render", "--scene", radius, "--method", "cpu", "--out", out],
+        &["bad-radius.json", "radius"],
+    );
     fails_with(&["render", "--scene", "furnace", "--spp", "0", "--method", "cpu", "--out", out], &["spp"]);
-    fails_with(&["render", "--scene", "furnace", "--width", "0", "--method", "cpu", "--out", out], &["empty"]);
+    fails_with(
+        &["render", "--scene", "furnace", "--width", "0", "--method", "cpu", "--out", out],
+        &["empty"],
+    );
     fails_with(&["scene", "export", "nope"], &["nope", "rtiow-final"]);
     let unwritable = "/nonexistent-dir/x.exr";
-    fails_with(&["render", "--scene", "furnace", "--method", "cpu", "--width", "8", "--height", "8", "--out", unwritable], &["nonexistent-dir"]);
+    fails_with(
+        &[
+            "render", "--scene", "furnace", "--method", "cpu", "--width", "8", "--height", "8", "--out",
+            unwritable,
+        ],
+        &["nonexistent-dir"],
+    );
     if common::gpu().is_some() {
-        fails_with(&["render", "--scene", "furnace", "--method", "megakernel", "--adapter", "no-such-gpu", "--out", out], &["no-such-gpu"]);
-        fails_with(&["render", "--scene", "furnace", "--method", "megakernel", "--workgroup-size", "0", "--out", out], &["workgroup size"]);
+        fails_with(
+            &[
+                "render",
+                "--scene",
+                "furnace",
+                "--method",
+                "megakernel",
+                "--adapter",
+                "no-such-gpu",
+                "--out",
+                out,
+            ],
+            &["no-such-gpu"],
+        );
+        fails_with(
+            &[
+                "render",
+                "--scene",
+                "furnace",
+                "--method",
+                "megakernel",
+                "--workgroup-size",
+                "0",
+                "--out",
+                out,
+            ],
+            &["workgroup size"],
+        );
     }
 }
 

@@ -5,37 +5,28 @@ use std::{
 };
 
 use exr::prelude::{
-    f16, AnyChannel, AnyChannels, Encoding, FlatSamples, Image, Layer, LayerAttributes,
-    SpecificChannels, Vec2, WritableImage,
+    f16, AnyChannel, AnyChannels, Encoding, FlatSamples, Image, Layer, LayerAttributes, SpecificChannels,
+    Vec2, WritableImage,
 };
-use wavetrace::image_io::{
-    linear_to_srgb8, read_exr, write_exr, write_png, ImageIoError, RgbImage,
-};
+use wavetrace::image_io::{linear_to_srgb8, read_exr, write_exr, write_png, ImageIoError, RgbImage};
 
 /// A fresh, empty directory per test, under cargo's scratch directory for integration tests.
 fn scratch_dir(test: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("image_io")
-        .join(test);
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("image_io").join(test);
     let _ = fs::remove_dir_all(&dir);
     fs::create_dir_all(&dir).unwrap();
     dir
 }
 
 fn file_names(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().into_string().unwrap())
-        .collect();
+    let mut names: Vec<String> =
+        fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
     names.sort();
     names
 }
 
 fn attrs(pairs: &[(&str, &str)]) -> Vec<(String, String)> {
-    pairs
-        .iter()
-        .map(|&(k, v)| (k.to_owned(), v.to_owned()))
-        .collect()
+    pairs.iter().map(|&(k, v)| (k.to_owned(), v.to_owned())).collect()
 }
 
 /// Odd, non-square and taller than one 16-line ZIP block, with the awkward floats first.
@@ -59,12 +50,7 @@ fn test_image() -> RgbImage {
     ];
     let (width, height) = (37, 19);
     let data = (0..3 * width * height)
-        .map(|i| {
-            special
-                .get(i as usize)
-                .copied()
-                .unwrap_or((i as f32 * 0.37).sin() * 100.0)
-        })
+        .map(|i| special.get(i as usize).copied().unwrap_or((i as f32 * 0.37).sin() * 100.0))
         .collect();
     RgbImage::from_data(width, height, data).unwrap()
 }
@@ -78,10 +64,7 @@ fn assert_bit_exact(a: &RgbImage, b: &RgbImage) {
 
 fn assert_names_file(err: &ImageIoError, path: &Path) {
     let message = err.to_string();
-    assert!(
-        message.contains(&path.display().to_string()),
-        "{message:?} does not name {path:?}"
-    );
+    assert!(message.contains(&path.display().to_string()), "{message:?} does not name {path:?}");
     assert_eq!(err.path(), path);
 }
 
@@ -133,11 +116,7 @@ fn exr_round_trip_is_bit_exact_with_attributes() {
 fn exr_standard_text_attributes_can_be_set() {
     let dir = scratch_dir("exr_standard_text");
     let path = dir.join("a.exr");
-    let given = attrs(&[
-        ("software", "other tool 2.0"),
-        ("comments", "hello"),
-        ("x", "y"),
-    ]);
+    let given = attrs(&[("software", "other tool 2.0"), ("comments", "hello"), ("x", "y")]);
     write_exr(&path, &RgbImage::new(2, 2), &given).unwrap();
     let (_, mut attributes) = read_exr(&path).unwrap();
     attributes.sort();
@@ -185,11 +164,7 @@ fn exr_write_rejects_bad_attributes_naming_the_file() {
 fn writers_reject_empty_and_inconsistent_images() {
     let dir = scratch_dir("bad_images");
     let empty = RgbImage::new(0, 5);
-    let inconsistent = RgbImage {
-        width: 2,
-        height: 2,
-        data: vec![0.0; 3],
-    };
+    let inconsistent = RgbImage { width: 2, height: 2, data: vec![0.0; 3] };
     for image in [&empty, &inconsistent] {
         let path = dir.join("a.exr");
         assert_names_file(&write_exr(&path, image, &[]).unwrap_err(), &path);
@@ -217,10 +192,7 @@ fn exr_reads_f16_rgba_ignoring_alpha() {
         (v(0), v(1), v(2), f16::from_f32(0.5))
     };
     let channels = SpecificChannels::rgba(|p: Vec2<usize>| pixel(p.x(), p.y()));
-    Image::from_channels((5, 3), channels)
-        .write()
-        .to_file(&path)
-        .unwrap();
+    Image::from_channels((5, 3), channels).write().to_file(&path).unwrap();
 
     let (image, _) = read_exr(&path).unwrap();
     assert_eq!((image.width, image.height), (5, 3));
@@ -237,12 +209,7 @@ fn write_channels(path: &Path, size: (usize, usize), channels: &[(&str, Vec<f32>
         .iter()
         .map(|(name, values)| AnyChannel::new(*name, FlatSamples::F32(values.clone())))
         .collect();
-    let layer = Layer::new(
-        size,
-        LayerAttributes::default(),
-        Encoding::UNCOMPRESSED,
-        AnyChannels::sort(list),
-    );
+    let layer = Layer::new(size, LayerAttributes::default(), Encoding::UNCOMPRESSED, AnyChannels::sort(list));
     Image::from_layer(layer).write().to_file(path).unwrap();
 }
 
@@ -267,11 +234,7 @@ fn exr_without_rgb_is_an_error_naming_file_and_channels() {
     // Luminance-chroma: replicating Y would drop the colour.
     let path = dir.join("chroma.exr");
     let ones = vec![1.0; 2];
-    write_channels(
-        &path,
-        (2, 1),
-        &[("Y", ones.clone()), ("RY", ones.clone()), ("BY", ones)],
-    );
+    write_channels(&path, (2, 1), &[("Y", ones.clone()), ("RY", ones.clone()), ("BY", ones)]);
     assert_names_file(&read_exr(&path).unwrap_err(), &path);
 
     let path = dir.join("rg.exr");
@@ -286,9 +249,7 @@ fn exr_read_errors_name_the_file() {
     let missing = dir.join("missing.exr");
     let err = read_exr(&missing).unwrap_err();
     assert_names_file(&err, &missing);
-    assert!(
-        matches!(&err, ImageIoError::Io { error, .. } if error.kind() == std::io::ErrorKind::NotFound)
-    );
+    assert!(matches!(&err, ImageIoError::Io { error, .. } if error.kind() == std::io::ErrorKind::NotFound));
 
     let text = dir.join("text.exr");
     fs::write(&text, "not an image\n").unwrap();
@@ -333,11 +294,7 @@ fn srgb_curve_inverts_the_decoding_curve() {
     // Every code decodes to a linear value that encodes back to the same code.
     for code in 0..=255u8 {
         let s = f64::from(code) / 255.0;
-        let linear = if s <= 0.04045 {
-            s / 12.92
-        } else {
-            ((s + 0.055) / 1.055).powf(2.4)
-        };
+        let linear = if s <= 0.04045 { s / 12.92 } else { ((s + 0.055) / 1.055).powf(2.4) };
         assert_eq!(linear_to_srgb8(linear as f32), code);
     }
 }
@@ -346,17 +303,7 @@ fn srgb_curve_inverts_the_decoding_curve() {
 fn png_pixels_follow_the_srgb_curve() {
     let dir = scratch_dir("png");
     let path = dir.join("preview.png");
-    let values = [
-        0.0,
-        1.0,
-        0.5,
-        0.003_130_8,
-        2.0,
-        -1.0,
-        f32::NAN,
-        f32::INFINITY,
-        0.18,
-    ];
+    let values = [0.0, 1.0, 0.5, 0.003_130_8, 2.0, -1.0, f32::NAN, f32::INFINITY, 0.18];
     let expected = [0u8, 255, 188, 10, 255, 0, 0, 255, 118];
     // Three pixels in the top row, and a marker in the bottom row to pin the orientation.
     let mut image = RgbImage::from_data(3, 2, [values.to_vec(), vec![0.0; 9]].concat()).unwrap();
@@ -405,10 +352,6 @@ fn oiio_fixture() {
             .map(|(k, v)| (k, serde_json::Value::String(v)))
             .collect::<serde_json::Map<_, _>>(),
     });
-    fs::write(
-        dir.join("fixture.json"),
-        serde_json::to_string_pretty(&json).unwrap(),
-    )
-    .unwrap();
+    fs::write(dir.join("fixture.json"), serde_json::to_string_pretty(&json).unwrap()).unwrap();
     println!("wrote {}", exr_path.display());
 }

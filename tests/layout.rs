@@ -52,8 +52,20 @@ fn frame() {
         FrameUniform,
         "Frame",
         [
-            camera_center, has_defocus, pixel00, width, pixel_delta_u, height, pixel_delta_v, max_depth,
-            defocus_disk_u, seed, defocus_disk_v, background_kind, background_color, _pad
+            camera_center,
+            has_defocus,
+            pixel00,
+            width,
+            pixel_delta_u,
+            height,
+            pixel_delta_v,
+            max_depth,
+            defocus_disk_u,
+            seed,
+            defocus_disk_v,
+            background_kind,
+            background_color,
+            _pad
         ]
     );
 }

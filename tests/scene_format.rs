@@ -17,9 +17,7 @@ const EXAMPLE: &str = include_str!("scenes/example.json");
 const RTIOW_FINAL_SPHERES: usize = 486;
 
 fn fixture(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/scenes")
-        .join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes").join(name)
 }
 
 fn load_str(text: &str) -> Result<Scene, SceneError> {
@@ -28,11 +26,7 @@ fn load_str(text: &str) -> Result<Scene, SceneError> {
 
 /// EXAMPLE with `from` (which must occur exactly once) replaced by `to`.
 fn edit(from: &str, to: &str) -> String {
-    assert_eq!(
-        EXAMPLE.matches(from).count(),
-        1,
-        "{from:?} must occur once in example.json"
-    );
+    assert_eq!(EXAMPLE.matches(from).count(), 1, "{from:?} must occur once in example.json");
     EXAMPLE.replacen(from, to, 1)
 }
 
@@ -46,18 +40,10 @@ fn assert_error(text: &str, path: &str, reason: &[&str]) {
     assert_eq!(err.file, "bad.json", "{err}");
     assert_eq!(err.path, path, "{err}");
     for part in reason {
-        assert!(
-            err.reason.contains(part),
-            "reason {:?} lacks {part:?}",
-            err.reason
-        );
+        assert!(err.reason.contains(part), "reason {:?} lacks {part:?}", err.reason);
     }
     let shown = err.to_string();
-    let prefix = if path.is_empty() {
-        "bad.json: ".to_owned()
-    } else {
-        format!("bad.json: {path}: ")
-    };
+    let prefix = if path.is_empty() { "bad.json: ".to_owned() } else { format!("bad.json: {path}: ") };
     assert!(shown.starts_with(&prefix), "{shown}");
 }
 
@@ -70,42 +56,18 @@ fn example_file_loads_as_written() {
     assert_eq!(scene.name, "example");
     assert_eq!(scene.camera.lookat, Vec3::new(0.0, 0.5, 0.0));
     assert_eq!(scene.camera.defocus_angle, 0.25);
-    assert_eq!(
-        scene.background,
-        Background::Constant(Vec3::new(0.1, 0.1, 0.15))
-    );
+    assert_eq!(scene.background, Background::Constant(Vec3::new(0.1, 0.1, 0.15)));
     // File order is kept, including the unused material.
     let names: Vec<&str> = scene.materials.iter().map(|m| m.name.as_str()).collect();
     assert_eq!(names, ["floor", "red", "steel", "glass", "lamp", "unused"]);
-    assert_eq!(
-        scene.materials[2].material,
-        Material::Metal {
-            albedo: Vec3::new(0.7, 0.6, 0.5),
-            fuzz: 0.1
-        }
-    );
-    assert_eq!(
-        scene.materials[4].material,
-        Material::Emissive {
-            radiance: Vec3::new(4.0, 4.0, 3.5)
-        }
-    );
+    assert_eq!(scene.materials[2].material, Material::Metal { albedo: Vec3::new(0.7, 0.6, 0.5), fuzz: 0.1 });
+    assert_eq!(scene.materials[4].material, Material::Emissive { radiance: Vec3::new(4.0, 4.0, 3.5) });
     let refs: Vec<u32> = scene.spheres.iter().map(|s| s.material).collect();
     assert_eq!(refs, [0, 1, 3, 2, 4]);
-    assert_eq!(
-        scene.spheres[0],
-        Sphere {
-            center: Vec3::new(0.0, -100.5, 0.0),
-            radius: 100.0,
-            material: 0
-        }
-    );
+    assert_eq!(scene.spheres[0], Sphere { center: Vec3::new(0.0, -100.5, 0.0), radius: 100.0, material: 0 });
     assert_eq!(
         scene.material(&scene.spheres[3]),
-        &Material::Metal {
-            albedo: Vec3::new(0.7, 0.6, 0.5),
-            fuzz: 0.1
-        }
+        &Material::Metal { albedo: Vec3::new(0.7, 0.6, 0.5), fuzz: 0.1 }
     );
 }
 
@@ -118,10 +80,7 @@ fn a_scene_without_objects_is_allowed() {
     let scene = load::from_str(text, "<string>", "empty").unwrap();
     assert!(scene.spheres.is_empty() && scene.materials.is_empty());
     assert_eq!(scene.name, "empty");
-    assert_eq!(
-        load::from_str(&export::to_json(&scene), "<export>", "empty").unwrap(),
-        scene
-    );
+    assert_eq!(load::from_str(&export::to_json(&scene), "<export>", "empty").unwrap(), scene);
 }
 
 #[test]
@@ -129,14 +88,9 @@ fn every_builtin_round_trips_through_export() {
     for &name in builtin::names() {
         let scene = builtin::by_name(name).unwrap();
         assert_eq!(scene.name, name);
-        scene
-            .validate()
-            .unwrap_or_else(|e| panic!("{name} is invalid: {e}"));
+        scene.validate().unwrap_or_else(|e| panic!("{name} is invalid: {e}"));
         let text = export::to_json(&scene);
-        assert!(
-            text.starts_with(&format!("{{\n  \"format\": \"{FORMAT}\",\n")),
-            "{name}"
-        );
+        assert!(text.starts_with(&format!("{{\n  \"format\": \"{FORMAT}\",\n")), "{name}");
         let loaded = load::from_str(&text, &format!("<export of {name}>"), name)
             .unwrap_or_else(|e| panic!("exported {name} does not load: {e}"));
         assert_eq!(loaded, scene, "{name}");
@@ -150,53 +104,28 @@ fn every_builtin_round_trips_through_export() {
 fn example_round_trips_and_keeps_numbers_readable() {
     let scene = load::from_file(&fixture("example.json")).unwrap();
     let text = export::to_json(&scene);
+    assert!(text.contains(r#""steel": {"type": "metal", "albedo": [0.7, 0.6, 0.5], "fuzz": 0.1}"#), "{text}");
+    assert!(text.contains(r#""background": {"type": "constant", "color": [0.1, 0.1, 0.15]}"#), "{text}");
     assert!(
-        text.contains(r#""steel": {"type": "metal", "albedo": [0.7, 0.6, 0.5], "fuzz": 0.1}"#),
-        "{text}"
+        text.contains(r#"{"type": "sphere", "center": [0, -100.5, 0], "radius": 100, "material": "floor"}"#)
     );
-    assert!(
-        text.contains(r#""background": {"type": "constant", "color": [0.1, 0.1, 0.15]}"#),
-        "{text}"
-    );
-    assert!(text.contains(
-        r#"{"type": "sphere", "center": [0, -100.5, 0], "radius": 100, "material": "floor"}"#
-    ));
     assert_eq!(load::from_str(&text, "<export>", "example").unwrap(), scene);
 }
 
 #[test]
 fn awkward_values_round_trip_bit_exactly() {
     let mut scene = builtin::by_name("furnace").unwrap();
-    let odd = [
-        1.0 / 3.0,
-        1e-30,
-        3.4e38,
-        f32::MIN_POSITIVE,
-        16_777_217.0,
-        0.1 + 0.2,
-        -0.0,
-        1e-45,
-    ];
+    let odd = [1.0 / 3.0, 1e-30, 3.4e38, f32::MIN_POSITIVE, 16_777_217.0, 0.1 + 0.2, -0.0, 1e-45];
     for (i, &x) in odd.iter().enumerate() {
-        scene.spheres.push(Sphere {
-            center: Vec3::new(x, -x, 0.5 * x),
-            radius: 0.5 + i as f32,
-            material: 0,
-        });
+        scene.spheres.push(Sphere { center: Vec3::new(x, -x, 0.5 * x), radius: 0.5 + i as f32, material: 0 });
     }
     scene.materials.push(NamedMaterial {
         name: "odd name \"with\" quotes / ünïcode".into(),
-        material: Material::Metal {
-            albedo: Vec3::new(1.0 / 3.0, 2.0 / 3.0, 0.1),
-            fuzz: 1.0 / 7.0,
-        },
+        material: Material::Metal { albedo: Vec3::new(1.0 / 3.0, 2.0 / 3.0, 0.1), fuzz: 1.0 / 7.0 },
     });
     let loaded = load::from_str(&export::to_json(&scene), "<export>", "furnace").unwrap();
     assert_eq!(bits(&loaded), bits(&scene));
-    assert_eq!(
-        loaded.materials[1].name,
-        "odd name \"with\" quotes / ünïcode"
-    );
+    assert_eq!(loaded.materials[1].name, "odd name \"with\" quotes / ünïcode");
 }
 
 /// Every f32 of a scene as bits, so -0.0 vs 0.0 or a last-bit change is caught.
@@ -237,45 +166,20 @@ fn rtiow_final_has_a_fixed_deterministic_layout() {
     let scene = builtin::by_name("rtiow-final").unwrap();
     assert!((450..=490).contains(&scene.spheres.len()));
     assert_eq!(scene.spheres.len(), RTIOW_FINAL_SPHERES);
-    assert_eq!(
-        scene.materials.len(),
-        scene.spheres.len(),
-        "one material per sphere"
-    );
+    assert_eq!(scene.materials.len(), scene.spheres.len(), "one material per sphere");
     assert_eq!(builtin::by_name("rtiow-final").unwrap(), scene);
 
     let ground = scene.spheres[0];
-    assert_eq!(
-        (ground.center, ground.radius),
-        (Vec3::new(0.0, -1000.0, 0.0), 1000.0)
-    );
-    assert_eq!(
-        scene.materials[0].material,
-        Material::Lambertian {
-            albedo: Vec3::splat(0.5)
-        }
-    );
-    let big: Vec<(Vec3, &Material)> = scene.spheres[scene.spheres.len() - 3..]
-        .iter()
-        .map(|s| (s.center, scene.material(s)))
-        .collect();
+    assert_eq!((ground.center, ground.radius), (Vec3::new(0.0, -1000.0, 0.0), 1000.0));
+    assert_eq!(scene.materials[0].material, Material::Lambertian { albedo: Vec3::splat(0.5) });
+    let big: Vec<(Vec3, &Material)> =
+        scene.spheres[scene.spheres.len() - 3..].iter().map(|s| (s.center, scene.material(s))).collect();
     assert_eq!(
         big,
         [
             (Vec3::new(0.0, 1.0, 0.0), &Material::Dielectric { ior: 1.5 }),
-            (
-                Vec3::new(-4.0, 1.0, 0.0),
-                &Material::Lambertian {
-                    albedo: Vec3::new(0.4, 0.2, 0.1)
-                }
-            ),
-            (
-                Vec3::new(4.0, 1.0, 0.0),
-                &Material::Metal {
-                    albedo: Vec3::new(0.7, 0.6, 0.5),
-                    fuzz: 0.0
-                }
-            ),
+            (Vec3::new(-4.0, 1.0, 0.0), &Material::Lambertian { albedo: Vec3::new(0.4, 0.2, 0.1) }),
+            (Vec3::new(4.0, 1.0, 0.0), &Material::Metal { albedo: Vec3::new(0.7, 0.6, 0.5), fuzz: 0.0 }),
         ]
     );
     for s in &scene.spheres[1..scene.spheres.len() - 3] {
@@ -284,14 +188,8 @@ fn rtiow_final_has_a_fixed_deterministic_layout() {
         assert!((-11.0..11.0).contains(&s.center.x) && (-11.0..11.0).contains(&s.center.z));
     }
     let cam = &scene.camera;
-    assert_eq!(
-        (cam.lookfrom, cam.lookat, cam.vup),
-        (Vec3::new(13.0, 2.0, 3.0), Vec3::ZERO, Vec3::Y)
-    );
-    assert_eq!(
-        (cam.vfov, cam.defocus_angle, cam.focus_dist),
-        (20.0, 0.6, 10.0)
-    );
+    assert_eq!((cam.lookfrom, cam.lookat, cam.vup), (Vec3::new(13.0, 2.0, 3.0), Vec3::ZERO, Vec3::Y));
+    assert_eq!((cam.vfov, cam.defocus_angle, cam.focus_dist), (20.0, 0.6, 10.0));
     assert_eq!(scene.background, Background::Sky);
 }
 
@@ -308,17 +206,10 @@ fn three_spheres_and_furnace_are_as_described() {
     assert_eq!(furnace.background, Background::Constant(Vec3::ONE));
     assert_eq!(furnace.camera.defocus_angle, 0.0);
     assert_eq!(furnace.spheres.len(), 1);
-    assert_eq!(
-        furnace.material(&furnace.spheres[0]),
-        &Material::Lambertian {
-            albedo: Vec3::splat(0.5)
-        }
-    );
+    assert_eq!(furnace.material(&furnace.spheres[0]), &Material::Lambertian { albedo: Vec3::splat(0.5) });
     // The sphere fills part of the frame, not all of it.
     let s = furnace.spheres[0];
-    let half_angle = (s.radius / furnace.camera.lookfrom.distance(s.center))
-        .asin()
-        .to_degrees();
+    let half_angle = (s.radius / furnace.camera.lookfrom.distance(s.center)).asin().to_degrees();
     assert!(half_angle > 0.25 * furnace.camera.vfov && half_angle < 0.45 * furnace.camera.vfov);
 
     assert_eq!(builtin::list().len(), builtin::names().len());
@@ -329,10 +220,7 @@ fn three_spheres_and_furnace_are_as_described() {
 fn resolve_prefers_builtins_then_files() {
     assert_eq!(Scene::resolve("furnace").unwrap().name, "furnace");
     let path = fixture("example.json");
-    assert_eq!(
-        Scene::resolve(path.to_str().unwrap()).unwrap().name,
-        "example"
-    );
+    assert_eq!(Scene::resolve(path.to_str().unwrap()).unwrap().name, "example");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -357,82 +245,42 @@ fn errors_from_files_name_the_file() {
     assert_eq!(err.file, path.display().to_string());
     assert_eq!(err.path, "objects[0].radius");
     assert_eq!(err.reason, "must be > 0, got -1");
-    assert_eq!(
-        err.to_string(),
-        format!("{}: objects[0].radius: must be > 0, got -1", path.display())
-    );
+    assert_eq!(err.to_string(), format!("{}: objects[0].radius: must be > 0, got -1", path.display()));
 }
 
 #[test]
 fn malformed_json_gives_line_and_column() {
-    assert_error(
-        &edit("\"vfov\": 35,", "\"vfov\": 35"),
-        "",
-        &["malformed JSON", "line 8 column 5"],
-    );
+    assert_error(&edit("\"vfov\": 35,", "\"vfov\": 35"), "", &["malformed JSON", "line 8 column 5"]);
     assert_error("", "", &["malformed JSON", "EOF", "line 1 column 0"]);
-    assert_error(
-        &format!("{EXAMPLE} {{}}"),
-        "",
-        &["malformed JSON", "trailing characters"],
-    );
+    assert_error(&format!("{EXAMPLE} {{}}"), "", &["malformed JSON", "trailing characters"]);
     assert_error(
         &edit("\"radius\": 100,", "\"radius\": 1e400,"),
         "",
         &["malformed JSON: number out of range", "line 21"],
     );
-    assert_error(
-        "[1, 2, 3]",
-        "",
-        &["expected an object, found an array of 3 values"],
-    );
+    assert_error("[1, 2, 3]", "", &["expected an object, found an array of 3 values"]);
 }
 
 #[test]
 fn the_format_field_is_required_and_checked() {
-    assert_error(
-        &edit("\"format\": \"wavetrace-scene/1\",", ""),
-        "",
-        &["missing required field \"format\""],
-    );
+    assert_error(&edit("\"format\": \"wavetrace-scene/1\",", ""), "", &["missing required field \"format\""]);
     assert_error(
         &edit("wavetrace-scene/1", "wavetrace-scene/2"),
         "format",
-        &[
-            "unsupported format \"wavetrace-scene/2\"",
-            "this build reads \"wavetrace-scene/1\"",
-        ],
+        &["unsupported format \"wavetrace-scene/2\"", "this build reads \"wavetrace-scene/1\""],
     );
-    assert_error(
-        &edit("\"wavetrace-scene/1\"", "1"),
-        "format",
-        &["expected a string, found a number (1)"],
-    );
+    assert_error(&edit("\"wavetrace-scene/1\"", "1"), "format", &["expected a string, found a number (1)"]);
     // A newer version is reported as such, before its unknown fields.
-    let newer = edit(
-        "\"format\": \"wavetrace-scene/1\",",
-        "\"format\": \"wavetrace-scene/9\", \"lights\": [],",
-    );
+    let newer =
+        edit("\"format\": \"wavetrace-scene/1\",", "\"format\": \"wavetrace-scene/9\", \"lights\": [],");
     assert_error(&newer, "format", &["unsupported format"]);
 }
 
 #[test]
 fn missing_fields_are_named() {
-    assert_error(
-        &edit("\"vfov\": 35,", ""),
-        "camera",
-        &["missing required field \"vfov\""],
-    );
-    assert_error(
-        &edit(", \"fuzz\": 0.1", ""),
-        "materials.steel",
-        &["missing required field \"fuzz\""],
-    );
-    assert_error(
-        &edit("\"radius\": 0.75, ", ""),
-        "objects[4]",
-        &["missing required field \"radius\""],
-    );
+    assert_error(&edit("\"vfov\": 35,", ""), "camera", &["missing required field \"vfov\""]);
+    assert_error(&edit(", \"fuzz\": 0.1", ""), "materials.steel", &["missing required field \"fuzz\""]);
+    assert_error(&edit("\"radius\": 0.75, ", ""), "objects[4]", &["missing required field \"radius\""]);
     assert_error(
         &edit("\"type\": \"dielectric\", \"ior\": 1.5", "\"ior\": 1.5"),
         "materials.glass",
@@ -443,10 +291,7 @@ fn missing_fields_are_named() {
         "background",
         &["missing required field \"color\""],
     );
-    let no_bg = edit(
-        "\"background\": {\"type\": \"constant\", \"color\": [0.1, 0.1, 0.15]},",
-        "",
-    );
+    let no_bg = edit("\"background\": {\"type\": \"constant\", \"color\": [0.1, 0.1, 0.15]},", "");
     assert_error(&no_bg, "", &["missing required field \"background\""]);
 }
 
@@ -471,11 +316,7 @@ fn unknown_fields_are_rejected_with_a_hint() {
         "materials.glass.fuzz",
         &["unknown field", "expected \"type\" or \"ior\""],
     );
-    assert_error(
-        &edit("\"objects\"", "\"lights\": [], \"objects\""),
-        "lights",
-        &["unknown field"],
-    );
+    assert_error(&edit("\"objects\"", "\"lights\": [], \"objects\""), "lights", &["unknown field"]);
     assert_error(
         &edit("{\"type\": \"constant\"", "{\"type\": \"sky\""),
         "background.color",
@@ -500,11 +341,7 @@ fn wrong_types_say_what_was_expected() {
         "materials.red.albedo[1]",
         &["expected a number, found a string (\"0.3\")"],
     );
-    assert_error(
-        &edit("\"vfov\": 35", "\"vfov\": null"),
-        "camera.vfov",
-        &["expected a number, found null"],
-    );
+    assert_error(&edit("\"vfov\": 35", "\"vfov\": null"), "camera.vfov", &["expected a number, found null"]);
     assert_error(
         &edit("\"radius\": 0.75", "\"radius\": [0.75]"),
         "objects[4].radius",
@@ -515,27 +352,16 @@ fn wrong_types_say_what_was_expected() {
         "objects[4].material",
         &["expected a string"],
     );
+    assert_error(&edit("\"lookat\": [0, 0.5, 0]", "\"lookat\": {}"), "camera.lookat", &["found an object"]);
     assert_error(
-        &edit("\"lookat\": [0, 0.5, 0]", "\"lookat\": {}"),
-        "camera.lookat",
-        &["found an object"],
-    );
-    assert_error(
-        &edit(
-            "\"type\": \"dielectric\", \"ior\": 1.5",
-            "\"type\": true, \"ior\": 1.5",
-        ),
+        &edit("\"type\": \"dielectric\", \"ior\": 1.5", "\"type\": true, \"ior\": 1.5"),
         "materials.glass.type",
         &["expected a string, found a boolean (true)"],
     );
     let objects_as_map = r#"{"format": "wavetrace-scene/1", "camera": {"lookfrom": [0, 0, 1], "lookat": [0, 0, 0],
         "vup": [0, 1, 0], "vfov": 90, "defocus_angle": 0, "focus_dist": 1}, "background": {"type": "sky"},
         "materials": [], "objects": {}}"#;
-    assert_error(
-        objects_as_map,
-        "materials",
-        &["expected an object, found an array of 0 values"],
-    );
+    assert_error(objects_as_map, "materials", &["expected an object, found an array of 0 values"]);
     assert_error(
         &objects_as_map.replace("\"materials\": []", "\"materials\": {}"),
         "objects",
@@ -556,11 +382,7 @@ fn numbers_must_be_finite_as_f32() {
         &["not a finite number"],
     );
     // Huge but within f32 range: finite, so the sign check is what refuses it.
-    assert_error(
-        &edit("[4, 4, 3.5]", "[4, 4, -3e38]"),
-        "materials.lamp.radiance[2]",
-        &["must be >= 0"],
-    );
+    assert_error(&edit("[4, 4, 3.5]", "[4, 4, -3e38]"), "materials.lamp.radiance[2]", &["must be >= 0"]);
     assert_error(
         &edit("[4, 4, 3.5]", "[4, 4, -3.5e38]"),
         "materials.lamp.radiance[2]",
@@ -572,20 +394,12 @@ fn numbers_must_be_finite_as_f32() {
         &["not a finite number"],
     );
     // 1e-50 underflows to 0, which is a finite f32, so it is a value check that refuses it.
-    assert_error(
-        &edit("\"ior\": 1.5", "\"ior\": 1e-50"),
-        "materials.glass.ior",
-        &["must be > 0, got 0"],
-    );
+    assert_error(&edit("\"ior\": 1.5", "\"ior\": 1e-50"), "materials.glass.ior", &["must be > 0, got 0"]);
 }
 
 #[test]
 fn out_of_range_values_are_refused() {
-    assert_error(
-        &edit("\"radius\": 0.75", "\"radius\": 0"),
-        "objects[4].radius",
-        &["must be > 0, got 0"],
-    );
+    assert_error(&edit("\"radius\": 0.75", "\"radius\": 0"), "objects[4].radius", &["must be > 0, got 0"]);
     assert_error(
         &edit("\"radius\": 0.75", "\"radius\": -0.75"),
         "objects[4].radius",
@@ -596,21 +410,9 @@ fn out_of_range_values_are_refused() {
         "materials.steel.fuzz",
         &["must be in [0, 1], got 1.5"],
     );
-    assert_error(
-        &edit("\"fuzz\": 0.1", "\"fuzz\": -0.1"),
-        "materials.steel.fuzz",
-        &["must be in [0, 1]"],
-    );
-    assert_error(
-        &edit("\"ior\": 1.5", "\"ior\": 0"),
-        "materials.glass.ior",
-        &["must be > 0, got 0"],
-    );
-    assert_error(
-        &edit("\"ior\": 0.67", "\"ior\": -1.5"),
-        "materials.unused.ior",
-        &["must be > 0, got -1.5"],
-    );
+    assert_error(&edit("\"fuzz\": 0.1", "\"fuzz\": -0.1"), "materials.steel.fuzz", &["must be in [0, 1]"]);
+    assert_error(&edit("\"ior\": 1.5", "\"ior\": 0"), "materials.glass.ior", &["must be > 0, got 0"]);
+    assert_error(&edit("\"ior\": 0.67", "\"ior\": -1.5"), "materials.unused.ior", &["must be > 0, got -1.5"]);
     assert_error(
         &edit("[0.8, 0.3, 0.3]", "[0.8, -0.3, 0.3]"),
         "materials.red.albedo[1]",
@@ -626,11 +428,7 @@ fn out_of_range_values_are_refused() {
         "materials.lamp.radiance[2]",
         &["must be >= 0, got -3.5"],
     );
-    assert_error(
-        &edit("[0.1, 0.1, 0.15]", "[0.1, -0.1, 0.15]"),
-        "background.color[1]",
-        &["must be >= 0"],
-    );
+    assert_error(&edit("[0.1, 0.1, 0.15]", "[0.1, -0.1, 0.15]"), "background.color[1]", &["must be >= 0"]);
     for vfov in ["0", "180", "-10", "200"] {
         assert_error(
             &edit("\"vfov\": 35", &format!("\"vfov\": {vfov}")),
@@ -640,10 +438,7 @@ fn out_of_range_values_are_refused() {
     }
     for angle in ["-1", "180"] {
         assert_error(
-            &edit(
-                "\"defocus_angle\": 0.25",
-                &format!("\"defocus_angle\": {angle}"),
-            ),
+            &edit("\"defocus_angle\": 0.25", &format!("\"defocus_angle\": {angle}")),
             "camera.defocus_angle",
             &["must be in [0, 180) degrees"],
         );
@@ -688,10 +483,7 @@ fn names_and_types_must_resolve() {
         &["unknown material \"chrome\"; defined materials:"],
     );
     assert_error(
-        &edit(
-            "\"type\": \"lambertian\", \"albedo\": [0.8",
-            "\"type\": \"lambertain\", \"albedo\": [0.8",
-        ),
+        &edit("\"type\": \"lambertian\", \"albedo\": [0.8", "\"type\": \"lambertain\", \"albedo\": [0.8"),
         "materials.red.type",
         &[
             "unknown material type \"lambertain\" (did you mean \"lambertian\"?)",
@@ -699,10 +491,7 @@ fn names_and_types_must_resolve() {
         ],
     );
     assert_error(
-        &edit(
-            "{\"type\": \"sphere\", \"center\": [0, 3, 0]",
-            "{\"type\": \"cube\", \"center\": [0, 3, 0]",
-        ),
+        &edit("{\"type\": \"sphere\", \"center\": [0, 3, 0]", "{\"type\": \"cube\", \"center\": [0, 3, 0]"),
         "objects[4].type",
         &["unknown object type \"cube\"; expected \"sphere\""],
     );
@@ -711,11 +500,7 @@ fn names_and_types_must_resolve() {
         "background.type",
         &["unknown background type \"gradient\"; expected \"sky\" or \"constant\""],
     );
-    assert_error(
-        &edit("\"unused\":", "\"\":"),
-        "materials[\"\"]",
-        &["material name must not be empty"],
-    );
+    assert_error(&edit("\"unused\":", "\"\":"), "materials[\"\"]", &["material name must not be empty"]);
 }
 
 #[test]
@@ -724,11 +509,7 @@ fn duplicate_keys_are_refused() {
         "\"unused\": {\"type\": \"dielectric\", \"ior\": 0.67}",
         "\"red\": {\"type\": \"dielectric\", \"ior\": 0.67}",
     );
-    assert_error(
-        &dup,
-        "materials.red",
-        &["duplicate key \"red\"", "line 18", "only once"],
-    );
+    assert_error(&dup, "materials.red", &["duplicate key \"red\"", "line 18", "only once"]);
     assert_error(
         &edit("\"radius\": 0.75", "\"radius\": 0.75, \"radius\": 1"),
         "objects[4].radius",
@@ -740,11 +521,7 @@ fn duplicate_keys_are_refused() {
 fn material_names_that_need_quoting_are_quoted_in_paths() {
     let text = EXAMPLE.replace("\"steel\"", "\"brushed steel\"");
     let text = text.replace("\"fuzz\": 0.1", "\"fuzz\": 2");
-    assert_error(
-        &text,
-        "materials[\"brushed steel\"].fuzz",
-        &["must be in [0, 1]"],
-    );
+    assert_error(&text, "materials[\"brushed steel\"].fuzz", &["must be in [0, 1]"]);
 }
 
 #[test]
@@ -752,31 +529,18 @@ fn scenes_built_in_code_are_validated_too() {
     let mut scene = builtin::by_name("three-spheres").unwrap();
     scene.spheres[2].material = 9;
     let err = scene.validate().unwrap_err();
-    assert_eq!(
-        (err.file.as_str(), err.path.as_str()),
-        ("<scene three-spheres>", "objects[2].material")
-    );
-    assert!(
-        err.reason
-            .contains("material index 9, but the scene has 4 materials"),
-        "{err}"
-    );
+    assert_eq!((err.file.as_str(), err.path.as_str()), ("<scene three-spheres>", "objects[2].material"));
+    assert!(err.reason.contains("material index 9, but the scene has 4 materials"), "{err}");
     // Exporting an invalid scene gives a file that fails to load, at the same place.
     let err = load_str(&export::to_json(&scene)).unwrap_err();
     assert_eq!(err.path, "objects[2].material");
 
     let mut scene = builtin::by_name("three-spheres").unwrap();
-    scene.materials[3].material = Material::Metal {
-        albedo: Vec3::ONE,
-        fuzz: f32::NAN,
-    };
+    scene.materials[3].material = Material::Metal { albedo: Vec3::ONE, fuzz: f32::NAN };
     let err = scene.validate().unwrap_err();
     assert_eq!(err.path, "materials.mirror.fuzz");
     assert!(err.reason.contains("not a finite number"), "{err}");
-    assert_eq!(
-        load_str(&export::to_json(&scene)).unwrap_err().path,
-        "materials.mirror.fuzz"
-    );
+    assert_eq!(load_str(&export::to_json(&scene)).unwrap_err().path, "materials.mirror.fuzz");
 
     let mut scene = builtin::by_name("three-spheres").unwrap();
     scene.materials[2].name = "glass".into();
@@ -790,10 +554,7 @@ fn scenes_built_in_code_are_validated_too() {
 
 #[test]
 fn every_truncation_is_an_error_not_a_panic() {
-    for text in [
-        EXAMPLE.to_owned(),
-        export::to_json(&builtin::by_name("three-spheres").unwrap()),
-    ] {
+    for text in [EXAMPLE.to_owned(), export::to_json(&builtin::by_name("three-spheres").unwrap())] {
         let end = text.trim_end().len();
         for cut in (0..end).filter(|&i| text.is_char_boundary(i)) {
             assert!(load_str(&text[..cut]).is_err(), "truncated at {cut} loaded");

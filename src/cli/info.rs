@@ -4,7 +4,9 @@ use crate::gpu::buffers::human_bytes;
 use crate::gpu::context::{choose, enumerate, AdapterSummary, NO_ADAPTER_HELP};
 
 #[derive(clap::Args, Debug)]
-#[command(after_help = "Examples:\n  wavetrace info\n  WGPU_BACKEND=vulkan wavetrace info --adapter llvmpipe")]
+#[command(
+    after_help = "Examples:\n  wavetrace info\n  WGPU_BACKEND=vulkan wavetrace info --adapter llvmpipe"
+)]
 pub struct InfoArgs {
     /// Prefer the adapter whose name contains this (case-insensitive).
     #[arg(long)]
@@ -19,7 +21,10 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
     println!("adapters found: {}", adapters.len());
     for (i, a) in adapters.iter().enumerate() {
         let s = AdapterSummary::of(a);
-        println!("  [{i}] {} ({}, {}), driver {} {}", s.name, s.backend, s.device_type, s.driver, s.driver_info);
+        println!(
+            "  [{i}] {} ({}, {}), driver {} {}",
+            s.name, s.backend, s.device_type, s.driver, s.driver_info
+        );
     }
     let (chosen, why) = choose(&adapters, args.adapter.as_deref())?;
     let s = AdapterSummary::of(&adapters[chosen]);

@@ -7,7 +7,9 @@ pub enum SceneCommand {
     /// List the built-in scenes.
     List,
     /// Print a built-in scene as JSON (loadable again with `--scene FILE`).
-    #[command(after_help = "Example:\n  wavetrace scene export rtiow-final > final.json\n  wavetrace render --scene final.json --out final.exr")]
+    #[command(
+        after_help = "Example:\n  wavetrace scene export rtiow-final > final.json\n  wavetrace render --scene final.json --out final.exr"
+    )]
     Export {
         /// Built-in scene name (see `wavetrace scene list`).
         name: String,

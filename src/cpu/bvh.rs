@@ -17,7 +17,15 @@ pub struct Hit<T> {
 pub fn safe_inverse<T: Real>(d: V3<T>) -> V3<T> {
     let tiny = T::of(1e-20);
     d.map(|c| {
-        let c = if c.abs() < tiny { if c < T::zero() { -tiny } else { tiny } } else { c };
+        let c = if c.abs() < tiny {
+            if c < T::zero() {
+                -tiny
+            } else {
+                tiny
+            }
+        } else {
+            c
+        };
         T::one() / c
     })
 }
@@ -44,9 +52,7 @@ pub fn closest_hit<T: Real>(
     let mut stack = [0u32; MAX_DEPTH];
     let mut top = 0usize;
     let mut current = 0u32;
-    if hit_box(&nodes[0], ray.origin, inv, t_min, closest).is_none() {
-        return None;
-    }
+    hit_box(&nodes[0], ray.origin, inv, t_min, closest)?;
     loop {
         let n = &nodes[current as usize];
         if n.count > 0 {

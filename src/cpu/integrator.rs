@@ -6,19 +6,19 @@ use super::{ray::Ray, ray::T_MIN, real::Real, sphere::outward_normal, vec3::V3};
 use crate::layout::material_kind;
 use crate::packed_scene::PackedScene;
 use crate::rng::{uniform4, Purpose};
+use crate::settings::RenderSettings;
 
 /// Radiance carried by sample `sample` of pixel (x, y).
 pub fn trace_path<T: Real>(
     scene: &PackedScene,
     camera: &Camera<T>,
-    width: u32,
+    settings: &RenderSettings,
     x: u32,
     y: u32,
     sample: u32,
-    max_depth: u32,
-    seed: u32,
 ) -> V3<T> {
-    let pixel = y * width + x;
+    let (seed, max_depth) = (settings.seed, settings.max_depth);
+    let pixel = y * settings.width + x;
     let mut ray = camera.ray(x, y, uniform4(pixel, sample, 0, Purpose::Camera, seed));
     // Every path ends at one light (an emitter or the background), so radiance is the
     // throughput at that point times its emission.

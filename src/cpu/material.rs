@@ -149,7 +149,9 @@ mod tests {
         let grazing = ray([1.0, -0.01, 0.0]);
         let mut st = crate::rng::Stream::new(6);
         let absorbed = (0..1000)
-            .filter(|_| scatter(&fuzzy, &grazing, n, true, [st.next_f32(), st.next_f32(), 0.0, 0.0]).is_none())
+            .filter(|_| {
+                scatter(&fuzzy, &grazing, n, true, [st.next_f32(), st.next_f32(), 0.0, 0.0]).is_none()
+            })
             .count();
         assert!(absorbed > 100 && absorbed < 900, "{absorbed}");
     }

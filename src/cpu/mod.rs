@@ -34,16 +34,7 @@ pub fn render<T: Real>(
         for (x, px) in row.iter_mut().enumerate() {
             let mut stats = PixelStats::default();
             for s in 0..settings.spp {
-                let c = integrator::trace_path(
-                    scene,
-                    &camera,
-                    w,
-                    x as u32,
-                    y as u32,
-                    s,
-                    settings.max_depth,
-                    settings.seed,
-                );
+                let c = integrator::trace_path(scene, &camera, settings, x as u32, y as u32, s);
                 stats.add(c.to_f64());
             }
             *px = stats;

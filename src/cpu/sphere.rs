@@ -90,10 +90,12 @@ mod tests {
             // Steep enough (at least ~6° down) to meet the curved ground rather than pass over it.
             let d = V3::new(-1.0, s.range(-0.35, -0.1), s.range(-0.5, 0.5)).normalize();
             let r = Ray { origin: V3::new(13.0f32, 2.0, 3.0), dir: d };
-            let t = hit_sphere(&ground, &r, 1e-3, f32::INFINITY).expect("looking down steeply hits the ground");
+            let t =
+                hit_sphere(&ground, &r, 1e-3, f32::INFINITY).expect("looking down steeply hits the ground");
             let p = r.at(t);
             // Distance from the surface, computed in f64: within a few f32 ulps of 1000.
-            let dist = ((p.x as f64).powi(2) + (p.y as f64 + 1000.0).powi(2) + (p.z as f64).powi(2)).sqrt() - 1000.0;
+            let dist =
+                ((p.x as f64).powi(2) + (p.y as f64 + 1000.0).powi(2) + (p.z as f64).powi(2)).sqrt() - 1000.0;
             assert!(dist.abs() < 2e-3, "hit point {dist} off the surface");
         }
     }

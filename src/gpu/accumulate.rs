@@ -15,7 +15,12 @@ pub struct Accumulate {
 }
 
 impl Accumulate {
-    pub fn new(ctx: &GpuContext, samples: &wgpu::Buffer, film: &wgpu::Buffer, params: &DispatchUniforms) -> Result<Self> {
+    pub fn new(
+        ctx: &GpuContext,
+        samples: &wgpu::Buffer,
+        film: &wgpu::Buffer,
+        params: &DispatchUniforms,
+    ) -> Result<Self> {
         let layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some(label::ACCUMULATE),
             entries: &[storage_entry(0, true), storage_entry(1, false), uniform_entry(2, true)],

@@ -7,7 +7,12 @@ use wgpu::util::DeviceExt;
 
 /// A storage buffer holding `data` (at least 4 bytes: wgpu rejects empty bindings). Refused with
 /// a message naming `what` when it exceeds the adapter's storage-binding or buffer limit.
-pub fn storage_init(ctx: &GpuContext, label: &'static str, data: &[u8], extra: wgpu::BufferUsages) -> Result<wgpu::Buffer> {
+pub fn storage_init(
+    ctx: &GpuContext,
+    label: &'static str,
+    data: &[u8],
+    extra: wgpu::BufferUsages,
+) -> Result<wgpu::Buffer> {
     let padded;
     let contents = if data.is_empty() {
         padded = [0u8; 16];
@@ -24,7 +29,12 @@ pub fn storage_init(ctx: &GpuContext, label: &'static str, data: &[u8], extra: w
 }
 
 /// A zeroed storage buffer of `size` bytes, checked like [`storage_init`].
-pub fn storage_zeroed(ctx: &GpuContext, label: &'static str, size: u64, extra: wgpu::BufferUsages) -> Result<wgpu::Buffer> {
+pub fn storage_zeroed(
+    ctx: &GpuContext,
+    label: &'static str,
+    size: u64,
+    extra: wgpu::BufferUsages,
+) -> Result<wgpu::Buffer> {
     let size = size.max(16);
     check_size(ctx, label, size)?;
     Ok(ctx.device.create_buffer(&wgpu::BufferDescriptor {
@@ -95,7 +105,8 @@ pub fn read_back<T: bytemuck::Pod>(ctx: &GpuContext, src: &wgpu::Buffer, size: u
         usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
-    let mut enc = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("read-back") });
+    let mut enc =
+        ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("read-back") });
     enc.copy_buffer_to_buffer(src, 0, &staging, 0, size);
     ctx.queue.submit([enc.finish()]);
     let (tx, rx) = std::sync::mpsc::channel();

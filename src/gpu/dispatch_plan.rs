@@ -15,7 +15,8 @@ pub const MAX_SAMPLES_PER_PIXEL_PER_DISPATCH: u32 = 4096;
 pub fn plan(pixels: u32, spp: u32, budget: u64, max_threads: u32) -> Vec<DispatchParams> {
     let cap = budget.min(max_threads as u64).max(1);
     let pixels_per = (pixels as u64).min(cap) as u32;
-    let samples_per = (cap / pixels_per as u64).clamp(1, spp.min(MAX_SAMPLES_PER_PIXEL_PER_DISPATCH) as u64) as u32;
+    let samples_per =
+        (cap / pixels_per as u64).clamp(1, spp.min(MAX_SAMPLES_PER_PIXEL_PER_DISPATCH) as u64) as u32;
     let mut plan = Vec::new();
     let mut s = 0;
     while s < spp {
@@ -73,9 +74,12 @@ mod tests {
 
     #[test]
     fn plan_covers_every_pixel_sample_once_in_sample_order() {
-        for (pixels, spp, budget, max_threads) in
-            [(100, 7, 64, 1000), (10, 100, 1 << 20, 1000), (5000, 3, 1 << 20, 1024), (1, 10_000, 1 << 21, 1 << 22)]
-        {
+        for (pixels, spp, budget, max_threads) in [
+            (100, 7, 64, 1000),
+            (10, 100, 1 << 20, 1000),
+            (5000, 3, 1 << 20, 1024),
+            (1, 10_000, 1 << 21, 1 << 22),
+        ] {
             let plan = plan(pixels, spp, budget, max_threads);
             let mut next = vec![0u32; pixels as usize];
             for d in &plan {

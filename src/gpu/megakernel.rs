@@ -126,7 +126,9 @@ pub fn render(
     let per_submit = opts.dispatches_per_submit.clamp(1, MAX_PASSES_PER_BATCH / 2) as usize;
     let mut done = 0u64;
     for (batch_index, batch) in plan.chunks(per_submit).enumerate() {
-        let mut enc = ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label::MEGAKERNEL) });
+        let mut enc = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label::MEGAKERNEL) });
         for (i, d) in batch.iter().enumerate() {
             let offset = params.offset(batch_index * per_submit + i);
             let threads = d.pixel_count * d.sample_count;
@@ -155,5 +157,10 @@ pub fn render(
     }
     let data: Vec<FilmPixel> = super::buffers::read_back(ctx, &film, film_bytes)?;
     let film = Film::from_gpu(settings.width, settings.height, settings.spp, &data);
-    Ok(GpuRender { film, timings: timer.into_timings(), dispatches: plan.len() as u64, wall_seconds: start.elapsed().as_secs_f64() })
+    Ok(GpuRender {
+        film,
+        timings: timer.into_timings(),
+        dispatches: plan.len() as u64,
+        wall_seconds: start.elapsed().as_secs_f64(),
+    })
 }

@@ -37,7 +37,8 @@ impl SceneBuffers {
             usage: wgpu::BufferUsages::UNIFORM,
         });
         let spheres = storage_init(ctx, "spheres", cast_slice(&scene.spheres), none)?;
-        let sphere_material = storage_init(ctx, "sphere materials", cast_slice(&scene.sphere_material), none)?;
+        let sphere_material =
+            storage_init(ctx, "sphere materials", cast_slice(&scene.sphere_material), none)?;
         let materials = storage_init(ctx, "materials", cast_slice(&scene.materials), none)?;
         let nodes = storage_init(ctx, "BVH nodes", cast_slice(&scene.nodes), none)?;
         let bytes = [&spheres, &sphere_material, &materials, &nodes].iter().map(|b| b.size()).sum();

@@ -67,7 +67,12 @@ impl GpuTimer {
             (set, resolve)
         });
         let source = if queries.is_some() { TimeSource::Timestamps } else { TimeSource::WallClock };
-        Self { queries, labels: Vec::new(), timings: Timings { source, passes: BTreeMap::new() }, submitted_at: None }
+        Self {
+            queries,
+            labels: Vec::new(),
+            timings: Timings { source, passes: BTreeMap::new() },
+            submitted_at: None,
+        }
     }
 
     /// Timestamp writes for the next pass, labelled `label`. At most [`MAX_PASSES_PER_BATCH`]

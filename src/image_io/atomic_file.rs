@@ -37,24 +37,18 @@ fn finish(
         .map_err(|e| ImageIoError::io(path, "cannot write temporary file", e.into_error()))?;
     // Without syncing before the rename, a crash could leave the renamed file with no data on
     // some file systems (e.g. ext4 with delayed allocation).
-    file.sync_all()
-        .map_err(|e| ImageIoError::io(path, "cannot sync temporary file", e))?;
+    file.sync_all().map_err(|e| ImageIoError::io(path, "cannot sync temporary file", e))?;
     drop(file);
-    fs::rename(temp_path, path)
-        .map_err(|e| ImageIoError::io(path, "cannot rename temporary file onto", e))
+    fs::rename(temp_path, path).map_err(|e| ImageIoError::io(path, "cannot rename temporary file onto", e))
 }
 
 /// Creates `.NAME.PID-N.tmp` next to `path`: same directory, so the rename cannot cross file
 /// systems; hidden and not ending in the image extension, so globs skip it.
 fn create_temp_sibling(path: &Path) -> Result<(PathBuf, File), ImageIoError> {
     static COUNTER: AtomicU32 = AtomicU32::new(0);
-    let file_name = path.file_name().ok_or_else(|| {
-        ImageIoError::io(
-            path,
-            "cannot write",
-            io::Error::other("path has no file name"),
-        )
-    })?;
+    let file_name = path
+        .file_name()
+        .ok_or_else(|| ImageIoError::io(path, "cannot write", io::Error::other("path has no file name")))?;
     let dir = path.parent().unwrap_or(Path::new(""));
     loop {
         let n = COUNTER.fetch_add(1, Ordering::Relaxed);
@@ -63,20 +57,10 @@ fn create_temp_sibling(path: &Path) -> Result<(PathBuf, File), ImageIoError> {
         temp_name.push(format!(".{}-{n}.tmp", std::process::id()));
         let temp_path = dir.join(temp_name);
         // create_new: never clobber a file another writer (or a crashed run) left behind.
-        match OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&temp_path)
-        {
+        match OpenOptions::new().write(true).create_new(true).open(&temp_path) {
             Ok(file) => return Ok((temp_path, file)),
             Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
-            Err(e) => {
-                return Err(ImageIoError::io(
-                    path,
-                    "cannot create temporary file in its directory",
-                    e,
-                ))
-            }
+            Err(e) => return Err(ImageIoError::io(path, "cannot create temporary file in its directory", e)),
         }
     }
 }
@@ -88,18 +72,14 @@ mod tests {
     use super::*;
 
     fn temp_dir(name: &str) -> PathBuf {
-        let dir =
-            std::env::temp_dir().join(format!("wavetrace-atomic-{name}-{}", std::process::id()));
+        let dir = std::env::temp_dir().join(format!("wavetrace-atomic-{name}-{}", std::process::id()));
         let _ = fs::remove_dir_all(&dir);
         fs::create_dir_all(&dir).unwrap();
         dir
     }
 
     fn entries(dir: &Path) -> Vec<OsString> {
-        let mut names: Vec<_> = fs::read_dir(dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name())
-            .collect();
+        let mut names: Vec<_> = fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name()).collect();
         names.sort();
         names
     }
@@ -125,11 +105,8 @@ mod tests {
         let dir = temp_dir("ok");
         let path = dir.join("a.bin");
         fs::write(&path, b"old").unwrap();
-        write_atomically(&path, |w| {
-            w.write_all(b"new")
-                .map_err(|e| ImageIoError::io(&path, "w", e))
-        })
-        .unwrap();
+        write_atomically(&path, |w| w.write_all(b"new").map_err(|e| ImageIoError::io(&path, "w", e)))
+            .unwrap();
         assert_eq!(fs::read(&path).unwrap(), b"new");
         assert_eq!(entries(&dir), [OsString::from("a.bin")]);
         fs::remove_dir_all(&dir).unwrap();

@@ -23,10 +23,7 @@ pub enum ImageIoError {
     },
     /// The PNG encoder failed.
     #[error("{}: cannot write PNG: {error}", path.display())]
-    Png {
-        path: PathBuf,
-        error: image::ImageError,
-    },
+    Png { path: PathBuf, error: image::ImageError },
     /// The file or the arguments are well-formed but unusable here, e.g. an EXR without RGB
     /// channels, an empty image or a duplicate attribute name.
     #[error("{}: {reason}", path.display())]
@@ -45,17 +42,10 @@ impl ImageIoError {
     }
 
     pub(crate) fn io(path: &Path, action: &'static str, error: std::io::Error) -> Self {
-        Self::Io {
-            path: path.to_owned(),
-            action,
-            error,
-        }
+        Self::Io { path: path.to_owned(), action, error }
     }
 
     pub(crate) fn unsupported(path: &Path, reason: impl Into<String>) -> Self {
-        Self::Unsupported {
-            path: path.to_owned(),
-            reason: reason.into(),
-        }
+        Self::Unsupported { path: path.to_owned(), reason: reason.into() }
     }
 }

@@ -26,9 +26,7 @@ type TextField = for<'a> fn(&'a mut LayerAttributes) -> &'a mut Option<Text>;
 const STANDARD_TEXT: [(&str, TextField); 9] = [
     ("capDate", |a| &mut a.capture_date),
     ("comments", |a| &mut a.comments),
-    ("lookModTransform", |a| {
-        &mut a.look_modification_transform_name
-    }),
+    ("lookModTransform", |a| &mut a.look_modification_transform_name),
     ("name", |a| &mut a.layer_name),
     ("owner", |a| &mut a.owner),
     ("renderingTransform", |a| &mut a.rendering_transform_name),
@@ -61,14 +59,11 @@ pub fn write_exr(
     let exr_image = Image::from_layer(Layer::new(size, layer_attributes, ENCODING, pixels));
 
     write_atomically(path, |file| {
-        exr_image
-            .write()
-            .to_buffered(file)
-            .map_err(|error| ImageIoError::Exr {
-                path: path.to_owned(),
-                action: "cannot write OpenEXR",
-                error,
-            })
+        exr_image.write().to_buffered(file).map_err(|error| ImageIoError::Exr {
+            path: path.to_owned(),
+            action: "cannot write OpenEXR",
+            error,
+        })
     })
 }
 
@@ -103,11 +98,7 @@ pub fn read_exr(path: impl AsRef<Path>) -> Result<(RgbImage, Vec<(String, String
             Some((name.to_string(), decode(text)))
         })
         .collect();
-    let custom = layer
-        .attributes
-        .other
-        .iter()
-        .chain(&exr_image.attributes.other);
+    let custom = layer.attributes.other.iter().chain(&exr_image.attributes.other);
     attributes.extend(custom.filter_map(|(name, value)| match value {
         AttributeValue::Text(text) => Some((decode(name), decode(text))),
         _ => None,
@@ -116,19 +107,15 @@ pub fn read_exr(path: impl AsRef<Path>) -> Result<(RgbImage, Vec<(String, String
     Ok((image, attributes))
 }
 
-fn layer_attributes(
-    path: &Path,
-    attributes: &[(String, String)],
-) -> Result<LayerAttributes, ImageIoError> {
+fn layer_attributes(path: &Path, attributes: &[(String, String)]) -> Result<LayerAttributes, ImageIoError> {
     let mut layer = LayerAttributes {
         software_name: Some(encode(concat!("wavetrace ", env!("CARGO_PKG_VERSION")))),
         ..LayerAttributes::default()
     };
     let mut seen = HashSet::new();
     for (name, value) in attributes {
-        let invalid = |why: &str| {
-            ImageIoError::unsupported(path, format!("header attribute `{name}`: {why}"))
-        };
+        let invalid =
+            |why: &str| ImageIoError::unsupported(path, format!("header attribute `{name}`: {why}"));
         // Names are NUL-terminated in the file, so NUL cannot round-trip; the 255-byte limit
         // is OpenEXR's (names over 31 bytes set the long-names flag, which the exr crate does).
         if name.is_empty() || name.len() > 255 {
@@ -143,13 +130,9 @@ fn layer_attributes(
         if let Some((_, field)) = STANDARD_TEXT.iter().find(|(n, _)| n == name) {
             *field(&mut layer) = Some(encode(value));
         } else if standard_names::ALL.contains(&name.as_bytes()) {
-            return Err(invalid(
-                "reserved: a standard OpenEXR attribute that is not text",
-            ));
+            return Err(invalid("reserved: a standard OpenEXR attribute that is not text"));
         } else {
-            layer
-                .other
-                .insert(encode(name), AttributeValue::Text(encode(value)));
+            layer.other.insert(encode(name), AttributeValue::Text(encode(value)));
         }
     }
     Ok(layer)
@@ -184,10 +167,7 @@ fn rgb_from_channels(
         if channel.sampling != Vec2(1, 1) || channel.sample_data.len() != width * height {
             return Err(ImageIoError::unsupported(
                 path,
-                format!(
-                    "channel {} is subsampled, which is not supported",
-                    channel.name
-                ),
+                format!("channel {} is subsampled, which is not supported", channel.name),
             ));
         }
     }

@@ -13,10 +13,7 @@ pub fn write_png(path: impl AsRef<Path>, image: &RgbImage) -> Result<(), ImageIo
     write_atomically(path, |file| {
         PngEncoder::new(file)
             .write_image(&bytes, image.width, image.height, ExtendedColorType::Rgb8)
-            .map_err(|error| ImageIoError::Png {
-                path: path.to_owned(),
-                error,
-            })
+            .map_err(|error| ImageIoError::Png { path: path.to_owned(), error })
     })
 }
 
@@ -25,11 +22,7 @@ pub fn write_png(path: impl AsRef<Path>, image: &RgbImage) -> Result<(), ImageIo
 pub fn linear_to_srgb8(linear: f32) -> u8 {
     // f64 so that values near a code boundary round the same way as a reference would.
     let v = f64::from(linear);
-    let encoded = if v <= 0.003_130_8 {
-        12.92 * v
-    } else {
-        1.055 * v.powf(1.0 / 2.4) - 0.055
-    };
+    let encoded = if v <= 0.003_130_8 { 12.92 * v } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 };
     if encoded.is_nan() {
         0
     } else {

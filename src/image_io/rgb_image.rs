@@ -22,20 +22,12 @@ impl RgbImage {
     /// If `3 * width * height` overflows `usize`.
     pub fn new(width: u32, height: u32) -> Self {
         let len = value_count(width, height).expect("image size overflows usize");
-        Self {
-            width,
-            height,
-            data: vec![0.0; len],
-        }
+        Self { width, height, data: vec![0.0; len] }
     }
 
     /// Wraps existing interleaved RGB data; `None` unless `data.len() == 3 * width * height`.
     pub fn from_data(width: u32, height: u32, data: Vec<f32>) -> Option<Self> {
-        (value_count(width, height) == Some(data.len())).then_some(Self {
-            width,
-            height,
-            data,
-        })
+        (value_count(width, height) == Some(data.len())).then_some(Self { width, height, data })
     }
 
     /// # Panics
@@ -102,7 +94,5 @@ impl RgbImage {
 }
 
 fn value_count(width: u32, height: u32) -> Option<usize> {
-    (width as usize)
-        .checked_mul(height as usize)?
-        .checked_mul(3)
+    (width as usize).checked_mul(height as usize)?.checked_mul(3)
 }

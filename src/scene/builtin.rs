@@ -57,8 +57,7 @@ pub const BUILTINS: &[Builtin] = &[
     },
     Builtin {
         name: "furnace",
-        description:
-            "Furnace test: a diffuse sphere (albedo 0.5) under uniform white light; exact \
+        description: "Furnace test: a diffuse sphere (albedo 0.5) under uniform white light; exact \
                       image is 0.5 on the sphere, 1 elsewhere",
         build: furnace,
     },
@@ -78,10 +77,7 @@ pub fn list() -> Vec<(&'static str, &'static str)> {
 
 /// The built-in scene called `name`, if there is one.
 pub fn by_name(name: &str) -> Option<Scene> {
-    BUILTINS
-        .iter()
-        .find(|b| b.name == name)
-        .map(|b| (b.build)())
+    BUILTINS.iter().find(|b| b.name == name).map(|b| (b.build)())
 }
 
 /// Collects materials and spheres; each sphere refers to a material by its index.
@@ -92,32 +88,16 @@ struct Builder {
 
 impl Builder {
     fn new() -> Self {
-        Self {
-            materials: Vec::new(),
-            spheres: Vec::new(),
-        }
+        Self { materials: Vec::new(), spheres: Vec::new() }
     }
 
     fn add(&mut self, material_name: String, material: Material, center: Vec3, radius: f32) {
-        self.spheres.push(Sphere {
-            center,
-            radius,
-            material: self.materials.len() as u32,
-        });
-        self.materials.push(NamedMaterial {
-            name: material_name,
-            material,
-        });
+        self.spheres.push(Sphere { center, radius, material: self.materials.len() as u32 });
+        self.materials.push(NamedMaterial { name: material_name, material });
     }
 
     fn finish(self, name: &str, camera: CameraSpec, background: Background) -> Scene {
-        Scene {
-            name: name.to_owned(),
-            camera,
-            background,
-            materials: self.materials,
-            spheres: self.spheres,
-        }
+        Scene { name: name.to_owned(), camera, background, materials: self.materials, spheres: self.spheres }
     }
 }
 
@@ -134,32 +114,15 @@ fn rtiow_camera() -> CameraSpec {
 }
 
 fn add_ground(b: &mut Builder) {
-    let ground = Material::Lambertian {
-        albedo: Vec3::splat(0.5),
-    };
-    b.add(
-        "ground".into(),
-        ground,
-        Vec3::new(0.0, -1000.0, 0.0),
-        1000.0,
-    );
+    let ground = Material::Lambertian { albedo: Vec3::splat(0.5) };
+    b.add("ground".into(), ground, Vec3::new(0.0, -1000.0, 0.0), 1000.0);
 }
 
 fn add_big_three(b: &mut Builder) {
-    b.add(
-        "glass".into(),
-        Material::Dielectric { ior: 1.5 },
-        Vec3::new(0.0, 1.0, 0.0),
-        1.0,
-    );
-    let brown = Material::Lambertian {
-        albedo: Vec3::new(0.4, 0.2, 0.1),
-    };
+    b.add("glass".into(), Material::Dielectric { ior: 1.5 }, Vec3::new(0.0, 1.0, 0.0), 1.0);
+    let brown = Material::Lambertian { albedo: Vec3::new(0.4, 0.2, 0.1) };
     b.add("brown".into(), brown, Vec3::new(-4.0, 1.0, 0.0), 1.0);
-    let mirror = Material::Metal {
-        albedo: Vec3::new(0.7, 0.6, 0.5),
-        fuzz: 0.0,
-    };
+    let mirror = Material::Metal { albedo: Vec3::new(0.7, 0.6, 0.5), fuzz: 0.0 };
     b.add("mirror".into(), mirror, Vec3::new(4.0, 1.0, 0.0), 1.0);
 }
 
@@ -181,15 +144,8 @@ fn rtiow_final() -> Scene {
                 let v2 = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
                 Material::Lambertian { albedo: v1 * v2 }
             } else if choose_mat < 0.95 {
-                let albedo = Vec3::new(
-                    rng.range(0.5, 1.0),
-                    rng.range(0.5, 1.0),
-                    rng.range(0.5, 1.0),
-                );
-                Material::Metal {
-                    albedo,
-                    fuzz: rng.range(0.0, 0.5),
-                }
+                let albedo = Vec3::new(rng.range(0.5, 1.0), rng.range(0.5, 1.0), rng.range(0.5, 1.0));
+                Material::Metal { albedo, fuzz: rng.range(0.0, 0.5) }
             } else {
                 Material::Dielectric { ior: 1.5 }
             };
@@ -211,9 +167,7 @@ fn three_spheres() -> Scene {
 /// axis: about 72% of the 40-degree frame's height, background all round it.
 fn furnace() -> Scene {
     let mut b = Builder::new();
-    let grey = Material::Lambertian {
-        albedo: Vec3::splat(0.5),
-    };
+    let grey = Material::Lambertian { albedo: Vec3::splat(0.5) };
     b.add("grey".into(), grey, Vec3::ZERO, 1.0);
     let camera = CameraSpec {
         lookfrom: Vec3::new(0.0, 0.0, 4.0),
@@ -244,12 +198,7 @@ mod tests {
     fn final_scene_mix_is_roughly_the_books() {
         let scene = by_name("rtiow-final").unwrap();
         let small = &scene.materials[1..scene.materials.len() - 3];
-        let count = |kind| {
-            small
-                .iter()
-                .filter(|m| m.material.kind_name() == kind)
-                .count() as f32
-        };
+        let count = |kind| small.iter().filter(|m| m.material.kind_name() == kind).count() as f32;
         let n = small.len() as f32;
         // 80% / 15% / 5% of ~484 cells: a few standard deviations of slack.
         assert!((count("lambertian") / n - 0.80).abs() < 0.06);

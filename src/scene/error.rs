@@ -11,16 +11,8 @@ pub struct SceneError {
 }
 
 impl SceneError {
-    pub fn new(
-        file: impl Into<String>,
-        path: impl Into<String>,
-        reason: impl Into<String>,
-    ) -> Self {
-        Self {
-            file: file.into(),
-            path: path.into(),
-            reason: reason.into(),
-        }
+    pub fn new(file: impl Into<String>, path: impl Into<String>, reason: impl Into<String>) -> Self {
+        Self { file: file.into(), path: path.into(), reason: reason.into() }
     }
 }
 

@@ -74,12 +74,7 @@ pub fn to_json(scene: &Scene) -> String {
 }
 
 /// `  "key": [` + one item per line + `  ]` (or `[]` when empty), without a trailing newline.
-fn block(
-    out: &mut String,
-    key: &str,
-    (open, close): (char, char),
-    items: impl Iterator<Item = String>,
-) {
+fn block(out: &mut String, key: &str, (open, close): (char, char), items: impl Iterator<Item = String>) {
     let _ = write!(out, "  \"{key}\": {open}");
     let mut first = true;
     for item in items {
@@ -112,11 +107,7 @@ fn number(x: f32) -> String {
     }
     // Rust's `{}` / `{:e}` print the shortest digits that round-trip as f32; the plain form is
     // kept for everyday magnitudes, the exponent form avoids 40-digit literals.
-    let short = if (1e-5..1e16).contains(&x.abs()) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    };
+    let short = if (1e-5..1e16).contains(&x.abs()) { format!("{x}") } else { format!("{x:e}") };
     if reads_back(&short, x) {
         return short;
     }
@@ -149,16 +140,7 @@ mod tests {
     /// Every finite f32 we try reads back bit-identical, across the whole exponent range.
     #[test]
     fn numbers_round_trip_exactly() {
-        let specials = [
-            f32::MIN_POSITIVE,
-            f32::MAX,
-            f32::MIN,
-            f32::EPSILON,
-            1e-45,
-            -0.0,
-            0.1,
-            1.0 / 3.0,
-        ];
+        let specials = [f32::MIN_POSITIVE, f32::MAX, f32::MIN, f32::EPSILON, 1e-45, -0.0, 0.1, 1.0 / 3.0];
         let random = (0..200_000u32).map(|i| f32::from_bits(pcg4d([i, 77, 0, 0])[0]));
         for x in specials.into_iter().chain(random).filter(|x| x.is_finite()) {
             let s = number(x);

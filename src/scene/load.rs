@@ -64,9 +64,7 @@ pub fn from_file(path: &Path) -> Result<Scene, SceneError> {
     let file = path.display().to_string();
     let text = std::fs::read_to_string(path)
         .map_err(|e| SceneError::new(&file, "", format!("cannot read the file: {e}")))?;
-    let name = path
-        .file_stem()
-        .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
+    let name = path.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
     from_str(&text, &file, &name)
 }
 
@@ -74,8 +72,7 @@ pub fn from_file(path: &Path) -> Result<Scene, SceneError> {
 /// `name` becomes [`Scene::name`].
 pub fn from_str(text: &str, file_label: &str, name: &str) -> Result<Scene, SceneError> {
     let cx = Cx { file: file_label };
-    let root =
-        parse_strict(text).map_err(|(path, reason)| SceneError::new(file_label, path, reason))?;
+    let root = parse_strict(text).map_err(|(path, reason)| SceneError::new(file_label, path, reason))?;
     let scene = cx.scene(&root, name)?;
     validate(&scene, file_label)?;
     Ok(scene)
@@ -98,11 +95,7 @@ pub fn validate(scene: &Scene, file: &str) -> Result<(), SceneError> {
     let err = |path: String, reason: String| Err(SceneError::new(file, path, reason));
 
     let cam = &scene.camera;
-    for (field, v) in [
-        ("lookfrom", cam.lookfrom),
-        ("lookat", cam.lookat),
-        ("vup", cam.vup),
-    ] {
+    for (field, v) in [("lookfrom", cam.lookfrom), ("lookat", cam.lookat), ("vup", cam.vup)] {
         if let Some((path, reason)) = check_vec3(&format!("camera.{field}"), v, false) {
             return err(path, reason);
         }
@@ -117,12 +110,7 @@ pub fn validate(scene: &Scene, file: &str) -> Result<(), SceneError> {
     let in_0_180 = |v| v > 0.0 && v < 180.0;
     scalar("vfov", cam.vfov, in_0_180, "must be in (0, 180) degrees")?;
     let angle_ok = |v| (0.0..180.0).contains(&v);
-    scalar(
-        "defocus_angle",
-        cam.defocus_angle,
-        angle_ok,
-        "must be in [0, 180) degrees",
-    )?;
+    scalar("defocus_angle", cam.defocus_angle, angle_ok, "must be in [0, 180) degrees")?;
     scalar("focus_dist", cam.focus_dist, |v| v > 0.0, "must be > 0")?;
     // The direction and the up vector are checked in f64 after scaling each to a largest
     // component of 1, so neither huge nor tiny inputs overflow or underflow the test.
@@ -136,10 +124,7 @@ pub fn validate(scene: &Scene, file: &str) -> Result<(), SceneError> {
     if cam.vup == Vec3::ZERO {
         return err("camera.vup".into(), "must not be the zero vector".into());
     }
-    let (d, u) = (
-        dir / dir.abs().max_element(),
-        cam.vup.as_dvec3() / cam.vup.abs().max_element() as f64,
-    );
+    let (d, u) = (dir / dir.abs().max_element(), cam.vup.as_dvec3() / cam.vup.abs().max_element() as f64);
     let sine = d.cross(u).length() / (d.length() * u.length());
     if sine < MIN_VUP_SINE {
         return err(
@@ -161,36 +146,29 @@ pub fn validate(scene: &Scene, file: &str) -> Result<(), SceneError> {
     let mut seen: HashMap<&str, usize> = HashMap::with_capacity(scene.materials.len());
     for (i, m) in scene.materials.iter().enumerate() {
         if m.name.is_empty() {
-            return err(
-                format!("materials[{i}]"),
-                "material name must not be empty".into(),
-            );
+            return err(format!("materials[{i}]"), "material name must not be empty".into());
         }
         let path = join("materials", &m.name);
         if let Some(first) = seen.insert(&m.name, i) {
             return err(
                 path,
-                format!(
-                    "duplicate material name (materials {first} and {i}); names must be unique"
-                ),
+                format!("duplicate material name (materials {first} and {i}); names must be unique"),
             );
         }
         let problem = match m.material {
             Material::Lambertian { albedo } => check_vec3(&format!("{path}.albedo"), albedo, true),
-            Material::Metal { albedo, fuzz } => check_vec3(&format!("{path}.albedo"), albedo, true)
-                .or_else(|| {
+            Material::Metal { albedo, fuzz } => {
+                check_vec3(&format!("{path}.albedo"), albedo, true).or_else(|| {
                     let reason = check_finite(fuzz).or_else(|| {
-                        (!(0.0..=1.0).contains(&fuzz))
-                            .then(|| format!("must be in [0, 1], got {fuzz}"))
+                        (!(0.0..=1.0).contains(&fuzz)).then(|| format!("must be in [0, 1], got {fuzz}"))
                     });
                     reason.map(|r| (format!("{path}.fuzz"), r))
-                }),
+                })
+            }
             Material::Dielectric { ior } => check_finite(ior)
                 .or_else(|| (ior <= 0.0).then(|| format!("must be > 0, got {ior}")))
                 .map(|r| (format!("{path}.ior"), r)),
-            Material::Emissive { radiance } => {
-                check_vec3(&format!("{path}.radiance"), radiance, true)
-            }
+            Material::Emissive { radiance } => check_vec3(&format!("{path}.radiance"), radiance, true),
         };
         if let Some((path, reason)) = problem {
             return err(path, reason);
@@ -228,8 +206,8 @@ fn check_finite(x: f32) -> Option<String> {
 /// The first component of `v` that is not finite, or negative when `non_negative`.
 fn check_vec3(path: &str, v: Vec3, non_negative: bool) -> Option<(String, String)> {
     v.to_array().iter().enumerate().find_map(|(i, &c)| {
-        let reason = check_finite(c)
-            .or_else(|| (non_negative && c < 0.0).then(|| format!("must be >= 0, got {c}")));
+        let reason =
+            check_finite(c).or_else(|| (non_negative && c < 0.0).then(|| format!("must be >= 0, got {c}")));
         reason.map(|r| (format!("{path}[{i}]"), r))
     })
 }
@@ -250,20 +228,12 @@ type DupSlot = RefCell<Option<String>>;
 fn parse_strict(text: &str) -> Result<Value, (String, String)> {
     let dup = DupSlot::default();
     let mut de = serde_json::Deserializer::from_str(text);
-    let parsed = ValueSeed {
-        path: String::new(),
-        dup: &dup,
-    }
-    .deserialize(&mut de)
-    .and_then(|v| {
+    let parsed = ValueSeed { path: String::new(), dup: &dup }.deserialize(&mut de).and_then(|v| {
         de.end()?;
         Ok(v)
     });
     parsed.map_err(|e| match dup.take() {
-        Some(path) => (
-            path,
-            format!("{e}; each key may appear only once in an object"),
-        ),
+        Some(path) => (path, format!("{e}; each key may appear only once in an object")),
         None => (String::new(), format!("malformed JSON: {e}")),
     })
 }
@@ -312,10 +282,7 @@ impl<'de> Visitor<'de> for ValueSeed<'_> {
     fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Value, A::Error> {
         let mut items = Vec::new();
         loop {
-            let seed = ValueSeed {
-                path: format!("{}[{}]", self.path, items.len()),
-                dup: self.dup,
-            };
+            let seed = ValueSeed { path: format!("{}[{}]", self.path, items.len()), dup: self.dup };
             match seq.next_element_seed(seed)? {
                 Some(v) => items.push(v),
                 None => return Ok(Value::Array(items)),
@@ -330,10 +297,7 @@ impl<'de> Visitor<'de> for ValueSeed<'_> {
                 *self.dup.borrow_mut() = Some(path);
                 return Err(de::Error::custom(format_args!("duplicate key {key:?}")));
             }
-            let value = map.next_value_seed(ValueSeed {
-                path,
-                dup: self.dup,
-            })?;
+            let value = map.next_value_seed(ValueSeed { path, dup: self.dup })?;
             out.insert(key, value);
         }
         Ok(Value::Object(out))
@@ -366,53 +330,29 @@ impl Cx<'_> {
         // The version is checked before anything else, so a newer file is reported as newer
         // rather than as a list of unknown fields.
         let Some(format) = root.map.get("format") else {
-            return self.err(
-                "",
-                format!("missing required field \"format\" (expected \"format\": \"{FORMAT}\")"),
-            );
+            return self
+                .err("", format!("missing required field \"format\" (expected \"format\": \"{FORMAT}\")"));
         };
         let format = self.string(format, "format")?;
         if !SUPPORTED_FORMATS.contains(&format) {
             return self.err(
                 "format",
-                format!(
-                    "unsupported format {format:?}; this build reads {}",
-                    quoted_list(SUPPORTED_FORMATS)
-                ),
+                format!("unsupported format {format:?}; this build reads {}", quoted_list(SUPPORTED_FORMATS)),
             );
         }
-        self.only(
-            &root,
-            &["format", "camera", "background", "materials", "objects"],
-        )?;
+        self.only(&root, &["format", "camera", "background", "materials", "objects"])?;
 
         let camera = self.camera(&root)?;
         let background = self.background(&root)?;
         let materials = self.materials(&root)?;
         let spheres = self.objects(&root, &materials)?;
-        Ok(Scene {
-            name: name.to_owned(),
-            camera,
-            background,
-            materials,
-            spheres,
-        })
+        Ok(Scene { name: name.to_owned(), camera, background, materials, spheres })
     }
 
     fn camera(&self, root: &Obj) -> Res<CameraSpec> {
         let (v, path) = self.field(root, "camera")?;
         let o = self.object(v, &path)?;
-        self.only(
-            &o,
-            &[
-                "lookfrom",
-                "lookat",
-                "vup",
-                "vfov",
-                "defocus_angle",
-                "focus_dist",
-            ],
-        )?;
+        self.only(&o, &["lookfrom", "lookat", "vup", "vfov", "defocus_angle", "focus_dist"])?;
         Ok(CameraSpec {
             lookfrom: self.vec3_field(&o, "lookfrom")?,
             lookat: self.vec3_field(&o, "lookat")?,
@@ -451,9 +391,7 @@ impl Cx<'_> {
             let material = match self.type_field(&o, "material", MATERIAL_TYPES)? {
                 "lambertian" => {
                     self.only(&o, &["type", "albedo"])?;
-                    Material::Lambertian {
-                        albedo: self.vec3_field(&o, "albedo")?,
-                    }
+                    Material::Lambertian { albedo: self.vec3_field(&o, "albedo")? }
                 }
                 "metal" => {
                     self.only(&o, &["type", "albedo", "fuzz"])?;
@@ -464,21 +402,14 @@ impl Cx<'_> {
                 }
                 "dielectric" => {
                     self.only(&o, &["type", "ior"])?;
-                    Material::Dielectric {
-                        ior: self.number_field(&o, "ior")?,
-                    }
+                    Material::Dielectric { ior: self.number_field(&o, "ior")? }
                 }
                 _ => {
                     self.only(&o, &["type", "radiance"])?;
-                    Material::Emissive {
-                        radiance: self.vec3_field(&o, "radiance")?,
-                    }
+                    Material::Emissive { radiance: self.vec3_field(&o, "radiance")? }
                 }
             };
-            out.push(NamedMaterial {
-                name: name.clone(),
-                material,
-            });
+            out.push(NamedMaterial { name: name.clone(), material });
         }
         Ok(out)
     }
@@ -486,16 +417,10 @@ impl Cx<'_> {
     fn objects(&self, root: &Obj, materials: &[NamedMaterial]) -> Res<Vec<Sphere>> {
         let (v, path) = self.field(root, "objects")?;
         let Value::Array(items) = v else {
-            return self.err(
-                &path,
-                format!("expected an array of objects, found {}", describe(v)),
-            );
+            return self.err(&path, format!("expected an array of objects, found {}", describe(v)));
         };
-        let index: HashMap<&str, u32> = materials
-            .iter()
-            .enumerate()
-            .map(|(i, m)| (m.name.as_str(), i as u32))
-            .collect();
+        let index: HashMap<&str, u32> =
+            materials.iter().enumerate().map(|(i, m)| (m.name.as_str(), i as u32)).collect();
         let mut out = Vec::with_capacity(items.len());
         for (i, v) in items.iter().enumerate() {
             let o = self.object(v, &format!("{path}[{i}]"))?;
@@ -509,11 +434,7 @@ impl Cx<'_> {
             let Some(&material) = index.get(mname) else {
                 return self.err(&mpath, unknown_material(mname, materials));
             };
-            out.push(Sphere {
-                center,
-                radius,
-                material,
-            });
+            out.push(Sphere { center, radius, material });
         }
         Ok(out)
     }
@@ -522,10 +443,7 @@ impl Cx<'_> {
 
     fn object<'v>(&self, v: &'v Value, path: &str) -> Res<Obj<'v>> {
         match v {
-            Value::Object(map) => Ok(Obj {
-                map,
-                path: path.to_owned(),
-            }),
+            Value::Object(map) => Ok(Obj { map, path: path.to_owned() }),
             _ => self.err(path, format!("expected an object, found {}", describe(v))),
         }
     }
@@ -544,11 +462,7 @@ impl Cx<'_> {
             None => Ok(()),
             Some(k) => self.err(
                 &join(&o.path, k),
-                format!(
-                    "unknown field{}; expected {}",
-                    did_you_mean(k, allowed),
-                    quoted_list(allowed)
-                ),
+                format!("unknown field{}; expected {}", did_you_mean(k, allowed), quoted_list(allowed)),
             ),
         }
     }
@@ -583,10 +497,7 @@ impl Cx<'_> {
         };
         let y = x as f32;
         if !y.is_finite() {
-            return self.err(
-                path,
-                format!("not a finite number: {x:e} is outside the f32 range"),
-            );
+            return self.err(path, format!("not a finite number: {x:e} is outside the f32 range"));
         }
         Ok(y)
     }
@@ -606,10 +517,7 @@ impl Cx<'_> {
                 }
                 Ok(Vec3::from_array(out))
             }
-            _ => self.err(
-                &path,
-                format!("expected an array of 3 numbers, found {}", describe(v)),
-            ),
+            _ => self.err(&path, format!("expected an array of 3 numbers, found {}", describe(v))),
         }
     }
 }
@@ -619,10 +527,7 @@ impl Cx<'_> {
 
 /// `parent.key`, or `parent["key"]` when the key would not read as a plain name.
 fn join(parent: &str, key: &str) -> String {
-    let plain = !key.is_empty()
-        && key
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    let plain = !key.is_empty() && key.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
     match (parent.is_empty(), plain) {
         (true, true) => key.to_owned(),
         (false, true) => format!("{parent}.{key}"),
@@ -690,9 +595,7 @@ fn edit_distance(a: &str, b: &str) -> usize {
         let mut diag = row[0];
         row[0] = i + 1;
         for (j, &cb) in b.iter().enumerate() {
-            let next = (diag + usize::from(ca != cb))
-                .min(row[j] + 1)
-                .min(row[j + 1] + 1);
+            let next = (diag + usize::from(ca != cb)).min(row[j] + 1).min(row[j + 1] + 1);
             diag = row[j + 1];
             row[j + 1] = next;
         }
@@ -719,10 +622,7 @@ mod tests {
         assert_eq!(edit_distance("radus", "radius"), 1);
         assert_eq!(edit_distance("lambertain", "lambertian"), 2);
         assert_eq!(edit_distance("", "abc"), 3);
-        assert_eq!(
-            did_you_mean("radus", &["center", "radius"]),
-            " (did you mean \"radius\"?)"
-        );
+        assert_eq!(did_you_mean("radus", &["center", "radius"]), " (did you mean \"radius\"?)");
         assert_eq!(did_you_mean("zzzzzz", &["center", "radius"]), "");
     }
 
@@ -738,20 +638,14 @@ mod tests {
         assert_eq!(path, "a.b[1].c");
         assert!(reason.contains("duplicate key \"c\""), "{reason}");
         assert!(reason.contains("line 1"), "{reason}");
-        assert_eq!(
-            parse_strict(r#"{"a": 1, "b": {"a": 2}}"#).unwrap()["b"]["a"],
-            2
-        );
+        assert_eq!(parse_strict(r#"{"a": 1, "b": {"a": 2}}"#).unwrap()["b"]["a"], 2);
     }
 
     #[test]
     fn trailing_text_is_malformed() {
         let (path, reason) = parse_strict("{} x").unwrap_err();
         assert_eq!(path, "");
-        assert!(
-            reason.starts_with("malformed JSON: trailing characters"),
-            "{reason}"
-        );
+        assert!(reason.starts_with("malformed JSON: trailing characters"), "{reason}");
     }
 
     #[test]

@@ -42,12 +42,21 @@ pub enum Background {
 /// The four material kinds the book's scenes use.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Material {
-    Lambertian { albedo: Vec3 },
-    Metal { albedo: Vec3, fuzz: f32 },
+    Lambertian {
+        albedo: Vec3,
+    },
+    Metal {
+        albedo: Vec3,
+        fuzz: f32,
+    },
     /// Schlick's approximation for reflectance; `ior < 1` models a bubble.
-    Dielectric { ior: f32 },
+    Dielectric {
+        ior: f32,
+    },
     /// A light: adds `radiance` and ends the path.
-    Emissive { radiance: Vec3 },
+    Emissive {
+        radiance: Vec3,
+    },
 }
 
 impl Material {

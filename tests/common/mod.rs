@@ -12,7 +12,8 @@ pub fn gpu() -> Option<&'static GpuContext> {
     CTX.get_or_init(|| match GpuContext::new(std::env::var("WAVETRACE_ADAPTER").ok().as_deref()) {
         Ok(ctx) => Some(ctx),
         Err(e) => {
-            let required = std::env::var_os("WAVETRACE_REQUIRE_GPU").is_some() || std::env::var_os("CI").is_some();
+            let required =
+                std::env::var_os("WAVETRACE_REQUIRE_GPU").is_some() || std::env::var_os("CI").is_some();
             assert!(!required, "GPU tests are required here but no adapter could be opened: {e}");
             eprintln!("SKIPPING GPU test: {e}");
             None
