@@ -1,6 +1,7 @@
-//! Composes every entry shader (`shaders/*.wgsl`, `shaders/tests/*.wgsl`) with its includes and
-//! validates it with naga, so a shader error is a build error. The composed sources land in
-//! OUT_DIR and are embedded by `src/gpu/shaders.rs`.
+//! Composes every entry shader (`shaders/*.wgsl`, `shaders/{tests,wavefront}/*.wgsl`) with its
+//! includes and validates it with naga, so a shader error is a build error. Shaders that include
+//! the `shared/instrument.wgsl` hook get a second, `.instrumented` variant with subgroup
+//! counters. The composed sources land in OUT_DIR and are embedded by `src/gpu/shaders.rs`.
 
 #[path = "src/shader_include.rs"]
 mod shader_include;
@@ -14,7 +15,7 @@ fn main() {
     println!("cargo:rerun-if-changed=shaders");
     println!("cargo:rerun-if-changed=src/shader_include.rs");
     let mut entries = Vec::new();
-    for dir in ["", "tests"] {
+    for dir in ["", "tests", "wavefront"] {
         for e in std::fs::read_dir(root.join(dir)).expect("read shaders/") {
             let p = e.unwrap().path();
             if p.extension().is_some_and(|x| x == "wgsl") {
@@ -23,29 +24,46 @@ fn main() {
         }
     }
     entries.sort();
-    let read = |p: &Path| std::fs::read_to_string(p).map_err(|e| e.to_string());
     let mut failed = false;
     for entry in &entries {
-        let (src, files) = match shader_include::compose(root, entry, &read) {
-            Ok(x) => x,
-            Err(e) => {
-                println!("cargo:warning=shader {entry}: {e}");
-                failed = true;
-                continue;
-            }
+        let name = entry.trim_end_matches(".wgsl").replace('/', "_");
+        let plain = |p: &Path| std::fs::read_to_string(p).map_err(|e| e.to_string());
+        // The `--instrument` variant swaps the no-op hook for subgroup counters.
+        let instrumented = |p: &Path| {
+            let p = if p.ends_with("shared/instrument.wgsl") {
+                root.join("shared/instrument_on.wgsl")
+            } else {
+                p.to_path_buf()
+            };
+            std::fs::read_to_string(p).map_err(|e| e.to_string())
         };
-        for f in files {
-            println!("cargo:rerun-if-changed=shaders/{f}");
-        }
-        if let Err(e) = validate(&src) {
-            println!("cargo:warning=shader {entry} is invalid:");
-            for line in e.lines() {
-                println!("cargo:warning={line}");
+        // naga 30 takes subgroup builtins without `enable subgroups;` (which it rejects).
+        let variants: [(&str, &dyn Fn(&Path) -> Result<String, String>); 2] =
+            [("", &plain), (".instrumented", &instrumented)];
+        for (suffix, read) in variants {
+            let (src, files) = match shader_include::compose(root, entry, read) {
+                Ok(x) => x,
+                Err(e) => {
+                    println!("cargo:warning=shader {entry}: {e}");
+                    failed = true;
+                    break;
+                }
+            };
+            for f in &files {
+                println!("cargo:rerun-if-changed=shaders/{f}");
             }
-            failed = true;
+            if !suffix.is_empty() && !files.iter().any(|f| f == "shared/instrument.wgsl") {
+                break; // no hook, no variant
+            }
+            if let Err(e) = validate(&src) {
+                println!("cargo:warning=shader {entry}{suffix} is invalid:");
+                for line in e.lines() {
+                    println!("cargo:warning={line}");
+                }
+                failed = true;
+            }
+            std::fs::write(out.join(format!("{name}{suffix}.wgsl")), src).unwrap();
         }
-        let name = entry.replace('/', "_");
-        std::fs::write(out.join(name), src).unwrap();
     }
     if failed {
         panic!("WGSL shaders failed to compose or validate (see warnings above)");

@@ -8,6 +8,7 @@
 #include "shared/rng.wgsl"
 #include "shared/scene.wgsl"
 #include "shared/dispatch.wgsl"
+#include "shared/instrument.wgsl"
 
 @group(1) @binding(0) var<storage, read_write> samples: array<vec4<f32>>;
 @group(1) @binding(1) var<uniform> dispatch: Dispatch;
@@ -22,6 +23,7 @@ fn trace_path(x: u32, y: u32, sample: u32) -> vec3<f32> {
     // Every path ends at one light (emitter or background) or contributes nothing.
     var radiance = vec3<f32>(0.0);
     for (var bounce = 0u; bounce < frame.max_depth; bounce++) {
+        instrument(PASS_MEGAKERNEL_BOUNCE);
         let hit = closest_hit(ray, T_MIN);
         if hit.sphere == NO_HIT {
             radiance = throughput * background(ray.dir);
@@ -29,6 +31,14 @@ fn trace_path(x: u32, y: u32, sample: u32) -> vec3<f32> {
         }
         let sphere = spheres[hit.sphere];
         let material = materials[sphere_material[hit.sphere]];
+        instrument(PASS_MEGAKERNEL_MATERIAL);
+        // Lanes active inside each material's branch: the divergence the wavefront removes.
+        switch material.kind {
+            case MATERIAL_LAMBERTIAN: { instrument(PASS_MEGAKERNEL_LAMBERTIAN); }
+            case MATERIAL_METAL: { instrument(PASS_MEGAKERNEL_METAL); }
+            case MATERIAL_DIELECTRIC: { instrument(PASS_MEGAKERNEL_DIELECTRIC); }
+            default: { instrument(PASS_MEGAKERNEL_EMISSIVE); }
+        }
         if material.kind == MATERIAL_EMISSIVE {
             radiance = throughput * material.color;
             break;

@@ -88,3 +88,16 @@ pub struct FilmPixel {
     pub sum: [f32; 4],
     pub sum_sq: [f32; 4],
 }
+
+/// WGSL: `Wave` in `shaders/shared/path_state.wgsl`: the wavefront's knobs for a render.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct WaveUniform {
+    /// 0: no queues (whole pool each pass); 1: atomic append; 2: prefix-sum scan.
+    pub compaction: u32,
+    /// 1: one shade pass per material kind; 0: one pass with a switch.
+    pub per_material: u32,
+    /// Pool size: the length of each queue region.
+    pub pool: u32,
+    pub _pad: u32,
+}

@@ -3,13 +3,16 @@
 use crate::camera::CameraFrame;
 use crate::cpu;
 use crate::film::Film;
-use crate::gpu::megakernel::{self, MegakernelOptions};
+use crate::gpu::instrument::SimdEfficiency;
+use crate::gpu::megakernel::{self, GpuRender, MegakernelOptions};
 use crate::gpu::timing::Timings;
+use crate::gpu::wavefront::{self, QueueHistogram, WavefrontOptions};
 use crate::gpu::GpuContext;
 use crate::packed_scene::PackedScene;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 use anyhow::{anyhow, Result};
+use std::collections::BTreeMap;
 use std::time::Instant;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize)]
@@ -21,6 +24,8 @@ pub enum Method {
     CpuF64,
     /// GPU megakernel: one compute kernel traces whole paths.
     Megakernel,
+    /// GPU wavefront: each bounce split into passes over queues of paths.
+    Wavefront,
 }
 
 impl Method {
@@ -29,11 +34,12 @@ impl Method {
             Method::Cpu => "cpu",
             Method::CpuF64 => "cpu-f64",
             Method::Megakernel => "megakernel",
+            Method::Wavefront => "wavefront",
         }
     }
 
     pub fn needs_gpu(self) -> bool {
-        matches!(self, Method::Megakernel)
+        matches!(self, Method::Megakernel | Method::Wavefront)
     }
 }
 
@@ -41,6 +47,9 @@ impl Method {
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct MethodOptions {
     pub megakernel: MegakernelOptions,
+    pub wavefront: WavefrontOptions,
+    /// Count SIMD efficiency with subgroup operations (GPU methods; not for timing runs).
+    pub instrument: bool,
 }
 
 /// A finished render: the film and how long it took.
@@ -52,7 +61,31 @@ pub struct RenderOutput {
     pub wall_seconds: f64,
     /// GPU pass times (None for CPU methods).
     pub timings: Option<Timings>,
+    /// GPU dispatches (megakernel) or waves (wavefront).
     pub dispatches: u64,
+    /// SIMD efficiency per instrumented point (`instrument` only).
+    pub simd: Option<BTreeMap<String, SimdEfficiency>>,
+    /// GPU memory per path in flight (None for CPU methods).
+    pub bytes_per_path: Option<u64>,
+    /// Paths in flight (wavefront only).
+    pub pool: Option<u32>,
+    /// Paths per queue per bounce (wavefront with compaction only).
+    pub histogram: Option<QueueHistogram>,
+}
+
+impl RenderOutput {
+    fn from_gpu(r: GpuRender, pool: Option<u32>, histogram: Option<QueueHistogram>) -> Self {
+        Self {
+            film: r.film,
+            wall_seconds: r.wall_seconds,
+            timings: Some(r.timings),
+            dispatches: r.dispatches,
+            simd: r.simd,
+            bytes_per_path: Some(r.bytes_per_path),
+            pool,
+            histogram,
+        }
+    }
 }
 
 /// Renders `scene` with `method`. `on_progress` receives the number of path samples finished.
@@ -86,17 +119,37 @@ pub fn render(
                 wall_seconds: start.elapsed().as_secs_f64(),
                 timings: None,
                 dispatches: 0,
+                simd: None,
+                bytes_per_path: None,
+                pool: None,
+                histogram: None,
             })
         }
         Method::Megakernel => {
             let ctx = gpu.ok_or_else(|| anyhow!("--method megakernel needs a GPU adapter"))?;
-            let r = megakernel::render(ctx, &packed, &camera, settings, &options.megakernel, on_progress)?;
-            Ok(RenderOutput {
-                film: r.film,
-                wall_seconds: r.wall_seconds,
-                timings: Some(r.timings),
-                dispatches: r.dispatches,
-            })
+            let r = megakernel::render(
+                ctx,
+                &packed,
+                &camera,
+                settings,
+                &options.megakernel,
+                options.instrument,
+                on_progress,
+            )?;
+            Ok(RenderOutput::from_gpu(r, None, None))
+        }
+        Method::Wavefront => {
+            let ctx = gpu.ok_or_else(|| anyhow!("--method wavefront needs a GPU adapter"))?;
+            let r = wavefront::render(
+                ctx,
+                &packed,
+                &camera,
+                settings,
+                &options.wavefront,
+                options.instrument,
+                on_progress,
+            )?;
+            Ok(RenderOutput::from_gpu(r.render, Some(r.pool), r.histogram))
         }
     }
 }

@@ -2,7 +2,9 @@
 //! figure can be traced back to its run.
 
 use crate::gpu::context::AdapterSummary;
+use crate::gpu::instrument::SimdEfficiency;
 use crate::gpu::timing::{PassTime, TimeSource};
+use crate::gpu::wavefront::QueueHistogram;
 use crate::method::{Method, MethodOptions, RenderOutput};
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
@@ -80,6 +82,19 @@ pub struct RunReport {
     /// NaN/Inf samples dropped instead of accumulated.
     pub invalid_samples: u64,
     pub image_mean: f64,
+    /// GPU memory per path in flight, bytes (GPU methods).
+    pub bytes_per_path: Option<u64>,
+    /// Paths in flight (wavefront).
+    pub pool_size: Option<u32>,
+    /// Seconds per bounce of the passes that run once per bounce (wavefront).
+    pub passes_per_bounce: BTreeMap<&'static str, Vec<f64>>,
+    /// Paths in each queue at each bounce, summed over waves (wavefront with compaction).
+    pub queue_histogram: Option<QueueHistogram>,
+    /// SIMD efficiency (active / available subgroup lanes) per pass or point (`--instrument`).
+    pub simd: Option<BTreeMap<String, SimdEfficiency>>,
+    /// Whether wgpu inserted its validation dispatch before every indirect dispatch
+    /// (`InstanceFlags::VALIDATION_INDIRECT_CALL`, wgpu #5714).
+    pub indirect_validation: Option<bool>,
 }
 
 impl RunReport {
@@ -116,6 +131,12 @@ impl RunReport {
             samples_per_second: samples as f64 / seconds,
             invalid_samples: out.film.invalid_samples(),
             image_mean: out.film.image_mean(),
+            bytes_per_path: out.bytes_per_path,
+            pool_size: out.pool,
+            passes_per_bounce: out.timings.as_ref().map(|t| t.per_bounce.clone()).unwrap_or_default(),
+            queue_histogram: out.histogram.clone(),
+            simd: out.simd.clone(),
+            indirect_validation: adapter.map(|a| a.indirect_validation),
         }
     }
 }

@@ -2,6 +2,7 @@
 
 use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::timing::{TimeSource, Timings};
+use crate::gpu::wavefront::{Compaction, ShadePasses, WavefrontOptions};
 use crate::gpu::GpuContext;
 use crate::image_io::{self, RgbImage};
 use crate::method::{self, Method, MethodOptions};
@@ -58,9 +59,41 @@ pub struct RenderArgs {
     /// Threads per workgroup for GPU methods.
     #[arg(long, default_value_t = MegakernelOptions::default().workgroup_size)]
     pub workgroup_size: u32,
-    /// Most path samples in one GPU dispatch (bounds each dispatch's time under driver watchdogs).
+    /// Megakernel: most path samples in one GPU dispatch (bounds each dispatch's time under
+    /// driver watchdogs).
     #[arg(long, default_value_t = MegakernelOptions::default().samples_per_dispatch)]
     pub samples_per_dispatch: u64,
+    /// Wavefront: paths in flight (default about a million, less where the adapter's storage
+    /// bindings are smaller; a pool that does not fit is reduced with a notice).
+    #[arg(long)]
+    pub pool_size: Option<u32>,
+    /// Wavefront: keep queues dense (`off`: every pass runs over the whole pool).
+    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    pub compaction: OnOff,
+    /// Wavefront: how compaction builds queues.
+    #[arg(long, value_enum, default_value_t = CompactionMethod::Atomic)]
+    pub compaction_method: CompactionMethod,
+    /// Wavefront: one shade pass per material kind, or one with a material switch.
+    #[arg(long, value_enum, default_value_t = ShadePasses::PerMaterial)]
+    pub shade: ShadePasses,
+    /// GPU methods: count SIMD efficiency per pass with subgroup operations (adds atomics: use
+    /// separate runs for timing).
+    #[arg(long)]
+    pub instrument: bool,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum OnOff {
+    On,
+    Off,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum CompactionMethod {
+    /// Atomic append to each queue.
+    Atomic,
+    /// Stable prefix-sum scan over the pool.
+    Scan,
 }
 
 pub fn run(a: RenderArgs) -> Result<()> {
@@ -74,12 +107,24 @@ pub fn run(a: RenderArgs) -> Result<()> {
         accel: a.accel,
     };
     settings.validate().map_err(anyhow::Error::msg)?;
+    let compaction = match (a.compaction, a.compaction_method) {
+        (OnOff::Off, _) => Compaction::Off,
+        (OnOff::On, CompactionMethod::Atomic) => Compaction::Atomic,
+        (OnOff::On, CompactionMethod::Scan) => Compaction::Scan,
+    };
     let options = MethodOptions {
         megakernel: MegakernelOptions {
             workgroup_size: a.workgroup_size,
             samples_per_dispatch: a.samples_per_dispatch,
             ..Default::default()
         },
+        wavefront: WavefrontOptions {
+            pool_size: a.pool_size,
+            workgroup_size: a.workgroup_size,
+            compaction,
+            shade: a.shade,
+        },
+        instrument: a.instrument,
     };
     let gpu = if a.method.needs_gpu() { Some(GpuContext::new(a.adapter.as_deref())?) } else { None };
 
@@ -111,7 +156,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
 
     print_summary(&report, &a.out);
     if let Some(t) = &out.timings {
-        print_pass_table(t);
+        print_pass_table(t, &report);
     }
     Ok(())
 }
@@ -138,12 +183,33 @@ fn print_summary(r: &RunReport, out: &std::path::Path) {
     );
 }
 
-/// pbrt-v4-style kernel profile: one row per pass label.
-pub fn print_pass_table(t: &Timings) {
+/// pbrt-v4-style kernel profile: one row per pass label, with SIMD efficiency where measured;
+/// then the bounce histogram of queue sizes.
+pub fn print_pass_table(t: &Timings, r: &RunReport) {
     let total = t.total_seconds();
-    println!("{:<24} {:>10} {:>8} {:>7}", "pass", "GPU ms", "passes", "share");
+    println!("{:<24} {:>11} {:>8} {:>7} {:>6}", "pass", "GPU ms", "passes", "share", "SIMD");
     for (label, p) in &t.passes {
         let share = if total > 0.0 { 100.0 * p.seconds / total } else { 0.0 };
-        println!("{label:<24} {:>10.3} {:>8} {share:>6.1}%", p.seconds * 1e3, p.passes);
+        let simd = r
+            .simd
+            .as_ref()
+            .and_then(|s| s.get(*label))
+            .map_or(String::new(), |e| format!("{:.1}%", 100.0 * e.efficiency));
+        println!("{label:<24} {:>11.3} {:>8} {share:>6.1}% {simd:>6}", p.seconds * 1e3, p.passes);
+    }
+    if let Some(simd) = &r.simd {
+        for (point, e) in simd.iter().filter(|(k, _)| !t.passes.contains_key(k.as_str())) {
+            println!("{point:<24} {:>11} {:>8} {:>7} {:>5.1}%", "", "", "", 100.0 * e.efficiency);
+        }
+    }
+    if let Some(h) = &r.queue_histogram {
+        println!(
+            "bounce {:>12} {:>12} {:>12} {:>12} {:>12}",
+            "rays", "lambertian", "metal", "dielectric", "emissive"
+        );
+        for (b, rays) in h.rays.iter().enumerate() {
+            let m = |k: usize| h.materials[k].get(b).copied().unwrap_or(0);
+            println!("{b:>6} {rays:>12} {:>12} {:>12} {:>12} {:>12}", m(0), m(1), m(2), m(3));
+        }
     }
 }

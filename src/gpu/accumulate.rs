@@ -4,13 +4,15 @@
 use super::buffers::{storage_entry, uniform_entry};
 use super::context::GpuContext;
 use super::dispatch_plan::DispatchUniforms;
+use super::stage::{Stage, Workgroups};
+use super::timing::GpuTimer;
 use super::{label, shaders};
 use anyhow::Result;
 
 pub const WORKGROUP_SIZE: u32 = 64;
 
 pub struct Accumulate {
-    pipeline: wgpu::ComputePipeline,
+    stage: Stage,
     bind_group: wgpu::BindGroup,
 }
 
@@ -34,20 +36,13 @@ impl Accumulate {
                 wgpu::BindGroupEntry { binding: 2, resource: params.binding() },
             ],
         });
-        let pipeline_layout = ctx.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(label::ACCUMULATE),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
         let module = ctx.shader(label::ACCUMULATE, shaders::ACCUMULATE)?;
-        let pipeline = ctx.compute_pipeline(label::ACCUMULATE, &module, &pipeline_layout, &[])?;
-        Ok(Self { pipeline, bind_group })
+        Ok(Self { stage: Stage::new(ctx, label::ACCUMULATE, &module, &[&layout], &[])?, bind_group })
     }
 
     /// Records the pass for the dispatch whose parameters sit at `offset` and cover `pixels`.
-    pub fn record(&self, pass: &mut wgpu::ComputePass<'_>, offset: u32, pixels: u32) {
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &self.bind_group, &[offset]);
-        pass.dispatch_workgroups(pixels.div_ceil(WORKGROUP_SIZE), 1, 1);
+    pub fn record(&self, enc: &mut wgpu::CommandEncoder, timer: &mut GpuTimer, offset: u32, pixels: u32) {
+        let groups = [(&self.bind_group, vec![offset])];
+        self.stage.record(enc, timer, None, &groups, Workgroups::Direct(pixels.div_ceil(WORKGROUP_SIZE)));
     }
 }

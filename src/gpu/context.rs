@@ -29,6 +29,9 @@ pub struct AdapterSummary {
     pub max_buffer_size: u64,
     pub max_compute_workgroups_per_dimension: u32,
     pub max_compute_invocations_per_workgroup: u32,
+    /// wgpu validates every indirect dispatch with an extra dispatch (on by default in wgpu 30;
+    /// `WGPU_VALIDATION_INDIRECT_CALL=0` turns it off).
+    pub indirect_validation: bool,
 }
 
 impl AdapterSummary {
@@ -50,6 +53,7 @@ impl AdapterSummary {
             max_buffer_size: l.max_buffer_size,
             max_compute_workgroups_per_dimension: l.max_compute_workgroups_per_dimension,
             max_compute_invocations_per_workgroup: l.max_compute_invocations_per_workgroup,
+            indirect_validation: instance_flags().contains(wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL),
         }
     }
 
@@ -58,9 +62,18 @@ impl AdapterSummary {
     }
 }
 
-/// All adapters found (honouring `WGPU_BACKEND`), each with why it ranks where it does.
+fn instance_descriptor() -> wgpu::InstanceDescriptor {
+    wgpu::InstanceDescriptor::new_without_display_handle_from_env()
+}
+
+/// The instance flags in force (build defaults adjusted by `WGPU_*` variables).
+pub fn instance_flags() -> wgpu::InstanceFlags {
+    instance_descriptor().flags
+}
+
+/// All adapters found (honouring `WGPU_BACKEND`).
 pub fn enumerate() -> (wgpu::Instance, Vec<wgpu::Adapter>) {
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let instance = wgpu::Instance::new(instance_descriptor());
     let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
     (instance, adapters)
 }

@@ -9,7 +9,9 @@ use super::accumulate::Accumulate;
 use super::buffers::{storage_entry, storage_zeroed, uniform_entry};
 use super::context::GpuContext;
 use super::dispatch_plan::{self, DispatchUniforms};
+use super::instrument::{SimdCounters, SimdEfficiency};
 use super::scene_buffers::SceneBuffers;
+use super::stage::{Stage, Workgroups};
 use super::timing::{GpuTimer, Timings, MAX_PASSES_PER_BATCH};
 use super::{label, shaders};
 use crate::camera::CameraFrame;
@@ -18,6 +20,7 @@ use crate::layout::FilmPixel;
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
+use std::collections::BTreeMap;
 use std::time::Instant;
 
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -43,12 +46,20 @@ pub struct GpuRender {
     pub timings: Timings,
     pub dispatches: u64,
     pub wall_seconds: f64,
+    /// SIMD efficiency per instrumented point (`--instrument` only).
+    pub simd: Option<BTreeMap<String, SimdEfficiency>>,
+    /// GPU memory per path sample in flight.
+    pub bytes_per_path: u64,
 }
 
 /// llvmpipe (Mesa's software driver) ends all loops of a shader invocation after 65535
 /// iterations in total, silently. One path visits at most `max_depth` leaves; refuse renders
 /// whose worst case exceeds the cap rather than return a wrong image.
-fn check_loop_limit(ctx: &GpuContext, scene: &PackedScene, settings: &RenderSettings) -> Result<()> {
+pub(crate) fn check_loop_limit(
+    ctx: &GpuContext,
+    scene: &PackedScene,
+    settings: &RenderSettings,
+) -> Result<()> {
     const LLVMPIPE_LOOP_LIMIT: u64 = 65_535;
     let worst = settings.max_depth as u64 * (scene.largest_leaf() as u64 + crate::bvh::MAX_DEPTH as u64);
     if ctx.summary.name.contains("llvmpipe") && worst > LLVMPIPE_LOOP_LIMIT {
@@ -70,6 +81,7 @@ pub fn render(
     camera: &CameraFrame,
     settings: &RenderSettings,
     opts: &MegakernelOptions,
+    instrument: bool,
     on_progress: &dyn Fn(u64),
 ) -> Result<GpuRender> {
     settings.validate().map_err(anyhow::Error::msg)?;
@@ -95,6 +107,7 @@ pub fn render(
     let most_threads = plan.iter().map(|d| d.pixel_count as u64 * d.sample_count as u64).max().unwrap_or(1);
     let samples = storage_zeroed(ctx, "samples", most_threads * 16, wgpu::BufferUsages::empty())?;
     let accumulate = Accumulate::new(ctx, &samples, &film, &params)?;
+    let simd = instrument.then(|| SimdCounters::new(ctx)).transpose()?;
 
     let layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some(label::MEGAKERNEL),
@@ -108,16 +121,14 @@ pub fn render(
             wgpu::BindGroupEntry { binding: 1, resource: params.binding() },
         ],
     });
-    let pipeline_layout = ctx.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some(label::MEGAKERNEL),
-        bind_group_layouts: &[Some(&scene_buffers.layout), Some(&layout)],
-        immediate_size: 0,
-    });
-    let module = ctx.shader(label::MEGAKERNEL, shaders::MEGAKERNEL)?;
-    let pipeline = ctx.compute_pipeline(
+    let mut layouts = vec![&scene_buffers.layout, &layout];
+    layouts.extend(simd.as_ref().map(|s| &s.layout));
+    let module = ctx.shader(label::MEGAKERNEL, shaders::MEGAKERNEL.get(instrument))?;
+    let stage = Stage::new(
+        ctx,
         label::MEGAKERNEL,
         &module,
-        &pipeline_layout,
+        &layouts,
         &[("WORKGROUP_SIZE", opts.workgroup_size as f64)],
     )?;
 
@@ -132,21 +143,16 @@ pub fn render(
         for (i, d) in batch.iter().enumerate() {
             let offset = params.offset(batch_index * per_submit + i);
             let threads = d.pixel_count * d.sample_count;
-            {
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(label::MEGAKERNEL),
-                    timestamp_writes: timer.pass(label::MEGAKERNEL),
-                });
-                pass.set_pipeline(&pipeline);
-                pass.set_bind_group(0, &scene_buffers.bind_group, &[]);
-                pass.set_bind_group(1, &group, &[offset]);
-                pass.dispatch_workgroups(threads.div_ceil(opts.workgroup_size), 1, 1);
-            }
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some(label::ACCUMULATE),
-                timestamp_writes: timer.pass(label::ACCUMULATE),
-            });
-            accumulate.record(&mut pass, offset, d.pixel_count);
+            let mut groups = vec![(&scene_buffers.bind_group, vec![]), (&group, vec![offset])];
+            groups.extend(simd.as_ref().map(|s| (&s.bind_group, vec![])));
+            stage.record(
+                &mut enc,
+                &mut timer,
+                None,
+                &groups,
+                Workgroups::Direct(threads.div_ceil(opts.workgroup_size)),
+            );
+            accumulate.record(&mut enc, &mut timer, offset, d.pixel_count);
         }
         timer.resolve(&mut enc);
         ctx.queue.submit([enc.finish()]);
@@ -162,5 +168,8 @@ pub fn render(
         timings: timer.into_timings(),
         dispatches: plan.len() as u64,
         wall_seconds: start.elapsed().as_secs_f64(),
+        simd: simd.as_ref().map(|s| s.read(ctx)).transpose()?,
+        // The sample buffer: one radiance value per path of the largest dispatch.
+        bytes_per_path: 16,
     })
 }

@@ -4,16 +4,31 @@ pub mod accumulate;
 pub mod buffers;
 pub mod context;
 pub mod dispatch_plan;
+pub mod instrument;
 pub mod megakernel;
 pub mod scene_buffers;
 pub mod shaders;
+pub mod stage;
 pub mod timing;
+pub mod wavefront;
 
 /// One static label per GPU pass: the same string names the pipeline, the WGSL entry point,
 /// the timestamp slot, the row of the timing table and the key in JSON reports.
 pub mod label {
     pub const MEGAKERNEL: &str = "megakernel";
     pub const ACCUMULATE: &str = "accumulate";
+    pub const GENERATE: &str = "generate";
+    pub const QUEUE_SETUP_INTERSECT: &str = "queue_setup_intersect";
+    pub const INTERSECT: &str = "intersect";
+    pub const QUEUE_SETUP_SHADE: &str = "queue_setup_shade";
+    /// Shade passes by material kind (`layout::material_kind` order).
+    pub const SHADE_BY_KIND: [&str; 4] =
+        ["shade_lambertian", "shade_metal", "shade_dielectric", "shade_emissive"];
+    /// The single shade pass with a material switch.
+    pub const SHADE: &str = "shade";
+    pub const COMPACT_SCAN: &str = "compact_scan";
+    pub const COMPACT_BLOCKS: &str = "compact_blocks";
+    pub const COMPACT_SCATTER: &str = "compact_scatter";
 }
 
 pub use context::GpuContext;

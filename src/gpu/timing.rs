@@ -31,6 +31,8 @@ pub struct PassTime {
 pub struct Timings {
     pub source: TimeSource,
     pub passes: BTreeMap<&'static str, PassTime>,
+    /// Seconds per bounce (index) for passes that run once per bounce.
+    pub per_bounce: BTreeMap<&'static str, Vec<f64>>,
 }
 
 impl Timings {
@@ -44,7 +46,7 @@ pub const MAX_PASSES_PER_BATCH: u32 = 2048;
 
 pub struct GpuTimer {
     queries: Option<(wgpu::QuerySet, wgpu::Buffer)>,
-    labels: Vec<&'static str>,
+    labels: Vec<(&'static str, Option<u32>)>,
     timings: Timings,
     submitted_at: Option<Instant>,
 }
@@ -70,7 +72,7 @@ impl GpuTimer {
         Self {
             queries,
             labels: Vec::new(),
-            timings: Timings { source, passes: BTreeMap::new() },
+            timings: Timings { source, passes: BTreeMap::new(), per_bounce: BTreeMap::new() },
             submitted_at: None,
         }
     }
@@ -78,14 +80,33 @@ impl GpuTimer {
     /// Timestamp writes for the next pass, labelled `label`. At most [`MAX_PASSES_PER_BATCH`]
     /// passes between [`GpuTimer::finish_batch`] calls.
     pub fn pass(&mut self, label: &'static str) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        assert!((self.labels.len() as u32) < MAX_PASSES_PER_BATCH, "too many passes in one timing batch");
+        self.pass_at(label, None)
+    }
+
+    /// Like [`GpuTimer::pass`], also attributing the time to `bounce`.
+    pub fn pass_at(
+        &mut self,
+        label: &'static str,
+        bounce: Option<u32>,
+    ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        assert!(!self.is_full(), "too many passes in one timing batch");
         let i = self.labels.len() as u32;
-        self.labels.push(label);
+        self.labels.push((label, bounce));
         self.queries.as_ref().map(|(set, _)| wgpu::ComputePassTimestampWrites {
             query_set: set,
             beginning_of_pass_write_index: Some(2 * i),
             end_of_pass_write_index: Some(2 * i + 1),
         })
+    }
+
+    /// True when the batch must be finished before another pass is recorded.
+    pub fn is_full(&self) -> bool {
+        self.remaining() == 0
+    }
+
+    /// Passes that can still be recorded in this batch.
+    pub fn remaining(&self) -> usize {
+        MAX_PASSES_PER_BATCH as usize - self.labels.len()
     }
 
     /// Records the resolve of this batch's queries; call last in the batch's encoder.
@@ -110,24 +131,33 @@ impl GpuTimer {
             Some((_, buf)) if !labels.is_empty() => {
                 let ticks: Vec<u64> = read_back(ctx, buf, labels.len() as u64 * 16)?;
                 let ns_per_tick = ctx.queue.get_timestamp_period() as f64;
-                for (i, label) in labels.iter().enumerate() {
+                for (i, &(label, bounce)) in labels.iter().enumerate() {
                     let dt = ticks[2 * i + 1].saturating_sub(ticks[2 * i]) as f64 * ns_per_tick * 1e-9;
-                    let e = self.timings.passes.entry(label).or_default();
-                    e.seconds += dt;
-                    e.passes += 1;
+                    self.add(label, bounce, dt);
                 }
             }
             _ => {
                 // Wall clock: the batch's time is split evenly over its passes.
                 let dt = self.submitted_at.take().map_or(0.0, |t| t.elapsed().as_secs_f64());
-                for label in &labels {
-                    let e = self.timings.passes.entry(label).or_default();
-                    e.seconds += dt / labels.len() as f64;
-                    e.passes += 1;
+                for &(label, bounce) in &labels {
+                    self.add(label, bounce, dt / labels.len() as f64);
                 }
             }
         }
         Ok(())
+    }
+
+    fn add(&mut self, label: &'static str, bounce: Option<u32>, seconds: f64) {
+        let e = self.timings.passes.entry(label).or_default();
+        e.seconds += seconds;
+        e.passes += 1;
+        if let Some(b) = bounce {
+            let v = self.timings.per_bounce.entry(label).or_default();
+            if v.len() <= b as usize {
+                v.resize(b as usize + 1, 0.0);
+            }
+            v[b as usize] += seconds;
+        }
     }
 
     pub fn into_timings(self) -> Timings {

@@ -1,0 +1,87 @@
+// The wavefront's path pool (structure of arrays) and queues: bind group 1 of every wavefront
+// pass. Rust side: src/gpu/wavefront/path_state.rs. A wave holds dispatch.pixel_count ×
+// dispatch.sample_count paths; slot i traces sample (start + i / pixel_count) of pixel
+// (offset + i % pixel_count), so pixel and sample are never stored.
+
+#include "shared/dispatch.wgsl"
+
+// Queue ids: regions of `queues`, each `pool` entries long, and their counters.
+const QUEUE_RAY_0: u32 = 0u;        // ray queues alternate by bounce parity
+const QUEUE_MATERIAL_0: u32 = 2u;   // + material kind (one shared queue with --shade single)
+const QUEUE_COUNT: u32 = 6u;
+// Word indices in `counters` besides the queue counts.
+const COUNTER_BOUNCE: u32 = 6u;     // current bounce, advanced by queue_setup_intersect
+const COUNTER_STATS: u32 = 8u;      // + bounce * QUEUE_COUNT + queue: paths queued, summed over waves
+// Indirect-dispatch argument slots (3 words each) in queue_setup's `indirect`.
+const ARGS_INTERSECT: u32 = 0u;
+const ARGS_SHADE_0: u32 = 1u;       // + material kind
+
+// A path that no pass should touch again.
+const DEAD: u32 = 0xffffffffu;
+
+// Knobs constant over a render; twin of WaveUniform in src/layout.rs.
+struct Wave {
+    // 1: queues built by atomic append; 2: by prefix-sum scan; 0: no queues (whole pool).
+    compaction: u32,
+    // 1: one shade pass per material kind; 0: one pass with a switch.
+    per_material: u32,
+    // Queue region length (the pool size).
+    pool: u32,
+    _pad: u32,
+}
+
+@group(1) @binding(0) var<uniform> dispatch: Dispatch;
+@group(1) @binding(1) var<uniform> wave: Wave;
+// xyz: ray origin; w: distance of the hit found by intersect.
+@group(1) @binding(2) var<storage, read_write> path_origin: array<vec4<f32>>;
+// xyz: ray direction; w: bitcast sphere slot hit, or DEAD once the path has ended.
+@group(1) @binding(3) var<storage, read_write> path_dir: array<vec4<f32>>;
+// xyz: throughput.
+@group(1) @binding(4) var<storage, read_write> path_throughput: array<vec4<f32>>;
+// rgb: the path's radiance (read by the accumulate pass).
+@group(1) @binding(5) var<storage, read_write> radiance: array<vec4<f32>>;
+@group(1) @binding(6) var<storage, read_write> queues: array<u32>;
+@group(1) @binding(7) var<storage, read_write> counters: array<atomic<u32>>;
+// Scan compaction: the queue each slot goes to next (or DEAD), and per-slot / per-block offsets.
+@group(1) @binding(8) var<storage, read_write> next_queue: array<u32>;
+@group(1) @binding(9) var<storage, read_write> scan_offset: array<u32>;
+@group(1) @binding(10) var<storage, read_write> block_sums: array<vec4<u32>>;
+
+// Paths in the pool this wave.
+fn wave_paths() -> u32 {
+    return dispatch.pixel_count * dispatch.sample_count;
+}
+
+fn slot_pixel(slot: u32) -> u32 {
+    return dispatch.pixel_offset + slot % dispatch.pixel_count;
+}
+
+fn slot_sample(slot: u32) -> u32 {
+    return dispatch.sample_start + slot / dispatch.pixel_count;
+}
+
+fn current_bounce() -> u32 {
+    return atomicLoad(&counters[COUNTER_BOUNCE]);
+}
+
+// Puts `slot` on queue `q`: appended atomically, or marked for the scan, per the compaction knob.
+fn enqueue(q: u32, slot: u32) {
+    if wave.compaction == 1u {
+        let at = atomicAdd(&counters[q], 1u);
+        queues[q * wave.pool + at] = slot;
+    } else if wave.compaction == 2u {
+        next_queue[slot] = q;
+    }
+}
+
+// The path slot handled by thread `i` of a pass over queue `q`, or DEAD past the queue's end.
+// Without compaction, thread i handles slot i of the whole pool.
+fn queued_slot(q: u32, i: u32) -> u32 {
+    if wave.compaction == 0u {
+        return select(DEAD, i, i < wave_paths());
+    }
+    if i >= atomicLoad(&counters[q]) {
+        return DEAD;
+    }
+    return queues[q * wave.pool + i];
+}

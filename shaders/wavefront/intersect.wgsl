@@ -1,0 +1,37 @@
+// intersect: the closest hit of every queued ray (the megakernel's BVH traversal). Escaped rays
+// add the background and end; hits go to their material's queue. Rust: src/gpu/wavefront/intersect.rs.
+
+#include "shared/rng.wgsl"
+#include "shared/scene.wgsl"
+#include "shared/path_state.wgsl"
+#include "shared/instrument.wgsl"
+
+override WORKGROUP_SIZE: u32 = 64u;
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn intersect(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let bounce = current_bounce();
+    let slot = queued_slot(QUEUE_RAY_0 + bounce % 2u, gid.x);
+    if slot == DEAD {
+        return;
+    }
+    let dir = path_dir[slot];
+    if bitcast<u32>(dir.w) == DEAD {
+        return; // only without compaction: an ended path in the pool
+    }
+    instrument(PASS_INTERSECT);
+    let ray = Ray(path_origin[slot].xyz, dir.xyz);
+    let hit = closest_hit(ray, T_MIN);
+    if hit.sphere == NO_HIT {
+        radiance[slot] = vec4<f32>(path_throughput[slot].xyz * background(ray.dir), 0.0);
+        path_dir[slot].w = bitcast<f32>(DEAD);
+        return;
+    }
+    path_origin[slot].w = hit.t;
+    path_dir[slot].w = bitcast<f32>(hit.sphere);
+    var q = QUEUE_MATERIAL_0;
+    if wave.per_material == 1u {
+        q += materials[sphere_material[hit.sphere]].kind;
+    }
+    enqueue(q, slot);
+}

@@ -1,0 +1,83 @@
+// shade: scattering for the paths queued at one material kind (one entry point, and pipeline,
+// per kind), or for every hit with a material switch (`shade`). Surviving paths go on the next
+// bounce's ray queue. Twin of the bounce body of src/cpu/integrator.rs. Rust: src/gpu/wavefront/shade.rs.
+
+#include "shared/rng.wgsl"
+#include "shared/scene.wgsl"
+#include "shared/path_state.wgsl"
+#include "shared/instrument.wgsl"
+
+override WORKGROUP_SIZE: u32 = 64u;
+
+// `kind`: the material kind this pass shades, or NO_KIND to shade whatever was hit.
+const NO_KIND: u32 = 0xffffffffu;
+
+fn shade_path(i: u32, kind: u32, pass_id: u32) {
+    let bounce = current_bounce();
+    var q = QUEUE_MATERIAL_0;
+    if kind != NO_KIND {
+        q += kind;
+    }
+    let slot = queued_slot(q, i);
+    if slot == DEAD {
+        return;
+    }
+    let o = path_origin[slot];
+    let d = path_dir[slot];
+    let sphere_slot = bitcast<u32>(d.w);
+    if sphere_slot == DEAD {
+        return; // only without compaction
+    }
+    let material = materials[sphere_material[sphere_slot]];
+    if kind != NO_KIND && material.kind != kind {
+        return; // only without compaction
+    }
+    instrument(pass_id);
+    let throughput = path_throughput[slot].xyz;
+    if material.kind == MATERIAL_EMISSIVE {
+        radiance[slot] = vec4<f32>(throughput * material.color, 0.0);
+        path_dir[slot].w = bitcast<f32>(DEAD);
+        return;
+    }
+    let ray = Ray(o.xyz, d.xyz);
+    let p = ray.origin + ray.dir * o.w;
+    let outward = outward_normal(spheres[sphere_slot], p);
+    let front_face = dot(ray.dir, outward) < 0.0;
+    let normal = select(-outward, outward, front_face);
+    let u = uniform4(slot_pixel(slot), slot_sample(slot), bounce, PURPOSE_SCATTER, frame.seed);
+    let s = scatter(material, ray, normal, front_face, u);
+    // The book's depth limit: a path still going after max_depth rays contributes nothing.
+    if !s.ok || bounce + 1u >= frame.max_depth {
+        path_dir[slot].w = bitcast<f32>(DEAD);
+        return;
+    }
+    path_origin[slot] = vec4<f32>(p, 0.0);
+    path_dir[slot] = vec4<f32>(s.dir, 0.0);
+    path_throughput[slot] = vec4<f32>(throughput * s.attenuation, 0.0);
+    enqueue(QUEUE_RAY_0 + (bounce + 1u) % 2u, slot);
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn shade_lambertian(@builtin(global_invocation_id) gid: vec3<u32>) {
+    shade_path(gid.x, MATERIAL_LAMBERTIAN, PASS_SHADE_LAMBERTIAN);
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn shade_metal(@builtin(global_invocation_id) gid: vec3<u32>) {
+    shade_path(gid.x, MATERIAL_METAL, PASS_SHADE_METAL);
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn shade_dielectric(@builtin(global_invocation_id) gid: vec3<u32>) {
+    shade_path(gid.x, MATERIAL_DIELECTRIC, PASS_SHADE_DIELECTRIC);
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn shade_emissive(@builtin(global_invocation_id) gid: vec3<u32>) {
+    shade_path(gid.x, MATERIAL_EMISSIVE, PASS_SHADE_EMISSIVE);
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
+    shade_path(gid.x, NO_KIND, PASS_SHADE);
+}

@@ -1,0 +1,62 @@
+//! A GPU stage: one labelled compute pipeline and how to record it (vello's thin recording layer).
+//! The label names the pipeline, the WGSL entry point, the timestamp slot and the report key.
+
+use super::context::GpuContext;
+use super::timing::GpuTimer;
+use anyhow::Result;
+
+/// How many workgroups a recorded pass launches.
+pub enum Workgroups<'a> {
+    Direct(u32),
+    /// Read from `buffer` at `offset` (written on the GPU by a setup pass).
+    Indirect(&'a wgpu::Buffer, u64),
+}
+
+pub struct Stage {
+    pub label: &'static str,
+    pipeline: wgpu::ComputePipeline,
+}
+
+impl Stage {
+    /// Builds the pipeline for entry point `label` of `module`.
+    pub fn new(
+        ctx: &GpuContext,
+        label: &'static str,
+        module: &wgpu::ShaderModule,
+        layouts: &[&wgpu::BindGroupLayout],
+        constants: &[(&str, f64)],
+    ) -> Result<Self> {
+        let layouts: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(|l| Some(*l)).collect();
+        let layout = ctx.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(label),
+            bind_group_layouts: &layouts,
+            immediate_size: 0,
+        });
+        let pipeline = ctx.compute_pipeline(label, module, &layout, constants)?;
+        Ok(Self { label, pipeline })
+    }
+
+    /// Records the stage as its own timed compute pass. `groups[i]` binds group i with its
+    /// dynamic offsets.
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        timer: &mut GpuTimer,
+        bounce: Option<u32>,
+        groups: &[(&wgpu::BindGroup, Vec<u32>)],
+        workgroups: Workgroups<'_>,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(self.label),
+            timestamp_writes: timer.pass_at(self.label, bounce),
+        });
+        pass.set_pipeline(&self.pipeline);
+        for (i, (group, offsets)) in groups.iter().enumerate() {
+            pass.set_bind_group(i as u32, *group, offsets);
+        }
+        match workgroups {
+            Workgroups::Direct(x) => pass.dispatch_workgroups(x, 1, 1),
+            Workgroups::Indirect(buffer, offset) => pass.dispatch_workgroups_indirect(buffer, offset),
+        }
+    }
+}

@@ -1,0 +1,50 @@
+//! compact (`shaders/wavefront/compact.wgsl`): the prefix-sum scan that builds dense queues when
+//! `--compaction-method scan` (the alternative to atomic appends). Three passes over the pool:
+//! per-workgroup scan, scan of workgroup totals, scatter; built twice, for the material queues
+//! (after intersect) and for the next ray queue (after shade).
+
+use super::super::stage::{Stage, Workgroups};
+use super::super::{context::GpuContext, label, shaders, timing::GpuTimer};
+use super::path_state::SCAN_WG;
+use super::Bindings;
+use anyhow::Result;
+
+pub struct Compact {
+    /// [scan, blocks, scatter] for the material queues, then for the ray queue.
+    to_materials: [Stage; 3],
+    to_rays: [Stage; 3],
+}
+
+impl Compact {
+    pub fn new(ctx: &GpuContext, b: &Bindings) -> Result<Self> {
+        let module = ctx.shader(label::COMPACT_SCAN, shaders::COMPACT)?;
+        let layouts = &b.layouts()[..2];
+        let build = |rays: bool| -> Result<[Stage; 3]> {
+            let c = [("TARGET_RAYS", rays as u32 as f64)];
+            Ok([
+                Stage::new(ctx, label::COMPACT_SCAN, &module, layouts, &c)?,
+                Stage::new(ctx, label::COMPACT_BLOCKS, &module, layouts, &c)?,
+                Stage::new(ctx, label::COMPACT_SCATTER, &module, layouts, &c)?,
+            ])
+        };
+        Ok(Self { to_materials: build(false)?, to_rays: build(true)? })
+    }
+
+    pub fn record(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        timer: &mut GpuTimer,
+        b: &Bindings,
+        offset: u32,
+        bounce: u32,
+        paths: u32,
+        to_rays: bool,
+    ) {
+        let [scan, blocks, scatter] = if to_rays { &self.to_rays } else { &self.to_materials };
+        let groups = b.groups(offset);
+        let wgs = paths.div_ceil(SCAN_WG as u32);
+        scan.record(enc, timer, Some(bounce), &groups[..2], Workgroups::Direct(wgs));
+        blocks.record(enc, timer, Some(bounce), &groups[..2], Workgroups::Direct(1));
+        scatter.record(enc, timer, Some(bounce), &groups[..2], Workgroups::Direct(wgs));
+    }
+}

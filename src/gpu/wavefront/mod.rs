@@ -1,0 +1,313 @@
+//! The wavefront method (Laine, Karras & Aila, HPG 2013): each bounce is split into small passes
+//! over queues of paths held in GPU memory, so that each pass runs converged.
+//!
+//! Per wave of up to `pool` paths:
+//!
+//! ```text
+//! generate                                  camera rays → ray queue
+//! for bounce in 0..max_depth:
+//!     queue_setup_intersect                 ray queue count → intersect's indirect args
+//!     intersect                             closest hits; escaped rays add the background
+//!     [compact_scan, _blocks, _scatter]     (scan method) build the material queues
+//!     queue_setup_shade                     material queue counts → shade passes' args
+//!     shade_<kind> for each kind used       scatter; survivors → next ray queue
+//!     [compact_scan, _blocks, _scatter]     (scan method) build the next ray queue
+//! accumulate                                the wave's radiance → film, in sample order
+//! ```
+//!
+//! The host never reads a counter inside the loop: bounces whose queues are empty dispatch zero
+//! workgroups.
+
+pub mod compact;
+pub mod generate;
+pub mod intersect;
+pub mod path_state;
+pub mod queue_setup;
+pub mod shade;
+
+use super::accumulate::Accumulate;
+use super::buffers::{read_back, storage_zeroed};
+use super::context::GpuContext;
+use super::dispatch_plan::{self, DispatchUniforms};
+use super::instrument::SimdCounters;
+use super::megakernel::{check_loop_limit, GpuRender};
+use super::scene_buffers::SceneBuffers;
+use super::timing::GpuTimer;
+use crate::camera::CameraFrame;
+use crate::film::Film;
+use crate::layout::{FilmPixel, WaveUniform};
+use crate::packed_scene::PackedScene;
+use crate::settings::RenderSettings;
+use anyhow::{bail, Result};
+use path_state::{PathState, BYTES_PER_PATH, COUNTER_STATS, LARGEST_BINDING_PER_PATH, QUEUE_COUNT};
+use std::time::Instant;
+
+/// How queues are kept dense.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Compaction {
+    /// No queues: every pass runs over the whole pool, dead lanes idle.
+    Off,
+    /// Each pass appends surviving paths to the next queue with an atomic counter.
+    Atomic,
+    /// Passes mark each path's next queue; a stable prefix-sum scan builds the queue.
+    Scan,
+}
+
+/// How shading is dispatched.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ShadePasses {
+    /// One pass per material kind the scene uses.
+    PerMaterial,
+    /// One pass over every hit with a material switch (the megakernel's divergence).
+    Single,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct WavefrontOptions {
+    /// Paths in flight; `None`: the default from the adapter's limits.
+    pub pool_size: Option<u32>,
+    pub workgroup_size: u32,
+    pub compaction: Compaction,
+    pub shade: ShadePasses,
+}
+
+impl Default for WavefrontOptions {
+    fn default() -> Self {
+        Self {
+            pool_size: None,
+            workgroup_size: 64,
+            compaction: Compaction::Atomic,
+            shade: ShadePasses::PerMaterial,
+        }
+    }
+}
+
+/// Default pool: about a million paths in flight (pbrt-v4's choice), less where limits say so.
+pub const DEFAULT_POOL: u32 = 1 << 20;
+/// Bounce histogram rows kept; deeper bounces are added to the last row.
+pub const STATS_BOUNCES: u32 = 64;
+
+/// The largest pool the adapter can hold: every per-path buffer within one storage binding,
+/// and one thread per path within one dispatch.
+pub fn max_pool(ctx: &GpuContext, workgroup_size: u32) -> u32 {
+    let s = &ctx.summary;
+    let by_binding =
+        s.max_storage_buffer_binding_size.min(s.max_buffer_size) / LARGEST_BINDING_PER_PATH.max(16);
+    let by_threads =
+        s.max_compute_workgroups_per_dimension as u64 * workgroup_size.min(path_state::SCAN_WG as u32) as u64;
+    by_binding.min(by_threads).min(u32::MAX as u64) as u32
+}
+
+/// Per-bounce queue sizes summed over waves: `rays[b]` paths were intersected at bounce b and
+/// `materials[k][b]` shaded with material kind k (all in `materials[0]` with one shade pass).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct QueueHistogram {
+    pub rays: Vec<u64>,
+    pub materials: [Vec<u64>; 4],
+}
+
+/// The GPU objects every stage binds: scene (group 0), path state (group 1), SIMD counters
+/// (group 2, with `--instrument`).
+pub struct Bindings {
+    pub scene: SceneBuffers,
+    pub state: PathState,
+    pub simd: Option<SimdCounters>,
+}
+
+impl Bindings {
+    pub fn layouts(&self) -> Vec<&wgpu::BindGroupLayout> {
+        let mut l = vec![&self.scene.layout, &self.state.layout];
+        l.extend(self.simd.as_ref().map(|s| &s.layout));
+        l
+    }
+
+    /// Bind groups with the dynamic offset of the wave's dispatch parameters.
+    pub fn groups<'a>(&'a self, offset: u32) -> Vec<(&'a wgpu::BindGroup, Vec<u32>)> {
+        let mut g = vec![(&self.scene.bind_group, vec![]), (&self.state.bind_group, vec![offset])];
+        g.extend(self.simd.as_ref().map(|s| (&s.bind_group, vec![])));
+        g
+    }
+}
+
+/// What the wavefront measured besides the film.
+#[derive(Clone, Debug)]
+pub struct WavefrontRender {
+    pub render: GpuRender,
+    pub pool: u32,
+    pub histogram: Option<QueueHistogram>,
+}
+
+pub fn render(
+    ctx: &GpuContext,
+    scene: &PackedScene,
+    camera: &CameraFrame,
+    settings: &RenderSettings,
+    opts: &WavefrontOptions,
+    instrument: bool,
+    on_progress: &dyn Fn(u64),
+) -> Result<WavefrontRender> {
+    settings.validate().map_err(anyhow::Error::msg)?;
+    check_loop_limit(ctx, scene, settings)?;
+    let wg = opts.workgroup_size;
+    if wg == 0 || wg > ctx.summary.max_compute_invocations_per_workgroup {
+        bail!(
+            "workgroup size {wg} is outside 1..={} on {}",
+            ctx.summary.max_compute_invocations_per_workgroup,
+            ctx.summary.name
+        );
+    }
+    let pool = choose_pool(ctx, opts)?;
+    let start = Instant::now();
+
+    let pixels = settings.width * settings.height;
+    let waves = dispatch_plan::plan(pixels, settings.spp, pool as u64, pool);
+    let params = DispatchUniforms::new(ctx, &waves);
+    let wave = WaveUniform {
+        compaction: opts.compaction as u32,
+        per_material: (opts.shade == ShadePasses::PerMaterial) as u32,
+        pool,
+        _pad: 0,
+    };
+    let stats_bounces = settings.max_depth.min(STATS_BOUNCES);
+    let frame = scene.frame_uniform(camera, settings);
+    let b = Bindings {
+        scene: SceneBuffers::new(ctx, scene, &frame)?,
+        state: PathState::new(ctx, pool, wave, &params, stats_bounces)?,
+        simd: instrument.then(|| SimdCounters::new(ctx)).transpose()?,
+    };
+    let film_bytes = pixels as u64 * std::mem::size_of::<FilmPixel>() as u64;
+    let film = storage_zeroed(ctx, "film", film_bytes, wgpu::BufferUsages::COPY_SRC)?;
+
+    let kinds = scene.material_kinds_used();
+    let generate = generate::Generate::new(ctx, &b, wg, instrument)?;
+    let queue_setup = queue_setup::QueueSetup::new(ctx, &b, wg)?;
+    let intersect = intersect::Intersect::new(ctx, &b, wg, instrument)?;
+    let shade_kinds = (opts.shade == ShadePasses::PerMaterial).then_some(kinds.as_slice());
+    let shade = shade::Shade::new(ctx, &b, shade_kinds, wg, instrument)?;
+    let compact =
+        (opts.compaction == Compaction::Scan).then(|| compact::Compact::new(ctx, &b)).transpose()?;
+    let accumulate = Accumulate::new(ctx, &b.state.radiance, &film, &params)?;
+
+    // Passes per bounce, to keep each submission within the timer's capacity.
+    let per_bounce = 3 + shade.passes() + if compact.is_some() { 6 } else { 0 };
+    let mut timer = GpuTimer::new(ctx);
+    let mut histogram = (opts.compaction != Compaction::Off).then(QueueHistogram::default);
+    let mut done = 0u64;
+    for (w, d) in waves.iter().enumerate() {
+        let offset = params.offset(w);
+        let paths = d.pixel_count * d.sample_count;
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+
+        generate.record(&mut enc, &mut timer, &b, offset, paths);
+        for bounce in 0..settings.max_depth {
+            if timer.remaining() < per_bounce + 1 {
+                enc = submit_and_wait(ctx, &mut timer, enc)?;
+            }
+            queue_setup.record_intersect(&mut enc, &mut timer, &b, offset, bounce);
+            intersect.record(&mut enc, &mut timer, &b, offset, bounce);
+            if let Some(c) = &compact {
+                c.record(&mut enc, &mut timer, &b, offset, bounce, paths, false);
+            }
+            queue_setup.record_shade(&mut enc, &mut timer, &b, offset, bounce);
+            shade.record(&mut enc, &mut timer, &b, offset, bounce);
+            if let Some(c) = &compact {
+                c.record(&mut enc, &mut timer, &b, offset, bounce, paths, true);
+            }
+        }
+        accumulate.record(&mut enc, &mut timer, offset, d.pixel_count);
+        submit_and_wait(ctx, &mut timer, enc)?;
+        if let Some(h) = &mut histogram {
+            // Per wave, so the GPU's u32 counters never overflow on long renders.
+            add_wave_histogram(ctx, &b.state, h)?;
+        }
+        done += paths as u64;
+        on_progress(done);
+    }
+
+    if let Some(h) = &mut histogram {
+        h.trim();
+    }
+    let data: Vec<FilmPixel> = read_back(ctx, &film, film_bytes)?;
+    let film = Film::from_gpu(settings.width, settings.height, settings.spp, &data);
+    let simd = b.simd.as_ref().map(|s| s.read(ctx)).transpose()?;
+    Ok(WavefrontRender {
+        render: GpuRender {
+            film,
+            timings: timer.into_timings(),
+            dispatches: waves.len() as u64,
+            wall_seconds: start.elapsed().as_secs_f64(),
+            simd,
+            bytes_per_path: BYTES_PER_PATH,
+        },
+        pool,
+        histogram,
+    })
+}
+
+fn choose_pool(ctx: &GpuContext, opts: &WavefrontOptions) -> Result<u32> {
+    let max = max_pool(ctx, opts.workgroup_size);
+    if max == 0 {
+        bail!("{} cannot hold even one path's state in its storage bindings", ctx.summary.name);
+    }
+    Ok(match opts.pool_size {
+        Some(0) => bail!("--pool-size must be at least 1"),
+        Some(p) if p > max => {
+            eprintln!(
+                "notice: pool of {p} paths does not fit {} ({} bytes per path, {} per binding); using {max}",
+                ctx.summary.name,
+                BYTES_PER_PATH,
+                super::buffers::human_bytes(ctx.summary.max_storage_buffer_binding_size)
+            );
+            max
+        }
+        Some(p) => p,
+        None => DEFAULT_POOL.min(max),
+    })
+}
+
+fn submit_and_wait(
+    ctx: &GpuContext,
+    timer: &mut GpuTimer,
+    mut enc: wgpu::CommandEncoder,
+) -> Result<wgpu::CommandEncoder> {
+    timer.resolve(&mut enc);
+    ctx.queue.submit([enc.finish()]);
+    timer.submitted();
+    timer.finish_batch(ctx)?;
+    Ok(ctx.device.create_command_encoder(&Default::default()))
+}
+
+/// Adds the wave's bounce histogram (GPU counters) to `h` and zeroes the counters.
+fn add_wave_histogram(ctx: &GpuContext, state: &PathState, h: &mut QueueHistogram) -> Result<()> {
+    let n = COUNTER_STATS + state.stats_bounces as u64 * QUEUE_COUNT;
+    let words: Vec<u32> = read_back(ctx, &state.counters, n * 4)?;
+    let bounces = state.stats_bounces as usize;
+    let row = |b: usize, q: usize| words[COUNTER_STATS as usize + b * QUEUE_COUNT as usize + q] as u64;
+    h.rays.resize(bounces, 0);
+    for b in 0..bounces {
+        h.rays[b] += row(b, 0);
+    }
+    for (k, m) in h.materials.iter_mut().enumerate() {
+        m.resize(bounces, 0);
+        for (b, v) in m.iter_mut().enumerate() {
+            *v += row(b, 2 + k);
+        }
+    }
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    enc.clear_buffer(&state.counters, COUNTER_STATS * 4, Some((n - COUNTER_STATS) * 4));
+    ctx.queue.submit([enc.finish()]);
+    Ok(())
+}
+
+impl QueueHistogram {
+    /// Drops the bounces no path reached.
+    fn trim(&mut self) {
+        let used = self.rays.iter().rposition(|&n| n > 0).map_or(0, |i| i + 1);
+        self.rays.truncate(used);
+        for m in &mut self.materials {
+            m.truncate(used);
+        }
+    }
+}

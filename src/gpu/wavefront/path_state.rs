@@ -1,0 +1,126 @@
+//! The path pool and its queues (`shaders/shared/path_state.wgsl`, bind group 1): structure of
+//! arrays, pbrt-v4 style, so each pass reads only the fields it needs.
+
+use super::super::buffers::{check_size, storage_entry, storage_zeroed, uniform_entry};
+use super::super::context::GpuContext;
+use super::super::dispatch_plan::DispatchUniforms;
+use crate::layout::WaveUniform;
+use anyhow::Result;
+use wgpu::util::DeviceExt;
+
+/// Queue regions (two ray queues, four material queues), as `QUEUE_COUNT` in WGSL.
+pub const QUEUE_COUNT: u64 = 6;
+/// Words of `counters` before the bounce histogram (`COUNTER_STATS`).
+pub const COUNTER_STATS: u64 = 8;
+/// Indirect-argument slots: intersect + one per material kind.
+const ARGS_SLOTS: u64 = 5;
+pub const ARGS_INTERSECT: u64 = 0;
+pub const ARGS_SHADE_0: u64 = 1;
+/// Bytes of GPU memory per pool slot: origin, direction, throughput, radiance (16 each),
+/// six queue entries, the scan's target queue and offset (4 each).
+pub const BYTES_PER_PATH: u64 = 4 * 16 + QUEUE_COUNT * 4 + 2 * 4;
+/// Bytes of the largest single binding per slot (the queues), which bounds the pool.
+pub const LARGEST_BINDING_PER_PATH: u64 = QUEUE_COUNT * 4;
+pub const SCAN_WG: u64 = 256;
+
+pub struct PathState {
+    pub layout: wgpu::BindGroupLayout,
+    pub bind_group: wgpu::BindGroup,
+    /// The indirect arguments in a group of their own, bound only by queue_setup: a buffer
+    /// bound as storage cannot feed an indirect dispatch in the same pass.
+    pub indirect_layout: wgpu::BindGroupLayout,
+    pub indirect_group: wgpu::BindGroup,
+    /// Per-slot radiance: the accumulate pass's input.
+    pub radiance: wgpu::Buffer,
+    pub counters: wgpu::Buffer,
+    pub indirect: wgpu::Buffer,
+    pub stats_bounces: u32,
+}
+
+impl PathState {
+    pub fn new(
+        ctx: &GpuContext,
+        pool: u32,
+        wave: WaveUniform,
+        params: &DispatchUniforms,
+        stats_bounces: u32,
+    ) -> Result<Self> {
+        let pool64 = pool as u64;
+        let none = wgpu::BufferUsages::empty();
+        check_size(ctx, "path queues", pool64 * LARGEST_BINDING_PER_PATH)?;
+        let vec4s = |label| storage_zeroed(ctx, label, pool64 * 16, none);
+        let origin = vec4s("path origin")?;
+        let dir = vec4s("path direction")?;
+        let throughput = vec4s("path throughput")?;
+        let radiance = vec4s("path radiance")?;
+        let queues = storage_zeroed(ctx, "path queues", pool64 * QUEUE_COUNT * 4, none)?;
+        let counters_len = COUNTER_STATS + stats_bounces as u64 * QUEUE_COUNT;
+        let counters = storage_zeroed(
+            ctx,
+            "queue counters",
+            counters_len * 4,
+            wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+        )?;
+        let indirect = storage_zeroed(ctx, "indirect args", ARGS_SLOTS * 12, wgpu::BufferUsages::INDIRECT)?;
+        let next_queue = storage_zeroed(ctx, "scan targets", pool64 * 4, none)?;
+        let scan_offset = storage_zeroed(ctx, "scan offsets", pool64 * 4, none)?;
+        let block_sums = storage_zeroed(ctx, "scan block sums", pool64.div_ceil(SCAN_WG) * 16, none)?;
+        let wave_buf = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("wave"),
+            contents: bytemuck::bytes_of(&wave),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let mut entries = vec![uniform_entry(0, true), uniform_entry(1, false)];
+        entries.extend((2..=10).map(|b| storage_entry(b, false)));
+        let layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("path state"),
+            entries: &entries,
+        });
+        let storage = [
+            &origin,
+            &dir,
+            &throughput,
+            &radiance,
+            &queues,
+            &counters,
+            &next_queue,
+            &scan_offset,
+            &block_sums,
+        ];
+        let mut bind = vec![
+            wgpu::BindGroupEntry { binding: 0, resource: params.binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: wave_buf.as_entire_binding() },
+        ];
+        bind.extend(
+            storage.iter().enumerate().map(|(i, b)| wgpu::BindGroupEntry {
+                binding: i as u32 + 2,
+                resource: b.as_entire_binding(),
+            }),
+        );
+        let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("path state"),
+            layout: &layout,
+            entries: &bind,
+        });
+        let indirect_layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("indirect args"),
+            entries: &[storage_entry(0, false)],
+        });
+        let indirect_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("indirect args"),
+            layout: &indirect_layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: indirect.as_entire_binding() }],
+        });
+        ctx.check()?;
+        Ok(Self {
+            layout,
+            bind_group,
+            indirect_layout,
+            indirect_group,
+            radiance,
+            counters,
+            indirect,
+            stats_bounces,
+        })
+    }
+}
