@@ -21,7 +21,7 @@ fn wgsl_layout(source: &str, name: &str) -> (u32, Vec<(String, u32)>) {
 
 macro_rules! check {
     ($rust:ty, $wgsl:literal, [$($field:ident),*]) => {
-        check!($rust, $wgsl, shaders::MEGAKERNEL, [$($field),*])
+        check!($rust, $wgsl, shaders::MEGAKERNEL.plain, [$($field),*])
     };
     ($rust:ty, $wgsl:literal, $source:expr, [$($field:ident),*]) => {{
         let (size, members) = wgsl_layout($source, $wgsl);
@@ -82,7 +82,7 @@ fn film_pixel() {
 
 #[test]
 fn material_kinds_match() {
-    let src = shaders::MEGAKERNEL;
+    let src = shaders::MEGAKERNEL.plain;
     for (name, value) in [
         ("MATERIAL_LAMBERTIAN", material_kind::LAMBERTIAN),
         ("MATERIAL_METAL", material_kind::METAL),
@@ -93,4 +93,9 @@ fn material_kinds_match() {
     ] {
         assert!(src.contains(&format!("const {name}: u32 = {value}u;")), "{name} = {value} in WGSL");
     }
+}
+
+#[test]
+fn wave() {
+    check!(WaveUniform, "Wave", shaders::INTERSECT.plain, [compaction, per_material, pool, _pad]);
 }
