@@ -38,8 +38,7 @@ fn main() {
             std::fs::read_to_string(p).map_err(|e| e.to_string())
         };
         // naga 30 takes subgroup builtins without `enable subgroups;` (which it rejects).
-        let variants: [(&str, &dyn Fn(&Path) -> Result<String, String>); 2] =
-            [("", &plain), (".instrumented", &instrumented)];
+        let variants: [(&str, Reader); 2] = [("", &plain), (".instrumented", &instrumented)];
         for (suffix, read) in variants {
             let (src, files) = match shader_include::compose(root, entry, read) {
                 Ok(x) => x,
@@ -69,6 +68,9 @@ fn main() {
         panic!("WGSL shaders failed to compose or validate (see warnings above)");
     }
 }
+
+/// Loads a shader file for composition.
+type Reader<'a> = &'a dyn Fn(&Path) -> Result<String, String>;
 
 fn validate(src: &str) -> Result<(), String> {
     let module = naga::front::wgsl::parse_str(src).map_err(|e| e.emit_to_string(src))?;

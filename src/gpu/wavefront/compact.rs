@@ -4,9 +4,18 @@
 //! (after intersect) and for the next ray queue (after shade).
 
 use super::super::stage::{Stage, Workgroups};
-use super::super::{context::GpuContext, label, shaders, timing::GpuTimer};
+use super::super::{context::GpuContext, label, shaders};
 use super::path_state::SCAN_WG;
-use super::Bindings;
+use super::{Bindings, WaveRecorder};
+
+/// Which queues a compaction builds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Target {
+    /// After intersect: one queue per material kind.
+    MaterialQueues,
+    /// After shade: the next bounce's ray queue.
+    NextRayQueue,
+}
 use anyhow::Result;
 
 pub struct Compact {
@@ -30,21 +39,15 @@ impl Compact {
         Ok(Self { to_materials: build(false)?, to_rays: build(true)? })
     }
 
-    pub fn record(
-        &self,
-        enc: &mut wgpu::CommandEncoder,
-        timer: &mut GpuTimer,
-        b: &Bindings,
-        offset: u32,
-        bounce: u32,
-        paths: u32,
-        to_rays: bool,
-    ) {
-        let [scan, blocks, scatter] = if to_rays { &self.to_rays } else { &self.to_materials };
-        let groups = b.groups(offset);
-        let wgs = paths.div_ceil(SCAN_WG as u32);
-        scan.record(enc, timer, Some(bounce), &groups[..2], Workgroups::Direct(wgs));
-        blocks.record(enc, timer, Some(bounce), &groups[..2], Workgroups::Direct(1));
-        scatter.record(enc, timer, Some(bounce), &groups[..2], Workgroups::Direct(wgs));
+    pub fn record(&self, wave: &mut WaveRecorder<'_>, bounce: u32, target: Target) {
+        let [scan, blocks, scatter] = match target {
+            Target::MaterialQueues => &self.to_materials,
+            Target::NextRayQueue => &self.to_rays,
+        };
+        let wgs = wave.paths.div_ceil(SCAN_WG as u32);
+        // Scene and path state only.
+        wave.record(scan, Some(bounce), 2, Workgroups::Direct(wgs));
+        wave.record(blocks, Some(bounce), 2, Workgroups::Direct(1));
+        wave.record(scatter, Some(bounce), 2, Workgroups::Direct(wgs));
     }
 }

@@ -1,8 +1,8 @@
 //! generate (`shaders/wavefront/generate.wgsl`): a camera ray for every path of a wave.
 
 use super::super::stage::{Stage, Workgroups};
-use super::super::{context::GpuContext, label, shaders, timing::GpuTimer};
-use super::Bindings;
+use super::super::{context::GpuContext, label, shaders};
+use super::{Bindings, WaveRecorder};
 use anyhow::Result;
 
 pub struct Generate {
@@ -20,15 +20,8 @@ impl Generate {
         })
     }
 
-    pub fn record(
-        &self,
-        enc: &mut wgpu::CommandEncoder,
-        timer: &mut GpuTimer,
-        b: &Bindings,
-        offset: u32,
-        paths: u32,
-    ) {
-        let groups = paths.div_ceil(self.workgroup_size);
-        self.stage.record(enc, timer, None, &b.groups(offset), Workgroups::Direct(groups));
+    pub fn record(&self, wave: &mut WaveRecorder<'_>) {
+        let groups = wave.paths.div_ceil(self.workgroup_size);
+        wave.record(&self.stage, None, usize::MAX, Workgroups::Direct(groups));
     }
 }

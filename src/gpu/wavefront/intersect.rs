@@ -2,9 +2,9 @@
 //! sized on the GPU by queue_setup_intersect.
 
 use super::super::stage::{Stage, Workgroups};
-use super::super::{context::GpuContext, label, shaders, timing::GpuTimer};
+use super::super::{context::GpuContext, label, shaders};
 use super::path_state::ARGS_INTERSECT;
-use super::Bindings;
+use super::{Bindings, WaveRecorder};
 use anyhow::Result;
 
 pub struct Intersect {
@@ -18,15 +18,8 @@ impl Intersect {
         Ok(Self { stage: Stage::new(ctx, label::INTERSECT, &module, &b.layouts(), &constants)? })
     }
 
-    pub fn record(
-        &self,
-        enc: &mut wgpu::CommandEncoder,
-        timer: &mut GpuTimer,
-        b: &Bindings,
-        offset: u32,
-        bounce: u32,
-    ) {
-        let args = Workgroups::Indirect(&b.state.indirect, ARGS_INTERSECT * 12);
-        self.stage.record(enc, timer, Some(bounce), &b.groups(offset), args);
+    pub fn record(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
+        let args = Workgroups::Indirect(&wave.b.state.indirect, ARGS_INTERSECT * 12);
+        wave.record(&self.stage, Some(bounce), usize::MAX, args);
     }
 }

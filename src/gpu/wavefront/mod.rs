@@ -32,6 +32,7 @@ use super::dispatch_plan::{self, DispatchUniforms};
 use super::instrument::SimdCounters;
 use super::megakernel::{check_loop_limit, GpuRender};
 use super::scene_buffers::SceneBuffers;
+use super::stage::{Stage, Workgroups};
 use super::timing::GpuTimer;
 use crate::camera::CameraFrame;
 use crate::film::Film;
@@ -39,6 +40,7 @@ use crate::layout::{FilmPixel, WaveUniform};
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
+use compact::Target;
 use path_state::{PathState, BYTES_PER_PATH, COUNTER_STATS, LARGEST_BINDING_PER_PATH, QUEUE_COUNT};
 use std::time::Instant;
 
@@ -124,10 +126,41 @@ impl Bindings {
     }
 
     /// Bind groups with the dynamic offset of the wave's dispatch parameters.
-    pub fn groups<'a>(&'a self, offset: u32) -> Vec<(&'a wgpu::BindGroup, Vec<u32>)> {
+    pub fn groups(&self, offset: u32) -> Vec<(&wgpu::BindGroup, Vec<u32>)> {
         let mut g = vec![(&self.scene.bind_group, vec![]), (&self.state.bind_group, vec![offset])];
         g.extend(self.simd.as_ref().map(|s| (&s.bind_group, vec![])));
         g
+    }
+}
+
+/// What every pass of a wave records into: the open encoder, the timer, the bindings and the
+/// wave's dispatch parameters.
+pub struct WaveRecorder<'a> {
+    pub enc: wgpu::CommandEncoder,
+    pub timer: &'a mut GpuTimer,
+    pub b: &'a Bindings,
+    /// Dynamic offset of the wave's `Dispatch` parameters.
+    pub offset: u32,
+    /// Paths in this wave.
+    pub paths: u32,
+}
+
+impl WaveRecorder<'_> {
+    /// Records `stage` as a timed pass with the wave's first `groups` bind groups.
+    pub fn record(&mut self, stage: &Stage, bounce: Option<u32>, groups: usize, workgroups: Workgroups<'_>) {
+        let mut g = self.b.groups(self.offset);
+        g.truncate(groups);
+        stage.record(&mut self.enc, self.timer, bounce, &g, workgroups);
+    }
+
+    /// Submits what is recorded, waits for it (adding its pass times) and opens a new encoder.
+    pub fn submit_and_wait(&mut self, ctx: &GpuContext) -> Result<()> {
+        let mut enc =
+            std::mem::replace(&mut self.enc, ctx.device.create_command_encoder(&Default::default()));
+        self.timer.resolve(&mut enc);
+        ctx.queue.submit([enc.finish()]);
+        self.timer.submitted();
+        self.timer.finish_batch(ctx)
     }
 }
 
@@ -196,28 +229,29 @@ pub fn render(
     let mut histogram = (opts.compaction != Compaction::Off).then(QueueHistogram::default);
     let mut done = 0u64;
     for (w, d) in waves.iter().enumerate() {
-        let offset = params.offset(w);
         let paths = d.pixel_count * d.sample_count;
-        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        let enc = ctx.device.create_command_encoder(&Default::default());
+        let mut wave = WaveRecorder { enc, timer: &mut timer, b: &b, offset: params.offset(w), paths };
 
-        generate.record(&mut enc, &mut timer, &b, offset, paths);
+        generate.record(&mut wave);
         for bounce in 0..settings.max_depth {
-            if timer.remaining() < per_bounce + 1 {
-                enc = submit_and_wait(ctx, &mut timer, enc)?;
+            if wave.timer.remaining() < per_bounce + 1 {
+                wave.submit_and_wait(ctx)?;
             }
-            queue_setup.record_intersect(&mut enc, &mut timer, &b, offset, bounce);
-            intersect.record(&mut enc, &mut timer, &b, offset, bounce);
-            if let Some(c) = &compact {
-                c.record(&mut enc, &mut timer, &b, offset, bounce, paths, false);
+            queue_setup.record_intersect(&mut wave, bounce);
+            intersect.record(&mut wave, bounce);
+            if let Some(compact) = &compact {
+                compact.record(&mut wave, bounce, Target::MaterialQueues);
             }
-            queue_setup.record_shade(&mut enc, &mut timer, &b, offset, bounce);
-            shade.record(&mut enc, &mut timer, &b, offset, bounce);
-            if let Some(c) = &compact {
-                c.record(&mut enc, &mut timer, &b, offset, bounce, paths, true);
+            queue_setup.record_shade(&mut wave, bounce);
+            shade.record(&mut wave, bounce);
+            if let Some(compact) = &compact {
+                compact.record(&mut wave, bounce, Target::NextRayQueue);
             }
         }
-        accumulate.record(&mut enc, &mut timer, offset, d.pixel_count);
-        submit_and_wait(ctx, &mut timer, enc)?;
+        accumulate.record(&mut wave.enc, wave.timer, wave.offset, d.pixel_count);
+        wave.submit_and_wait(ctx)?;
+
         if let Some(h) = &mut histogram {
             // Per wave, so the GPU's u32 counters never overflow on long renders.
             add_wave_histogram(ctx, &b.state, h)?;
@@ -265,18 +299,6 @@ fn choose_pool(ctx: &GpuContext, opts: &WavefrontOptions) -> Result<u32> {
         Some(p) => p,
         None => DEFAULT_POOL.min(max),
     })
-}
-
-fn submit_and_wait(
-    ctx: &GpuContext,
-    timer: &mut GpuTimer,
-    mut enc: wgpu::CommandEncoder,
-) -> Result<wgpu::CommandEncoder> {
-    timer.resolve(&mut enc);
-    ctx.queue.submit([enc.finish()]);
-    timer.submitted();
-    timer.finish_batch(ctx)?;
-    Ok(ctx.device.create_command_encoder(&Default::default()))
 }
 
 /// Adds the wave's bounce histogram (GPU counters) to `h` and zeroes the counters.

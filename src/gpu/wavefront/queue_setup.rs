@@ -2,8 +2,8 @@
 //! counters into indirect-dispatch arguments, so the host never reads a counter mid-render.
 
 use super::super::stage::{Stage, Workgroups};
-use super::super::{context::GpuContext, label, shaders, timing::GpuTimer};
-use super::Bindings;
+use super::super::{context::GpuContext, label, shaders};
+use super::{Bindings, WaveRecorder};
 use anyhow::Result;
 
 pub struct QueueSetup {
@@ -24,32 +24,19 @@ impl QueueSetup {
         })
     }
 
-    pub fn record_intersect(
-        &self,
-        enc: &mut wgpu::CommandEncoder,
-        timer: &mut GpuTimer,
-        b: &Bindings,
-        offset: u32,
-        bounce: u32,
-    ) {
-        self.before_intersect.record(enc, timer, Some(bounce), &groups(b, offset), Workgroups::Direct(1));
+    pub fn record_intersect(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
+        record(&self.before_intersect, wave, bounce);
     }
 
-    pub fn record_shade(
-        &self,
-        enc: &mut wgpu::CommandEncoder,
-        timer: &mut GpuTimer,
-        b: &Bindings,
-        offset: u32,
-        bounce: u32,
-    ) {
-        self.before_shade.record(enc, timer, Some(bounce), &groups(b, offset), Workgroups::Direct(1));
+    pub fn record_shade(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
+        record(&self.before_shade, wave, bounce);
     }
 }
 
-fn groups(b: &Bindings, offset: u32) -> Vec<(&wgpu::BindGroup, Vec<u32>)> {
-    let mut g = b.groups(offset);
-    g.truncate(2);
-    g.push((&b.state.indirect_group, vec![]));
-    g
+/// Single-thread pass with scene, path state and the indirect arguments bound.
+fn record(stage: &Stage, wave: &mut WaveRecorder<'_>, bounce: u32) {
+    let mut groups = wave.b.groups(wave.offset);
+    groups.truncate(2);
+    groups.push((&wave.b.state.indirect_group, vec![]));
+    stage.record(&mut wave.enc, wave.timer, Some(bounce), &groups, Workgroups::Direct(1));
 }

@@ -2,9 +2,9 @@
 //! pass with a material switch; each sized on the GPU by queue_setup_shade.
 
 use super::super::stage::{Stage, Workgroups};
-use super::super::{context::GpuContext, label, shaders, timing::GpuTimer};
+use super::super::{context::GpuContext, label, shaders};
 use super::path_state::ARGS_SHADE_0;
-use super::Bindings;
+use super::{Bindings, WaveRecorder};
 use anyhow::Result;
 
 pub struct Shade {
@@ -36,17 +36,10 @@ impl Shade {
         Ok(Self { stages })
     }
 
-    pub fn record(
-        &self,
-        enc: &mut wgpu::CommandEncoder,
-        timer: &mut GpuTimer,
-        b: &Bindings,
-        offset: u32,
-        bounce: u32,
-    ) {
+    pub fn record(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
         for (slot, stage) in &self.stages {
-            let args = Workgroups::Indirect(&b.state.indirect, slot * 12);
-            stage.record(enc, timer, Some(bounce), &b.groups(offset), args);
+            let args = Workgroups::Indirect(&wave.b.state.indirect, slot * 12);
+            wave.record(stage, Some(bounce), usize::MAX, args);
         }
     }
 
