@@ -13,6 +13,7 @@ pub mod gpu;
 pub mod image_io;
 pub mod layout;
 pub mod method;
+pub mod metrics;
 pub mod packed_scene;
 pub mod progress;
 pub mod report;
