@@ -1,5 +1,6 @@
 //! The `wavetrace` command line.
 
+pub mod compare;
 pub mod info;
 pub mod render;
 pub mod scene;
@@ -15,6 +16,7 @@ Examples:
   wavetrace info
   wavetrace scene list
   wavetrace scene export rtiow-final > final.json
+  wavetrace compare test.exr reference.exr --json
 
 Environment:
   RUST_LOG=info|debug    logging (e.g. adapter choice, dispatch plan)
@@ -36,6 +38,8 @@ pub enum Command {
     /// List or export the built-in scenes.
     #[command(subcommand)]
     Scene(scene::SceneCommand),
+    /// Error metrics (MSE, relMSE, SMAPE, MAPE, FLIP) of a test EXR against a reference EXR.
+    Compare(compare::CompareArgs),
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
@@ -43,5 +47,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Render(a) => render::run(a),
         Command::Info(a) => info::run(a),
         Command::Scene(c) => scene::run(c),
+        Command::Compare(a) => compare::run(a),
     }
 }
