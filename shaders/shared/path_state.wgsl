@@ -11,10 +11,13 @@ const QUEUE_MATERIAL_0: u32 = 2u;   // + material kind (one shared queue with --
 const QUEUE_COUNT: u32 = 6u;
 // Word indices in `counters` besides the queue counts.
 const COUNTER_BOUNCE: u32 = 6u;     // current bounce, advanced by queue_setup_intersect
+const COUNTER_POSITIONS: u32 = 7u;  // queue positions the next scan compaction covers
 const COUNTER_STATS: u32 = 8u;      // + bounce * QUEUE_COUNT + queue: paths queued, summed over waves
+const COUNTER_SHADE_BASE: u32 = 8u + 64u * QUEUE_COUNT; // + kind: first scan position of each shade pass
 // Indirect-dispatch argument slots (3 words each) in queue_setup's `indirect`.
 const ARGS_INTERSECT: u32 = 0u;
 const ARGS_SHADE_0: u32 = 1u;       // + material kind
+const ARGS_COMPACT: u32 = 5u;       // the scan passes over the positions just produced
 
 // A path that no pass should touch again.
 const DEAD: u32 = 0xffffffffu;
@@ -42,10 +45,12 @@ struct Wave {
 @group(1) @binding(5) var<storage, read_write> radiance: array<vec4<f32>>;
 @group(1) @binding(6) var<storage, read_write> queues: array<u32>;
 @group(1) @binding(7) var<storage, read_write> counters: array<atomic<u32>>;
-// Scan compaction: the queue each slot goes to next (or DEAD), and per-slot / per-block offsets.
+// Scan compaction, indexed by the producing pass's queue position (so a scan covers only the
+// paths just processed): the queue each goes to next (or DEAD), its slot, and offsets.
 @group(1) @binding(8) var<storage, read_write> next_queue: array<u32>;
 @group(1) @binding(9) var<storage, read_write> scan_offset: array<u32>;
 @group(1) @binding(10) var<storage, read_write> block_sums: array<vec4<u32>>;
+@group(1) @binding(11) var<storage, read_write> scan_slot: array<u32>;
 
 // Paths in the pool this wave.
 fn wave_paths() -> u32 {
@@ -64,13 +69,22 @@ fn current_bounce() -> u32 {
     return atomicLoad(&counters[COUNTER_BOUNCE]);
 }
 
-// Puts `slot` on queue `q`: appended atomically, or marked for the scan, per the compaction knob.
-fn enqueue(q: u32, slot: u32) {
+// Puts `slot`, processed at scan position `position`, on queue `q`: appended atomically, or
+// marked for the scan, per the compaction knob.
+fn enqueue(q: u32, slot: u32, position: u32) {
     if wave.compaction == 1u {
         let at = atomicAdd(&counters[q], 1u);
         queues[q * wave.pool + at] = slot;
     } else if wave.compaction == 2u {
-        next_queue[slot] = q;
+        next_queue[position] = q;
+        scan_slot[position] = slot;
+    }
+}
+
+// The path processed at scan position `position` has ended: the scan skips it.
+fn retire(position: u32) {
+    if wave.compaction == 2u {
+        next_queue[position] = DEAD;
     }
 }
 

@@ -1,5 +1,6 @@
-// compact: builds dense queues by a stable prefix-sum scan over the pool (the `scan` compaction
-// method), from the queue each slot asked for in `next_queue`. Three passes: per-workgroup scan,
+// compact: builds dense queues by a stable prefix-sum scan (the `scan` compaction method) over
+// the queue positions the previous pass processed (COUNTER_POSITIONS, dispatched indirectly), from
+// the queue each position asked for in `next_queue`: cost follows the live paths, not the pool. Three passes: per-workgroup scan,
 // scan of the workgroup totals, scatter. Lanes of a vec4 count up to four queues at once (the
 // material queues after intersect; lane 0 = the next ray queue after shade).
 // Rust side: src/gpu/wavefront/compact.rs.
@@ -40,16 +41,16 @@ fn scan_workgroup(lid: u32) {
 @compute @workgroup_size(SCAN_WG)
 fn compact_scan(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32,
                 @builtin(workgroup_id) wid: vec3<u32>) {
-    let slot = gid.x;
+    let p = gid.x;
     var q = DEAD;
-    if slot < wave_paths() {
-        q = next_queue[slot];
+    if p < atomicLoad(&counters[COUNTER_POSITIONS]) {
+        q = next_queue[p];
     }
     let v = one_hot(q);
     scratch[lid] = v;
     scan_workgroup(lid);
     if q != DEAD {
-        scan_offset[slot] = (scratch[lid] - v)[lane_of(q)];
+        scan_offset[p] = (scratch[lid] - v)[lane_of(q)];
     }
     if lid == SCAN_WG - 1u {
         block_sums[wid.x] = scratch[lid];
@@ -57,9 +58,14 @@ fn compact_scan(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_in
 }
 
 // One workgroup: exclusive scan of the block totals, in chunks; writes the queue counts.
+var<workgroup> positions: u32;
+
 @compute @workgroup_size(SCAN_WG)
 fn compact_blocks(@builtin(local_invocation_index) lid: u32) {
-    let blocks = (wave_paths() + SCAN_WG - 1u) / SCAN_WG;
+    if lid == 0u {
+        positions = atomicLoad(&counters[COUNTER_POSITIONS]);
+    }
+    let blocks = (workgroupUniformLoad(&positions) + SCAN_WG - 1u) / SCAN_WG;
     var running = vec4<u32>(0u);
     for (var base = 0u; base < blocks; base += SCAN_WG) {
         let i = base + lid;
@@ -88,14 +94,13 @@ fn compact_blocks(@builtin(local_invocation_index) lid: u32) {
 
 @compute @workgroup_size(SCAN_WG)
 fn compact_scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>) {
-    let slot = gid.x;
-    if slot >= wave_paths() {
+    let p = gid.x;
+    if p >= atomicLoad(&counters[COUNTER_POSITIONS]) {
         return;
     }
-    let q = next_queue[slot];
+    let q = next_queue[p];
     if q == DEAD {
         return;
     }
-    queues[q * wave.pool + block_sums[wid.x][lane_of(q)] + scan_offset[slot]] = slot;
-    next_queue[slot] = DEAD;
+    queues[q * wave.pool + block_sums[wid.x][lane_of(q)] + scan_offset[p]] = scan_slot[p];
 }

@@ -25,6 +25,7 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>) {
     if hit.sphere == NO_HIT {
         radiance[slot] = vec4<f32>(path_throughput[slot].xyz * background(ray.dir), 0.0);
         path_dir[slot].w = bitcast<f32>(DEAD);
+        retire(gid.x);
         return;
     }
     path_origin[slot].w = hit.t;
@@ -33,5 +34,5 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>) {
     if wave.per_material == 1u {
         q += materials[sphere_material[hit.sphere]].kind;
     }
-    enqueue(q, slot);
+    enqueue(q, slot, gid.x);
 }

@@ -9,8 +9,10 @@
 // pass, so only this pass binds it.
 @group(2) @binding(0) var<storage, read_write> indirect: array<u32>;
 
-// Bounces past the last histogram row are added to it.
+// Bounces past the last histogram row are added to it (at most 64: COUNTER_SHADE_BASE follows).
 override STATS_BOUNCES: u32 = 64u;
+// Workgroup size of the compact passes (compact.wgsl).
+const SCAN_WG: u32 = 256u;
 override WORKGROUP_SIZE: u32 = 64u;
 
 fn set_args(slot: u32, threads: u32) {
@@ -37,6 +39,11 @@ fn queue_setup_intersect() {
     }
     set_args(ARGS_INTERSECT, n);
     record(bounce, QUEUE_RAY_0, n);
+    // A scan after intersect covers the ray queue's positions.
+    atomicStore(&counters[COUNTER_POSITIONS], n);
+    indirect[3u * ARGS_COMPACT] = (n + SCAN_WG - 1u) / SCAN_WG;
+    indirect[3u * ARGS_COMPACT + 1u] = 1u;
+    indirect[3u * ARGS_COMPACT + 2u] = 1u;
     for (var k = 0u; k < 4u; k++) {
         atomicStore(&counters[QUEUE_MATERIAL_0 + k], 0u);
     }
@@ -46,6 +53,7 @@ fn queue_setup_intersect() {
 @compute @workgroup_size(1)
 fn queue_setup_shade() {
     let bounce = current_bounce();
+    var positions = 0u;
     for (var k = 0u; k < 4u; k++) {
         var n = wave_paths();
         if wave.compaction != 0u {
@@ -53,6 +61,13 @@ fn queue_setup_shade() {
         }
         set_args(ARGS_SHADE_0 + k, n);
         record(bounce, QUEUE_MATERIAL_0 + k, n);
+        atomicStore(&counters[COUNTER_SHADE_BASE + k], positions);
+        positions += n;
     }
+    // A scan after shade covers the material queues laid end to end.
+    atomicStore(&counters[COUNTER_POSITIONS], positions);
+    indirect[3u * ARGS_COMPACT] = (positions + SCAN_WG - 1u) / SCAN_WG;
+    indirect[3u * ARGS_COMPACT + 1u] = 1u;
+    indirect[3u * ARGS_COMPACT + 2u] = 1u;
     atomicStore(&counters[QUEUE_RAY_0 + (bounce + 1u) % 2u], 0u);
 }

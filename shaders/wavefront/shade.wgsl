@@ -19,6 +19,8 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         q += kind;
     }
     let slot = queued_slot(q, i);
+    // Scan position: the shade passes' queues laid end to end.
+    let position = atomicLoad(&counters[COUNTER_SHADE_BASE + q - QUEUE_MATERIAL_0]) + i;
     if slot == DEAD {
         return;
     }
@@ -37,6 +39,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     if material.kind == MATERIAL_EMISSIVE {
         radiance[slot] = vec4<f32>(throughput * material.color, 0.0);
         path_dir[slot].w = bitcast<f32>(DEAD);
+        retire(position);
         return;
     }
     let ray = Ray(o.xyz, d.xyz);
@@ -49,12 +52,13 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     // The book's depth limit: a path still going after max_depth rays contributes nothing.
     if !s.ok || bounce + 1u >= frame.max_depth {
         path_dir[slot].w = bitcast<f32>(DEAD);
+        retire(position);
         return;
     }
     path_origin[slot] = vec4<f32>(p, 0.0);
     path_dir[slot] = vec4<f32>(s.dir, 0.0);
     path_throughput[slot] = vec4<f32>(throughput * s.attenuation, 0.0);
-    enqueue(QUEUE_RAY_0 + (bounce + 1u) % 2u, slot);
+    enqueue(QUEUE_RAY_0 + (bounce + 1u) % 2u, slot, position);
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)

@@ -1,11 +1,12 @@
 //! compact (`shaders/wavefront/compact.wgsl`): the prefix-sum scan that builds dense queues when
-//! `--compaction-method scan` (the alternative to atomic appends). Three passes over the pool:
-//! per-workgroup scan, scan of workgroup totals, scatter; built twice, for the material queues
-//! (after intersect) and for the next ray queue (after shade).
+//! `--compaction-method scan` (the alternative to atomic appends). Three passes over the queue
+//! positions the previous pass processed (sized on the GPU by queue_setup): per-workgroup scan,
+//! scan of workgroup totals, scatter; built twice, for the material queues (after intersect) and
+//! for the next ray queue (after shade).
 
 use super::super::stage::{Stage, Workgroups};
 use super::super::{context::GpuContext, label, shaders};
-use super::path_state::SCAN_WG;
+use super::path_state::ARGS_COMPACT;
 use super::{Bindings, WaveRecorder};
 
 /// Which queues a compaction builds.
@@ -44,10 +45,11 @@ impl Compact {
             Target::MaterialQueues => &self.to_materials,
             Target::NextRayQueue => &self.to_rays,
         };
-        let wgs = wave.paths.div_ceil(SCAN_WG as u32);
+        let args = || Workgroups::Indirect(&wave.b.state.indirect, ARGS_COMPACT * 12);
         // Scene and path state only.
-        wave.record(scan, Some(bounce), 2, Workgroups::Direct(wgs));
+        let (scan_args, scatter_args) = (args(), args());
+        wave.record(scan, Some(bounce), 2, scan_args);
         wave.record(blocks, Some(bounce), 2, Workgroups::Direct(1));
-        wave.record(scatter, Some(bounce), 2, Workgroups::Direct(wgs));
+        wave.record(scatter, Some(bounce), 2, scatter_args);
     }
 }

@@ -89,7 +89,7 @@ impl Default for WavefrontOptions {
 /// Default pool: about a million paths in flight (pbrt-v4's choice), less where limits say so.
 pub const DEFAULT_POOL: u32 = 1 << 20;
 /// Bounce histogram rows kept; deeper bounces are added to the last row.
-pub const STATS_BOUNCES: u32 = 64;
+pub const STATS_BOUNCES: u32 = path_state::MAX_STATS_BOUNCES as u32;
 
 /// The largest pool the adapter can hold: every per-path buffer within one storage binding,
 /// and one thread per path within one dispatch.
