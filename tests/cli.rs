@@ -205,3 +205,86 @@ fn help_shows_examples() {
     let out = wavetrace(&["--help"]);
     assert!(String::from_utf8_lossy(&out.stdout).contains("wavetrace scene export"));
 }
+
+#[test]
+fn wavefront_cli_reports_passes_histogram_and_simd() {
+    let Some(ctx) = common::gpu() else { return };
+    let (exr, json) = (scratch("wf.exr"), scratch("wf.json"));
+    let out = wavetrace(&[
+        "render",
+        "--scene",
+        "three-spheres",
+        "--method",
+        "wavefront",
+        "--width",
+        "24",
+        "--height",
+        "16",
+        "--spp",
+        "2",
+        "--compaction-method",
+        "scan",
+        "--shade",
+        "single",
+        "--pool-size",
+        "500",
+        "--instrument",
+        "--out",
+        exr.to_str().unwrap(),
+        "--report",
+        json.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("compact_scan") && stdout.contains("bounce"),
+        "pass table and histogram:\n{stdout}"
+    );
+    let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(r["method"], "wavefront");
+    assert_eq!(r["pool_size"], 500);
+    assert_eq!(r["options"]["wavefront"]["compaction"], "scan");
+    assert_eq!(r["options"]["wavefront"]["shade"], "single");
+    assert!(r["bytes_per_path"].as_u64().unwrap() > 0);
+    assert_eq!(r["passes_per_bounce"]["intersect"].as_array().unwrap().len(), 50);
+    assert_eq!(r["queue_histogram"]["rays"][0], 24 * 16 * 2);
+    assert!(r["indirect_validation"].is_boolean());
+    if ctx.summary.subgroups {
+        let e = r["simd"]["shade"]["efficiency"].as_f64().unwrap();
+        assert!(e > 0.0 && e <= 1.0);
+    }
+}
+
+#[test]
+fn compare_reports_metrics_and_refuses_mismatched_sizes() {
+    let render = |name: &str, spp: &str, w: &str| {
+        let exr = scratch(name);
+        let o = wavetrace(&[
+            "render",
+            "--scene",
+            "three-spheres",
+            "--method",
+            "cpu",
+            "--width",
+            w,
+            "--height",
+            "9",
+            "--spp",
+            spp,
+            "--out",
+            exr.to_str().unwrap(),
+        ]);
+        assert!(o.status.success());
+        exr
+    };
+    let (a, b, c) = (render("c1.exr", "2", "16"), render("c2.exr", "32", "16"), render("c3.exr", "2", "8"));
+    let out = wavetrace(&["compare", a.to_str().unwrap(), b.to_str().unwrap(), "--json"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let relmse = r["metrics"]["relmse"].as_f64().unwrap();
+    assert!(relmse > 0.0 && relmse.is_finite());
+    let same = wavetrace(&["compare", a.to_str().unwrap(), a.to_str().unwrap(), "--json"]);
+    let r: serde_json::Value = serde_json::from_slice(&same.stdout).unwrap();
+    assert_eq!(r["metrics"]["mse"], 0.0);
+    fails_with(&["compare", a.to_str().unwrap(), c.to_str().unwrap()], &["16x9", "8x9"]);
+}
