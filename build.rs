@@ -81,7 +81,8 @@ fn validate(src: &str) -> Result<(), String> {
 }
 
 /// The commit the binary is built from, for reports (`WAVETRACE_GIT_COMMIT`; "unknown" outside
-/// a git checkout). Rebuilt when HEAD moves.
+/// a git checkout), with "-dirty" when tracked files differ from it. Rebuilt when HEAD or the
+/// index moves, so a report never names a commit whose code it did not run.
 fn git_commit() {
     let git = |args: &[&str]| {
         std::process::Command::new("git")
@@ -91,10 +92,17 @@ fn git_commit() {
             .filter(|o| o.status.success())
             .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
     };
-    let commit = git(&["rev-parse", "HEAD"]).unwrap_or_else(|| "unknown".into());
+    let mut commit = git(&["rev-parse", "HEAD"]).unwrap_or_else(|| "unknown".into());
+    if git(&["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty()) {
+        commit.push_str("-dirty");
+    }
     println!("cargo:rustc-env=WAVETRACE_GIT_COMMIT={commit}");
     if let Some(dir) = git(&["rev-parse", "--git-dir"]) {
         println!("cargo:rerun-if-changed={dir}/HEAD");
+        println!("cargo:rerun-if-changed={dir}/index");
+        // Unstaged edits to the binary's sources must flip "-dirty" too.
+        println!("cargo:rerun-if-changed=src");
+        println!("cargo:rerun-if-changed=Cargo.toml");
         if let Some(head_ref) = git(&["symbolic-ref", "-q", "HEAD"]) {
             println!("cargo:rerun-if-changed={dir}/{head_ref}");
         }
