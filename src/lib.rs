@@ -3,7 +3,6 @@
 //! The CPU reference ([`cpu`]) is the ground truth; the GPU methods ([`gpu`]) run on wgpu.
 //! All of them draw random numbers from [`rng`], so they trace the same paths.
 
-pub mod atomic_file;
 pub mod bvh;
 pub mod camera;
 pub mod cli;

@@ -150,7 +150,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
     if let Some(path) = &a.report {
         let json = serde_json::to_string_pretty(&report)?;
-        crate::atomic_file::write_atomic(path, json.as_bytes())
+        image_io::write_file_atomically(path, json.as_bytes())
             .with_context(|| format!("writing report {}", path.display()))?;
     }
 

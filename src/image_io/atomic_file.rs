@@ -24,6 +24,14 @@ pub(crate) fn write_atomically(
     result
 }
 
+/// Writes `bytes` to `path` atomically: any file, images and JSON reports alike.
+pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> Result<(), ImageIoError> {
+    use std::io::Write;
+    write_atomically(path, |w| {
+        w.write_all(bytes).map_err(|e| ImageIoError::io(path, "cannot write temporary file", e))
+    })
+}
+
 fn finish(
     path: &Path,
     temp_path: &Path,

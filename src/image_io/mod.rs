@@ -7,6 +7,7 @@ mod exr;
 mod png;
 mod rgb_image;
 
+pub use self::atomic_file::write_file_atomically;
 pub use self::error::ImageIoError;
 pub use self::exr::{read_exr, write_exr};
 pub use self::png::{linear_to_srgb8, write_png};
