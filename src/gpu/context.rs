@@ -175,6 +175,15 @@ impl GpuContext {
         bail!("GPU error: {}", all.join("; "))
     }
 
+    /// Refuses a workgroup size the adapter cannot run (shared by every GPU method).
+    pub fn check_workgroup_size(&self, size: u32) -> Result<()> {
+        let max = self.summary.max_compute_invocations_per_workgroup;
+        if size == 0 || size > max {
+            bail!("workgroup size {size} is outside 1..={max} on {}", self.summary.name);
+        }
+        Ok(())
+    }
+
     /// Waits for all submitted work, then reports any error or device loss.
     pub fn wait(&self) -> Result<()> {
         self.device

@@ -86,14 +86,7 @@ pub fn render(
 ) -> Result<GpuRender> {
     settings.validate().map_err(anyhow::Error::msg)?;
     let limits = &ctx.summary;
-    if opts.workgroup_size == 0 || opts.workgroup_size > limits.max_compute_invocations_per_workgroup {
-        bail!(
-            "workgroup size {} is outside 1..={} on {}",
-            opts.workgroup_size,
-            limits.max_compute_invocations_per_workgroup,
-            limits.name
-        );
-    }
+    ctx.check_workgroup_size(opts.workgroup_size)?;
     check_loop_limit(ctx, scene, settings)?;
     let start = Instant::now();
     let frame = scene.frame_uniform(camera, settings);

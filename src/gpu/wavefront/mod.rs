@@ -184,13 +184,7 @@ pub fn render(
     settings.validate().map_err(anyhow::Error::msg)?;
     check_loop_limit(ctx, scene, settings)?;
     let wg = opts.workgroup_size;
-    if wg == 0 || wg > ctx.summary.max_compute_invocations_per_workgroup {
-        bail!(
-            "workgroup size {wg} is outside 1..={} on {}",
-            ctx.summary.max_compute_invocations_per_workgroup,
-            ctx.summary.name
-        );
-    }
+    ctx.check_workgroup_size(wg)?;
     let pool = choose_pool(ctx, opts)?;
     let start = Instant::now();
 
