@@ -1,6 +1,6 @@
 // Adds one dispatch's samples to the film, each pixel's in sample order: deterministic, no float
 // atomics. Shared by the GPU methods; Rust side: src/gpu/accumulate.rs. `samples` holds
-// sample_count rows of pixel_count radiance values (row = sample).
+// sample_count rows of pixel_count values (row = sample): rgb radiance, w rays traced.
 
 #include "shared/dispatch.wgsl"
 #include "shared/film.wgsl"
@@ -17,7 +17,9 @@ fn accumulate(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     var acc = film[dispatch.pixel_offset + p];
     for (var s = 0u; s < dispatch.sample_count; s++) {
-        let c = samples[s * dispatch.pixel_count + p].rgb;
+        let sample = samples[s * dispatch.pixel_count + p];
+        let c = sample.rgb;
+        acc.sum_sq.w += sample.w; // rays traced, counted valid or not
         if is_non_finite(c) {
             acc.sum.w += 1.0;
         } else {

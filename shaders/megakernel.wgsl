@@ -15,18 +15,20 @@
 
 override WORKGROUP_SIZE: u32 = 64u;
 
-// Twin of src/cpu/integrator.rs::trace_path.
-fn trace_path(x: u32, y: u32, sample: u32) -> vec3<f32> {
+// Twin of src/cpu/integrator.rs::trace_path: rgb radiance, w rays traced.
+fn trace_path(x: u32, y: u32, sample: u32) -> vec4<f32> {
     let pixel = y * frame.width + x;
     var ray = camera_ray(x, y, uniform4(pixel, sample, 0u, PURPOSE_CAMERA, frame.seed));
     var throughput = vec3<f32>(1.0);
     // Every path ends at one light (emitter or background) or contributes nothing.
     var radiance = vec3<f32>(0.0);
+    var rays = frame.max_depth; // unless the path ends earlier
     for (var bounce = 0u; bounce < frame.max_depth; bounce++) {
         instrument(PASS_MEGAKERNEL_BOUNCE);
         let hit = closest_hit(ray, T_MIN);
         if hit.sphere == NO_HIT {
             radiance = throughput * background(ray.dir);
+            rays = bounce + 1u;
             break;
         }
         let sphere = spheres[hit.sphere];
@@ -41,6 +43,7 @@ fn trace_path(x: u32, y: u32, sample: u32) -> vec3<f32> {
         }
         if material.kind == MATERIAL_EMISSIVE {
             radiance = throughput * material.color;
+            rays = bounce + 1u;
             break;
         }
         let p = ray.origin + ray.dir * hit.t;
@@ -50,12 +53,13 @@ fn trace_path(x: u32, y: u32, sample: u32) -> vec3<f32> {
         let u = uniform4(pixel, sample, bounce, PURPOSE_SCATTER, frame.seed);
         let s = scatter(material, ray, normal, front_face, u);
         if !s.ok {
+            rays = bounce + 1u;
             break;
         }
         throughput *= s.attenuation;
         ray = Ray(p, s.dir);
     }
-    return radiance;
+    return vec4<f32>(radiance, f32(rays));
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
@@ -67,5 +71,5 @@ fn megakernel(@builtin(global_invocation_id) gid: vec3<u32>) {
     // Neighbouring threads take neighbouring pixels of the same sample: coherent camera rays.
     let pixel = dispatch.pixel_offset + i % dispatch.pixel_count;
     let sample = dispatch.sample_start + i / dispatch.pixel_count;
-    samples[i] = vec4<f32>(trace_path(pixel % frame.width, pixel / frame.width, sample), 0.0);
+    samples[i] = trace_path(pixel % frame.width, pixel / frame.width, sample);
 }

@@ -11,6 +11,9 @@ pub struct PixelStats {
     pub count: u32,
     /// Samples dropped for being NaN or infinite.
     pub invalid: u32,
+    /// Rays traced by this pixel's paths (closest-hit queries, camera rays included), valid or
+    /// not: every method counts them the same way, so rays/s compares across methods.
+    pub rays: u64,
 }
 
 impl PixelStats {
@@ -59,7 +62,7 @@ impl Film {
         Self { width, height, spp, pixels: vec![PixelStats::default(); (width * height) as usize] }
     }
 
-    /// Reads back the GPU film (f32 sums; `sum[3]` counts dropped samples).
+    /// Reads back the GPU film (f32 sums; `sum[3]` counts dropped samples, `sum_sq[3]` rays).
     pub fn from_gpu(width: u32, height: u32, spp: u32, gpu: &[FilmPixel]) -> Self {
         let pixels = gpu
             .iter()
@@ -70,6 +73,7 @@ impl Film {
                     sum_sq: [p.sum_sq[0], p.sum_sq[1], p.sum_sq[2]].map(f64::from),
                     count: spp - invalid,
                     invalid,
+                    rays: p.sum_sq[3] as u64,
                 }
             })
             .collect();
@@ -89,6 +93,11 @@ impl Film {
     pub fn image_mean(&self) -> f64 {
         let total: f64 = self.pixels.iter().map(|p| p.mean().iter().sum::<f64>()).sum();
         total / (3 * self.pixels.len()) as f64
+    }
+
+    /// Rays traced over the whole image.
+    pub fn rays(&self) -> u64 {
+        self.pixels.iter().map(|p| p.rays).sum()
     }
 
     /// NaN/Inf samples dropped over the whole image.

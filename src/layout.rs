@@ -81,7 +81,8 @@ pub struct DispatchParams {
 }
 
 /// WGSL: `FilmPixel` in `shaders/shared/film.wgsl`: running sums for one pixel. `sum.w` counts
-/// the samples dropped for being NaN or infinite (exact as f32 up to 2^24).
+/// the samples dropped for being NaN or infinite and `sum_sq.w` the rays the pixel's paths traced
+/// (each exact as f32 up to 2^24: 335k samples per pixel at depth 50).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct FilmPixel {

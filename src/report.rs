@@ -79,6 +79,10 @@ pub struct RunReport {
     pub samples: u64,
     /// Samples per second of GPU time where measured, else of wall time.
     pub samples_per_second: f64,
+    /// Rays traced (closest-hit queries, camera rays included), counted per path by every method.
+    pub rays: u64,
+    /// Rays per second, of the same time as `samples_per_second`.
+    pub rays_per_second: f64,
     /// NaN/Inf samples dropped instead of accumulated.
     pub invalid_samples: u64,
     pub image_mean: f64,
@@ -129,6 +133,8 @@ impl RunReport {
             dispatches: out.dispatches,
             samples,
             samples_per_second: samples as f64 / seconds,
+            rays: out.film.rays(),
+            rays_per_second: out.film.rays() as f64 / seconds,
             invalid_samples: out.film.invalid_samples(),
             image_mean: out.film.image_mean(),
             bytes_per_path: out.bytes_per_path,

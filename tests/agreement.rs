@@ -19,12 +19,22 @@ fn run(method: Method, scene: &Scene, s: &RenderSettings) -> Film {
     render(method, scene, s, &MethodOptions::default(), gpu, &|_| {}).unwrap().film
 }
 
-/// The bar: ≥ 99% of pixels pass a z-test at α = 0.01, image means within 1%.
+/// The bar: ≥ 99% of pixels pass a z-test at α = 0.01, image means within 1%. The
+/// methods trace the same paths, so their ray counts (rays/s in reports) agree too, up to the
+/// paths that rounding sends another way: rare between f32 methods (1e-3), more between f32 and
+/// f64, where a path's rounding differs at every bounce (0.43% measured on three-spheres: 1%).
 fn assert_agree(name: &str, a: &Film, b: &Film) {
+    assert_agree_rays(name, a, b, 1e-3);
+}
+
+fn assert_agree_rays(name: &str, a: &Film, b: &Film, ray_tolerance: f64) {
     let t = z_test(a, b, 0.01);
     eprintln!("{name}: {:.4} of pixels pass, means differ by {:.2e}", t.pass_fraction, t.mean_rel_diff);
     assert!(t.pass_fraction >= 0.99, "{name}: only {:.4} of pixels pass ({t:?})", t.pass_fraction);
     assert!(t.mean_rel_diff <= 0.01, "{name}: image means differ by {:.4}", t.mean_rel_diff);
+    let (ra, rb) = (a.rays() as f64, b.rays() as f64);
+    assert!(ra >= (a.spp as usize * a.pixels.len()) as f64, "{name}: at least one ray per sample");
+    assert!((ra - rb).abs() <= ray_tolerance * rb, "{name}: {ra} vs {rb} rays traced");
 }
 
 #[test]
@@ -51,7 +61,7 @@ fn cpu_and_megakernel_agree_on_rtiow_final() {
 fn cpu_f32_agrees_with_the_f64_ground_truth() {
     let scene = builtin::by_name("rtiow-final").unwrap();
     let s = settings(64, 36, 32);
-    assert_agree("f32 vs f64", &run(Method::Cpu, &scene, &s), &run(Method::CpuF64, &scene, &s));
+    assert_agree_rays("f32 vs f64", &run(Method::Cpu, &scene, &s), &run(Method::CpuF64, &scene, &s), 1e-2);
 }
 
 #[test]

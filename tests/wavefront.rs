@@ -48,6 +48,14 @@ fn assert_match(what: &str, a: &Film, b: &Film) {
     assert!(mean_diff <= 1e-3, "{what}: means differ by {mean_diff}");
 }
 
+/// Both methods trace the same paths, so they trace (nearly) the same number of rays: rounding
+/// may send a rare path another way.
+fn assert_rays_match(what: &str, a: &Film, b: &Film) {
+    let (ra, rb) = (a.rays() as f64, b.rays() as f64);
+    assert!(rb >= a.spp as f64 * a.pixels.len() as f64, "{what}: at least one ray per sample");
+    assert!((ra - rb).abs() <= 1e-3 * rb, "{what}: {ra} vs {rb} rays");
+}
+
 fn matches_megakernel(scene: &str) {
     if common::gpu().is_none() {
         return;
@@ -58,6 +66,7 @@ fn matches_megakernel(scene: &str) {
         let opts = MethodOptions { wavefront: knobs, ..Default::default() };
         let out = run(Method::Wavefront, scene, &s, &opts);
         assert_match(&format!("{scene} {knobs:?}"), &out.film, &reference);
+        assert_rays_match(&format!("{scene} {knobs:?}"), &out.film, &reference);
     }
 }
 
@@ -120,6 +129,8 @@ fn measurements_are_reported() {
     assert!(h.rays.windows(2).all(|w| w[1] <= w[0]));
     let shaded: u64 = h.materials.iter().map(|m| m[0]).sum();
     assert!(shaded <= h.rays[0] && shaded > 0);
+    // The per-path ray counts summed by the film are the intersect queue's sizes, summed.
+    assert_eq!(out.film.rays(), h.rays.iter().sum::<u64>());
     assert!(out.bytes_per_path.unwrap() > 0 && out.pool.unwrap() > 0);
     if ctx.summary.subgroups {
         let simd = out.simd.as_ref().unwrap();

@@ -3,6 +3,7 @@
 struct FilmPixel {
     // rgb: sum of finite samples; w: count of dropped NaN/Inf samples.
     sum: vec4<f32>,
+    // rgb: sum of squares of finite samples; w: rays traced by the pixel's paths.
     sum_sq: vec4<f32>,
 }
 

@@ -41,7 +41,7 @@ struct Wave {
 @group(1) @binding(3) var<storage, read_write> path_dir: array<vec4<f32>>;
 // xyz: throughput.
 @group(1) @binding(4) var<storage, read_write> path_throughput: array<vec4<f32>>;
-// rgb: the path's radiance (read by the accumulate pass).
+// rgb: the path's radiance; w: rays it traced (both read by the accumulate pass).
 @group(1) @binding(5) var<storage, read_write> radiance: array<vec4<f32>>;
 @group(1) @binding(6) var<storage, read_write> queues: array<u32>;
 @group(1) @binding(7) var<storage, read_write> counters: array<atomic<u32>>;

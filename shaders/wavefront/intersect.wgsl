@@ -23,11 +23,12 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>) {
     let ray = Ray(path_origin[slot].xyz, dir.xyz);
     let hit = closest_hit(ray, T_MIN);
     if hit.sphere == NO_HIT {
-        radiance[slot] = vec4<f32>(path_throughput[slot].xyz * background(ray.dir), 0.0);
+        radiance[slot] = vec4<f32>(path_throughput[slot].xyz * background(ray.dir), f32(bounce + 1u));
         path_dir[slot].w = bitcast<f32>(DEAD);
         retire(gid.x);
         return;
     }
+    radiance[slot].w = f32(bounce + 1u); // rays traced so far; rgb stays 0 until a light
     path_origin[slot].w = hit.t;
     path_dir[slot].w = bitcast<f32>(hit.sphere);
     var q = QUEUE_MATERIAL_0;

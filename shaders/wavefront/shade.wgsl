@@ -37,7 +37,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     instrument(pass_id);
     let throughput = path_throughput[slot].xyz;
     if material.kind == MATERIAL_EMISSIVE {
-        radiance[slot] = vec4<f32>(throughput * material.color, 0.0);
+        radiance[slot] = vec4<f32>(throughput * material.color, f32(bounce + 1u));
         path_dir[slot].w = bitcast<f32>(DEAD);
         retire(position);
         return;

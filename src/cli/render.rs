@@ -169,7 +169,7 @@ fn print_summary(r: &RunReport, out: &std::path::Path) {
         _ => String::new(),
     };
     println!(
-        "{} {}x{} {} spp depth {} {}: {:.3} s wall{gpu}, {:.3} M samples/s, {} NaN/Inf samples dropped -> {}",
+        "{} {}x{} {} spp depth {} {}: {:.3} s wall{gpu}, {:.3} M samples/s, {:.3} M rays/s, {} NaN/Inf samples dropped -> {}",
         r.scene.name,
         s.width,
         s.height,
@@ -178,6 +178,7 @@ fn print_summary(r: &RunReport, out: &std::path::Path) {
         r.method.name(),
         r.wall_seconds,
         r.samples_per_second / 1e6,
+        r.rays_per_second / 1e6,
         r.invalid_samples,
         out.display()
     );
