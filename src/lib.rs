@@ -5,8 +5,10 @@
 
 pub mod bvh;
 pub mod camera;
+pub mod chart;
 pub mod cli;
 pub mod cpu;
+pub mod experiment;
 pub mod film;
 pub mod gpu;
 pub mod image_io;
@@ -21,3 +23,4 @@ pub mod scene;
 pub mod settings;
 pub mod shader_include;
 pub mod stats;
+pub mod strict_json;

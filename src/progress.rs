@@ -42,6 +42,21 @@ impl Progress {
         self.bar.set_position(done);
     }
 
+    /// The text before the bar (e.g. which run is going).
+    pub fn set_message(&self, msg: &str) {
+        self.bar.set_message(msg.to_string());
+    }
+
+    /// A line of output that does not tear the bar: printed above it when it is drawn, else
+    /// on stderr (so logs of non-interactive runs still say what happened).
+    pub fn println(&self, line: &str) {
+        if self.shown.load(Ordering::Relaxed) {
+            self.bar.println(line);
+        } else {
+            eprintln!("{line}");
+        }
+    }
+
     pub fn finish(&self) {
         self.bar.finish_and_clear();
     }

@@ -145,4 +145,21 @@ impl RunReport {
             indirect_validation: adapter.map(|a| a.indirect_validation),
         }
     }
+
+    /// The `wavetrace.*` header attributes of the run's EXR.
+    pub fn exr_attributes(&self) -> Vec<(String, String)> {
+        let s = &self.settings;
+        [
+            ("method", self.method.name().to_string()),
+            ("scene", self.scene.name.clone()),
+            ("spp", s.spp.to_string()),
+            ("max_depth", s.max_depth.to_string()),
+            ("seed", s.seed.to_string()),
+            ("render_time_s", format!("{:.6}", self.wall_seconds)),
+            ("git_commit", self.build.git_commit.to_string()),
+        ]
+        .into_iter()
+        .map(|(k, v)| (format!("wavetrace.{k}"), v))
+        .collect()
+    }
 }

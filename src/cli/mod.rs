@@ -1,6 +1,7 @@
 //! The `wavetrace` command line.
 
 pub mod compare;
+pub mod experiment;
 pub mod info;
 pub mod render;
 pub mod scene;
@@ -17,6 +18,7 @@ Examples:
   wavetrace scene list
   wavetrace scene export rtiow-final > final.json
   wavetrace compare test.exr reference.exr --json
+  wavetrace experiment run experiments/quick.json     # -> out/quick/report.html
 
 Environment:
   RUST_LOG=info|debug    logging (e.g. adapter choice, dispatch plan)
@@ -40,6 +42,9 @@ pub enum Command {
     Scene(scene::SceneCommand),
     /// Error metrics (MSE, relMSE, SMAPE, MAPE, FLIP) of a test EXR against a reference EXR.
     Compare(compare::CompareArgs),
+    /// Run experiment configs into JSON reports, EXRs, charts and HTML; merge shards; re-draw.
+    #[command(subcommand)]
+    Experiment(experiment::ExperimentCommand),
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
@@ -48,5 +53,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Info(a) => info::run(a),
         Command::Scene(c) => scene::run(c),
         Command::Compare(a) => compare::run(a),
+        Command::Experiment(c) => experiment::run(c),
     }
 }

@@ -135,16 +135,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let adapter = gpu.as_ref().map(|g| &g.summary);
     let report = RunReport::new(&scene, a.method, &settings, &options, adapter, &out);
     let image = RgbImage { width: settings.width, height: settings.height, data: out.film.mean_rgb() };
-    let attributes = vec![
-        ("wavetrace.method".to_string(), a.method.name().to_string()),
-        ("wavetrace.scene".to_string(), scene.name.clone()),
-        ("wavetrace.spp".to_string(), settings.spp.to_string()),
-        ("wavetrace.max_depth".to_string(), settings.max_depth.to_string()),
-        ("wavetrace.seed".to_string(), settings.seed.to_string()),
-        ("wavetrace.render_time_s".to_string(), format!("{:.6}", out.wall_seconds)),
-        ("wavetrace.git_commit".to_string(), report.build.git_commit.to_string()),
-    ];
-    image_io::write_exr(&a.out, &image, &attributes)?;
+    image_io::write_exr(&a.out, &image, &report.exr_attributes())?;
     if let Some(png) = &a.png {
         image_io::write_png(png, &image)?;
     }

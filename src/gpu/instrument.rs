@@ -25,7 +25,7 @@ pub const SLOTS: [&str; 13] = [
     "shade",
 ];
 
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SimdEfficiency {
     /// Active lanes / available lanes, in [0, 1].
     pub efficiency: f64,

@@ -17,6 +17,23 @@ pub fn write_png(path: impl AsRef<Path>, image: &RgbImage) -> Result<(), ImageIo
     })
 }
 
+/// Writes 8-bit RGB bytes as they are (false-colour maps, thumbnails), atomically.
+pub fn write_png_rgb8(path: impl AsRef<Path>, width: u32, height: u32, rgb: &[u8]) -> Result<(), ImageIoError> {
+    let path = path.as_ref();
+    write_atomically(path, |file| {
+        PngEncoder::new(file)
+            .write_image(rgb, width, height, ExtendedColorType::Rgb8)
+            .map_err(|error| ImageIoError::Png { path: path.to_owned(), error })
+    })
+}
+
+/// 8-bit RGB bytes as PNG in memory (for `data:` URIs in HTML reports).
+pub fn encode_png_rgb8(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>, image::ImageError> {
+    let mut out = Vec::new();
+    PngEncoder::new(&mut out).write_image(rgb, width, height, ExtendedColorType::Rgb8)?;
+    Ok(out)
+}
+
 /// The sRGB transfer function (the piecewise IEC 61966-2-1 curve, not a pure 2.2 gamma),
 /// clamped to [0, 1] and rounded to the nearest 8-bit code. NaN maps to 0.
 pub fn linear_to_srgb8(linear: f32) -> u8 {

@@ -35,7 +35,7 @@ impl Default for CompareOptions {
 /// - `smape` = mean(|v − r| / (|v| + |r|)), with 0/0 = 0; in [0, 1].
 /// - `mape` = mean(|v − r| / (|r| + 0.01)).
 /// - `flip`: mean LDR-FLIP in [0, 1] when requested (never trimmed).
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ErrorMetrics {
     pub mse: f64,
     pub rmse: f64,

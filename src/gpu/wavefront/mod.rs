@@ -104,7 +104,7 @@ pub fn max_pool(ctx: &GpuContext, workgroup_size: u32) -> u32 {
 
 /// Per-bounce queue sizes summed over waves: `rays[b]` paths were intersected at bounce b and
 /// `materials[k][b]` shaded with material kind k (all in `materials[0]` with one shade pass).
-#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct QueueHistogram {
     pub rays: Vec<u64>,
     pub materials: [Vec<u64>; 4],

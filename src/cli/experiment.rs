@@ -1,0 +1,116 @@
+//! `wavetrace experiment`: run a config, merge shards, re-draw a report.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Result};
+
+use crate::experiment::plan::{self, Shard};
+use crate::experiment::report::{ExperimentReport, RunStatus};
+use crate::experiment::runner::{self, RunnerOptions};
+use crate::experiment::{merge, outputs, ExperimentConfig};
+
+const EXAMPLES: &str = "\
+Examples:
+  wavetrace experiment run experiments/quick.json                 # -> out/quick/report.html
+  wavetrace experiment run experiments/cpu_vs_gpu.json --out results/cpu_vs_gpu
+  wavetrace experiment run experiments/quick.json --list          # the runs, without running
+  wavetrace experiment run sweep.json --out shards/$SLURM_ARRAY_TASK_ID --shard $SLURM_ARRAY_TASK_ID/8
+  wavetrace experiment merge shards/* --out results/sweep
+  wavetrace experiment report out/quick                           # re-draw charts and HTML
+
+Writes into the output directory: report.json (schema wavetrace-experiment-report/1, see the
+README), report.html, charts/*.svg, images/RUN.exr|.png|-error.png, references/*.png.
+Exits with status 1 when any run failed (the report records why).";
+
+#[derive(clap::Subcommand, Debug)]
+pub enum ExperimentCommand {
+    /// Run every combination in a config (or one shard's share) and write the report.
+    Run(RunArgs),
+    /// Merge the output directories of shards of one config into one report.
+    Merge(MergeArgs),
+    /// Re-draw charts and report.html from a directory's report.json.
+    Report(ReportArgs),
+}
+
+#[derive(clap::Args, Debug)]
+#[command(after_help = EXAMPLES)]
+pub struct RunArgs {
+    /// Experiment config (JSON, "schema": "wavetrace-experiment/1").
+    pub config: PathBuf,
+    /// Output directory [default: out/CONFIG_STEM].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Run only the runs whose index is I modulo N (I from 0), e.g. a Slurm array task's share.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<Shard>,
+    /// Where rendered references are cached [default: $WAVETRACE_CACHE, else .cache/ beside the
+    /// config].
+    #[arg(long, env = "WAVETRACE_CACHE")]
+    pub cache: Option<PathBuf>,
+    /// Print the planned runs (index and id; with --shard, the shard's) and exit.
+    #[arg(long)]
+    pub list: bool,
+}
+
+#[derive(clap::Args, Debug)]
+#[command(after_help = EXAMPLES)]
+pub struct MergeArgs {
+    /// Output directories of `experiment run --shard`.
+    #[arg(required = true)]
+    pub dirs: Vec<PathBuf>,
+    /// Where the merged report goes.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+#[derive(clap::Args, Debug)]
+#[command(after_help = EXAMPLES)]
+pub struct ReportArgs {
+    /// A directory holding report.json.
+    pub dir: PathBuf,
+}
+
+pub fn run(c: ExperimentCommand) -> Result<()> {
+    match c {
+        ExperimentCommand::Run(a) => run_config(a),
+        ExperimentCommand::Merge(a) => {
+            let report = merge::merge(&a.dirs, &a.out)?;
+            finish(&report, &a.out)
+        }
+        ExperimentCommand::Report(a) => {
+            let report = outputs::redraw(&a.dir)?;
+            println!("{}", a.dir.join(outputs::HTML_FILE).display());
+            let _ = report;
+            Ok(())
+        }
+    }
+}
+
+fn run_config(a: RunArgs) -> Result<()> {
+    let config = ExperimentConfig::from_file(&a.config)?;
+    let out = a.out.unwrap_or_else(|| Path::new("out").join(&config.name));
+    if a.list {
+        for r in plan::plan(&config).iter().filter(|r| a.shard.is_none_or(|s| s.takes(r))) {
+            println!("{:>4} {}", r.index, r.id);
+        }
+        return Ok(());
+    }
+    let cache_dir = a.cache.unwrap_or_else(|| a.config.parent().unwrap_or(Path::new("")).join(".cache"));
+    let report = runner::run(&config, &RunnerOptions { out_dir: out.clone(), shard: a.shard, cache_dir })?;
+    finish(&report, &out)
+}
+
+/// Says where the report is, and fails when a run failed.
+fn finish(report: &ExperimentReport, out: &Path) -> Result<()> {
+    let failed = report.runs.iter().filter(|r| r.status == RunStatus::Failed).count();
+    println!(
+        "{} runs, {failed} failed -> {} ({})",
+        report.runs.len(),
+        out.join(outputs::HTML_FILE).display(),
+        out.join(crate::experiment::report::REPORT_FILE).display()
+    );
+    if failed > 0 {
+        bail!("{failed} of {} runs failed; report.json and report.html say why", report.runs.len());
+    }
+    Ok(())
+}

@@ -1,0 +1,169 @@
+//! The report's charts, one set per (scene, resolution): error against time (the speed-vs-accuracy
+//! chart), GPU time per pass stacked per run, queue occupancy per bounce, and SIMD efficiency per
+//! pass where it was measured. Drawn from `report.json` alone, so `experiment report` and
+//! `experiment merge` can re-draw them.
+
+use std::collections::BTreeMap;
+
+use super::plan::file_safe;
+use super::report::{ExperimentReport, RunRecord, RunStatus};
+use crate::chart::{Bar, GroupedBarChart, LineChart, Series, StackedBarChart};
+
+/// A drawn chart: file stem, kind, title, SVG text, and the group it belongs to.
+pub struct Chart {
+    pub stem: String,
+    pub kind: &'static str,
+    pub title: String,
+    pub svg: String,
+    pub scene: String,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// Every chart the report's data supports (kinds without data in a group are left out).
+pub fn charts(report: &ExperimentReport) -> Vec<Chart> {
+    let mut groups: BTreeMap<(String, u32, u32), Vec<&RunRecord>> = BTreeMap::new();
+    for r in report.runs.iter().filter(|r| r.status == RunStatus::Ok) {
+        groups.entry((r.scene.clone(), r.width, r.height)).or_default().push(r);
+    }
+    let mut out = Vec::new();
+    for ((scene, w, h), mut runs) in groups {
+        runs.sort_by_key(|r| r.index);
+        let group = format!("{scene} {w}x{h}");
+        let stem = |kind: &str| format!("{kind}-{}-{w}x{h}", file_safe(&scene));
+        let mut push = |kind: &'static str, title: String, svg: String| {
+            out.push(Chart { stem: stem(kind), kind, title, svg, scene: scene.clone(), width: w, height: h });
+        };
+        if let Some(c) = error_vs_time(&runs, &group) {
+            push("error-vs-time", c.title.clone(), c.to_svg());
+        }
+        if let Some(c) = passes(&runs, &group) {
+            push("passes", c.title.clone(), c.to_svg());
+        }
+        if let Some(c) = queues(&runs, &group) {
+            push("queues", c.title.clone(), c.to_svg());
+        }
+        if let Some(c) = simd(&runs, &group) {
+            push("simd", c.title.clone(), c.to_svg());
+        }
+    }
+    out
+}
+
+/// The series name of a run: its label, and its max depth when the group has several.
+fn series_name(r: &RunRecord, several_depths: bool) -> String {
+    if several_depths {
+        format!("{} d{}", r.label, r.max_depth)
+    } else {
+        r.label.clone()
+    }
+}
+
+fn several_depths(runs: &[&RunRecord]) -> bool {
+    runs.iter().any(|r| r.max_depth != runs[0].max_depth)
+}
+
+fn several_spps(runs: &[&RunRecord]) -> bool {
+    runs.iter().any(|r| r.spp != runs[0].spp)
+}
+
+/// relMSE against time, log–log, one line per method variant through its spp values.
+fn error_vs_time(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
+    let depths = several_depths(runs);
+    let mut series: Vec<Series> = Vec::new();
+    for r in runs {
+        let (Some(m), Some(t)) = (&r.error_metrics, r.seconds) else { continue };
+        let name = series_name(r, depths);
+        match series.iter_mut().find(|s| s.name == name) {
+            Some(s) => s.points.push((t, m.relmse)),
+            None => series.push(Series { name, points: vec![(t, m.relmse)] }),
+        }
+    }
+    for s in &mut series {
+        s.points.sort_by(|a, b| a.0.total_cmp(&b.0));
+    }
+    (!series.is_empty()).then(|| LineChart {
+        title: format!("Error against time: {group}"),
+        x_label: "time per render, s (GPU where measured, else wall) — log".into(),
+        y_label: "relMSE — log".into(),
+        x_log: true,
+        y_log: true,
+        series,
+    })
+}
+
+/// The label of a run among others of its group: variant, then spp and depth where they vary.
+fn bar_label(r: &RunRecord, runs: &[&RunRecord]) -> String {
+    let mut s = r.label.clone();
+    if several_spps(runs) {
+        s += &format!(" {}spp", r.spp);
+    }
+    if several_depths(runs) {
+        s += &format!(" d{}", r.max_depth);
+    }
+    s
+}
+
+/// Median GPU milliseconds per pass label, stacked, one bar per GPU run.
+fn passes(runs: &[&RunRecord], group: &str) -> Option<StackedBarChart> {
+    let bars: Vec<Bar> = runs
+        .iter()
+        .filter(|r| !r.passes.is_empty())
+        .map(|r| Bar {
+            label: bar_label(r, runs),
+            segments: r.passes.iter().map(|(k, p)| (k.clone(), p.seconds.median * 1e3)).collect(),
+        })
+        .collect();
+    (!bars.is_empty()).then(|| StackedBarChart {
+        title: format!("GPU time per pass: {group}"),
+        y_label: "GPU ms per render (median)".into(),
+        bars,
+    })
+}
+
+/// The fraction of paths still in the ray queue at each bounce (wavefront runs at the group's
+/// largest spp: occupancy hardly depends on spp).
+fn queues(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
+    let max_spp = runs.iter().map(|r| r.spp).max()?;
+    let depths = several_depths(runs);
+    let series: Vec<Series> = runs
+        .iter()
+        .filter(|r| r.spp == max_spp)
+        .filter_map(|r| {
+            let h = r.queue_histogram.as_ref()?;
+            let first = *h.rays.first()? as f64;
+            let points =
+                h.rays.iter().enumerate().take_while(|(_, &n)| n > 0).map(|(b, &n)| (b as f64, n as f64 / first)).collect();
+            Some(Series { name: series_name(r, depths), points })
+        })
+        .collect();
+    (!series.is_empty()).then(|| LineChart {
+        title: format!("Queue occupancy per bounce: {group}, {max_spp} spp"),
+        x_label: "bounce".into(),
+        y_label: "paths still traced / paths started — log".into(),
+        x_log: false,
+        y_log: true,
+        series,
+    })
+}
+
+/// SIMD efficiency per pass or point, one bar per run, where measured.
+fn simd(runs: &[&RunRecord], group: &str) -> Option<GroupedBarChart> {
+    let measured: Vec<&&RunRecord> = runs.iter().filter(|r| r.simd.as_ref().is_some_and(|s| !s.is_empty())).collect();
+    if measured.is_empty() {
+        return None;
+    }
+    let mut groups: BTreeMap<String, Vec<(String, f64)>> = BTreeMap::new();
+    for r in &measured {
+        for (point, e) in r.simd.as_ref().expect("filtered") {
+            groups.entry(point.clone()).or_default().push((bar_label(r, runs), e.efficiency));
+        }
+    }
+    Some(GroupedBarChart {
+        title: format!("SIMD efficiency (active / available lanes): {group}"),
+        y_label: "SIMD efficiency".into(),
+        y_max: Some(1.0),
+        percent: true,
+        groups: groups.into_iter().collect(),
+    })
+}

@@ -1,0 +1,625 @@
+//! Experiment configs (`"schema": "wavetrace-experiment/1"`): what to render, how often, and what
+//! to measure error against. Read strictly, like scene files: unknown fields, duplicate keys and
+//! out-of-range values are errors naming the file, the JSON path and the reason, and the whole
+//! config (scenes, reference EXRs, every run's settings) is checked before anything renders.
+//!
+//! ```json
+//! {
+//!   "schema": "wavetrace-experiment/1",
+//!   "question": "Does the wavefront beat the megakernel on the book's final scene?",
+//!   "scenes": ["rtiow-final", "scenes/my_scene.json"],
+//!   "resolutions": ["400x225"],
+//!   "spp": [4, 16, 64],
+//!   "max_depth": [50],
+//!   "seed": 0,
+//!   "accel": "bvh",
+//!   "repetitions": 3,
+//!   "warmup": 1,
+//!   "instrument": false,
+//!   "methods": [
+//!     {"method": "cpu"},
+//!     {"method": "megakernel", "workgroup_size": [32, 64, 128]},
+//!     {"method": "wavefront", "label": "wf", "compaction": ["atomic", "scan"], "shade": "single"}
+//!   ],
+//!   "reference": {"method": "cpu-f64", "spp": 1024},
+//!   "metrics": {"trim": 0.0, "flip": true}
+//! }
+//! ```
+//!
+//! Required: `schema`, `question`, `scenes`, `resolutions`, `spp`, `methods`. Every other field
+//! has the default shown in [`ExperimentConfig`]'s docs. A knob given as a list is swept: each
+//! value becomes its own method variant. See the README's "Experiments" section for every field.
+
+use std::collections::BTreeSet;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use serde_json::{Map, Value};
+
+use crate::gpu::megakernel::MegakernelOptions;
+use crate::gpu::wavefront::{Compaction, ShadePasses, WavefrontOptions};
+use crate::method::{Method, MethodOptions};
+use crate::scene::Scene;
+use crate::settings::{Accel, RenderSettings};
+use crate::strict_json::{describe, did_you_mean, join, parse_strict, quoted_list};
+
+/// The `schema` tag this build reads.
+pub const CONFIG_SCHEMA: &str = "wavetrace-experiment/1";
+
+const TOP_FIELDS: &[&str] = &[
+    "schema",
+    "question",
+    "scenes",
+    "resolutions",
+    "spp",
+    "max_depth",
+    "seed",
+    "accel",
+    "repetitions",
+    "warmup",
+    "instrument",
+    "adapter",
+    "methods",
+    "reference",
+    "metrics",
+];
+const METHOD_NAMES: &[&str] = &["cpu", "cpu-f64", "megakernel", "wavefront"];
+const COMPACTIONS: &[&str] = &["atomic", "scan", "off"];
+const SHADES: &[&str] = &["per-material", "single"];
+/// Repetitions and warm-ups above this are almost certainly typos (and would take forever).
+const MAX_REPETITIONS: u32 = 1000;
+
+/// An error in a config file: the file, the JSON path (empty for whole-file errors), the reason.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConfigError {
+    pub file: String,
+    pub path: String,
+    pub reason: String,
+}
+
+impl fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.path.is_empty() {
+            write!(f, "{}: {}", self.file, self.reason)
+        } else {
+            write!(f, "{}: {}: {}", self.file, self.path, self.reason)
+        }
+    }
+}
+
+impl std::error::Error for ConfigError {}
+
+/// A scene as the config names it, and the scene it resolved to.
+#[derive(Clone, Debug)]
+pub struct SceneEntry {
+    /// As written in the config (a built-in name or a path relative to the config file).
+    pub arg: String,
+    pub scene: Scene,
+}
+
+/// One method with one value of each knob.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MethodVariant {
+    /// Unique within the config: the entry's `label` (or method name), plus `knob=value` for
+    /// the swept knobs and, without a label, the knobs set away from their defaults.
+    pub label: String,
+    pub method: Method,
+    pub options: MethodOptions,
+}
+
+/// What the runs are measured against.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ReferenceSpec {
+    /// Render each (scene, resolution) with `method` at `spp`; cached on disk.
+    Render { method: Method, spp: u32, max_depth: u32, seed: u32 },
+    /// Read EXRs: `pattern` with `{scene}`, `{width}`, `{height}` replaced, relative to the config.
+    Exr { pattern: String },
+}
+
+/// Error-metric options (`metrics`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MetricOptions {
+    /// Fraction of the largest per-pixel errors dropped from each metric (FLIP excepted).
+    pub trim: f64,
+    /// Compute mean LDR-FLIP.
+    pub flip: bool,
+}
+
+/// A validated experiment config.
+#[derive(Clone, Debug)]
+pub struct ExperimentConfig {
+    /// The file it was read from.
+    pub file: PathBuf,
+    /// The config as written, echoed into the report.
+    pub raw: Value,
+    /// The file's stem.
+    pub name: String,
+    /// The question the experiment answers (one sentence).
+    pub question: String,
+    pub scenes: Vec<SceneEntry>,
+    /// (width, height) pairs.
+    pub resolutions: Vec<(u32, u32)>,
+    pub spp: Vec<u32>,
+    /// Default `[50]` (the book's).
+    pub max_depth: Vec<u32>,
+    /// Default 0.
+    pub seed: u32,
+    /// Default `bvh`.
+    pub accel: Accel,
+    /// Timed renders per run (default 3); the report gives their median, min and max.
+    pub repetitions: u32,
+    /// Untimed renders before the timed ones (default 1): pipeline caches, clocks, page faults.
+    pub warmup: u32,
+    /// Also render each GPU run once with subgroup counters for SIMD efficiency (default false).
+    pub instrument: bool,
+    /// Adapter name substring (default: the best adapter).
+    pub adapter: Option<String>,
+    pub methods: Vec<MethodVariant>,
+    /// Default none (no error metrics).
+    pub reference: Option<ReferenceSpec>,
+    pub metrics: MetricOptions,
+}
+
+impl ExperimentConfig {
+    /// Reads and validates a config file.
+    pub fn from_file(path: &Path) -> Result<Self, ConfigError> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| ConfigError { file: file.clone(), path: String::new(), reason: format!("cannot read the file: {e}") })?;
+        Self::from_str(&text, path)
+    }
+
+    /// Reads a config from text; `path` locates relative scene and reference paths and labels
+    /// errors.
+    pub fn from_str(text: &str, path: &Path) -> Result<Self, ConfigError> {
+        let cx = Cx { file: path.display().to_string(), dir: path.parent().unwrap_or(Path::new("")).to_owned() };
+        let raw = parse_strict(text).map_err(|(p, reason)| cx.error(&p, reason))?;
+        cx.config(&raw, path)
+    }
+
+    /// Every run's render settings, in no particular order (for validation and planning).
+    pub fn settings(&self) -> impl Iterator<Item = RenderSettings> + '_ {
+        self.resolutions.iter().flat_map(move |&(width, height)| {
+            self.max_depth.iter().flat_map(move |&max_depth| {
+                self.spp.iter().map(move |&spp| RenderSettings {
+                    width,
+                    height,
+                    spp,
+                    max_depth,
+                    seed: self.seed,
+                    accel: self.accel,
+                })
+            })
+        })
+    }
+
+    /// The reference EXR for a scene and resolution (`reference.exr` configs only).
+    pub fn reference_exr(&self, scene: &str, width: u32, height: u32) -> Option<PathBuf> {
+        match &self.reference {
+            Some(ReferenceSpec::Exr { pattern }) => {
+                let dir = self.file.parent().unwrap_or(Path::new(""));
+                Some(dir.join(expand_pattern(pattern, scene, width, height)))
+            }
+            _ => None,
+        }
+    }
+}
+
+/// `{scene}`, `{width}`, `{height}` replaced.
+pub fn expand_pattern(pattern: &str, scene: &str, width: u32, height: u32) -> String {
+    pattern.replace("{scene}", scene).replace("{width}", &width.to_string()).replace("{height}", &height.to_string())
+}
+
+type Res<T> = Result<T, ConfigError>;
+
+struct Cx {
+    file: String,
+    /// The config's directory: relative paths in it are relative to this.
+    dir: PathBuf,
+}
+
+impl Cx {
+    fn error(&self, path: &str, reason: impl Into<String>) -> ConfigError {
+        ConfigError { file: self.file.clone(), path: path.to_owned(), reason: reason.into() }
+    }
+
+    fn err<T>(&self, path: &str, reason: impl Into<String>) -> Res<T> {
+        Err(self.error(path, reason))
+    }
+
+    fn config(&self, raw: &Value, path: &Path) -> Res<ExperimentConfig> {
+        let root = self.object(raw, "")?;
+        let Some(schema) = root.get("schema") else {
+            return self.err("", format!("missing required field \"schema\" (expected \"schema\": \"{CONFIG_SCHEMA}\")"));
+        };
+        let schema = self.string(schema, "schema")?;
+        if schema != CONFIG_SCHEMA {
+            return self.err("schema", format!("unsupported schema {schema:?}; this build reads \"{CONFIG_SCHEMA}\""));
+        }
+        self.only(root, "", TOP_FIELDS)?;
+
+        let question = self.string(self.field(root, "", "question")?, "question")?.trim().to_owned();
+        if question.is_empty() {
+            return self.err("question", "say in one sentence what question the experiment answers");
+        }
+        let scenes = self.scenes(self.field(root, "", "scenes")?)?;
+        let resolutions = self.list(self.field(root, "", "resolutions")?, "resolutions", |v, p| self.resolution(v, p))?;
+        let spp = self.list(self.field(root, "", "spp")?, "spp", |v, p| self.uint32(v, p, 1, u32::MAX))?;
+        let max_depth = match root.get("max_depth") {
+            Some(v) => self.list(v, "max_depth", |v, p| self.uint32(v, p, 1, (1 << 24) - 1))?,
+            None => vec![RenderSettings::default().max_depth],
+        };
+        let seed = self.optional(root, "seed", |v, p| self.uint32(v, p, 0, u32::MAX))?.unwrap_or(0);
+        let accel = match self.optional(root, "accel", |v, p| self.choice(v, p, &["bvh", "none"]))? {
+            Some("none") => Accel::None,
+            _ => Accel::Bvh,
+        };
+        let repetitions =
+            self.optional(root, "repetitions", |v, p| self.uint32(v, p, 1, MAX_REPETITIONS))?.unwrap_or(3);
+        let warmup = self.optional(root, "warmup", |v, p| self.uint32(v, p, 0, MAX_REPETITIONS))?.unwrap_or(1);
+        let instrument = self.optional(root, "instrument", |v, p| self.boolean(v, p))?.unwrap_or(false);
+        let adapter = self.optional(root, "adapter", |v, p| self.string(v, p).map(str::to_owned))?;
+        let methods = self.methods(self.field(root, "", "methods")?)?;
+        let max_max_depth = *max_depth.iter().max().expect("lists are non-empty");
+        let reference = match root.get("reference") {
+            None | Some(Value::Null) => None,
+            Some(v) => Some(self.reference(v, seed, max_max_depth)?),
+        };
+        let metrics = self.metrics(root.get("metrics"))?;
+
+        let config = ExperimentConfig {
+            file: path.to_owned(),
+            raw: raw.clone(),
+            name: path.file_stem().map_or_else(|| "experiment".into(), |s| s.to_string_lossy().into_owned()),
+            question,
+            scenes,
+            resolutions,
+            spp,
+            max_depth,
+            seed,
+            accel,
+            repetitions,
+            warmup,
+            instrument,
+            adapter,
+            methods,
+            reference,
+            metrics,
+        };
+        for s in config.settings() {
+            s.validate().map_err(|r| self.error("resolutions", format!("{}x{}: {r}", s.width, s.height)))?;
+        }
+        self.check_reference_files(&config)?;
+        Ok(config)
+    }
+
+    fn scenes(&self, v: &Value) -> Res<Vec<SceneEntry>> {
+        let args = self.list(v, "scenes", |v, p| self.string(v, p).map(str::to_owned))?;
+        let mut seen = BTreeSet::new();
+        let mut out = Vec::new();
+        for (i, arg) in args.into_iter().enumerate() {
+            let path = format!("scenes[{i}]");
+            let scene = match crate::scene::builtin::by_name(&arg) {
+                Some(s) => s,
+                None => {
+                    let file = self.dir.join(&arg);
+                    if !file.exists() {
+                        let builtins = crate::scene::builtin::names();
+                        return self.err(
+                            &path,
+                            format!(
+                                "{arg:?} is neither a built-in scene{} nor a file ({} does not exist); built-in scenes: {}",
+                                did_you_mean(&arg, builtins),
+                                file.display(),
+                                quoted_list(builtins)
+                            ),
+                        );
+                    }
+                    crate::scene::load::from_file(&file).map_err(|e| self.error(&path, format!("in the scene file: {e}")))?
+                }
+            };
+            if !seen.insert(scene.name.clone()) {
+                return self.err(&path, format!("a second scene named {:?}; runs are keyed by scene name", scene.name));
+            }
+            out.push(SceneEntry { arg, scene });
+        }
+        Ok(out)
+    }
+
+    fn resolution(&self, v: &Value, path: &str) -> Res<(u32, u32)> {
+        let text = self.string(v, path)?;
+        let parsed = text.split_once('x').and_then(|(w, h)| Some((w.trim().parse::<u32>().ok()?, h.trim().parse::<u32>().ok()?)));
+        match parsed {
+            Some((w, h)) if w > 0 && h > 0 => Ok((w, h)),
+            _ => self.err(path, format!("expected \"WIDTHxHEIGHT\" with both at least 1, e.g. \"400x225\", found {text:?}")),
+        }
+    }
+
+    fn methods(&self, v: &Value) -> Res<Vec<MethodVariant>> {
+        let Value::Array(items) = v else {
+            return self.err("methods", format!("expected an array of method objects, found {}", describe(v)));
+        };
+        if items.is_empty() {
+            return self.err("methods", "name at least one method");
+        }
+        let mut out: Vec<MethodVariant> = Vec::new();
+        for (i, item) in items.iter().enumerate() {
+            let path = format!("methods[{i}]");
+            for variant in self.method_entry(item, &path)? {
+                if out.iter().any(|o| o.label == variant.label) {
+                    return self.err(
+                        &path,
+                        format!("method label {:?} is used twice; give each entry its own \"label\"", variant.label),
+                    );
+                }
+                out.push(variant);
+            }
+        }
+        Ok(out)
+    }
+
+    /// One `methods[i]` entry, expanded over its swept knobs.
+    fn method_entry(&self, v: &Value, path: &str) -> Res<Vec<MethodVariant>> {
+        let o = self.object(v, path)?;
+        let mpath = join(path, "method");
+        let method = match self.choice(self.field(o, path, "method")?, &mpath, METHOD_NAMES)? {
+            "cpu" => Method::Cpu,
+            "cpu-f64" => Method::CpuF64,
+            "megakernel" => Method::Megakernel,
+            _ => Method::Wavefront,
+        };
+        let knobs: &[&str] = match method {
+            Method::Cpu | Method::CpuF64 => &[],
+            Method::Megakernel => &["workgroup_size", "samples_per_dispatch"],
+            Method::Wavefront => &["workgroup_size", "pool_size", "compaction", "shade"],
+        };
+        let mut allowed = vec!["method", "label"];
+        allowed.extend_from_slice(knobs);
+        if let Some(k) = o.keys().find(|k| !allowed.contains(&k.as_str())) {
+            let all = ["workgroup_size", "samples_per_dispatch", "pool_size", "compaction", "shade"];
+            let reason = if all.contains(&k.as_str()) {
+                format!("{} has no knob {k:?}; its knobs are {}", method.name(), if knobs.is_empty() { "none".into() } else { quoted_list(knobs) })
+            } else {
+                format!("unknown field{}; expected {}", did_you_mean(k, &allowed), quoted_list(&allowed))
+            };
+            return self.err(&join(path, k), reason);
+        }
+        let label = self.optional(o, "label", |v, p| self.string(v, p).map(str::to_owned))?;
+        let label_path = join(path, "label");
+        if label.as_deref().is_some_and(|l| l.trim().is_empty()) {
+            return self.err(&label_path, "must not be empty");
+        }
+
+        // Each knob: its values (one unless swept), and whether it was swept.
+        let opt_path = |k: &str| join(path, k);
+        let wg = self.knob(o, &opt_path("workgroup_size"), "workgroup_size", |v, p| self.uint32(v, p, 1, 1024))?;
+        let spd = self.knob(o, &opt_path("samples_per_dispatch"), "samples_per_dispatch", |v, p| self.uint(v, p, 1, u64::MAX))?;
+        let pool = self.knob(o, &opt_path("pool_size"), "pool_size", |v, p| match v {
+            Value::Null => Ok(None),
+            _ => self.uint32(v, p, 1, u32::MAX).map(Some),
+        })?;
+        let compaction = self.knob(o, &opt_path("compaction"), "compaction", |v, p| {
+            Ok(match self.choice(v, p, COMPACTIONS)? {
+                "atomic" => Compaction::Atomic,
+                "scan" => Compaction::Scan,
+                _ => Compaction::Off,
+            })
+        })?;
+        let shade = self.knob(o, &opt_path("shade"), "shade", |v, p| {
+            Ok(if self.choice(v, p, SHADES)? == "single" { ShadePasses::Single } else { ShadePasses::PerMaterial })
+        })?;
+
+        let mk = MegakernelOptions::default();
+        let wf = WavefrontOptions::default();
+        let mut out = Vec::new();
+        for &w in wg.values_or(&[mk.workgroup_size]) {
+            for &s in spd.values_or(&[mk.samples_per_dispatch]) {
+                for &p in pool.values_or(&[wf.pool_size]) {
+                    for &c in compaction.values_or(&[wf.compaction]) {
+                        for &sh in shade.values_or(&[wf.shade]) {
+                            let options = MethodOptions {
+                                megakernel: MegakernelOptions { workgroup_size: w, samples_per_dispatch: s, ..mk },
+                                wavefront: WavefrontOptions { pool_size: p, workgroup_size: w, compaction: c, shade: sh },
+                                instrument: false,
+                            };
+                            // The label: given or the method's name, then the knobs that tell
+                            // variants apart.
+                            let mut parts = vec![label.clone().unwrap_or_else(|| method.name().to_owned())];
+                            let show = |swept: bool, given: bool, differs: bool| {
+                                swept || (label.is_none() && given && differs)
+                            };
+                            if show(wg.swept, wg.given(), w != mk.workgroup_size) {
+                                parts.push(format!("wg={w}"));
+                            }
+                            if show(spd.swept, spd.given(), s != mk.samples_per_dispatch) {
+                                parts.push(format!("spd={s}"));
+                            }
+                            if show(pool.swept, pool.given(), p != wf.pool_size) {
+                                parts.push(format!("pool={}", p.map_or("auto".into(), |p| p.to_string())));
+                            }
+                            if show(compaction.swept, compaction.given(), c != wf.compaction) {
+                                parts.push(format!("compaction={}", kebab(&c)));
+                            }
+                            if show(shade.swept, shade.given(), sh != wf.shade) {
+                                parts.push(format!("shade={}", kebab(&sh)));
+                            }
+                            out.push(MethodVariant { label: parts.join(" "), method, options });
+                        }
+                    }
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    fn reference(&self, v: &Value, seed: u32, max_depth: u32) -> Res<ReferenceSpec> {
+        let o = self.object(v, "reference")?;
+        if o.contains_key("exr") {
+            self.only(o, "reference", &["exr"])?;
+            let pattern = self.string(self.field(o, "reference", "exr")?, "reference.exr")?.to_owned();
+            return Ok(ReferenceSpec::Exr { pattern });
+        }
+        self.only(o, "reference", &["method", "spp", "max_depth", "seed"])?;
+        let method = match self.choice(self.field(o, "reference", "method")?, "reference.method", METHOD_NAMES)? {
+            "cpu" => Method::Cpu,
+            "cpu-f64" => Method::CpuF64,
+            "megakernel" => Method::Megakernel,
+            _ => Method::Wavefront,
+        };
+        let spp = self.uint32(self.field(o, "reference", "spp")?, "reference.spp", 1, u32::MAX)?;
+        let max_depth = self.optional(o, "max_depth", |v, p| self.uint32(v, p, 1, (1 << 24) - 1))?.unwrap_or(max_depth);
+        // The counter-based RNG would trace a run's paths again in the reference with the same
+        // seed, and the error would be underestimated; so the default seed differs.
+        let ref_seed = self.optional(o, "seed", |v, p| self.uint32(v, p, 0, u32::MAX))?.unwrap_or(seed.wrapping_add(1));
+        if ref_seed == seed {
+            return self.err(
+                "reference.seed",
+                format!("equals the runs' seed ({seed}): the reference would trace the runs' own paths and hide their error; choose another seed"),
+            );
+        }
+        Ok(ReferenceSpec::Render { method, spp, max_depth, seed: ref_seed })
+    }
+
+    fn metrics(&self, v: Option<&Value>) -> Res<MetricOptions> {
+        let mut m = MetricOptions { trim: 0.0, flip: true };
+        let Some(v) = v else { return Ok(m) };
+        let o = self.object(v, "metrics")?;
+        self.only(o, "metrics", &["trim", "flip"])?;
+        if let Some(t) = o.get("trim") {
+            let x = t.as_f64().ok_or_else(|| self.error("metrics.trim", format!("expected a number, found {}", describe(t))))?;
+            if !(0.0..1.0).contains(&x) {
+                return self.err("metrics.trim", format!("must be in [0, 1), got {x}"));
+            }
+            m.trim = x;
+        }
+        if let Some(f) = o.get("flip") {
+            m.flip = self.boolean(f, "metrics.flip")?;
+        }
+        Ok(m)
+    }
+
+    /// EXR references must exist and match every resolution before anything renders.
+    fn check_reference_files(&self, c: &ExperimentConfig) -> Res<()> {
+        for s in &c.scenes {
+            for &(w, h) in &c.resolutions {
+                let Some(file) = c.reference_exr(&s.scene.name, w, h) else { return Ok(()) };
+                let (image, _) = crate::image_io::read_exr(&file).map_err(|e| {
+                    self.error("reference.exr", format!("reference for scene {:?} at {w}x{h}: {e}", s.scene.name))
+                })?;
+                if (image.width, image.height) != (w, h) {
+                    return self.err(
+                        "reference.exr",
+                        format!("{} is {}x{}, but the runs of scene {:?} are {w}x{h}", file.display(), image.width, image.height, s.scene.name),
+                    );
+                }
+            }
+        }
+        Ok(())
+    }
+
+    // -- Field helpers ----------------------------------------------------------------------
+
+    fn object<'v>(&self, v: &'v Value, path: &str) -> Res<&'v Map<String, Value>> {
+        match v {
+            Value::Object(m) => Ok(m),
+            _ => self.err(path, format!("expected an object, found {}", describe(v))),
+        }
+    }
+
+    fn field<'v>(&self, o: &'v Map<String, Value>, path: &str, key: &str) -> Res<&'v Value> {
+        o.get(key).ok_or_else(|| self.error(path, format!("missing required field \"{key}\"")))
+    }
+
+    fn only(&self, o: &Map<String, Value>, path: &str, allowed: &[&str]) -> Res<()> {
+        match o.keys().find(|k| !allowed.contains(&k.as_str())) {
+            None => Ok(()),
+            Some(k) => self.err(
+                &join(path, k),
+                format!("unknown field{}; expected {}", did_you_mean(k, allowed), quoted_list(allowed)),
+            ),
+        }
+    }
+
+    fn optional<T>(&self, o: &Map<String, Value>, key: &str, read: impl Fn(&Value, &str) -> Res<T>) -> Res<Option<T>> {
+        o.get(key).map(|v| read(v, key)).transpose()
+    }
+
+    /// A non-empty list (a single value is a list of one), without repeats.
+    fn list<T: PartialEq>(&self, v: &Value, path: &str, read: impl Fn(&Value, &str) -> Res<T>) -> Res<Vec<T>> {
+        let out = match v {
+            Value::Array(items) if items.is_empty() => return self.err(path, "must not be empty"),
+            Value::Array(items) => {
+                items.iter().enumerate().map(|(i, x)| read(x, &format!("{path}[{i}]"))).collect::<Res<Vec<T>>>()?
+            }
+            _ => vec![read(v, path)?],
+        };
+        if let Some(i) = (1..out.len()).find(|&i| out[..i].contains(&out[i])) {
+            return self.err(&format!("{path}[{i}]"), "repeats an earlier value");
+        }
+        Ok(out)
+    }
+
+    /// A method knob: absent, one value, or a list (swept).
+    fn knob<T: PartialEq>(&self, o: &Map<String, Value>, path: &str, key: &str, read: impl Fn(&Value, &str) -> Res<T>) -> Res<Knob<T>> {
+        Ok(match o.get(key) {
+            None => Knob { values: Vec::new(), swept: false },
+            Some(v @ Value::Array(_)) => {
+                let values = self.list(v, path, read)?;
+                Knob { swept: values.len() > 1, values }
+            }
+            Some(v) => Knob { values: vec![read(v, path)?], swept: false },
+        })
+    }
+
+    fn string<'v>(&self, v: &'v Value, path: &str) -> Res<&'v str> {
+        v.as_str().ok_or_else(|| self.error(path, format!("expected a string, found {}", describe(v))))
+    }
+
+    fn boolean(&self, v: &Value, path: &str) -> Res<bool> {
+        v.as_bool().ok_or_else(|| self.error(path, format!("expected true or false, found {}", describe(v))))
+    }
+
+    fn uint(&self, v: &Value, path: &str, min: u64, max: u64) -> Res<u64> {
+        match v.as_u64() {
+            Some(x) if (min..=max).contains(&x) => Ok(x),
+            Some(x) => self.err(path, format!("must be in {min}..={max}, got {x}")),
+            None => self.err(path, format!("expected a whole number in {min}..={max}, found {}", describe(v))),
+        }
+    }
+
+    fn uint32(&self, v: &Value, path: &str, min: u32, max: u32) -> Res<u32> {
+        self.uint(v, path, min.into(), max.into()).map(|x| x as u32)
+    }
+
+    fn choice(&self, v: &Value, path: &str, options: &[&'static str]) -> Res<&'static str> {
+        let s = self.string(v, path)?;
+        options.iter().find(|&&o| o == s).copied().ok_or_else(|| {
+            self.error(path, format!("unknown value {s:?}{}; expected {}", did_you_mean(s, options), quoted_list(options)))
+        })
+    }
+}
+
+/// A knob's values as given; empty when the entry leaves it at its default.
+struct Knob<T> {
+    values: Vec<T>,
+    swept: bool,
+}
+
+impl<T> Knob<T> {
+    fn given(&self) -> bool {
+        !self.values.is_empty()
+    }
+
+    fn values_or<'a>(&'a self, default: &'a [T]) -> &'a [T] {
+        if self.values.is_empty() {
+            default
+        } else {
+            &self.values
+        }
+    }
+}
+
+/// A knob value as the config spells it (`"per-material"`).
+fn kebab<T: serde::Serialize>(v: &T) -> String {
+    serde_json::to_value(v).ok().and_then(|v| v.as_str().map(str::to_owned)).unwrap_or_default()
+}

@@ -1,0 +1,29 @@
+//! Experiments: a config names scenes, settings and methods; every combination is a run; the
+//! runner renders them (timed repetitions after warm-ups), measures error against a reference and
+//! writes `report.json`, EXRs, PNG previews, charts and a self-contained `report.html`.
+//!
+//! ```text
+//! config.json ─► ExperimentConfig (validated whole) ─► plan: runs (scene × size × depth × spp × method)
+//!   for run in plan (or a shard's share):
+//!       reference(scene, size)             cached on disk, keyed by scene text and settings
+//!       warm-up renders; timed renders     median / min / max over repetitions
+//!       [instrumented render]              SIMD efficiency (separate: counters skew time)
+//!       EXR, PNG, error map, metrics       MSE, relMSE, SMAPE, FLIP, 1/(relMSE·time)
+//!       report.json                        rewritten atomically after every run
+//!   charts/*.svg, report.html              re-drawable from report.json (`experiment report`)
+//! ```
+
+pub mod charts;
+pub mod config;
+pub mod error_map;
+pub mod gpu_slot;
+pub mod html;
+pub mod merge;
+pub mod outputs;
+pub mod plan;
+pub mod reference;
+pub mod report;
+pub mod runner;
+
+pub use config::{ConfigError, ExperimentConfig, CONFIG_SCHEMA};
+pub use report::{ExperimentReport, REPORT_SCHEMA};

@@ -1,0 +1,51 @@
+//! What is drawn from a report: `charts/*.svg` and `report.html`. Used at the end of a run, by
+//! `experiment report` (re-draw) and by `experiment merge`.
+
+use std::path::Path;
+
+use anyhow::{Context, Result};
+
+use super::charts;
+use super::html;
+use super::report::{ChartRecord, ExperimentReport};
+use crate::image_io::write_file_atomically;
+
+pub const HTML_FILE: &str = "report.html";
+
+/// Writes the charts and the HTML page for `report` into `dir`, replacing earlier ones, and
+/// lists the charts in `report.charts` (the caller writes `report.json`).
+pub fn draw(report: &mut ExperimentReport, dir: &Path) -> Result<()> {
+    let chart_dir = dir.join("charts");
+    std::fs::create_dir_all(&chart_dir).with_context(|| format!("creating {}", chart_dir.display()))?;
+    // Charts of an earlier drawing whose data is gone must not linger beside the new ones.
+    for entry in std::fs::read_dir(&chart_dir)?.flatten() {
+        if entry.path().extension().is_some_and(|e| e == "svg") {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+    let drawn = charts::charts(report);
+    report.charts.clear();
+    for c in &drawn {
+        let file = format!("charts/{}.svg", c.stem);
+        write_file_atomically(&dir.join(&file), c.svg.as_bytes())?;
+        report.charts.push(ChartRecord {
+            file,
+            title: c.title.clone(),
+            kind: c.kind.to_string(),
+            scene: c.scene.clone(),
+            width: c.width,
+            height: c.height,
+        });
+    }
+    let page = html::page(report, &drawn, dir);
+    write_file_atomically(&dir.join(HTML_FILE), page.as_bytes())?;
+    Ok(())
+}
+
+/// `experiment report DIR`: re-draws charts and HTML from `DIR/report.json`.
+pub fn redraw(dir: &Path) -> Result<ExperimentReport> {
+    let mut report = ExperimentReport::read(dir)?;
+    draw(&mut report, dir)?;
+    report.write(dir)?;
+    Ok(report)
+}

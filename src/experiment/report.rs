@@ -1,0 +1,280 @@
+//! `report.json` (`"schema": "wavetrace-experiment-report/1"`): everything an experiment measured,
+//! with where and from what code, so each figure can be traced to its run. The schema is
+//! documented in the README and as JSON Schema in `experiments/report.schema.json`; a test checks
+//! real reports against it. Written atomically after every run, so a killed experiment leaves the
+//! last complete report.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use anyhow::{bail, Context, Result};
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+
+use super::plan::Shard;
+use crate::gpu::instrument::SimdEfficiency;
+use crate::gpu::wavefront::QueueHistogram;
+use crate::metrics::ErrorMetrics;
+
+pub const REPORT_SCHEMA: &str = "wavetrace-experiment-report/1";
+pub const REPORT_FILE: &str = "report.json";
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ReportStatus {
+    /// Runs are still going (or the process was killed): `runs` holds the finished ones.
+    Running,
+    /// Every selected run finished (succeeded or failed).
+    Complete,
+    /// A merge that lacks some of the config's runs (`missing_runs` lists them).
+    Incomplete,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ExperimentReport {
+    pub schema: String,
+    pub status: ReportStatus,
+    /// The config file's stem.
+    pub name: String,
+    pub question: String,
+    pub config_file: String,
+    /// The config as written.
+    pub config: Value,
+    /// Where runs ran: one entry per process (several after a merge of shards).
+    pub environments: Vec<Environment>,
+    /// Runs in the whole config.
+    pub runs_planned: usize,
+    /// Runs this report set out to do (a shard's share; all for a merge).
+    pub runs_selected: usize,
+    /// Indices of planned runs absent from `runs` (merges only; empty otherwise).
+    pub missing_runs: Vec<usize>,
+    pub runs: Vec<RunRecord>,
+    pub references: Vec<ReferenceRecord>,
+    /// Chart files under `charts/`.
+    pub charts: Vec<ChartRecord>,
+}
+
+/// One process's machine, adapter and build.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Environment {
+    pub shard: Option<Shard>,
+    /// crate version and git commit (`-dirty` when built from a modified tree).
+    pub build: Value,
+    /// hostname, OS, CPU, logical cores.
+    pub machine: Value,
+    /// The GPU adapter (name, backend, driver, limits); null when no GPU run started.
+    pub adapter: Option<Value>,
+    /// RFC 3339 UTC.
+    pub started: String,
+    pub finished: Option<String>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RunStatus {
+    Ok,
+    Failed,
+}
+
+/// Median, min and max over the timed repetitions, and the values themselves.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Stat {
+    pub median: f64,
+    pub min: f64,
+    pub max: f64,
+    pub values: Vec<f64>,
+}
+
+impl Stat {
+    pub fn of(values: &[f64]) -> Option<Self> {
+        if values.is_empty() {
+            return None;
+        }
+        let mut v = values.to_vec();
+        v.sort_by(f64::total_cmp);
+        let n = v.len();
+        let median = if n % 2 == 1 { v[n / 2] } else { 0.5 * (v[n / 2 - 1] + v[n / 2]) };
+        Some(Self { median, min: v[0], max: v[n - 1], values: values.to_vec() })
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PassStat {
+    /// GPU seconds of this label per render (over repetitions).
+    pub seconds: Stat,
+    /// Passes with this label per render.
+    pub passes: u64,
+}
+
+/// Output files of a run, relative to the report's directory.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RunImages {
+    pub exr: String,
+    pub png: String,
+    /// False-colour relative error against the reference (None without a reference).
+    pub error_map: Option<String>,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct RunRecord {
+    pub index: usize,
+    pub id: String,
+    /// Index into `environments`.
+    pub environment: usize,
+    pub scene: String,
+    pub width: u32,
+    pub height: u32,
+    pub spp: u32,
+    pub max_depth: u32,
+    pub seed: u32,
+    pub accel: String,
+    pub method: String,
+    /// The method variant's label (method name plus the knobs that tell variants apart).
+    pub label: String,
+    /// The knobs in force.
+    pub options: Value,
+    pub status: RunStatus,
+    /// Why the run failed (status `failed`).
+    pub error: Option<String>,
+    pub warmup: u32,
+    pub repetitions: u32,
+    /// Host time per render (GPU methods: scene upload and pipeline creation included).
+    pub wall_seconds: Option<Stat>,
+    /// Sum of GPU pass times per render (GPU methods).
+    pub gpu_seconds: Option<Stat>,
+    /// `timestamps` or `wall-clock` (GPU methods).
+    pub time_source: Option<String>,
+    /// The time samples/s, rays/s and efficiency use: median GPU time where measured, else
+    /// median wall time.
+    pub seconds: Option<f64>,
+    pub passes: BTreeMap<String, PassStat>,
+    /// Seconds per bounce of per-bounce passes, from the repetition with the median GPU time.
+    pub passes_per_bounce: BTreeMap<String, Vec<f64>>,
+    /// Paths per queue per bounce (wavefront with compaction).
+    pub queue_histogram: Option<QueueHistogram>,
+    pub dispatches: Option<u64>,
+    pub samples: u64,
+    pub samples_per_second: Option<f64>,
+    pub rays: Option<u64>,
+    pub rays_per_second: Option<f64>,
+    /// NaN/Inf samples dropped.
+    pub invalid_samples: Option<u64>,
+    pub image_mean: Option<f64>,
+    /// Every repetition gave a bit-identical image (the counter-based RNG makes this expected).
+    pub repeatable: Option<bool>,
+    pub bytes_per_path: Option<u64>,
+    pub pool_size: Option<u32>,
+    pub indirect_validation: Option<bool>,
+    /// SIMD efficiency per pass or point, from a separate instrumented render (`instrument`).
+    pub simd: Option<BTreeMap<String, SimdEfficiency>>,
+    /// Key of the reference in `references`.
+    pub reference: Option<String>,
+    pub error_metrics: Option<ErrorMetrics>,
+    /// 1 / (relMSE · seconds), pbr-book's efficiency of a Monte Carlo estimator.
+    pub efficiency: Option<f64>,
+    pub images: Option<RunImages>,
+}
+
+/// A reference image the runs were measured against.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ReferenceRecord {
+    /// `scene-WxH-…-hash`: unique per scene, size and how it was made.
+    pub key: String,
+    pub scene: String,
+    pub width: u32,
+    pub height: u32,
+    /// `render` or `exr`.
+    pub kind: String,
+    pub method: Option<String>,
+    pub spp: Option<u32>,
+    pub max_depth: Option<u32>,
+    pub seed: Option<u32>,
+    /// The EXR: in the cache (rendered) or as configured.
+    pub exr: String,
+    /// Taken from the cache instead of rendered now.
+    pub cached: bool,
+    /// Seconds spent rendering it (0 when cached or read).
+    pub render_seconds: f64,
+    /// The commit that rendered it (from the EXR's `wavetrace.git_commit`), when known.
+    pub git_commit: Option<String>,
+    /// sRGB preview, relative to the report's directory.
+    pub png: Option<String>,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ChartRecord {
+    /// `charts/NAME.svg`, relative to the report's directory.
+    pub file: String,
+    pub title: String,
+    /// `error-vs-time`, `passes`, `queues` or `simd`.
+    pub kind: String,
+    pub scene: String,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl ExperimentReport {
+    /// Writes `DIR/report.json` atomically (temporary file, then rename).
+    pub fn write(&self, dir: &Path) -> Result<()> {
+        let json = serde_json::to_string_pretty(self)?;
+        let path = dir.join(REPORT_FILE);
+        crate::image_io::write_file_atomically(&path, json.as_bytes())
+            .with_context(|| format!("writing {}", path.display()))
+    }
+
+    /// Reads `DIR/report.json`.
+    pub fn read(dir: &Path) -> Result<Self> {
+        let path = dir.join(REPORT_FILE);
+        let text = std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
+        let value: Value = serde_json::from_str(&text).with_context(|| format!("{}: malformed JSON", path.display()))?;
+        match value.get("schema").and_then(Value::as_str) {
+            Some(REPORT_SCHEMA) => {}
+            Some(other) => bail!("{}: schema {other:?}; this build reads {REPORT_SCHEMA:?}", path.display()),
+            None => bail!("{}: not an experiment report (no \"schema\" field)", path.display()),
+        }
+        serde_json::from_value(value).with_context(|| format!("{}: not a valid experiment report", path.display()))
+    }
+}
+
+/// Now, as RFC 3339 UTC to the second.
+pub fn now_rfc3339() -> String {
+    let secs = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs());
+    rfc3339(secs)
+}
+
+/// Unix seconds as RFC 3339 UTC (Howard Hinnant's civil-from-days).
+pub fn rfc3339(unix: u64) -> String {
+    let days = (unix / 86_400) as i64;
+    let rem = unix % 86_400;
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!("{y:04}-{m:02}-{d:02}T{:02}:{:02}:{:02}Z", rem / 3600, rem % 3600 / 60, rem % 60)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rfc3339_matches_known_dates() {
+        assert_eq!(rfc3339(0), "1970-01-01T00:00:00Z");
+        assert_eq!(rfc3339(951_782_400), "2000-02-29T00:00:00Z");
+        assert_eq!(rfc3339(1_795_358_261), "2026-11-22T14:37:41Z");
+    }
+
+    #[test]
+    fn median_of_even_and_odd_counts() {
+        assert_eq!(Stat::of(&[3.0, 1.0, 2.0]).unwrap().median, 2.0);
+        let s = Stat::of(&[4.0, 1.0, 2.0, 3.0]).unwrap();
+        assert_eq!((s.median, s.min, s.max), (2.5, 1.0, 4.0));
+        assert_eq!(s.values, vec![4.0, 1.0, 2.0, 3.0]);
+        assert!(Stat::of(&[]).is_none());
+    }
+}

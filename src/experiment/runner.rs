@@ -1,0 +1,296 @@
+//! Runs an experiment: every planned run (or a shard's share) in turn, each as warm-up renders,
+//! timed repetitions and an optional instrumented render, then its image, error against the
+//! reference and record. `report.json` is rewritten atomically after every run; a run that fails
+//! is recorded with its error and the others go on.
+
+use std::collections::BTreeMap;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::{Path, PathBuf};
+
+use anyhow::{anyhow, Context, Result};
+
+use super::config::ExperimentConfig;
+use super::error_map;
+use super::gpu_slot::GpuSlot;
+use super::outputs;
+use super::plan::{self, RunSpec, Shard};
+use super::reference::References;
+use super::report::{
+    now_rfc3339, Environment, ExperimentReport, PassStat, ReportStatus, RunImages, RunRecord, RunStatus, Stat,
+};
+use crate::image_io::{self, RgbImage};
+use crate::method::{self, MethodOptions};
+use crate::metrics::{self, CompareOptions};
+use crate::progress::Progress;
+use crate::report::{Build, Machine, RunReport};
+
+pub struct RunnerOptions {
+    pub out_dir: PathBuf,
+    pub shard: Option<Shard>,
+    /// Where rendered references are cached.
+    pub cache_dir: PathBuf,
+}
+
+/// Runs the config's runs (this shard's share) and writes `report.json`, images, charts and
+/// `report.html` under `opts.out_dir`. Errors only for what stops the whole experiment (the
+/// output directory cannot be written); failed runs are in the report.
+pub fn run(config: &ExperimentConfig, opts: &RunnerOptions) -> Result<ExperimentReport> {
+    let out = &opts.out_dir;
+    for sub in ["images", "references"] {
+        std::fs::create_dir_all(out.join(sub)).with_context(|| format!("creating {}", out.join(sub).display()))?;
+    }
+    let planned = plan::plan(config);
+    let runs: Vec<&RunSpec> = planned.iter().filter(|r| opts.shard.is_none_or(|s| s.takes(r))).collect();
+    let mut report = ExperimentReport {
+        schema: super::report::REPORT_SCHEMA.into(),
+        status: ReportStatus::Running,
+        name: config.name.clone(),
+        question: config.question.clone(),
+        config_file: config.file.display().to_string(),
+        config: config.raw.clone(),
+        environments: vec![Environment {
+            shard: opts.shard,
+            build: serde_json::to_value(Build::this())?,
+            machine: serde_json::to_value(Machine::this())?,
+            adapter: None,
+            started: now_rfc3339(),
+            finished: None,
+        }],
+        runs_planned: planned.len(),
+        runs_selected: runs.len(),
+        missing_runs: Vec::new(),
+        runs: Vec::new(),
+        references: Vec::new(),
+        charts: Vec::new(),
+    };
+    report.write(out)?;
+
+    let mut gpu = GpuSlot::new(config.adapter.clone());
+    let mut references = References::new(opts.cache_dir.clone());
+    let progress = Progress::new(runs.len() as u64, &config.name);
+    for (n, spec) in runs.iter().enumerate() {
+        let what = format!("[{}/{}] {}", n + 1, runs.len(), spec.id);
+        progress.set_message(&what);
+        progress.println(&what);
+        let record = execute(config, spec, &mut gpu, &mut references, out);
+        progress.println(&summary_line(&record));
+        report.runs.push(record);
+        report.references = references.records();
+        report.environments[0].adapter = gpu.adapter.as_ref().map(serde_json::to_value).transpose()?;
+        report.write(out)?;
+        progress.set(n as u64 + 1);
+    }
+    progress.finish();
+    report.status = ReportStatus::Complete;
+    report.environments[0].finished = Some(now_rfc3339());
+    outputs::draw(&mut report, out)?;
+    report.write(out)?;
+    Ok(report)
+}
+
+fn summary_line(r: &RunRecord) -> String {
+    match r.status {
+        RunStatus::Failed => format!("  FAILED: {}", r.error.as_deref().unwrap_or("?")),
+        RunStatus::Ok => {
+            let t = r.seconds.map_or("?".into(), |s| format!("{s:.4} s"));
+            let src = if r.gpu_seconds.is_some() { " GPU" } else { " wall" };
+            let err = r.error_metrics.as_ref().map_or(String::new(), |m| format!(", relMSE {:.3e}", m.relmse));
+            format!("  ok: {t}{src}{err}")
+        }
+    }
+}
+
+/// One run, never panicking: failures (and panics) become a failed record.
+fn execute(
+    config: &ExperimentConfig,
+    spec: &RunSpec,
+    gpu: &mut GpuSlot,
+    refs: &mut References,
+    out: &Path,
+) -> RunRecord {
+    let mut record = planned_record(config, spec);
+    let result = catch_unwind(AssertUnwindSafe(|| measure(config, spec, gpu, refs, out, &mut record)));
+    let error = match result {
+        Ok(Ok(())) => return record,
+        Ok(Err(e)) => format!("{e:#}"),
+        Err(panic) => {
+            let msg = panic
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_default();
+            format!("internal error (panic): {msg}")
+        }
+    };
+    log::warn!("run {} failed: {error}", spec.id);
+    if record.method == "megakernel" || record.method == "wavefront" {
+        gpu.reset();
+    }
+    // Keep what is known about the run, drop half-filled measurements.
+    let mut failed = planned_record(config, spec);
+    failed.status = RunStatus::Failed;
+    failed.error = Some(error);
+    failed
+}
+
+fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
+    let v = &config.methods[spec.variant];
+    let s = &spec.settings;
+    RunRecord {
+        index: spec.index,
+        id: spec.id.clone(),
+        environment: 0,
+        scene: config.scenes[spec.scene].scene.name.clone(),
+        width: s.width,
+        height: s.height,
+        spp: s.spp,
+        max_depth: s.max_depth,
+        seed: s.seed,
+        accel: serde_json::to_value(s.accel).ok().and_then(|a| a.as_str().map(str::to_owned)).unwrap_or_default(),
+        method: v.method.name().into(),
+        label: v.label.clone(),
+        options: method_options_json(v.method, &v.options),
+        status: RunStatus::Ok,
+        error: None,
+        warmup: config.warmup,
+        repetitions: config.repetitions,
+        wall_seconds: None,
+        gpu_seconds: None,
+        time_source: None,
+        seconds: None,
+        passes: BTreeMap::new(),
+        passes_per_bounce: BTreeMap::new(),
+        queue_histogram: None,
+        dispatches: None,
+        samples: s.sample_count(),
+        samples_per_second: None,
+        rays: None,
+        rays_per_second: None,
+        invalid_samples: None,
+        image_mean: None,
+        repeatable: None,
+        bytes_per_path: None,
+        pool_size: None,
+        indirect_validation: None,
+        simd: None,
+        reference: None,
+        error_metrics: None,
+        efficiency: None,
+        images: None,
+    }
+}
+
+/// The knobs that apply to `method`, as the config spells them.
+fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json::Value {
+    use method::Method::*;
+    match method {
+        Cpu | CpuF64 => serde_json::json!({}),
+        Megakernel => serde_json::json!({
+            "workgroup_size": o.megakernel.workgroup_size,
+            "samples_per_dispatch": o.megakernel.samples_per_dispatch,
+        }),
+        Wavefront => serde_json::json!({
+            "workgroup_size": o.wavefront.workgroup_size,
+            "pool_size": o.wavefront.pool_size,
+            "compaction": o.wavefront.compaction,
+            "shade": o.wavefront.shade,
+        }),
+    }
+}
+
+fn measure(
+    config: &ExperimentConfig,
+    spec: &RunSpec,
+    gpu: &mut GpuSlot,
+    refs: &mut References,
+    out: &Path,
+    rec: &mut RunRecord,
+) -> Result<()> {
+    let scene = &config.scenes[spec.scene].scene;
+    let variant = &config.methods[spec.variant];
+    let settings = &spec.settings;
+    let reference = refs.get(config, scene, settings.width, settings.height, gpu, out)?;
+    let reference = reference.map(|r| (r.image.clone(), r.record.key.clone()));
+
+    let ctx = if variant.method.needs_gpu() { Some(gpu.get()?) } else { None };
+    let adapter = ctx.map(|c| &c.summary);
+    let render = |options: &MethodOptions| method::render(variant.method, scene, settings, options, ctx, &|_| {});
+
+    for _ in 0..config.warmup {
+        render(&variant.options)?;
+    }
+    let mut reports: Vec<RunReport> = Vec::new();
+    let mut image: Option<Vec<f32>> = None;
+    let mut repeatable = true;
+    for _ in 0..config.repetitions {
+        let o = render(&variant.options)?;
+        let rgb = o.film.mean_rgb();
+        match &image {
+            None => image = Some(rgb),
+            Some(first) => repeatable &= first.iter().map(|v| v.to_bits()).eq(rgb.iter().map(|v| v.to_bits())),
+        }
+        reports.push(RunReport::new(scene, variant.method, settings, &variant.options, adapter, &o));
+    }
+    let image = RgbImage { width: settings.width, height: settings.height, data: image.expect("repetitions >= 1") };
+
+    // Times: median over repetitions; per-bounce detail from the repetition with the median time.
+    let wall: Vec<f64> = reports.iter().map(|r| r.wall_seconds).collect();
+    let gpu_times: Vec<f64> = reports.iter().filter_map(|r| r.gpu_seconds).collect();
+    rec.wall_seconds = Stat::of(&wall);
+    rec.gpu_seconds = Stat::of(&gpu_times);
+    let seconds = rec.gpu_seconds.as_ref().filter(|g| g.median > 0.0).map_or(rec.wall_seconds.as_ref().map(|w| w.median), |g| Some(g.median));
+    rec.seconds = seconds;
+    let median_rep = {
+        let key = |r: &RunReport| r.gpu_seconds.unwrap_or(r.wall_seconds);
+        let mut order: Vec<usize> = (0..reports.len()).collect();
+        order.sort_by(|&a, &b| key(&reports[a]).total_cmp(&key(&reports[b])));
+        &reports[order[order.len() / 2]]
+    };
+    let labels: std::collections::BTreeSet<&str> = reports.iter().flat_map(|r| r.passes.keys().copied()).collect();
+    for label in labels {
+        let times: Vec<f64> = reports.iter().map(|r| r.passes.get(label).map_or(0.0, |p| p.seconds)).collect();
+        let passes = median_rep.passes.get(label).map_or(0, |p| p.passes);
+        rec.passes.insert(label.to_string(), PassStat { seconds: Stat::of(&times).expect("non-empty"), passes });
+    }
+    rec.passes_per_bounce = median_rep.passes_per_bounce.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
+    rec.time_source = median_rep.time_source.and_then(|t| serde_json::to_value(t).ok()?.as_str().map(str::to_owned));
+    rec.queue_histogram = median_rep.queue_histogram.clone();
+    rec.dispatches = Some(median_rep.dispatches);
+    rec.rays = Some(median_rep.rays);
+    if let Some(s) = seconds.filter(|&s| s > 0.0) {
+        rec.samples_per_second = Some(rec.samples as f64 / s);
+        rec.rays_per_second = Some(median_rep.rays as f64 / s);
+    }
+    rec.invalid_samples = Some(median_rep.invalid_samples);
+    rec.image_mean = Some(median_rep.image_mean);
+    rec.repeatable = Some(repeatable);
+    rec.bytes_per_path = median_rep.bytes_per_path;
+    rec.pool_size = median_rep.pool_size;
+    rec.indirect_validation = median_rep.indirect_validation;
+
+    // SIMD efficiency comes from a separate render: the counters' atomics would skew the times.
+    if config.instrument && ctx.is_some_and(|c| c.summary.subgroups) {
+        let options = MethodOptions { instrument: true, ..variant.options.clone() };
+        rec.simd = render(&options)?.simd;
+    }
+
+    // Images and error.
+    let exr = format!("images/{}.exr", spec.id);
+    let png = format!("images/{}.png", spec.id);
+    image_io::write_exr(out.join(&exr), &image, &median_rep.exr_attributes())?;
+    image_io::write_png(out.join(&png), &image)?;
+    let mut error_map = None;
+    if let Some((ref_image, key)) = reference {
+        let opts = CompareOptions { trim: config.metrics.trim, flip: config.metrics.flip };
+        let m = metrics::compare(&image, &ref_image, &opts).map_err(|e| anyhow!("error metrics: {e}"))?;
+        rec.efficiency = seconds.filter(|&s| s > 0.0 && m.relmse > 0.0).map(|s| 1.0 / (m.relmse * s));
+        rec.error_metrics = Some(m);
+        rec.reference = Some(key);
+        let map = format!("images/{}-error.png", spec.id);
+        let rgb = error_map::relative_error_map(&image, &ref_image);
+        image_io::write_png_rgb8(out.join(&map), image.width, image.height, &rgb)?;
+        error_map = Some(map);
+    }
+    rec.images = Some(RunImages { exr, png, error_map });
+    Ok(())
+}
