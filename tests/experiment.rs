@@ -1,0 +1,404 @@
+//! Experiments end to end: configs are validated whole with clear errors; reports match the
+//! documented JSON Schema; failed runs are recorded while others go on; a killed experiment
+//! leaves its last complete report; shards merge into the report an unsharded run gives.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use serde_json::Value;
+use wavetrace::experiment::merge::merge;
+use wavetrace::experiment::plan::{plan, Shard};
+use wavetrace::experiment::report::{ExperimentReport, ReportStatus, RunStatus};
+use wavetrace::experiment::runner::{self, RunnerOptions};
+use wavetrace::experiment::ExperimentConfig;
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("experiment").join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn wavetrace(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_wavetrace")).args(args).output().expect("run wavetrace")
+}
+
+/// Writes `config` into `dir/name.json` and returns its path.
+fn write_config(dir: &Path, name: &str, config: &Value) -> PathBuf {
+    let path = dir.join(format!("{name}.json"));
+    std::fs::write(&path, serde_json::to_string_pretty(config).unwrap()).unwrap();
+    path
+}
+
+/// Checks `report.json` in `dir` against experiments/report.schema.json.
+fn assert_valid(dir: &Path) -> Value {
+    let schema_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/report.schema.json");
+    let schema: Value = serde_json::from_str(&std::fs::read_to_string(schema_path).unwrap()).unwrap();
+    let report: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    let validator = jsonschema::draft202012::new(&schema).expect("the schema is valid JSON Schema");
+    let errors: Vec<String> = validator.iter_errors(&report).map(|e| format!("{} at {}", e, e.instance_path())).collect();
+    assert!(errors.is_empty(), "report.json in {} breaks the schema:\n{}", dir.display(), errors.join("\n"));
+    report
+}
+
+fn small_config(methods: Value) -> Value {
+    serde_json::json!({
+        "schema": "wavetrace-experiment/1",
+        "question": "test",
+        "scenes": ["three-spheres"],
+        "resolutions": ["40x24"],
+        "spp": [2, 8],
+        "max_depth": [8],
+        "repetitions": 2,
+        "warmup": 1,
+        "methods": methods,
+        "reference": {"method": "cpu-f64", "spp": 64}
+    })
+}
+
+#[test]
+fn full_report_matches_the_schema_and_holds_every_output() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let dir = scratch("full");
+    let mut config = small_config(serde_json::json!([
+        {"method": "cpu"},
+        {"method": "megakernel"},
+        {"method": "wavefront", "compaction": ["atomic", "scan"]}
+    ]));
+    config["instrument"] = Value::Bool(true);
+    let path = write_config(&dir, "full", &config);
+    let out = dir.join("out");
+    let cache = dir.join("cache");
+    let o = wavetrace(&["experiment", "run", path.to_str().unwrap(), "--out", out.to_str().unwrap(), "--cache", cache.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json = assert_valid(&out);
+    assert_eq!(json["status"], "complete");
+    let report = ExperimentReport::read(&out).unwrap();
+    assert_eq!(report.runs.len(), 8);
+    assert_eq!(report.runs_planned, 8);
+
+    let cpu: Vec<_> = report.runs.iter().filter(|r| r.method == "cpu").collect();
+    for r in &report.runs {
+        assert_eq!(r.status, RunStatus::Ok, "{}: {:?}", r.id, r.error);
+        assert_eq!(r.repeatable, Some(true), "{}: repetitions of one seed give one image", r.id);
+        let images = r.images.as_ref().unwrap();
+        for f in [&images.exr, &images.png, images.error_map.as_ref().unwrap()] {
+            assert!(out.join(f).is_file(), "{} is missing", f);
+        }
+        let (img, _) = wavetrace::image_io::read_exr(out.join(&images.exr)).unwrap();
+        assert_eq!((img.width, img.height), (40, 24));
+        let m = r.error_metrics.as_ref().unwrap();
+        let t = r.seconds.unwrap();
+        assert!((r.efficiency.unwrap() - 1.0 / (m.relmse * t)).abs() <= 1e-9 * r.efficiency.unwrap());
+        assert_eq!(r.wall_seconds.as_ref().unwrap().values.len(), 2);
+        // Same paths on every method: errors against the reference agree with the CPU's.
+        let twin = cpu.iter().find(|c| c.spp == r.spp).unwrap();
+        let m0 = twin.error_metrics.as_ref().unwrap();
+        assert!((m.relmse - m0.relmse).abs() <= 0.01 * m0.relmse, "{}: relMSE {} vs cpu {}", r.id, m.relmse, m0.relmse);
+        assert_eq!(r.rays.is_some(), true);
+        if r.method == "wavefront" {
+            assert!(r.queue_histogram.is_some() && r.passes.contains_key("intersect"));
+        }
+        if r.method != "cpu" {
+            assert!(r.gpu_seconds.is_some() && !r.passes.is_empty());
+            let subgroups = common::gpu().unwrap().summary.subgroups;
+            assert_eq!(r.simd.is_some(), subgroups, "{}: SIMD efficiency where subgroups exist", r.id);
+        }
+    }
+    // Error falls with spp.
+    let by_spp = |spp: u32| cpu.iter().find(|c| c.spp == spp).unwrap().error_metrics.as_ref().unwrap().relmse;
+    assert!(by_spp(8) < by_spp(2));
+
+    // One reference, rendered once, with a different seed from the runs.
+    assert_eq!(report.references.len(), 1);
+    let reference = &report.references[0];
+    assert!(!reference.cached && reference.seed != Some(0));
+    assert!(out.join(reference.png.as_ref().unwrap()).is_file());
+
+    // Charts and the page.
+    let kinds: Vec<&str> = report.charts.iter().map(|c| c.kind.as_str()).collect();
+    for k in ["error-vs-time", "passes", "queues"] {
+        assert!(kinds.contains(&k), "no {k} chart in {kinds:?}");
+    }
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.starts_with("<!DOCTYPE html>") && html.trim_end().ends_with("</html>"));
+    assert_eq!(html.matches("<svg").count(), report.charts.len(), "every chart inline");
+    assert!(html.matches("data:image/png;base64,").count() >= 3 * report.runs.len(), "run, reference and error map for each run");
+    for r in &report.runs {
+        assert!(html.contains(&r.id));
+    }
+    for c in &report.charts {
+        let svg = std::fs::read_to_string(out.join(&c.file)).unwrap();
+        assert!(svg.contains("<svg") && !svg.contains("NaN"));
+    }
+
+    // A rerun takes the reference from the cache and measures the same errors.
+    let again = dir.join("again");
+    let o = wavetrace(&["experiment", "run", path.to_str().unwrap(), "--out", again.to_str().unwrap(), "--cache", cache.to_str().unwrap()]);
+    assert!(o.status.success());
+    let second = ExperimentReport::read(&again).unwrap();
+    assert!(second.references[0].cached);
+    for (a, b) in report.runs.iter().zip(&second.runs) {
+        assert_eq!(a.error_metrics, b.error_metrics, "{}", a.id);
+    }
+
+    // `experiment report` re-draws the page from report.json alone.
+    std::fs::remove_file(out.join("report.html")).unwrap();
+    let o = wavetrace(&["experiment", "report", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(out.join("report.html").is_file());
+    assert_valid(&out);
+}
+
+#[test]
+fn a_failed_run_is_recorded_and_the_others_go_on() {
+    let dir = scratch("failed");
+    let mut config = small_config(serde_json::json!([{"method": "cpu"}, {"method": "megakernel"}]));
+    // No adapter has this name, so every GPU run fails, on any machine.
+    config["adapter"] = Value::String("no-such-adapter-anywhere".into());
+    let path = write_config(&dir, "failed", &config);
+    let out = dir.join("out");
+    let o = wavetrace(&["experiment", "run", path.to_str().unwrap(), "--out", out.to_str().unwrap(), "--cache", dir.join("cache").to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "failed runs make the exit status fail");
+    assert!(stderr.contains("2 of 4 runs failed") && !stderr.contains("panicked"), "{stderr}");
+    assert_valid(&out);
+    let report = ExperimentReport::read(&out).unwrap();
+    assert_eq!(report.status, ReportStatus::Complete);
+    for r in &report.runs {
+        if r.method == "megakernel" {
+            assert_eq!(r.status, RunStatus::Failed);
+            assert!(r.error.as_ref().unwrap().contains("no-such-adapter-anywhere"), "{:?}", r.error);
+            assert!(r.images.is_none() && r.seconds.is_none());
+        } else {
+            assert_eq!(r.status, RunStatus::Ok, "{:?}", r.error);
+        }
+    }
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.contains("FAILED"));
+}
+
+/// Reads `dir/report.json` if it exists; it must always be complete JSON.
+fn read_if_any(dir: &Path) -> Option<Value> {
+    let text = std::fs::read_to_string(dir.join("report.json")).ok()?;
+    Some(serde_json::from_str(&text).unwrap_or_else(|e| panic!("truncated or corrupt report.json: {e}\n{text}")))
+}
+
+#[test]
+fn a_killed_experiment_leaves_its_last_complete_report() {
+    let dir = scratch("killed");
+    let config = serde_json::json!({
+        "schema": "wavetrace-experiment/1",
+        "question": "test",
+        "scenes": ["three-spheres", "rtiow-final"],
+        "resolutions": ["64x36", "48x27"],
+        "spp": [1, 2, 3, 4, 5, 6, 7, 8],
+        "repetitions": 3,
+        "warmup": 0,
+        "methods": [{"method": "cpu"}, {"method": "cpu-f64"}]
+    });
+    let path = write_config(&dir, "killed", &config);
+    // Kill at several moments; whatever instant the kill lands, report.json is whole.
+    for (attempt, runs_before_kill) in [1usize, 3, 6].into_iter().enumerate() {
+        let out = dir.join(format!("out{attempt}"));
+        let mut child = Command::new(env!("CARGO_BIN_EXE_wavetrace"))
+            .args(["experiment", "run", path.to_str().unwrap(), "--out", out.to_str().unwrap()])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let start = Instant::now();
+        let seen = loop {
+            if let Some(r) = read_if_any(&out) {
+                let n = r["runs"].as_array().unwrap().len();
+                if n >= runs_before_kill {
+                    break n;
+                }
+            }
+            assert!(start.elapsed() < Duration::from_secs(120), "the experiment made no progress");
+            std::thread::sleep(Duration::from_millis(5));
+        };
+        child.kill().unwrap();
+        child.wait().unwrap();
+        let report = assert_valid(&out);
+        assert_eq!(report["status"], "running", "a killed experiment never claims to be complete");
+        let runs = report["runs"].as_array().unwrap();
+        assert!(runs.len() >= seen && runs.len() < 64, "{} runs after seeing {seen}", runs.len());
+        for r in runs {
+            assert_eq!(r["status"], "ok");
+            assert!(out.join(r["images"]["exr"].as_str().unwrap()).is_file(), "a recorded run's image exists");
+        }
+        // The partial report can still be drawn.
+        let o = wavetrace(&["experiment", "report", out.to_str().unwrap()]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+}
+
+/// What must not differ between an unsharded run and merged shards: everything but timings,
+/// provenance and where the reference came from.
+fn comparable(report: &ExperimentReport) -> Value {
+    let mut v = serde_json::to_value(report).unwrap();
+    v["environments"] = Value::Null;
+    for r in v["runs"].as_array_mut().unwrap() {
+        let o = r.as_object_mut().unwrap();
+        for k in [
+            "environment",
+            "wall_seconds",
+            "gpu_seconds",
+            "seconds",
+            "passes",
+            "passes_per_bounce",
+            "samples_per_second",
+            "rays_per_second",
+            "efficiency",
+        ] {
+            o.remove(k);
+        }
+    }
+    for r in v["references"].as_array_mut().unwrap() {
+        let o = r.as_object_mut().unwrap();
+        for k in ["cached", "render_seconds"] {
+            o.remove(k);
+        }
+    }
+    v
+}
+
+#[test]
+fn shards_merge_into_the_report_of_an_unsharded_run() {
+    let dir = scratch("shards");
+    let methods = if common::gpu().is_some() {
+        serde_json::json!([{"method": "cpu"}, {"method": "megakernel"}, {"method": "wavefront"}])
+    } else {
+        serde_json::json!([{"method": "cpu"}, {"method": "cpu-f64"}])
+    };
+    let path = write_config(&dir, "sweep", &small_config(methods));
+    let config = ExperimentConfig::from_file(&path).unwrap();
+    let cache = dir.join("cache");
+    let run = |out: &str, shard: Option<Shard>| {
+        let opts = RunnerOptions { out_dir: dir.join(out), shard, cache_dir: cache.clone() };
+        runner::run(&config, &opts).unwrap()
+    };
+    let whole = run("whole", None);
+    let shards: Vec<PathBuf> = (0..4)
+        .map(|i| {
+            let r = run(&format!("shard{i}"), Some(Shard { index: i, count: 4 }));
+            assert_eq!(r.runs_selected, plan(&config).iter().filter(|p| p.index % 4 == i as usize).count());
+            dir.join(format!("shard{i}"))
+        })
+        .collect();
+    let merged = merge(&shards, &dir.join("merged")).unwrap();
+    assert_valid(&dir.join("merged"));
+    assert_eq!(merged.status, ReportStatus::Complete);
+    assert_eq!(merged.environments.len(), 4);
+    assert_eq!(comparable(&merged), comparable(&whole));
+    for r in &merged.runs {
+        let images = r.images.as_ref().unwrap();
+        assert!(dir.join("merged").join(&images.exr).is_file());
+        assert_eq!(merged.environments[r.environment].shard.unwrap().index as usize, r.index % 4);
+    }
+
+    // A missing shard: the merge says which runs are missing.
+    let partial = merge(&shards[..3], &dir.join("partial")).unwrap();
+    assert_eq!(partial.status, ReportStatus::Incomplete);
+    let expected: Vec<usize> = (0..whole.runs.len()).filter(|i| i % 4 == 3).collect();
+    assert_eq!(partial.missing_runs, expected);
+    // The same shard twice, or shards of different configs, are refused.
+    let twice = merge(&[shards[0].clone(), shards[0].clone()], &dir.join("twice")).unwrap_err();
+    assert!(format!("{twice:#}").contains("is in both"), "{twice:#}");
+    let other_path = write_config(&dir, "other", &small_config(serde_json::json!([{"method": "cpu"}])));
+    let other = ExperimentConfig::from_file(&other_path).unwrap();
+    runner::run(&other, &RunnerOptions { out_dir: dir.join("other"), shard: None, cache_dir: cache.clone() }).unwrap();
+    let mixed = merge(&[shards[0].clone(), dir.join("other")], &dir.join("mixed")).unwrap_err();
+    assert!(format!("{mixed:#}").contains("different configs"), "{mixed:#}");
+}
+
+/// Each bad config gives an error naming the file, the JSON path and the reason.
+#[test]
+fn bad_configs_name_the_file_the_field_and_the_reason() {
+    let dir = scratch("bad");
+    let good = small_config(serde_json::json!([{"method": "cpu"}, {"method": "wavefront"}]));
+    let path = write_config(&dir, "good", &good);
+    ExperimentConfig::from_file(&path).expect("the base config is valid");
+
+    let cases: Vec<(&str, Box<dyn Fn(&mut Value)>, &str, &str)> = vec![
+        ("no-schema", Box::new(|c| drop(c.as_object_mut().unwrap().remove("schema"))), "", "missing required field \"schema\""),
+        ("new-schema", Box::new(|c| c["schema"] = "wavetrace-experiment/9".into()), "schema", "unsupported schema"),
+        ("typo", Box::new(|c| c["repetitons"] = 3.into()), "repetitons", "did you mean \"repetitions\""),
+        ("no-question", Box::new(|c| c["question"] = " ".into()), "question", "what question"),
+        ("spp-zero", Box::new(|c| c["spp"] = serde_json::json!([4, 0])), "spp[1]", "must be in 1..="),
+        ("spp-repeat", Box::new(|c| c["spp"] = serde_json::json!([4, 4])), "spp[1]", "repeats"),
+        ("resolution", Box::new(|c| c["resolutions"] = serde_json::json!(["100by50"])), "resolutions[0]", "WIDTHxHEIGHT"),
+        ("empty-methods", Box::new(|c| c["methods"] = serde_json::json!([])), "methods", "at least one"),
+        ("bad-method", Box::new(|c| c["methods"][0]["method"] = "wavefrnt".into()), "methods[0].method", "did you mean \"wavefront\""),
+        ("cpu-knob", Box::new(|c| c["methods"][0]["compaction"] = "scan".into()), "methods[0].compaction", "cpu has no knob"),
+        ("bad-knob", Box::new(|c| c["methods"][1]["compaction"] = "sort".into()), "methods[1].compaction", "\"atomic\", \"scan\" or \"off\""),
+        ("same-label", Box::new(|c| c["methods"][1] = serde_json::json!({"method": "cpu"})), "methods[1]", "used twice"),
+        ("same-seed", Box::new(|c| c["reference"]["seed"] = 0.into()), "reference.seed", "hide their error"),
+        ("no-scene", Box::new(|c| c["scenes"] = serde_json::json!(["three-sphere"])), "scenes[0]", "did you mean \"three-spheres\""),
+        ("no-exr", Box::new(|c| c["reference"] = serde_json::json!({"exr": "refs/{scene}.exr"})), "reference.exr", "three-spheres"),
+        ("trim", Box::new(|c| c["metrics"] = serde_json::json!({"trim": 1.5})), "metrics.trim", "[0, 1)"),
+        ("warmup", Box::new(|c| c["warmup"] = (-1).into()), "warmup", "whole number"),
+    ];
+    for (name, edit, field, reason) in cases {
+        let mut c = good.clone();
+        edit(&mut c);
+        let path = write_config(&dir, name, &c);
+        let e = ExperimentConfig::from_file(&path).expect_err(name);
+        assert_eq!(e.file, path.display().to_string(), "{name}");
+        assert_eq!(e.path, field, "{name}: {e}");
+        assert!(e.reason.contains(reason), "{name}: {e}");
+    }
+    let dup = dir.join("dup.json");
+    std::fs::write(&dup, r#"{"schema": "wavetrace-experiment/1", "spp": [1], "spp": [2]}"#).unwrap();
+    let e = ExperimentConfig::from_file(&dup).unwrap_err();
+    assert!(e.path == "spp" && e.reason.contains("only once"), "{e}");
+
+    // Through the CLI: a clear message, no panic, nothing written.
+    let bad = dir.join("spp-zero.json");
+    let out = dir.join("never");
+    let o = wavetrace(&["experiment", "run", bad.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && stderr.contains("spp-zero.json: spp[1]: must be in"), "{stderr}");
+    assert!(!out.exists(), "a bad config renders nothing and writes nothing");
+}
+
+#[test]
+fn every_shipped_config_is_valid_and_says_what_it_asks() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
+    let mut names = Vec::new();
+    for entry in std::fs::read_dir(&dir).unwrap().flatten() {
+        let path = entry.path();
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        if path.extension().is_none_or(|e| e != "json") || name == "report.schema.json" {
+            continue;
+        }
+        let config = ExperimentConfig::from_file(&path).unwrap_or_else(|e| panic!("{e}"));
+        assert!(config.question.len() > 20, "{name}: say what question it answers");
+        assert!(!plan(&config).is_empty());
+        names.push(name);
+    }
+    names.sort();
+    assert_eq!(
+        names,
+        ["cpu_vs_gpu.json", "megakernel_vs_wavefront.json", "quick.json", "speed_vs_accuracy.json", "workgroup_size.json"]
+    );
+    let o = wavetrace(&["experiment", "run", dir.join("quick.json").to_str().unwrap(), "--list", "--shard", "1/4"]);
+    assert!(o.status.success());
+    let listed = String::from_utf8_lossy(&o.stdout);
+    let config = ExperimentConfig::from_file(&dir.join("quick.json")).unwrap();
+    assert_eq!(listed.lines().count(), plan(&config).iter().filter(|r| r.index % 4 == 1).count());
+}
+
+#[test]
+fn shard_arguments_are_checked() {
+    assert_eq!("2/5".parse::<Shard>(), Ok(Shard { index: 2, count: 5 }));
+    assert!("5/5".parse::<Shard>().unwrap_err().contains("0 <= I < N"));
+    assert!("1/0".parse::<Shard>().is_err());
+    assert!("x".parse::<Shard>().unwrap_err().contains("I/N"));
+}
