@@ -1,11 +1,9 @@
 #!/usr/bin/env bash
-# The main job: render Ray Tracing in One Weekend's final scene on the best adapter to
-# out/final.exr, out/final.png and out/final.json. Arguments are passed on to `wavetrace render`
-# (e.g. --spp 64 --width 1200 --height 675).
+# The main job: runs experiments/quick.json (CPU reference, megakernel and wavefront on small
+# scenes, error against a cpu-f64 reference) on the best adapter. The report lands in
+# out/quick/: report.html (open it in a browser), report.json, charts/, images/.
+# Arguments are passed on to `wavetrace experiment run` (e.g. --out DIR, --shard I/N).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/setup.sh
-mkdir -p out
-target/release/wavetrace render --scene rtiow-final --method megakernel \
-  --width 600 --height 338 --spp 16 \
-  --out out/final.exr --png out/final.png --report out/final.json "$@"
+target/release/wavetrace experiment run experiments/quick.json "$@"

@@ -37,9 +37,11 @@ fn write_config(dir: &Path, name: &str, config: &Value) -> PathBuf {
 fn assert_valid(dir: &Path) -> Value {
     let schema_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/report.schema.json");
     let schema: Value = serde_json::from_str(&std::fs::read_to_string(schema_path).unwrap()).unwrap();
-    let report: Value = serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    let report: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
     let validator = jsonschema::draft202012::new(&schema).expect("the schema is valid JSON Schema");
-    let errors: Vec<String> = validator.iter_errors(&report).map(|e| format!("{} at {}", e, e.instance_path())).collect();
+    let errors: Vec<String> =
+        validator.iter_errors(&report).map(|e| format!("{} at {}", e, e.instance_path())).collect();
     assert!(errors.is_empty(), "report.json in {} breaks the schema:\n{}", dir.display(), errors.join("\n"));
     report
 }
@@ -74,7 +76,15 @@ fn full_report_matches_the_schema_and_holds_every_output() {
     let path = write_config(&dir, "full", &config);
     let out = dir.join("out");
     let cache = dir.join("cache");
-    let o = wavetrace(&["experiment", "run", path.to_str().unwrap(), "--out", out.to_str().unwrap(), "--cache", cache.to_str().unwrap()]);
+    let o = wavetrace(&[
+        "experiment",
+        "run",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--cache",
+        cache.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let json = assert_valid(&out);
     assert_eq!(json["status"], "complete");
@@ -99,8 +109,14 @@ fn full_report_matches_the_schema_and_holds_every_output() {
         // Same paths on every method: errors against the reference agree with the CPU's.
         let twin = cpu.iter().find(|c| c.spp == r.spp).unwrap();
         let m0 = twin.error_metrics.as_ref().unwrap();
-        assert!((m.relmse - m0.relmse).abs() <= 0.01 * m0.relmse, "{}: relMSE {} vs cpu {}", r.id, m.relmse, m0.relmse);
-        assert_eq!(r.rays.is_some(), true);
+        assert!(
+            (m.relmse - m0.relmse).abs() <= 0.01 * m0.relmse,
+            "{}: relMSE {} vs cpu {}",
+            r.id,
+            m.relmse,
+            m0.relmse
+        );
+        assert!(r.rays.unwrap() >= r.samples, "{}: at least one ray per sample", r.id);
         if r.method == "wavefront" {
             assert!(r.queue_histogram.is_some() && r.passes.contains_key("intersect"));
         }
@@ -128,7 +144,10 @@ fn full_report_matches_the_schema_and_holds_every_output() {
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.starts_with("<!DOCTYPE html>") && html.trim_end().ends_with("</html>"));
     assert_eq!(html.matches("<svg").count(), report.charts.len(), "every chart inline");
-    assert!(html.matches("data:image/png;base64,").count() >= 3 * report.runs.len(), "run, reference and error map for each run");
+    assert!(
+        html.matches("data:image/png;base64,").count() >= 3 * report.runs.len(),
+        "run, reference and error map for each run"
+    );
     for r in &report.runs {
         assert!(html.contains(&r.id));
     }
@@ -139,7 +158,15 @@ fn full_report_matches_the_schema_and_holds_every_output() {
 
     // A rerun takes the reference from the cache and measures the same errors.
     let again = dir.join("again");
-    let o = wavetrace(&["experiment", "run", path.to_str().unwrap(), "--out", again.to_str().unwrap(), "--cache", cache.to_str().unwrap()]);
+    let o = wavetrace(&[
+        "experiment",
+        "run",
+        path.to_str().unwrap(),
+        "--out",
+        again.to_str().unwrap(),
+        "--cache",
+        cache.to_str().unwrap(),
+    ]);
     assert!(o.status.success());
     let second = ExperimentReport::read(&again).unwrap();
     assert!(second.references[0].cached);
@@ -163,7 +190,15 @@ fn a_failed_run_is_recorded_and_the_others_go_on() {
     config["adapter"] = Value::String("no-such-adapter-anywhere".into());
     let path = write_config(&dir, "failed", &config);
     let out = dir.join("out");
-    let o = wavetrace(&["experiment", "run", path.to_str().unwrap(), "--out", out.to_str().unwrap(), "--cache", dir.join("cache").to_str().unwrap()]);
+    let o = wavetrace(&[
+        "experiment",
+        "run",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--cache",
+        dir.join("cache").to_str().unwrap(),
+    ]);
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success(), "failed runs make the exit status fail");
     assert!(stderr.contains("2 of 4 runs failed") && !stderr.contains("panicked"), "{stderr}");
@@ -186,7 +221,10 @@ fn a_failed_run_is_recorded_and_the_others_go_on() {
 /// Reads `dir/report.json` if it exists; it must always be complete JSON.
 fn read_if_any(dir: &Path) -> Option<Value> {
     let text = std::fs::read_to_string(dir.join("report.json")).ok()?;
-    Some(serde_json::from_str(&text).unwrap_or_else(|e| panic!("truncated or corrupt report.json: {e}\n{text}")))
+    Some(
+        serde_json::from_str(&text)
+            .unwrap_or_else(|e| panic!("truncated or corrupt report.json: {e}\n{text}")),
+    )
 }
 
 #[test]
@@ -231,7 +269,10 @@ fn a_killed_experiment_leaves_its_last_complete_report() {
         assert!(runs.len() >= seen && runs.len() < 64, "{} runs after seeing {seen}", runs.len());
         for r in runs {
             assert_eq!(r["status"], "ok");
-            assert!(out.join(r["images"]["exr"].as_str().unwrap()).is_file(), "a recorded run's image exists");
+            assert!(
+                out.join(r["images"]["exr"].as_str().unwrap()).is_file(),
+                "a recorded run's image exists"
+            );
         }
         // The partial report can still be drawn.
         let o = wavetrace(&["experiment", "report", out.to_str().unwrap()]);
@@ -313,7 +354,8 @@ fn shards_merge_into_the_report_of_an_unsharded_run() {
     assert!(format!("{twice:#}").contains("is in both"), "{twice:#}");
     let other_path = write_config(&dir, "other", &small_config(serde_json::json!([{"method": "cpu"}])));
     let other = ExperimentConfig::from_file(&other_path).unwrap();
-    runner::run(&other, &RunnerOptions { out_dir: dir.join("other"), shard: None, cache_dir: cache.clone() }).unwrap();
+    runner::run(&other, &RunnerOptions { out_dir: dir.join("other"), shard: None, cache_dir: cache.clone() })
+        .unwrap();
     let mixed = merge(&[shards[0].clone(), dir.join("other")], &dir.join("mixed")).unwrap_err();
     assert!(format!("{mixed:#}").contains("different configs"), "{mixed:#}");
 }
@@ -326,22 +368,69 @@ fn bad_configs_name_the_file_the_field_and_the_reason() {
     let path = write_config(&dir, "good", &good);
     ExperimentConfig::from_file(&path).expect("the base config is valid");
 
-    let cases: Vec<(&str, Box<dyn Fn(&mut Value)>, &str, &str)> = vec![
-        ("no-schema", Box::new(|c| drop(c.as_object_mut().unwrap().remove("schema"))), "", "missing required field \"schema\""),
-        ("new-schema", Box::new(|c| c["schema"] = "wavetrace-experiment/9".into()), "schema", "unsupported schema"),
+    // (file name, edit of the good config, expected JSON path, expected words of the reason)
+    type Case = (&'static str, Box<dyn Fn(&mut Value)>, &'static str, &'static str);
+    let cases: Vec<Case> = vec![
+        (
+            "no-schema",
+            Box::new(|c| drop(c.as_object_mut().unwrap().remove("schema"))),
+            "",
+            "missing required field \"schema\"",
+        ),
+        (
+            "new-schema",
+            Box::new(|c| c["schema"] = "wavetrace-experiment/9".into()),
+            "schema",
+            "unsupported schema",
+        ),
         ("typo", Box::new(|c| c["repetitons"] = 3.into()), "repetitons", "did you mean \"repetitions\""),
         ("no-question", Box::new(|c| c["question"] = " ".into()), "question", "what question"),
         ("spp-zero", Box::new(|c| c["spp"] = serde_json::json!([4, 0])), "spp[1]", "must be in 1..="),
         ("spp-repeat", Box::new(|c| c["spp"] = serde_json::json!([4, 4])), "spp[1]", "repeats"),
-        ("resolution", Box::new(|c| c["resolutions"] = serde_json::json!(["100by50"])), "resolutions[0]", "WIDTHxHEIGHT"),
+        (
+            "resolution",
+            Box::new(|c| c["resolutions"] = serde_json::json!(["100by50"])),
+            "resolutions[0]",
+            "WIDTHxHEIGHT",
+        ),
         ("empty-methods", Box::new(|c| c["methods"] = serde_json::json!([])), "methods", "at least one"),
-        ("bad-method", Box::new(|c| c["methods"][0]["method"] = "wavefrnt".into()), "methods[0].method", "did you mean \"wavefront\""),
-        ("cpu-knob", Box::new(|c| c["methods"][0]["compaction"] = "scan".into()), "methods[0].compaction", "cpu has no knob"),
-        ("bad-knob", Box::new(|c| c["methods"][1]["compaction"] = "sort".into()), "methods[1].compaction", "\"atomic\", \"scan\" or \"off\""),
-        ("same-label", Box::new(|c| c["methods"][1] = serde_json::json!({"method": "cpu"})), "methods[1]", "used twice"),
+        (
+            "bad-method",
+            Box::new(|c| c["methods"][0]["method"] = "wavefrnt".into()),
+            "methods[0].method",
+            "did you mean \"wavefront\"",
+        ),
+        (
+            "cpu-knob",
+            Box::new(|c| c["methods"][0]["compaction"] = "scan".into()),
+            "methods[0].compaction",
+            "cpu has no knob",
+        ),
+        (
+            "bad-knob",
+            Box::new(|c| c["methods"][1]["compaction"] = "sort".into()),
+            "methods[1].compaction",
+            "\"atomic\", \"scan\" or \"off\"",
+        ),
+        (
+            "same-label",
+            Box::new(|c| c["methods"][1] = serde_json::json!({"method": "cpu"})),
+            "methods[1]",
+            "used twice",
+        ),
         ("same-seed", Box::new(|c| c["reference"]["seed"] = 0.into()), "reference.seed", "hide their error"),
-        ("no-scene", Box::new(|c| c["scenes"] = serde_json::json!(["three-sphere"])), "scenes[0]", "did you mean \"three-spheres\""),
-        ("no-exr", Box::new(|c| c["reference"] = serde_json::json!({"exr": "refs/{scene}.exr"})), "reference.exr", "three-spheres"),
+        (
+            "no-scene",
+            Box::new(|c| c["scenes"] = serde_json::json!(["three-sphere"])),
+            "scenes[0]",
+            "did you mean \"three-spheres\"",
+        ),
+        (
+            "no-exr",
+            Box::new(|c| c["reference"] = serde_json::json!({"exr": "refs/{scene}.exr"})),
+            "reference.exr",
+            "three-spheres",
+        ),
         ("trim", Box::new(|c| c["metrics"] = serde_json::json!({"trim": 1.5})), "metrics.trim", "[0, 1)"),
         ("warmup", Box::new(|c| c["warmup"] = (-1).into()), "warmup", "whole number"),
     ];
@@ -386,9 +475,22 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
     names.sort();
     assert_eq!(
         names,
-        ["cpu_vs_gpu.json", "megakernel_vs_wavefront.json", "quick.json", "speed_vs_accuracy.json", "workgroup_size.json"]
+        [
+            "cpu_vs_gpu.json",
+            "megakernel_vs_wavefront.json",
+            "quick.json",
+            "speed_vs_accuracy.json",
+            "workgroup_size.json"
+        ]
     );
-    let o = wavetrace(&["experiment", "run", dir.join("quick.json").to_str().unwrap(), "--list", "--shard", "1/4"]);
+    let o = wavetrace(&[
+        "experiment",
+        "run",
+        dir.join("quick.json").to_str().unwrap(),
+        "--list",
+        "--shard",
+        "1/4",
+    ]);
     assert!(o.status.success());
     let listed = String::from_utf8_lossy(&o.stdout);
     let config = ExperimentConfig::from_file(&dir.join("quick.json")).unwrap();

@@ -84,8 +84,8 @@ fn error_vs_time(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
     }
     (!series.is_empty()).then(|| LineChart {
         title: format!("Error against time: {group}"),
-        x_label: "time per render, s (GPU where measured, else wall) — log".into(),
-        y_label: "relMSE — log".into(),
+        x_label: "time per render, s (GPU where measured, else wall)".into(),
+        y_label: "relMSE".into(),
         x_log: true,
         y_log: true,
         series,
@@ -132,24 +132,32 @@ fn queues(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
         .filter_map(|r| {
             let h = r.queue_histogram.as_ref()?;
             let first = *h.rays.first()? as f64;
-            let points =
-                h.rays.iter().enumerate().take_while(|(_, &n)| n > 0).map(|(b, &n)| (b as f64, n as f64 / first)).collect();
+            let points = h
+                .rays
+                .iter()
+                .enumerate()
+                .take_while(|(_, &n)| n > 0)
+                .map(|(b, &n)| (b as f64, n as f64 / first))
+                .collect();
             Some(Series { name: series_name(r, depths), points })
         })
         .collect();
     (!series.is_empty()).then(|| LineChart {
         title: format!("Queue occupancy per bounce: {group}, {max_spp} spp"),
         x_label: "bounce".into(),
-        y_label: "paths still traced / paths started — log".into(),
+        y_label: "paths traced / paths started".into(),
         x_log: false,
         y_log: true,
         series,
     })
 }
 
-/// SIMD efficiency per pass or point, one bar per run, where measured.
+/// SIMD efficiency per pass or point, one bar per run at the group's largest spp (efficiency
+/// hardly depends on spp), where measured.
 fn simd(runs: &[&RunRecord], group: &str) -> Option<GroupedBarChart> {
-    let measured: Vec<&&RunRecord> = runs.iter().filter(|r| r.simd.as_ref().is_some_and(|s| !s.is_empty())).collect();
+    let max_spp = runs.iter().map(|r| r.spp).max()?;
+    let measured: Vec<&&RunRecord> =
+        runs.iter().filter(|r| r.spp == max_spp && r.simd.as_ref().is_some_and(|s| !s.is_empty())).collect();
     if measured.is_empty() {
         return None;
     }
@@ -160,7 +168,7 @@ fn simd(runs: &[&RunRecord], group: &str) -> Option<GroupedBarChart> {
         }
     }
     Some(GroupedBarChart {
-        title: format!("SIMD efficiency (active / available lanes): {group}"),
+        title: format!("SIMD efficiency (active / available lanes): {group}, {max_spp} spp"),
         y_label: "SIMD efficiency".into(),
         y_max: Some(1.0),
         percent: true,

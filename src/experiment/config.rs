@@ -164,15 +164,19 @@ impl ExperimentConfig {
     /// Reads and validates a config file.
     pub fn from_file(path: &Path) -> Result<Self, ConfigError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| ConfigError { file: file.clone(), path: String::new(), reason: format!("cannot read the file: {e}") })?;
+        let text = std::fs::read_to_string(path).map_err(|e| ConfigError {
+            file: file.clone(),
+            path: String::new(),
+            reason: format!("cannot read the file: {e}"),
+        })?;
         Self::from_str(&text, path)
     }
 
     /// Reads a config from text; `path` locates relative scene and reference paths and labels
     /// errors.
     pub fn from_str(text: &str, path: &Path) -> Result<Self, ConfigError> {
-        let cx = Cx { file: path.display().to_string(), dir: path.parent().unwrap_or(Path::new("")).to_owned() };
+        let cx =
+            Cx { file: path.display().to_string(), dir: path.parent().unwrap_or(Path::new("")).to_owned() };
         let raw = parse_strict(text).map_err(|(p, reason)| cx.error(&p, reason))?;
         cx.config(&raw, path)
     }
@@ -207,7 +211,10 @@ impl ExperimentConfig {
 
 /// `{scene}`, `{width}`, `{height}` replaced.
 pub fn expand_pattern(pattern: &str, scene: &str, width: u32, height: u32) -> String {
-    pattern.replace("{scene}", scene).replace("{width}", &width.to_string()).replace("{height}", &height.to_string())
+    pattern
+        .replace("{scene}", scene)
+        .replace("{width}", &width.to_string())
+        .replace("{height}", &height.to_string())
 }
 
 type Res<T> = Result<T, ConfigError>;
@@ -230,11 +237,17 @@ impl Cx {
     fn config(&self, raw: &Value, path: &Path) -> Res<ExperimentConfig> {
         let root = self.object(raw, "")?;
         let Some(schema) = root.get("schema") else {
-            return self.err("", format!("missing required field \"schema\" (expected \"schema\": \"{CONFIG_SCHEMA}\")"));
+            return self.err(
+                "",
+                format!("missing required field \"schema\" (expected \"schema\": \"{CONFIG_SCHEMA}\")"),
+            );
         };
         let schema = self.string(schema, "schema")?;
         if schema != CONFIG_SCHEMA {
-            return self.err("schema", format!("unsupported schema {schema:?}; this build reads \"{CONFIG_SCHEMA}\""));
+            return self.err(
+                "schema",
+                format!("unsupported schema {schema:?}; this build reads \"{CONFIG_SCHEMA}\""),
+            );
         }
         self.only(root, "", TOP_FIELDS)?;
 
@@ -243,7 +256,8 @@ impl Cx {
             return self.err("question", "say in one sentence what question the experiment answers");
         }
         let scenes = self.scenes(self.field(root, "", "scenes")?)?;
-        let resolutions = self.list(self.field(root, "", "resolutions")?, "resolutions", |v, p| self.resolution(v, p))?;
+        let resolutions =
+            self.list(self.field(root, "", "resolutions")?, "resolutions", |v, p| self.resolution(v, p))?;
         let spp = self.list(self.field(root, "", "spp")?, "spp", |v, p| self.uint32(v, p, 1, u32::MAX))?;
         let max_depth = match root.get("max_depth") {
             Some(v) => self.list(v, "max_depth", |v, p| self.uint32(v, p, 1, (1 << 24) - 1))?,
@@ -256,7 +270,8 @@ impl Cx {
         };
         let repetitions =
             self.optional(root, "repetitions", |v, p| self.uint32(v, p, 1, MAX_REPETITIONS))?.unwrap_or(3);
-        let warmup = self.optional(root, "warmup", |v, p| self.uint32(v, p, 0, MAX_REPETITIONS))?.unwrap_or(1);
+        let warmup =
+            self.optional(root, "warmup", |v, p| self.uint32(v, p, 0, MAX_REPETITIONS))?.unwrap_or(1);
         let instrument = self.optional(root, "instrument", |v, p| self.boolean(v, p))?.unwrap_or(false);
         let adapter = self.optional(root, "adapter", |v, p| self.string(v, p).map(str::to_owned))?;
         let methods = self.methods(self.field(root, "", "methods")?)?;
@@ -315,11 +330,15 @@ impl Cx {
                             ),
                         );
                     }
-                    crate::scene::load::from_file(&file).map_err(|e| self.error(&path, format!("in the scene file: {e}")))?
+                    crate::scene::load::from_file(&file)
+                        .map_err(|e| self.error(&path, format!("in the scene file: {e}")))?
                 }
             };
             if !seen.insert(scene.name.clone()) {
-                return self.err(&path, format!("a second scene named {:?}; runs are keyed by scene name", scene.name));
+                return self.err(
+                    &path,
+                    format!("a second scene named {:?}; runs are keyed by scene name", scene.name),
+                );
             }
             out.push(SceneEntry { arg, scene });
         }
@@ -328,16 +347,22 @@ impl Cx {
 
     fn resolution(&self, v: &Value, path: &str) -> Res<(u32, u32)> {
         let text = self.string(v, path)?;
-        let parsed = text.split_once('x').and_then(|(w, h)| Some((w.trim().parse::<u32>().ok()?, h.trim().parse::<u32>().ok()?)));
+        let parsed = text
+            .split_once('x')
+            .and_then(|(w, h)| Some((w.trim().parse::<u32>().ok()?, h.trim().parse::<u32>().ok()?)));
         match parsed {
             Some((w, h)) if w > 0 && h > 0 => Ok((w, h)),
-            _ => self.err(path, format!("expected \"WIDTHxHEIGHT\" with both at least 1, e.g. \"400x225\", found {text:?}")),
+            _ => self.err(
+                path,
+                format!("expected \"WIDTHxHEIGHT\" with both at least 1, e.g. \"400x225\", found {text:?}"),
+            ),
         }
     }
 
     fn methods(&self, v: &Value) -> Res<Vec<MethodVariant>> {
         let Value::Array(items) = v else {
-            return self.err("methods", format!("expected an array of method objects, found {}", describe(v)));
+            return self
+                .err("methods", format!("expected an array of method objects, found {}", describe(v)));
         };
         if items.is_empty() {
             return self.err("methods", "name at least one method");
@@ -349,7 +374,10 @@ impl Cx {
                 if out.iter().any(|o| o.label == variant.label) {
                     return self.err(
                         &path,
-                        format!("method label {:?} is used twice; give each entry its own \"label\"", variant.label),
+                        format!(
+                            "method label {:?} is used twice; give each entry its own \"label\"",
+                            variant.label
+                        ),
                     );
                 }
                 out.push(variant);
@@ -378,7 +406,11 @@ impl Cx {
         if let Some(k) = o.keys().find(|k| !allowed.contains(&k.as_str())) {
             let all = ["workgroup_size", "samples_per_dispatch", "pool_size", "compaction", "shade"];
             let reason = if all.contains(&k.as_str()) {
-                format!("{} has no knob {k:?}; its knobs are {}", method.name(), if knobs.is_empty() { "none".into() } else { quoted_list(knobs) })
+                format!(
+                    "{} has no knob {k:?}; its knobs are {}",
+                    method.name(),
+                    if knobs.is_empty() { "none".into() } else { quoted_list(knobs) }
+                )
             } else {
                 format!("unknown field{}; expected {}", did_you_mean(k, &allowed), quoted_list(&allowed))
             };
@@ -392,8 +424,11 @@ impl Cx {
 
         // Each knob: its values (one unless swept), and whether it was swept.
         let opt_path = |k: &str| join(path, k);
-        let wg = self.knob(o, &opt_path("workgroup_size"), "workgroup_size", |v, p| self.uint32(v, p, 1, 1024))?;
-        let spd = self.knob(o, &opt_path("samples_per_dispatch"), "samples_per_dispatch", |v, p| self.uint(v, p, 1, u64::MAX))?;
+        let wg =
+            self.knob(o, &opt_path("workgroup_size"), "workgroup_size", |v, p| self.uint32(v, p, 1, 1024))?;
+        let spd = self.knob(o, &opt_path("samples_per_dispatch"), "samples_per_dispatch", |v, p| {
+            self.uint(v, p, 1, u64::MAX)
+        })?;
         let pool = self.knob(o, &opt_path("pool_size"), "pool_size", |v, p| match v {
             Value::Null => Ok(None),
             _ => self.uint32(v, p, 1, u32::MAX).map(Some),
@@ -406,7 +441,11 @@ impl Cx {
             })
         })?;
         let shade = self.knob(o, &opt_path("shade"), "shade", |v, p| {
-            Ok(if self.choice(v, p, SHADES)? == "single" { ShadePasses::Single } else { ShadePasses::PerMaterial })
+            Ok(if self.choice(v, p, SHADES)? == "single" {
+                ShadePasses::Single
+            } else {
+                ShadePasses::PerMaterial
+            })
         })?;
 
         let mk = MegakernelOptions::default();
@@ -418,8 +457,17 @@ impl Cx {
                     for &c in compaction.values_or(&[wf.compaction]) {
                         for &sh in shade.values_or(&[wf.shade]) {
                             let options = MethodOptions {
-                                megakernel: MegakernelOptions { workgroup_size: w, samples_per_dispatch: s, ..mk },
-                                wavefront: WavefrontOptions { pool_size: p, workgroup_size: w, compaction: c, shade: sh },
+                                megakernel: MegakernelOptions {
+                                    workgroup_size: w,
+                                    samples_per_dispatch: s,
+                                    ..mk
+                                },
+                                wavefront: WavefrontOptions {
+                                    pool_size: p,
+                                    workgroup_size: w,
+                                    compaction: c,
+                                    shade: sh,
+                                },
                                 instrument: false,
                             };
                             // The label: given or the method's name, then the knobs that tell
@@ -460,17 +508,20 @@ impl Cx {
             return Ok(ReferenceSpec::Exr { pattern });
         }
         self.only(o, "reference", &["method", "spp", "max_depth", "seed"])?;
-        let method = match self.choice(self.field(o, "reference", "method")?, "reference.method", METHOD_NAMES)? {
-            "cpu" => Method::Cpu,
-            "cpu-f64" => Method::CpuF64,
-            "megakernel" => Method::Megakernel,
-            _ => Method::Wavefront,
-        };
+        let method =
+            match self.choice(self.field(o, "reference", "method")?, "reference.method", METHOD_NAMES)? {
+                "cpu" => Method::Cpu,
+                "cpu-f64" => Method::CpuF64,
+                "megakernel" => Method::Megakernel,
+                _ => Method::Wavefront,
+            };
         let spp = self.uint32(self.field(o, "reference", "spp")?, "reference.spp", 1, u32::MAX)?;
-        let max_depth = self.optional(o, "max_depth", |v, p| self.uint32(v, p, 1, (1 << 24) - 1))?.unwrap_or(max_depth);
+        let max_depth =
+            self.optional(o, "max_depth", |v, p| self.uint32(v, p, 1, (1 << 24) - 1))?.unwrap_or(max_depth);
         // The counter-based RNG would trace a run's paths again in the reference with the same
         // seed, and the error would be underestimated; so the default seed differs.
-        let ref_seed = self.optional(o, "seed", |v, p| self.uint32(v, p, 0, u32::MAX))?.unwrap_or(seed.wrapping_add(1));
+        let ref_seed =
+            self.optional(o, "seed", |v, p| self.uint32(v, p, 0, u32::MAX))?.unwrap_or(seed.wrapping_add(1));
         if ref_seed == seed {
             return self.err(
                 "reference.seed",
@@ -486,7 +537,9 @@ impl Cx {
         let o = self.object(v, "metrics")?;
         self.only(o, "metrics", &["trim", "flip"])?;
         if let Some(t) = o.get("trim") {
-            let x = t.as_f64().ok_or_else(|| self.error("metrics.trim", format!("expected a number, found {}", describe(t))))?;
+            let x = t.as_f64().ok_or_else(|| {
+                self.error("metrics.trim", format!("expected a number, found {}", describe(t)))
+            })?;
             if !(0.0..1.0).contains(&x) {
                 return self.err("metrics.trim", format!("must be in [0, 1), got {x}"));
             }
@@ -504,12 +557,21 @@ impl Cx {
             for &(w, h) in &c.resolutions {
                 let Some(file) = c.reference_exr(&s.scene.name, w, h) else { return Ok(()) };
                 let (image, _) = crate::image_io::read_exr(&file).map_err(|e| {
-                    self.error("reference.exr", format!("reference for scene {:?} at {w}x{h}: {e}", s.scene.name))
+                    self.error(
+                        "reference.exr",
+                        format!("reference for scene {:?} at {w}x{h}: {e}", s.scene.name),
+                    )
                 })?;
                 if (image.width, image.height) != (w, h) {
                     return self.err(
                         "reference.exr",
-                        format!("{} is {}x{}, but the runs of scene {:?} are {w}x{h}", file.display(), image.width, image.height, s.scene.name),
+                        format!(
+                            "{} is {}x{}, but the runs of scene {:?} are {w}x{h}",
+                            file.display(),
+                            image.width,
+                            image.height,
+                            s.scene.name
+                        ),
                     );
                 }
             }
@@ -540,17 +602,29 @@ impl Cx {
         }
     }
 
-    fn optional<T>(&self, o: &Map<String, Value>, key: &str, read: impl Fn(&Value, &str) -> Res<T>) -> Res<Option<T>> {
+    fn optional<T>(
+        &self,
+        o: &Map<String, Value>,
+        key: &str,
+        read: impl Fn(&Value, &str) -> Res<T>,
+    ) -> Res<Option<T>> {
         o.get(key).map(|v| read(v, key)).transpose()
     }
 
     /// A non-empty list (a single value is a list of one), without repeats.
-    fn list<T: PartialEq>(&self, v: &Value, path: &str, read: impl Fn(&Value, &str) -> Res<T>) -> Res<Vec<T>> {
+    fn list<T: PartialEq>(
+        &self,
+        v: &Value,
+        path: &str,
+        read: impl Fn(&Value, &str) -> Res<T>,
+    ) -> Res<Vec<T>> {
         let out = match v {
             Value::Array(items) if items.is_empty() => return self.err(path, "must not be empty"),
-            Value::Array(items) => {
-                items.iter().enumerate().map(|(i, x)| read(x, &format!("{path}[{i}]"))).collect::<Res<Vec<T>>>()?
-            }
+            Value::Array(items) => items
+                .iter()
+                .enumerate()
+                .map(|(i, x)| read(x, &format!("{path}[{i}]")))
+                .collect::<Res<Vec<T>>>()?,
             _ => vec![read(v, path)?],
         };
         if let Some(i) = (1..out.len()).find(|&i| out[..i].contains(&out[i])) {
@@ -560,7 +634,13 @@ impl Cx {
     }
 
     /// A method knob: absent, one value, or a list (swept).
-    fn knob<T: PartialEq>(&self, o: &Map<String, Value>, path: &str, key: &str, read: impl Fn(&Value, &str) -> Res<T>) -> Res<Knob<T>> {
+    fn knob<T: PartialEq>(
+        &self,
+        o: &Map<String, Value>,
+        path: &str,
+        key: &str,
+        read: impl Fn(&Value, &str) -> Res<T>,
+    ) -> Res<Knob<T>> {
         Ok(match o.get(key) {
             None => Knob { values: Vec::new(), swept: false },
             Some(v @ Value::Array(_)) => {
@@ -583,7 +663,9 @@ impl Cx {
         match v.as_u64() {
             Some(x) if (min..=max).contains(&x) => Ok(x),
             Some(x) => self.err(path, format!("must be in {min}..={max}, got {x}")),
-            None => self.err(path, format!("expected a whole number in {min}..={max}, found {}", describe(v))),
+            None => {
+                self.err(path, format!("expected a whole number in {min}..={max}, found {}", describe(v)))
+            }
         }
     }
 
@@ -594,7 +676,10 @@ impl Cx {
     fn choice(&self, v: &Value, path: &str, options: &[&'static str]) -> Res<&'static str> {
         let s = self.string(v, path)?;
         options.iter().find(|&&o| o == s).copied().ok_or_else(|| {
-            self.error(path, format!("unknown value {s:?}{}; expected {}", did_you_mean(s, options), quoted_list(options)))
+            self.error(
+                path,
+                format!("unknown value {s:?}{}; expected {}", did_you_mean(s, options), quoted_list(options)),
+            )
         })
     }
 }

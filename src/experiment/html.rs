@@ -121,7 +121,9 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
          <th>relMSE</th><th>SMAPE</th><th>FLIP</th><th>efficiency</th><th class=\"l\">note</th></tr>\n",
     );
     for r in &report.runs {
-        let g = |x: Option<f64>, scale: f64, prec: usize| x.map_or("–".into(), |v| format!("{:.*}", prec, v * scale));
+        let g = |x: Option<f64>, scale: f64, prec: usize| {
+            x.map_or("–".into(), |v| format!("{:.*}", prec, v * scale))
+        };
         let e = |x: Option<f64>| x.map_or("–".into(), |v| format!("{v:.3e}"));
         let stat = r.gpu_seconds.as_ref().or(r.wall_seconds.as_ref());
         let m = r.error_metrics.as_ref();

@@ -12,7 +12,8 @@ use super::report::{ExperimentReport, ReportStatus};
 
 pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<ExperimentReport> {
     let Some(first_dir) = dirs.first() else { bail!("name at least one shard directory to merge") };
-    let reports: Vec<ExperimentReport> = dirs.iter().map(|d| ExperimentReport::read(d)).collect::<Result<_>>()?;
+    let reports: Vec<ExperimentReport> =
+        dirs.iter().map(|d| ExperimentReport::read(d)).collect::<Result<_>>()?;
     let first = &reports[0];
     for (dir, r) in dirs.iter().zip(&reports).skip(1) {
         if r.config != first.config {
@@ -42,7 +43,13 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<ExperimentReport> {
             let mut run = run.clone();
             run.environment += offset;
             if let Some(earlier) = runs.insert(run.index, (dir.clone(), run)) {
-                bail!("run {} ({}) is in both {} and {}", earlier.1.index, earlier.1.id, earlier.0.display(), dir.display());
+                bail!(
+                    "run {} ({}) is in both {} and {}",
+                    earlier.1.index,
+                    earlier.1.id,
+                    earlier.0.display(),
+                    dir.display()
+                );
             }
         }
         for reference in &r.references {
@@ -54,8 +61,10 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<ExperimentReport> {
     merged.runs = runs.into_values().map(|(_, r)| r).collect();
     merged.references = refs.into_values().collect();
     merged.runs_selected = merged.runs_planned;
-    merged.missing_runs = (0..merged.runs_planned).filter(|i| merged.runs.iter().all(|r| r.index != *i)).collect();
-    merged.status = if merged.missing_runs.is_empty() { ReportStatus::Complete } else { ReportStatus::Incomplete };
+    merged.missing_runs =
+        (0..merged.runs_planned).filter(|i| merged.runs.iter().all(|r| r.index != *i)).collect();
+    merged.status =
+        if merged.missing_runs.is_empty() { ReportStatus::Complete } else { ReportStatus::Incomplete };
     outputs::draw(&mut merged, out)?;
     merged.write(out)?;
     Ok(merged)

@@ -30,8 +30,14 @@ pub fn plan(config: &ExperimentConfig) -> Vec<RunSpec> {
                 for &spp in &config.spp {
                     for (variant, v) in config.methods.iter().enumerate() {
                         let index = runs.len();
-                        let settings =
-                            RenderSettings { width, height, spp, max_depth, seed: config.seed, accel: config.accel };
+                        let settings = RenderSettings {
+                            width,
+                            height,
+                            spp,
+                            max_depth,
+                            seed: config.seed,
+                            accel: config.accel,
+                        };
                         let id = format!(
                             "{index:03}-{}-{width}x{height}-{spp}spp-d{max_depth}-{}",
                             file_safe(&entry.scene.name),
@@ -69,7 +75,8 @@ impl FromStr for Shard {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, String> {
-        let parsed = s.split_once('/').and_then(|(i, n)| Some((i.trim().parse().ok()?, n.trim().parse().ok()?)));
+        let parsed =
+            s.split_once('/').and_then(|(i, n)| Some((i.trim().parse().ok()?, n.trim().parse().ok()?)));
         match parsed {
             Some((index, count)) if count >= 1 && index < count => Ok(Shard { index, count }),
             Some((index, count)) => Err(format!("shard {index}/{count}: need 0 <= I < N")),

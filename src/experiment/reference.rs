@@ -138,7 +138,11 @@ fn read(path: &Path, scene: &Scene, width: u32, height: u32) -> Result<Reference
         image.width,
         image.height
     );
-    let key = format!("{}-{width}x{height}-exr-{:016x}", file_safe(&scene.name), fnv1a(path.display().to_string().as_bytes()));
+    let key = format!(
+        "{}-{width}x{height}-exr-{:016x}",
+        file_safe(&scene.name),
+        fnv1a(path.display().to_string().as_bytes())
+    );
     let record = ReferenceRecord {
         key,
         scene: scene.name.clone(),

@@ -226,13 +226,15 @@ impl ExperimentReport {
     pub fn read(dir: &Path) -> Result<Self> {
         let path = dir.join(REPORT_FILE);
         let text = std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
-        let value: Value = serde_json::from_str(&text).with_context(|| format!("{}: malformed JSON", path.display()))?;
+        let value: Value =
+            serde_json::from_str(&text).with_context(|| format!("{}: malformed JSON", path.display()))?;
         match value.get("schema").and_then(Value::as_str) {
             Some(REPORT_SCHEMA) => {}
             Some(other) => bail!("{}: schema {other:?}; this build reads {REPORT_SCHEMA:?}", path.display()),
             None => bail!("{}: not an experiment report (no \"schema\" field)", path.display()),
         }
-        serde_json::from_value(value).with_context(|| format!("{}: not a valid experiment report", path.display()))
+        serde_json::from_value(value)
+            .with_context(|| format!("{}: not a valid experiment report", path.display()))
     }
 }
 

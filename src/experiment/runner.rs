@@ -37,7 +37,8 @@ pub struct RunnerOptions {
 pub fn run(config: &ExperimentConfig, opts: &RunnerOptions) -> Result<ExperimentReport> {
     let out = &opts.out_dir;
     for sub in ["images", "references"] {
-        std::fs::create_dir_all(out.join(sub)).with_context(|| format!("creating {}", out.join(sub).display()))?;
+        std::fs::create_dir_all(out.join(sub))
+            .with_context(|| format!("creating {}", out.join(sub).display()))?;
     }
     let planned = plan::plan(config);
     let runs: Vec<&RunSpec> = planned.iter().filter(|r| opts.shard.is_none_or(|s| s.takes(r))).collect();
@@ -94,7 +95,8 @@ fn summary_line(r: &RunRecord) -> String {
         RunStatus::Ok => {
             let t = r.seconds.map_or("?".into(), |s| format!("{s:.4} s"));
             let src = if r.gpu_seconds.is_some() { " GPU" } else { " wall" };
-            let err = r.error_metrics.as_ref().map_or(String::new(), |m| format!(", relMSE {:.3e}", m.relmse));
+            let err =
+                r.error_metrics.as_ref().map_or(String::new(), |m| format!(", relMSE {:.3e}", m.relmse));
             format!("  ok: {t}{src}{err}")
         }
     }
@@ -146,7 +148,10 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         spp: s.spp,
         max_depth: s.max_depth,
         seed: s.seed,
-        accel: serde_json::to_value(s.accel).ok().and_then(|a| a.as_str().map(str::to_owned)).unwrap_or_default(),
+        accel: serde_json::to_value(s.accel)
+            .ok()
+            .and_then(|a| a.as_str().map(str::to_owned))
+            .unwrap_or_default(),
         method: v.method.name().into(),
         label: v.label.clone(),
         options: method_options_json(v.method, &v.options),
@@ -214,7 +219,8 @@ fn measure(
 
     let ctx = if variant.method.needs_gpu() { Some(gpu.get()?) } else { None };
     let adapter = ctx.map(|c| &c.summary);
-    let render = |options: &MethodOptions| method::render(variant.method, scene, settings, options, ctx, &|_| {});
+    let render =
+        |options: &MethodOptions| method::render(variant.method, scene, settings, options, ctx, &|_| {});
 
     for _ in 0..config.warmup {
         render(&variant.options)?;
@@ -227,18 +233,25 @@ fn measure(
         let rgb = o.film.mean_rgb();
         match &image {
             None => image = Some(rgb),
-            Some(first) => repeatable &= first.iter().map(|v| v.to_bits()).eq(rgb.iter().map(|v| v.to_bits())),
+            Some(first) => {
+                repeatable &= first.iter().map(|v| v.to_bits()).eq(rgb.iter().map(|v| v.to_bits()))
+            }
         }
         reports.push(RunReport::new(scene, variant.method, settings, &variant.options, adapter, &o));
     }
-    let image = RgbImage { width: settings.width, height: settings.height, data: image.expect("repetitions >= 1") };
+    let image =
+        RgbImage { width: settings.width, height: settings.height, data: image.expect("repetitions >= 1") };
 
     // Times: median over repetitions; per-bounce detail from the repetition with the median time.
     let wall: Vec<f64> = reports.iter().map(|r| r.wall_seconds).collect();
     let gpu_times: Vec<f64> = reports.iter().filter_map(|r| r.gpu_seconds).collect();
     rec.wall_seconds = Stat::of(&wall);
     rec.gpu_seconds = Stat::of(&gpu_times);
-    let seconds = rec.gpu_seconds.as_ref().filter(|g| g.median > 0.0).map_or(rec.wall_seconds.as_ref().map(|w| w.median), |g| Some(g.median));
+    let seconds = rec
+        .gpu_seconds
+        .as_ref()
+        .filter(|g| g.median > 0.0)
+        .map_or(rec.wall_seconds.as_ref().map(|w| w.median), |g| Some(g.median));
     rec.seconds = seconds;
     let median_rep = {
         let key = |r: &RunReport| r.gpu_seconds.unwrap_or(r.wall_seconds);
@@ -246,14 +259,19 @@ fn measure(
         order.sort_by(|&a, &b| key(&reports[a]).total_cmp(&key(&reports[b])));
         &reports[order[order.len() / 2]]
     };
-    let labels: std::collections::BTreeSet<&str> = reports.iter().flat_map(|r| r.passes.keys().copied()).collect();
+    let labels: std::collections::BTreeSet<&str> =
+        reports.iter().flat_map(|r| r.passes.keys().copied()).collect();
     for label in labels {
-        let times: Vec<f64> = reports.iter().map(|r| r.passes.get(label).map_or(0.0, |p| p.seconds)).collect();
+        let times: Vec<f64> =
+            reports.iter().map(|r| r.passes.get(label).map_or(0.0, |p| p.seconds)).collect();
         let passes = median_rep.passes.get(label).map_or(0, |p| p.passes);
-        rec.passes.insert(label.to_string(), PassStat { seconds: Stat::of(&times).expect("non-empty"), passes });
+        rec.passes
+            .insert(label.to_string(), PassStat { seconds: Stat::of(&times).expect("non-empty"), passes });
     }
-    rec.passes_per_bounce = median_rep.passes_per_bounce.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
-    rec.time_source = median_rep.time_source.and_then(|t| serde_json::to_value(t).ok()?.as_str().map(str::to_owned));
+    rec.passes_per_bounce =
+        median_rep.passes_per_bounce.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
+    rec.time_source =
+        median_rep.time_source.and_then(|t| serde_json::to_value(t).ok()?.as_str().map(str::to_owned));
     rec.queue_histogram = median_rep.queue_histogram.clone();
     rec.dispatches = Some(median_rep.dispatches);
     rec.rays = Some(median_rep.rays);

@@ -18,7 +18,12 @@ pub fn write_png(path: impl AsRef<Path>, image: &RgbImage) -> Result<(), ImageIo
 }
 
 /// Writes 8-bit RGB bytes as they are (false-colour maps, thumbnails), atomically.
-pub fn write_png_rgb8(path: impl AsRef<Path>, width: u32, height: u32, rgb: &[u8]) -> Result<(), ImageIoError> {
+pub fn write_png_rgb8(
+    path: impl AsRef<Path>,
+    width: u32,
+    height: u32,
+    rgb: &[u8],
+) -> Result<(), ImageIoError> {
     let path = path.as_ref();
     write_atomically(path, |file| {
         PngEncoder::new(file)

@@ -1,0 +1,74 @@
+//! Colours: a categorical palette safe for colour-vision deficiencies, and the viridis colormap.
+
+/// The Okabe–Ito palette (Okabe & Ito, "Color Universal Design", 2002), distinguishable under
+/// the common colour-vision deficiencies. Reordered so the first colours contrast best on white;
+/// yellow and black come last (yellow is faint as a thin line, black reads as an axis).
+pub const PALETTE: &[&str] = &[
+    "#0072b2", // blue
+    "#e69f00", // orange
+    "#009e73", // bluish green
+    "#d55e00", // vermillion
+    "#cc79a7", // reddish purple
+    "#56b4e9", // sky blue
+    "#f0e442", // yellow
+    "#000000", // black
+];
+
+/// The palette colour for the `i`-th series or segment, cycling after the last.
+pub fn color(i: usize) -> &'static str {
+    PALETTE[i % PALETTE.len()]
+}
+
+/// `#rrggbb` for an RGB triple.
+pub fn hex([r, g, b]: [u8; 3]) -> String {
+    format!("#{r:02x}{g:02x}{b:02x}")
+}
+
+/// matplotlib's viridis (van der Walt & Smith, CC0) sampled at t = i/32 and rounded to 8 bits;
+/// linear interpolation between these stays within 2/255 of the 256-entry original.
+const VIRIDIS: [[u8; 3]; 33] = [
+    [68, 1, 84],
+    [71, 13, 96],
+    [72, 24, 106],
+    [72, 35, 116],
+    [71, 45, 123],
+    [69, 54, 129],
+    [66, 64, 134],
+    [63, 73, 137],
+    [59, 82, 139],
+    [55, 90, 141],
+    [51, 99, 141],
+    [47, 106, 142],
+    [44, 114, 142],
+    [41, 122, 142],
+    [38, 129, 142],
+    [35, 137, 142],
+    [33, 144, 140],
+    [31, 152, 139],
+    [31, 159, 136],
+    [33, 166, 133],
+    [40, 174, 128],
+    [49, 181, 123],
+    [62, 188, 116],
+    [76, 194, 108],
+    [93, 201, 99],
+    [110, 206, 88],
+    [130, 211, 76],
+    [150, 216, 63],
+    [171, 220, 50],
+    [192, 223, 36],
+    [213, 226, 26],
+    [234, 229, 26],
+    [253, 231, 37],
+];
+
+/// The viridis colour at `t` in [0, 1]: 0 is dark purple `#440154`, 1 is yellow `#fde725`.
+/// Values outside [0, 1] are clamped; NaN maps to 0.
+pub fn viridis(t: f32) -> [u8; 3] {
+    let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
+    let pos = t * (VIRIDIS.len() - 1) as f32;
+    let i = (pos.floor() as usize).min(VIRIDIS.len() - 2);
+    let f = pos - i as f32;
+    let (a, b) = (VIRIDIS[i], VIRIDIS[i + 1]);
+    std::array::from_fn(|c| (a[c] as f32 + (b[c] as f32 - a[c] as f32) * f).round() as u8)
+}
