@@ -51,7 +51,7 @@ fn trace_path(x: u32, y: u32, sample: u32) -> vec4<f32> {
         let front_face = dot(ray.dir, outward) < 0.0;
         let normal = select(-outward, outward, front_face);
         let u = uniform4(pixel, sample, bounce, PURPOSE_SCATTER, frame.seed);
-        let s = scatter(material, ray, normal, front_face, u);
+        let s = scatter(material, ray, p, normal, front_face, u);
         if !s.ok {
             rays = bounce + 1u;
             break;

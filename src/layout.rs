@@ -20,16 +20,33 @@ pub mod material_kind {
     pub const EMISSIVE: u32 = 3;
 }
 
+/// Texture kinds as stored in [`MaterialRecord::texture`] (WGSL: `TEXTURE_*` in `texture.wgsl`).
+pub mod texture_kind {
+    pub const SOLID: u32 = 0;
+    pub const CHECKER: u32 = 1;
+    pub const NOISE: u32 = 2;
+    pub const MARBLE: u32 = 3;
+}
+
 /// WGSL: `Material` in `shaders/shared/material.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct MaterialRecord {
-    /// Albedo, or radiance for an emitter.
+    /// Albedo (a noise or marble texture's tint, a checker's even squares), or radiance for an
+    /// emitter.
     pub color: [f32; 3],
     /// Fuzz for metal, index of refraction for dielectric, unused otherwise.
     pub param: f32,
     pub kind: u32,
-    pub _pad: [u32; 3],
+    /// [`texture_kind`] of the albedo (lambertian and metal).
+    pub texture: u32,
+    /// Noise octaves (noise, marble): the shading-cost knob.
+    pub octaves: u32,
+    /// Checker square size, or noise frequency (noise, marble).
+    pub scale: f32,
+    /// A checker's odd squares.
+    pub color2: [f32; 3],
+    pub _pad: u32,
 }
 
 /// WGSL: `BvhNode` in `shaders/shared/bvh.wgsl`. An interior node has `count == 0`, its left

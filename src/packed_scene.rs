@@ -4,8 +4,10 @@
 
 use crate::bvh::{Aabb, Bvh};
 use crate::camera::CameraFrame;
-use crate::layout::{background_kind, material_kind, BvhNode, FrameUniform, MaterialRecord, SphereRecord};
-use crate::scene::{Background, Material, Scene};
+use crate::layout::{
+    background_kind, material_kind, texture_kind, BvhNode, FrameUniform, MaterialRecord, SphereRecord,
+};
+use crate::scene::{Background, Material, Scene, Texture};
 use crate::settings::{Accel, RenderSettings};
 use glam::Vec3;
 
@@ -93,11 +95,28 @@ fn sphere_box(center: Vec3, radius: f32) -> Aabb {
 }
 
 fn material_record(m: &Material) -> MaterialRecord {
-    let (kind, color, param) = match *m {
+    let (kind, albedo, param) = match *m {
         Material::Lambertian { albedo } => (material_kind::LAMBERTIAN, albedo, 0.0),
         Material::Metal { albedo, fuzz } => (material_kind::METAL, albedo, fuzz),
-        Material::Dielectric { ior } => (material_kind::DIELECTRIC, Vec3::ONE, ior),
-        Material::Emissive { radiance } => (material_kind::EMISSIVE, radiance, 0.0),
+        Material::Dielectric { ior } => (material_kind::DIELECTRIC, Texture::Solid(Vec3::ONE), ior),
+        Material::Emissive { radiance } => (material_kind::EMISSIVE, Texture::Solid(radiance), 0.0),
     };
-    MaterialRecord { color: color.to_array(), param, kind, _pad: [0; 3] }
+    let (texture, color, color2, scale, octaves) = match albedo {
+        Texture::Solid(c) => (texture_kind::SOLID, c, Vec3::ZERO, 0.0, 0),
+        Texture::Checker { scale, even, odd } => (texture_kind::CHECKER, even, odd, scale, 0),
+        Texture::Noise { scale, octaves, color } => (texture_kind::NOISE, color, Vec3::ZERO, scale, octaves),
+        Texture::Marble { scale, octaves, color } => {
+            (texture_kind::MARBLE, color, Vec3::ZERO, scale, octaves)
+        }
+    };
+    MaterialRecord {
+        color: color.to_array(),
+        param,
+        kind,
+        texture,
+        octaves,
+        scale,
+        color2: color2.to_array(),
+        _pad: 0,
+    }
 }

@@ -1,5 +1,6 @@
 //! Statistical comparison of two renders of the same scene (DESIGN.md §4): a per-pixel z-test of
-//! means using each pixel's own sample variance, and relative image-mean difference.
+//! means using each pixel's own sample variance, and relative image-mean difference. Also Pearson's
+//! χ² goodness-of-fit test (with the χ² survival function) for the sampling tests.
 
 use crate::film::Film;
 
@@ -80,6 +81,152 @@ pub fn z_test(a: &Film, b: &Film, alpha: f64) -> ZTest {
     }
 }
 
+/// Šidák-corrected per-test significance: `n` independent tests at `alpha_each` reject a true
+/// hypothesis with overall probability `alpha`.
+pub fn sidak(alpha: f64, n: usize) -> f64 {
+    1.0 - (1.0 - alpha).powf(1.0 / n as f64)
+}
+
+/// ln Γ(x) for x > 0 (Lanczos, g = 7, 9 terms; relative error ~1e-15).
+pub fn ln_gamma(x: f64) -> f64 {
+    const G: f64 = 7.0;
+    const C: [f64; 9] = [
+        0.999_999_999_999_809_9,
+        676.520_368_121_885_1,
+        -1_259.139_216_722_402_8,
+        771.323_428_777_653_1,
+        -176.615_029_162_140_6,
+        12.507_343_278_686_905,
+        -0.138_571_095_265_720_12,
+        9.984_369_578_019_572e-6,
+        1.505_632_735_149_311_6e-7,
+    ];
+    if x < 0.5 {
+        // Reflection keeps the series in its accurate range.
+        let pi = std::f64::consts::PI;
+        return (pi / (pi * x).sin()).ln() - ln_gamma(1.0 - x);
+    }
+    let x = x - 1.0;
+    let t = x + G + 0.5;
+    let mut a = C[0];
+    for (i, c) in C.iter().enumerate().skip(1) {
+        a += c / (x + i as f64);
+    }
+    0.5 * (2.0 * std::f64::consts::PI).ln() + (x + 0.5) * t.ln() - t + a.ln()
+}
+
+/// Regularized upper incomplete gamma Q(a, x) = Γ(a, x) / Γ(a), a > 0, x ≥ 0. Numerical Recipes'
+/// scheme: the series for P where it converges fast (x < a + 1), else Lentz's continued fraction
+/// for Q, so tiny upper tails keep their relative precision.
+pub fn gamma_q(a: f64, x: f64) -> f64 {
+    assert!(a > 0.0 && x >= 0.0, "gamma_q({a}, {x})");
+    if x == 0.0 {
+        return 1.0;
+    }
+    if x.is_infinite() {
+        return 0.0;
+    }
+    let log_prefactor = -x + a * x.ln() - ln_gamma(a);
+    // Enough iterations for either expansion at large a: both need O(sqrt(a)) terms.
+    let max_iter = 1000 + 10 * a.sqrt() as usize;
+    if x < a + 1.0 {
+        // P(a, x) = e^{-x} x^a / Γ(a+1) · Σ x^n / ((a+1)…(a+n)).
+        let (mut term, mut sum, mut ap) = (1.0 / a, 1.0 / a, a);
+        for _ in 0..max_iter {
+            ap += 1.0;
+            term *= x / ap;
+            sum += term;
+            if term.abs() < sum.abs() * 1e-16 {
+                break;
+            }
+        }
+        (1.0 - sum * log_prefactor.exp()).max(0.0)
+    } else {
+        let tiny = 1e-300;
+        let mut b = x + 1.0 - a;
+        let mut c = 1.0 / tiny;
+        let mut d = 1.0 / b;
+        let mut h = d;
+        for i in 1..=max_iter {
+            let an = -(i as f64) * (i as f64 - a);
+            b += 2.0;
+            d = an * d + b;
+            if d.abs() < tiny {
+                d = tiny;
+            }
+            c = b + an / c;
+            if c.abs() < tiny {
+                c = tiny;
+            }
+            d = 1.0 / d;
+            let del = d * c;
+            h *= del;
+            if (del - 1.0).abs() < 1e-16 {
+                break;
+            }
+        }
+        (log_prefactor.exp() * h).min(1.0)
+    }
+}
+
+/// Survival function of the χ² distribution with `dof` degrees of freedom: P(X ≥ x).
+pub fn chi2_sf(x: f64, dof: usize) -> f64 {
+    assert!(dof > 0, "χ² needs at least one degree of freedom");
+    if x <= 0.0 {
+        return 1.0;
+    }
+    gamma_q(0.5 * dof as f64, 0.5 * x)
+}
+
+/// Outcome of Pearson's χ² goodness-of-fit test.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Chi2 {
+    pub statistic: f64,
+    /// Cells after pooling, minus one.
+    pub dof: usize,
+    pub p_value: f64,
+    /// Cells merged into the pool (expected count below the threshold).
+    pub pooled_cells: usize,
+    /// Observations in cells of expected count exactly 0 (they go to the pool).
+    pub in_empty_cells: f64,
+}
+
+/// Pearson's χ² test of `observed` counts against `expected` counts (same cells). As pbrt-v4 and
+/// Mitsuba do, cells expecting fewer than `min_expected` are pooled into one cell (adding the next
+/// larger ones while the pool is still below the threshold), so the χ² approximation holds. The
+/// expected counts are not renormalised: a wrong total is part of what is tested.
+pub fn chi2_test(observed: &[f64], expected: &[f64], min_expected: f64) -> Chi2 {
+    assert_eq!(observed.len(), expected.len(), "cells differ");
+    let mut order: Vec<usize> = (0..expected.len()).collect();
+    order.sort_by(|&a, &b| expected[a].total_cmp(&expected[b]));
+    let (mut stat, mut cells, mut pooled, mut in_empty) = (0.0, 0usize, 0usize, 0.0);
+    let (mut pool_obs, mut pool_exp) = (0.0, 0.0);
+    for &i in &order {
+        let (o, e) = (observed[i], expected[i]);
+        if e == 0.0 {
+            in_empty += o;
+        }
+        if e < min_expected || (pooled > 0 && pool_exp < min_expected) {
+            pool_obs += o;
+            pool_exp += e;
+            pooled += 1;
+        } else {
+            stat += (o - e) * (o - e) / e;
+            cells += 1;
+        }
+    }
+    if pooled > 0 {
+        if pool_exp > 0.0 {
+            stat += (pool_obs - pool_exp) * (pool_obs - pool_exp) / pool_exp;
+        } else if pool_obs > 0.0 {
+            stat = f64::INFINITY; // observations where none can occur
+        }
+        cells += 1;
+    }
+    let dof = cells.saturating_sub(1).max(1);
+    Chi2 { statistic: stat, dof, p_value: chi2_sf(stat, dof), pooled_cells: pooled, in_empty_cells: in_empty }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -115,5 +262,64 @@ mod tests {
         let t = z_test(&a, &shifted, 0.01);
         assert!(t.pass_fraction < 0.1, "{t:?}");
         assert!(t.mean_rel_diff > 0.3);
+    }
+
+    #[test]
+    fn chi2_survival_matches_tables() {
+        // Textbook critical values (5% and 1%) and closed forms for 2 and 4 dof.
+        let close = |a: f64, b: f64, tol: f64| assert!((a - b).abs() <= tol, "{a} vs {b}");
+        close(chi2_sf(3.841_458_820_694_124, 1), 0.05, 1e-8);
+        close(chi2_sf(6.634_896_601_021_214, 1), 0.01, 1e-8);
+        close(chi2_sf(18.307_038_053_275_146, 10), 0.05, 1e-8);
+        close(chi2_sf(23.209_251_158_954_356, 10), 0.01, 1e-8);
+        close(chi2_sf(124.342, 100), 0.05, 2e-5); // table value, 3 decimals
+        for x in [0.1, 1.0, 2.0, 7.5, 40.0] {
+            close(chi2_sf(x, 2), (-x / 2.0).exp(), 1e-13);
+            close(chi2_sf(x, 4), (-x / 2.0).exp() * (1.0 + x / 2.0), 1e-13);
+        }
+        for k in [1, 2, 7, 100, 10_000] {
+            assert_eq!(chi2_sf(0.0, k), 1.0);
+        }
+        // Far upper tail keeps relative precision (continued fraction): sf(x, 2) = e^{-x/2}.
+        let t = chi2_sf(1000.0, 2);
+        assert!((t / (-500.0f64).exp() - 1.0).abs() < 1e-10, "{t}");
+        // Large k: the Wilson–Hilferty approximation is accurate to ~1e-5 at k = 10⁴.
+        let k = 10_000usize;
+        for x in [9_700.0, 10_000.0, 10_300.0, 10_500.0] {
+            let kf = k as f64;
+            let z = ((x / kf).powf(1.0 / 3.0) - (1.0 - 2.0 / (9.0 * kf))) / (2.0 / (9.0 * kf)).sqrt();
+            close(chi2_sf(x, k), 0.5 * erfc(z / std::f64::consts::SQRT_2), 1e-4);
+        }
+        // Monotone in x.
+        assert!(chi2_sf(3199.0, 3199) > chi2_sf(3400.0, 3199));
+    }
+
+    #[test]
+    fn ln_gamma_matches_factorials() {
+        let mut f = 1.0f64;
+        for n in 1..30 {
+            assert!((ln_gamma(n as f64) - f.ln()).abs() < 1e-12 * f.ln().max(1.0), "Γ({n})");
+            f *= n as f64;
+        }
+        assert!((ln_gamma(0.5) - std::f64::consts::PI.sqrt().ln()).abs() < 1e-14);
+    }
+
+    #[test]
+    fn chi2_test_pools_small_cells_and_catches_a_bias() {
+        // Exact fit: statistic 0, p = 1. Three cells below 5 pool with the next one (3+1+0.5+10).
+        let e = [3.0, 1.0, 0.5, 10.0, 100.0, 100.0];
+        let t = chi2_test(&e, &e, 5.0);
+        assert_eq!((t.statistic, t.pooled_cells, t.dof), (0.0, 4, 2));
+        assert_eq!(t.p_value, 1.0);
+        // Observations in a cell that expects none count against the fit.
+        let t = chi2_test(&[0.0, 100.0, 100.0], &[0.0, 100.0, 100.0], 5.0);
+        assert_eq!(t.in_empty_cells, 0.0);
+        let t = chi2_test(&[2.0, 100.0, 98.0], &[0.0, 100.0, 100.0], 5.0);
+        assert_eq!(t.in_empty_cells, 2.0);
+        // A 10% excess in one of two big cells is far beyond chance.
+        let t = chi2_test(&[11_000.0, 9_000.0], &[10_000.0, 10_000.0], 5.0);
+        assert!((t.statistic - 200.0).abs() < 1e-9 && t.dof == 1 && t.p_value < 1e-40, "{t:?}");
+        assert!((sidak(0.01, 1) - 0.01).abs() < 1e-15);
+        assert!((1.0 - (1.0 - sidak(0.01, 18)).powi(18) - 0.01).abs() < 1e-12);
     }
 }

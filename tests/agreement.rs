@@ -6,7 +6,7 @@ mod common;
 use wavetrace::camera::CameraFrame;
 use wavetrace::film::Film;
 use wavetrace::method::{render, Method, MethodOptions};
-use wavetrace::scene::{builtin, Scene};
+use wavetrace::scene::{builtin, Material, Scene, Texture};
 use wavetrace::settings::{Accel, RenderSettings};
 use wavetrace::stats::z_test;
 
@@ -55,6 +55,63 @@ fn cpu_and_megakernel_agree_on_rtiow_final() {
     let scene = builtin::by_name("rtiow-final").unwrap();
     let s = settings(96, 54, 32);
     assert_agree("rtiow-final", &run(Method::Cpu, &scene, &s), &run(Method::Megakernel, &scene, &s));
+}
+
+/// three-spheres with every texture kind: a checker ground, a marble (7 octaves) diffuse sphere
+/// and a noise-tinted fuzzy metal.
+fn textured_three_spheres() -> Scene {
+    let mut scene = builtin::by_name("three-spheres").unwrap();
+    for m in &mut scene.materials {
+        m.material = match m.material {
+            Material::Lambertian { albedo: Texture::Solid(c) } if c == glam::Vec3::splat(0.5) => {
+                Material::Lambertian {
+                    albedo: Texture::Checker {
+                        scale: 0.5,
+                        even: glam::Vec3::new(0.2, 0.3, 0.1),
+                        odd: glam::Vec3::splat(0.9),
+                    },
+                }
+            }
+            Material::Lambertian { .. } => Material::Lambertian {
+                albedo: Texture::Marble { scale: 4.0, octaves: 7, color: glam::Vec3::ONE },
+            },
+            Material::Metal { .. } => Material::Metal {
+                albedo: Texture::Noise { scale: 3.0, octaves: 4, color: glam::Vec3::splat(0.9) },
+                fuzz: 0.2,
+            },
+            ref other => other.clone(),
+        };
+    }
+    scene
+}
+
+#[test]
+fn textures_agree_on_cpu_megakernel_and_wavefront() {
+    let scene = textured_three_spheres();
+    let s = settings(96, 54, 32);
+    let cpu = run(Method::Cpu, &scene, &s);
+    // The textures are really there: the image differs from the untextured scene's.
+    let plain = run(Method::Cpu, &builtin::by_name("three-spheres").unwrap(), &s);
+    assert!((cpu.image_mean() - plain.image_mean()).abs() > 0.01, "textures change the image");
+    assert_agree_rays("textures f32 vs f64", &cpu, &run(Method::CpuF64, &scene, &s), 1e-2);
+    if common::gpu().is_none() {
+        return;
+    }
+    assert_agree("textures cpu vs megakernel", &cpu, &run(Method::Megakernel, &scene, &s));
+    assert_agree("textures cpu vs wavefront", &cpu, &run(Method::Wavefront, &scene, &s));
+}
+
+/// The costly-shading scene: every method renders the same image.
+#[test]
+fn rtiow_heavy_agrees_on_cpu_megakernel_and_wavefront() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let scene = builtin::by_name("rtiow-heavy").unwrap();
+    let s = settings(96, 54, 16);
+    let cpu = run(Method::Cpu, &scene, &s);
+    assert_agree("rtiow-heavy cpu vs megakernel", &cpu, &run(Method::Megakernel, &scene, &s));
+    assert_agree("rtiow-heavy cpu vs wavefront", &cpu, &run(Method::Wavefront, &scene, &s));
 }
 
 #[test]

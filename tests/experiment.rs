@@ -477,8 +477,10 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
         names,
         [
             "cpu_vs_gpu.json",
+            "material_cost.json",
             "megakernel_vs_wavefront.json",
             "quick.json",
+            "scene_scale.json",
             "speed_vs_accuracy.json",
             "workgroup_size.json"
         ]
@@ -495,6 +497,33 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
     let listed = String::from_utf8_lossy(&o.stdout);
     let config = ExperimentConfig::from_file(&dir.join("quick.json")).unwrap();
     assert_eq!(listed.lines().count(), plan(&config).iter().filter(|r| r.index % 4 == 1).count());
+}
+
+#[test]
+fn a_sweep_over_scenes_gets_a_time_by_scene_chart() {
+    let dir = scratch("by-scene");
+    let config = serde_json::json!({
+        "schema": "wavetrace-experiment/1",
+        "question": "test",
+        "scenes": ["three-spheres", "furnace"],
+        "resolutions": ["16x9"],
+        "spp": [1],
+        "repetitions": 1,
+        "warmup": 0,
+        "methods": [{"method": "cpu"}, {"method": "cpu-f64"}]
+    });
+    let config = ExperimentConfig::from_file(&write_config(&dir, "by-scene", &config)).unwrap();
+    let opts = RunnerOptions { out_dir: dir.join("out"), shard: None, cache_dir: dir.join("cache") };
+    let report = runner::run(&config, &opts).unwrap();
+    assert_valid(&dir.join("out"));
+    let chart = report.charts.iter().find(|c| c.kind == "time-by-scene").expect("a time-by-scene chart");
+    let svg = std::fs::read_to_string(dir.join("out").join(&chart.file)).unwrap();
+    for name in ["three-spheres", "furnace", "cpu-f64"] {
+        assert!(svg.contains(name), "{name} missing from the chart");
+    }
+    // No reference: no error metrics, no error-vs-time chart, and nothing pretends otherwise.
+    assert!(report.runs.iter().all(|r| r.error_metrics.is_none() && r.efficiency.is_none()));
+    assert!(report.charts.iter().all(|c| c.kind != "error-vs-time"));
 }
 
 #[test]

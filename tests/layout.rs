@@ -38,7 +38,7 @@ fn sphere() {
 
 #[test]
 fn material() {
-    check!(MaterialRecord, "Material", [color, param, kind]);
+    check!(MaterialRecord, "Material", [color, param, kind, texture, octaves, scale, color2]);
 }
 
 #[test]

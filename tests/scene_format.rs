@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 use wavetrace::scene::{
-    builtin, export, load, Background, Material, NamedMaterial, Scene, SceneError, Sphere, FORMAT,
+    builtin, export, load, Background, Material, NamedMaterial, Scene, SceneError, Sphere, Texture, FORMAT,
 };
 
 /// A valid file using every material kind and a constant background; the bad cases below are
@@ -60,14 +60,17 @@ fn example_file_loads_as_written() {
     // File order is kept, including the unused material.
     let names: Vec<&str> = scene.materials.iter().map(|m| m.name.as_str()).collect();
     assert_eq!(names, ["floor", "red", "steel", "glass", "lamp", "unused"]);
-    assert_eq!(scene.materials[2].material, Material::Metal { albedo: Vec3::new(0.7, 0.6, 0.5), fuzz: 0.1 });
+    assert_eq!(
+        scene.materials[2].material,
+        Material::Metal { albedo: Vec3::new(0.7, 0.6, 0.5).into(), fuzz: 0.1 }
+    );
     assert_eq!(scene.materials[4].material, Material::Emissive { radiance: Vec3::new(4.0, 4.0, 3.5) });
     let refs: Vec<u32> = scene.spheres.iter().map(|s| s.material).collect();
     assert_eq!(refs, [0, 1, 3, 2, 4]);
     assert_eq!(scene.spheres[0], Sphere { center: Vec3::new(0.0, -100.5, 0.0), radius: 100.0, material: 0 });
     assert_eq!(
         scene.material(&scene.spheres[3]),
-        &Material::Metal { albedo: Vec3::new(0.7, 0.6, 0.5), fuzz: 0.1 }
+        &Material::Metal { albedo: Vec3::new(0.7, 0.6, 0.5).into(), fuzz: 0.1 }
     );
 }
 
@@ -121,7 +124,7 @@ fn awkward_values_round_trip_bit_exactly() {
     }
     scene.materials.push(NamedMaterial {
         name: "odd name \"with\" quotes / ünïcode".into(),
-        material: Material::Metal { albedo: Vec3::new(1.0 / 3.0, 2.0 / 3.0, 0.1), fuzz: 1.0 / 7.0 },
+        material: Material::Metal { albedo: Vec3::new(1.0 / 3.0, 2.0 / 3.0, 0.1).into(), fuzz: 1.0 / 7.0 },
     });
     let loaded = load::from_str(&export::to_json(&scene), "<export>", "furnace").unwrap();
     assert_eq!(bits(&loaded), bits(&scene));
@@ -142,9 +145,9 @@ fn bits(s: &Scene) -> Vec<u32> {
     }
     for m in &s.materials {
         match m.material {
-            Material::Lambertian { albedo } => v3(albedo, &mut out),
+            Material::Lambertian { albedo } => texture_bits(&albedo, &mut out),
             Material::Metal { albedo, fuzz } => {
-                v3(albedo, &mut out);
+                texture_bits(&albedo, &mut out);
                 out.push(fuzz.to_bits());
             }
             Material::Dielectric { ior } => out.push(ior.to_bits()),
@@ -156,6 +159,112 @@ fn bits(s: &Scene) -> Vec<u32> {
         out.extend([sp.radius.to_bits(), sp.material]);
     }
     out
+}
+
+fn texture_bits(t: &Texture, out: &mut Vec<u32>) {
+    let v3 = |v: Vec3, out: &mut Vec<u32>| out.extend(v.to_array().map(f32::to_bits));
+    match *t {
+        Texture::Solid(c) => v3(c, out),
+        Texture::Checker { scale, even, odd } => {
+            out.push(scale.to_bits());
+            v3(even, out);
+            v3(odd, out);
+        }
+        Texture::Noise { scale, octaves, color } | Texture::Marble { scale, octaves, color } => {
+            out.extend([scale.to_bits(), octaves]);
+            v3(color, out);
+        }
+    }
+}
+
+#[test]
+fn textures_load_export_and_round_trip() {
+    let text = edit(
+        r#""albedo": [0.8, 0.3, 0.3]"#,
+        r#""albedo": {"type": "checker", "scale": 0.25, "even": [0.2, 0.3, 0.1], "odd": [0.9, 0.9, 0.9]}"#,
+    )
+    .replacen(
+        r#""albedo": [0.7, 0.6, 0.5]"#,
+        r#""albedo": {"type": "marble", "scale": 4, "octaves": 7, "color": [1, 1, 1]}"#,
+        1,
+    );
+    let scene = load_str(&text).unwrap();
+    let red = scene.materials.iter().find(|m| m.name == "red").unwrap();
+    assert_eq!(
+        red.material,
+        Material::Lambertian {
+            albedo: Texture::Checker { scale: 0.25, even: Vec3::new(0.2, 0.3, 0.1), odd: Vec3::splat(0.9) }
+        }
+    );
+    let steel = scene.materials.iter().find(|m| m.name == "steel").unwrap();
+    assert_eq!(
+        steel.material,
+        Material::Metal { albedo: Texture::Marble { scale: 4.0, octaves: 7, color: Vec3::ONE }, fuzz: 0.1 }
+    );
+    let exported = export::to_json(&scene);
+    assert!(
+        exported.contains(r#"{"type": "marble", "scale": 4, "octaves": 7, "color": [1, 1, 1]}"#),
+        "{exported}"
+    );
+    let again = load::from_str(&exported, "<export>", "bad").unwrap();
+    assert_eq!(bits(&again), bits(&scene));
+    // {"type": "solid"} is the long form of a plain colour.
+    let solid =
+        edit(r#""albedo": [0.8, 0.3, 0.3]"#, r#""albedo": {"type": "solid", "color": [0.8, 0.3, 0.3]}"#);
+    assert_eq!(load_str(&solid).unwrap(), load_str(EXAMPLE).unwrap());
+    let noise = edit(
+        r#""albedo": [0.8, 0.3, 0.3]"#,
+        r#""albedo": {"type": "noise", "scale": 2, "octaves": 1, "color": [1, 1, 1]}"#,
+    );
+    assert!(matches!(
+        load_str(&noise).unwrap().materials.iter().find(|m| m.name == "red").unwrap().material,
+        Material::Lambertian { albedo: Texture::Noise { octaves: 1, .. } }
+    ));
+}
+
+#[test]
+fn bad_textures_are_refused_with_their_path() {
+    let with = |texture: &str| edit(r#""albedo": [0.8, 0.3, 0.3]"#, &format!(r#""albedo": {texture}"#));
+    assert_error(
+        &with(r#"{"type": "marble", "scale": 4, "octaves": 0, "color": [1, 1, 1]}"#),
+        "materials.red.albedo.octaves",
+        &["must be in 1..=16, got 0"],
+    );
+    assert_error(
+        &with(r#"{"type": "noise", "scale": 4, "octaves": 17, "color": [1, 1, 1]}"#),
+        "materials.red.albedo.octaves",
+        &["must be in 1..=16, got 17"],
+    );
+    assert_error(
+        &with(r#"{"type": "noise", "scale": 4, "octaves": 2.5, "color": [1, 1, 1]}"#),
+        "materials.red.albedo.octaves",
+        &["expected a whole number"],
+    );
+    assert_error(
+        &with(r#"{"type": "checker", "scale": 0, "even": [1, 1, 1], "odd": [0, 0, 0]}"#),
+        "materials.red.albedo.scale",
+        &["must be > 0, got 0"],
+    );
+    assert_error(
+        &with(r#"{"type": "checker", "scale": 1, "even": [1, -1, 1], "odd": [0, 0, 0]}"#),
+        "materials.red.albedo.even[1]",
+        &["must be >= 0"],
+    );
+    assert_error(
+        &with(r#"{"type": "marbel", "scale": 4, "octaves": 3, "color": [1, 1, 1]}"#),
+        "materials.red.albedo.type",
+        &["unknown texture type \"marbel\"", "did you mean \"marble\""],
+    );
+    assert_error(
+        &with(r#"{"type": "noise", "scale": 4, "octaves": 3, "colour": [1, 1, 1]}"#),
+        "materials.red.albedo.colour",
+        &["unknown field", "did you mean \"color\""],
+    );
+    assert_error(
+        &with(r#"{"type": "noise", "scale": 4, "color": [1, 1, 1]}"#),
+        "materials.red.albedo",
+        &["missing required field \"octaves\""],
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -171,15 +280,18 @@ fn rtiow_final_has_a_fixed_deterministic_layout() {
 
     let ground = scene.spheres[0];
     assert_eq!((ground.center, ground.radius), (Vec3::new(0.0, -1000.0, 0.0), 1000.0));
-    assert_eq!(scene.materials[0].material, Material::Lambertian { albedo: Vec3::splat(0.5) });
+    assert_eq!(scene.materials[0].material, Material::Lambertian { albedo: Vec3::splat(0.5).into() });
     let big: Vec<(Vec3, &Material)> =
         scene.spheres[scene.spheres.len() - 3..].iter().map(|s| (s.center, scene.material(s))).collect();
     assert_eq!(
         big,
         [
             (Vec3::new(0.0, 1.0, 0.0), &Material::Dielectric { ior: 1.5 }),
-            (Vec3::new(-4.0, 1.0, 0.0), &Material::Lambertian { albedo: Vec3::new(0.4, 0.2, 0.1) }),
-            (Vec3::new(4.0, 1.0, 0.0), &Material::Metal { albedo: Vec3::new(0.7, 0.6, 0.5), fuzz: 0.0 }),
+            (Vec3::new(-4.0, 1.0, 0.0), &Material::Lambertian { albedo: Vec3::new(0.4, 0.2, 0.1).into() }),
+            (
+                Vec3::new(4.0, 1.0, 0.0),
+                &Material::Metal { albedo: Vec3::new(0.7, 0.6, 0.5).into(), fuzz: 0.0 }
+            ),
         ]
     );
     for s in &scene.spheres[1..scene.spheres.len() - 3] {
@@ -206,7 +318,10 @@ fn three_spheres_and_furnace_are_as_described() {
     assert_eq!(furnace.background, Background::Constant(Vec3::ONE));
     assert_eq!(furnace.camera.defocus_angle, 0.0);
     assert_eq!(furnace.spheres.len(), 1);
-    assert_eq!(furnace.material(&furnace.spheres[0]), &Material::Lambertian { albedo: Vec3::splat(0.5) });
+    assert_eq!(
+        furnace.material(&furnace.spheres[0]),
+        &Material::Lambertian { albedo: Vec3::splat(0.5).into() }
+    );
     // The sphere fills part of the frame, not all of it.
     let s = furnace.spheres[0];
     let half_angle = (s.radius / furnace.camera.lookfrom.distance(s.center)).asin().to_degrees();
@@ -536,7 +651,7 @@ fn scenes_built_in_code_are_validated_too() {
     assert_eq!(err.path, "objects[2].material");
 
     let mut scene = builtin::by_name("three-spheres").unwrap();
-    scene.materials[3].material = Material::Metal { albedo: Vec3::ONE, fuzz: f32::NAN };
+    scene.materials[3].material = Material::Metal { albedo: Vec3::ONE.into(), fuzz: f32::NAN };
     let err = scene.validate().unwrap_err();
     assert_eq!(err.path, "materials.mirror.fuzz");
     assert!(err.reason.contains("not a finite number"), "{err}");

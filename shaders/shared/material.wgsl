@@ -6,12 +6,21 @@ const MATERIAL_DIELECTRIC: u32 = 2u;
 const MATERIAL_EMISSIVE: u32 = 3u;
 
 struct Material {
-    // Albedo, or radiance for an emitter.
+    // Albedo (or its tint for noise and marble, the even squares of a checker), or radiance for
+    // an emitter.
     color: vec3<f32>,
     // Fuzz for metal, index of refraction for dielectric.
     param: f32,
     kind: u32,
+    // TEXTURE_* in shared/texture.wgsl, with its octaves and scale.
+    texture: u32,
+    octaves: u32,
+    scale: f32,
+    // The odd squares of a checker.
+    color2: vec3<f32>,
 }
+
+#include "shared/texture.wgsl"
 
 struct Scatter {
     attenuation: vec3<f32>,
@@ -40,21 +49,21 @@ fn reflectance(cosine: f32, eta_ratio: f32) -> f32 {
     return r0 + (1.0 - r0) * (t2 * t2 * t);
 }
 
-fn scatter_lambertian(m: Material, normal: vec3<f32>, u: vec4<f32>) -> Scatter {
+fn scatter_lambertian(m: Material, p: vec3<f32>, normal: vec3<f32>, u: vec4<f32>) -> Scatter {
     var d = normal + unit_vector(u.x, u.y);
     // The book's near_zero guard.
     if all(abs(d) < vec3<f32>(1e-8)) {
         d = normal;
     }
-    return Scatter(m.color, normalize(d), true);
+    return Scatter(texture_albedo(m, p), normalize(d), true);
 }
 
-fn scatter_metal(m: Material, ray: Ray, normal: vec3<f32>, u: vec4<f32>) -> Scatter {
+fn scatter_metal(m: Material, ray: Ray, p: vec3<f32>, normal: vec3<f32>, u: vec4<f32>) -> Scatter {
     let d = reflect_dir(ray.dir, normal) + unit_vector(u.x, u.y) * m.param;
     if dot(d, normal) <= 0.0 {
         return Scatter(vec3<f32>(0.0), vec3<f32>(0.0), false);
     }
-    return Scatter(m.color, normalize(d), true);
+    return Scatter(texture_albedo(m, p), normalize(d), true);
 }
 
 fn scatter_dielectric(m: Material, ray: Ray, normal: vec3<f32>, front_face: bool, u: vec4<f32>) -> Scatter {
@@ -73,13 +82,14 @@ fn scatter_dielectric(m: Material, ray: Ray, normal: vec3<f32>, front_face: bool
     return Scatter(vec3<f32>(1.0), normalize(d), true);
 }
 
-fn scatter(m: Material, ray: Ray, normal: vec3<f32>, front_face: bool, u: vec4<f32>) -> Scatter {
+// `p`: the hit point, where textures are evaluated.
+fn scatter(m: Material, ray: Ray, p: vec3<f32>, normal: vec3<f32>, front_face: bool, u: vec4<f32>) -> Scatter {
     switch m.kind {
         case MATERIAL_LAMBERTIAN: {
-            return scatter_lambertian(m, normal, u);
+            return scatter_lambertian(m, p, normal, u);
         }
         case MATERIAL_METAL: {
-            return scatter_metal(m, ray, normal, u);
+            return scatter_metal(m, ray, p, normal, u);
         }
         case MATERIAL_DIELECTRIC: {
             return scatter_dielectric(m, ray, normal, front_face, u);

@@ -2,7 +2,9 @@
 
 /// The Okabe–Ito palette (Okabe & Ito, "Color Universal Design", 2002), distinguishable under
 /// the common colour-vision deficiencies. Reordered so the first colours contrast best on white;
-/// yellow and black come last (yellow is faint as a thin line, black reads as an axis).
+/// yellow and black come last (yellow is faint as a thin line, black reads as an axis). Then
+/// four darker and lighter tones of its hues, because a wavefront's pass chart stacks up to a
+/// dozen labels and a colour must not repeat within one chart.
 pub const PALETTE: &[&str] = &[
     "#0072b2", // blue
     "#e69f00", // orange
@@ -12,6 +14,10 @@ pub const PALETTE: &[&str] = &[
     "#56b4e9", // sky blue
     "#f0e442", // yellow
     "#000000", // black
+    "#7f3c8d", // dark purple
+    "#8c6d31", // brown
+    "#a0a0a0", // grey
+    "#1b5e20", // dark green
 ];
 
 /// The palette colour for the `i`-th series or segment, cycling after the last.

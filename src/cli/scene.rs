@@ -26,9 +26,12 @@ pub fn run(cmd: SceneCommand) -> anyhow::Result<()> {
             Ok(())
         }
         SceneCommand::Export { name } => {
-            let scene = builtin::by_name(&name).ok_or_else(|| {
-                let names: Vec<&str> = builtin::list().iter().map(|(n, _)| *n).collect();
-                anyhow::anyhow!("no built-in scene {name:?}; built-ins: {}", names.join(", "))
+            let scene = builtin::by_name(&name).ok_or_else(|| match builtin::family_hint(&name) {
+                Some(hint) => anyhow::anyhow!("{hint}"),
+                None => {
+                    let names: Vec<&str> = builtin::list().iter().map(|(n, _)| *n).collect();
+                    anyhow::anyhow!("no built-in scene {name:?}; built-ins: {}", names.join(", "))
+                }
             })?;
             println!("{}", export::to_json(&scene));
             Ok(())

@@ -49,7 +49,7 @@ pub fn trace_path<T: Real>(
         let front_face = ray.dir.dot(outward) < T::zero();
         let normal = if front_face { outward } else { -outward };
         let u = uniform4(pixel, sample, bounce, Purpose::Scatter, seed);
-        let Some(s) = scatter(material, &ray, normal, front_face, u) else {
+        let Some(s) = scatter(material, &ray, p, normal, front_face, u) else {
             return PathSample { radiance: V3::splat(T::zero()), rays };
         };
         throughput = throughput.mul_elem(s.attenuation);

@@ -1,6 +1,6 @@
 //! Scattering by the book's materials; twin of `shaders/shared/material.wgsl`.
 
-use super::{ray::Ray, real::Real, sampling::unit_vector, vec3::V3};
+use super::{ray::Ray, real::Real, sampling::unit_vector, texture, vec3::V3};
 use crate::layout::{material_kind, MaterialRecord};
 
 /// Where a path goes next and how much of it survives.
@@ -31,25 +31,25 @@ pub fn reflectance<T: Real>(cosine: T, eta_ratio: T) -> T {
     r0 + (T::one() - r0) * (T::one() - cosine).powi(5)
 }
 
-/// Scatters `ray` at a surface with shading normal `normal` (facing the ray), `front_face` true
-/// when the ray arrived from outside. `u` are the bounce's three scatter numbers. `None`: the
-/// path is absorbed (or the surface only emits).
+/// Scatters `ray` at the surface point `p` (where textures are evaluated) with shading normal
+/// `normal` (facing the ray), `front_face` true when the ray arrived from outside. `u` are the
+/// bounce's three scatter numbers. `None`: the path is absorbed (or the surface only emits).
 #[inline(always)]
 pub fn scatter<T: Real>(
     m: &MaterialRecord,
     ray: &Ray<T>,
+    p: V3<T>,
     normal: V3<T>,
     front_face: bool,
     u: [f32; 4],
 ) -> Option<Scatter<T>> {
-    let color = V3::of(m.color);
     match m.kind {
         material_kind::LAMBERTIAN => {
             let d = normal + unit_vector(u[0], u[1]);
             // The book's near_zero guard: a sample opposite the normal falls back to it.
             let tiny = T::of(1e-8);
             let dir = if d.x.abs() < tiny && d.y.abs() < tiny && d.z.abs() < tiny { normal } else { d };
-            Some(Scatter { attenuation: color, dir: dir.normalize() })
+            Some(Scatter { attenuation: texture::albedo(m, p), dir: dir.normalize() })
         }
         material_kind::METAL => {
             let fuzz = T::of(m.param);
@@ -57,7 +57,7 @@ pub fn scatter<T: Real>(
             if dir.dot(normal) <= T::zero() {
                 return None;
             }
-            Some(Scatter { attenuation: color, dir: dir.normalize() })
+            Some(Scatter { attenuation: texture::albedo(m, p), dir: dir.normalize() })
         }
         material_kind::DIELECTRIC => {
             let ior = T::of(m.param);
@@ -81,7 +81,7 @@ mod tests {
     use super::*;
 
     fn record(kind: u32, color: [f32; 3], param: f32) -> MaterialRecord {
-        MaterialRecord { color, param, kind, _pad: [0; 3] }
+        MaterialRecord { color, param, kind, ..Default::default() }
     }
 
     fn ray(d: [f64; 3]) -> Ray<f64> {
@@ -96,7 +96,7 @@ mod tests {
         let n = V3::new(0.0, -1.0, 0.0); // facing the ray, which travels up and out
         let r = ray([60f64.to_radians().sin(), 60f64.to_radians().cos(), 0.0]);
         for u in [0.0, 0.5, 0.999] {
-            let s = scatter(&glass, &r, n, false, [0.3, 0.3, u, 0.0]).unwrap();
+            let s = scatter(&glass, &r, V3::splat(0.0), n, false, [0.3, 0.3, u, 0.0]).unwrap();
             assert!(s.dir.y < 0.0, "reflected back down into the glass");
             assert!((s.dir.y + r.dir.y).abs() < 1e-12 && (s.dir.x - r.dir.x).abs() < 1e-12);
         }
@@ -108,12 +108,12 @@ mod tests {
         let n = V3::new(0.0, 1.0, 0.0);
         let r = ray([30f64.to_radians().sin(), -30f64.to_radians().cos(), 0.0]);
         // u = 0.999 > Schlick reflectance (~0.04): refracts.
-        let s = scatter(&glass, &r, n, true, [0.0, 0.0, 0.999, 0.0]).unwrap();
+        let s = scatter(&glass, &r, V3::splat(0.0), n, true, [0.0, 0.0, 0.999, 0.0]).unwrap();
         let sin_out = s.dir.x / s.dir.length();
         assert!((sin_out - 0.5 / 1.5).abs() < 1e-12, "sin θt = sin θi / 1.5");
         assert!(s.dir.y < 0.0);
         // u = 0 < reflectance: reflects.
-        let s = scatter(&glass, &r, n, true, [0.0, 0.0, 0.0, 0.0]).unwrap();
+        let s = scatter(&glass, &r, V3::splat(0.0), n, true, [0.0, 0.0, 0.0, 0.0]).unwrap();
         assert!(s.dir.y > 0.0);
     }
 
@@ -130,7 +130,7 @@ mod tests {
         let mut st = crate::rng::Stream::new(5);
         for _ in 0..1000 {
             let u = [st.next_f32(), st.next_f32(), 0.0, 0.0];
-            let s = scatter(&m, &ray([0.0, 0.0, -1.0]), n, true, u).unwrap();
+            let s = scatter(&m, &ray([0.0, 0.0, -1.0]), V3::splat(0.0), n, true, u).unwrap();
             assert!(s.dir.dot(n) >= 0.0);
             assert!((s.dir.length() - 1.0).abs() < 1e-12);
             assert_eq!(s.attenuation, V3::new(0.2f32 as f64, 0.4f32 as f64, 0.6f32 as f64));
@@ -142,7 +142,7 @@ mod tests {
         let mirror = record(material_kind::METAL, [1.0; 3], 0.0);
         let n = V3::new(0.0, 1.0, 0.0);
         let r = ray([1.0, -1.0, 0.0]);
-        let s = scatter(&mirror, &r, n, true, [0.1, 0.2, 0.0, 0.0]).unwrap();
+        let s = scatter(&mirror, &r, V3::splat(0.0), n, true, [0.1, 0.2, 0.0, 0.0]).unwrap();
         assert!((s.dir.x - r.dir.x).abs() < 1e-12 && (s.dir.y + r.dir.y).abs() < 1e-12);
         // A grazing ray with full fuzz: some samples end below the surface and are absorbed.
         let fuzzy = record(material_kind::METAL, [1.0; 3], 1.0);
@@ -150,7 +150,8 @@ mod tests {
         let mut st = crate::rng::Stream::new(6);
         let absorbed = (0..1000)
             .filter(|_| {
-                scatter(&fuzzy, &grazing, n, true, [st.next_f32(), st.next_f32(), 0.0, 0.0]).is_none()
+                scatter(&fuzzy, &grazing, V3::splat(0.0), n, true, [st.next_f32(), st.next_f32(), 0.0, 0.0])
+                    .is_none()
             })
             .count();
         assert!(absorbed > 100 && absorbed < 900, "{absorbed}");
@@ -159,6 +160,14 @@ mod tests {
     #[test]
     fn emitters_do_not_scatter() {
         let light = record(material_kind::EMISSIVE, [4.0; 3], 0.0);
-        assert!(scatter(&light, &ray([0.0, 0.0, 1.0]), V3::new(0.0, 0.0, -1.0), true, [0.5; 4]).is_none());
+        assert!(scatter(
+            &light,
+            &ray([0.0, 0.0, 1.0]),
+            V3::splat(0.0),
+            V3::new(0.0, 0.0, -1.0),
+            true,
+            [0.5; 4]
+        )
+        .is_none());
     }
 }

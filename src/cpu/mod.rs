@@ -11,6 +11,7 @@ pub mod ray;
 pub mod real;
 pub mod sampling;
 pub mod sphere;
+pub mod texture;
 pub mod vec3;
 
 use crate::camera::CameraFrame;

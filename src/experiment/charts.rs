@@ -1,6 +1,6 @@
 //! The report's charts, one set per (scene, resolution): error against time (the speed-vs-accuracy
 //! chart), GPU time per pass stacked per run, queue occupancy per bounce, and SIMD efficiency per
-//! pass where it was measured. Drawn from `report.json` alone, so `experiment report` and
+//! pass where it was measured; and, where a config sweeps scenes, time by scene. Drawn from `report.json` alone, so `experiment report` and
 //! `experiment merge` can re-draw them.
 
 use std::collections::BTreeMap;
@@ -46,6 +46,61 @@ pub fn charts(report: &ExperimentReport) -> Vec<Chart> {
         if let Some(c) = simd(&runs, &group) {
             push("simd", c.title.clone(), c.to_svg());
         }
+    }
+    out.extend(time_by_scene(report));
+    out
+}
+
+/// Across scenes (a sweep such as rtiow-heavy-1..16 or spheres-1000..1000000): median time per
+/// method variant, one chart per resolution, spp and depth shared by two or more scenes. Scenes
+/// keep their config order.
+fn time_by_scene(report: &ExperimentReport) -> Vec<Chart> {
+    let ok: Vec<&RunRecord> = report.runs.iter().filter(|r| r.status == RunStatus::Ok).collect();
+    let mut scene_order: Vec<&str> = Vec::new();
+    for r in &report.runs {
+        if !scene_order.contains(&r.scene.as_str()) {
+            scene_order.push(&r.scene);
+        }
+    }
+    let mut settings: BTreeMap<(u32, u32, u32, u32), Vec<&RunRecord>> = BTreeMap::new();
+    for r in ok {
+        settings.entry((r.width, r.height, r.spp, r.max_depth)).or_default().push(r);
+    }
+    let mut out = Vec::new();
+    for ((w, h, spp, depth), runs) in settings {
+        let scenes: Vec<&str> =
+            scene_order.iter().copied().filter(|s| runs.iter().any(|r| r.scene == *s)).collect();
+        if scenes.len() < 2 {
+            continue;
+        }
+        let groups = scenes
+            .iter()
+            .map(|scene| {
+                let bars = runs
+                    .iter()
+                    .filter(|r| r.scene == *scene)
+                    .filter_map(|r| Some((r.label.clone(), r.seconds?)))
+                    .collect();
+                (scene.to_string(), bars)
+            })
+            .collect();
+        let title = format!("Time by scene: {w}x{h}, {spp} spp, depth {depth}");
+        let chart = GroupedBarChart {
+            title: title.clone(),
+            y_label: "time per render, s (GPU where measured, else wall; median)".into(),
+            y_max: None,
+            percent: false,
+            groups,
+        };
+        out.push(Chart {
+            stem: format!("time-by-scene-{w}x{h}-{spp}spp-d{depth}"),
+            kind: "time-by-scene",
+            title,
+            svg: chart.to_svg(),
+            scene: String::new(),
+            width: w,
+            height: h,
+        });
     }
     out
 }

@@ -318,6 +318,9 @@ impl Cx {
                 Some(s) => s,
                 None => {
                     let file = self.dir.join(&arg);
+                    if let Some(hint) = crate::scene::builtin::family_hint(&arg).filter(|_| !file.exists()) {
+                        return self.err(&path, hint);
+                    }
                     if !file.exists() {
                         let builtins = crate::scene::builtin::names();
                         return self.err(

@@ -63,7 +63,12 @@ pub fn page(report: &ExperimentReport, charts: &[Chart], dir: &Path) -> String {
             if last_group.is_some() {
                 h.push_str("</div>\n");
             }
-            let _ = writeln!(h, "<h3>{} {}x{}</h3><div class=\"charts\">", esc(&c.scene), c.width, c.height);
+            let heading = if c.scene.is_empty() {
+                "Across scenes".to_string()
+            } else {
+                format!("{} {}x{}", esc(&c.scene), c.width, c.height)
+            };
+            let _ = writeln!(h, "<h3>{heading}</h3><div class=\"charts\">");
             last_group = Some(group);
         }
         h.push_str(strip_prolog(&c.svg));

@@ -206,8 +206,9 @@ pub struct ChartRecord {
     /// `charts/NAME.svg`, relative to the report's directory.
     pub file: String,
     pub title: String,
-    /// `error-vs-time`, `passes`, `queues` or `simd`.
+    /// `error-vs-time`, `passes`, `queues`, `simd` or `time-by-scene`.
     pub kind: String,
+    /// Empty for `time-by-scene`, which spans scenes.
     pub scene: String,
     pub width: u32,
     pub height: u32,

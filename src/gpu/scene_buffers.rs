@@ -1,10 +1,14 @@
 //! The scene on the GPU: bind group 0 of every method (`shaders/shared/scene.wgsl`).
+//!
+//! Every scene buffer is checked against the adapter's limits before any is created
+//! ([`check_fits`]), so a scene too big for the device is an error naming the buffer, not a
+//! wgpu validation panic or a lost device halfway through the upload.
 
-use super::buffers::{storage_entry, storage_init, uniform_entry};
-use super::context::GpuContext;
+use super::buffers::{human_bytes, storage_entry, storage_init, uniform_entry};
+use super::context::{AdapterSummary, GpuContext};
 use crate::layout::FrameUniform;
 use crate::packed_scene::PackedScene;
-use anyhow::Result;
+use anyhow::{bail, Result};
 use bytemuck::cast_slice;
 use wgpu::util::DeviceExt;
 
@@ -30,6 +34,7 @@ impl SceneBuffers {
     }
 
     pub fn new(ctx: &GpuContext, scene: &PackedScene, frame: &FrameUniform) -> Result<Self> {
+        check_fits(scene, &ctx.summary)?;
         let none = wgpu::BufferUsages::empty();
         let frame_buf = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame"),
@@ -57,4 +62,47 @@ impl SceneBuffers {
         ctx.check()?;
         Ok(Self { layout, bind_group, bytes })
     }
+}
+
+/// The storage buffers a scene needs: (label, bytes), labelled as in errors and in wgpu.
+pub fn buffer_sizes(scene: &PackedScene) -> [(&'static str, u64); 4] {
+    use std::mem::size_of_val;
+    [
+        ("spheres", size_of_val(scene.spheres.as_slice()) as u64),
+        ("sphere materials", size_of_val(scene.sphere_material.as_slice()) as u64),
+        ("materials", size_of_val(scene.materials.as_slice()) as u64),
+        ("BVH nodes", size_of_val(scene.nodes.as_slice()) as u64),
+    ]
+}
+
+/// Errors out, naming the first scene buffer that is too big, its size, the limit and the
+/// adapter, when `scene` cannot be bound on `adapter`.
+pub fn check_fits(scene: &PackedScene, adapter: &AdapterSummary) -> Result<()> {
+    check_fits_limits(scene, &adapter.name, adapter.max_storage_buffer_binding_size, adapter.max_buffer_size)
+}
+
+/// [`check_fits`] against explicit limits: pure, so tests can pose as a smaller adapter.
+pub fn check_fits_limits(
+    scene: &PackedScene,
+    adapter: &str,
+    max_storage_buffer_binding_size: u64,
+    max_buffer_size: u64,
+) -> Result<()> {
+    // A storage binding is bounded by both limits; wgpu checks each separately.
+    let limit = max_storage_buffer_binding_size.min(max_buffer_size);
+    for (label, size) in buffer_sizes(scene) {
+        if size > limit {
+            bail!(
+                "the scene ({} spheres) does not fit on {adapter}: its {label} buffer needs {} \
+                 ({size} bytes) but the adapter allows at most {} ({limit} bytes) per storage \
+                 buffer (max_storage_buffer_binding_size {max_storage_buffer_binding_size}, \
+                 max_buffer_size {max_buffer_size}); use a scene with fewer spheres or a GPU with \
+                 larger limits",
+                scene.spheres.len(),
+                human_bytes(size),
+                human_bytes(limit),
+            );
+        }
+    }
+    Ok(())
 }

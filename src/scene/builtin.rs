@@ -26,6 +26,26 @@
 //! `small-a<a>-b<b>` after its cell (`small-a-11-b3`); the fixed ones are `ground`, `glass`,
 //! `brown` and `mirror`. Materials are listed in creation order: ground, the small ones, then
 //! glass, brown, mirror; spheres likewise.
+//!
+//! # `spheres-N`: the scale family
+//!
+//! `spheres-N` for any N in 1..=[`SPHERES_MAX`] (written without leading zeros) is the book's
+//! ground with N small spheres in a square grid of side `s = ceil(sqrt(N))`, filled row by row
+//! (`ceil(N / s)` rows), under the sky. Cells are 1 unit wide up to the book's 22 per side; past
+//! that the grid keeps the book's 22-unit footprint and cells shrink to `22 / s`, so the camera
+//! frames the same picture at every N and only the geometry's density (and the BVH's depth)
+//! grows. In cell units each sphere has radius 0.2 and its centre is jittered by at most 0.25
+//! per axis, so neighbours stay at least 0.5 apart and never overlap; each sits on the curved
+//! ground (centre at distance 1000 + r from the ground's centre). Drawn from
+//! [`Stream::new(SPHERES_SEED)`](crate::rng::Stream), per sphere in grid order:
+//!
+//! ```text
+//! choose_mat = u(); jitter x = u() - 0.5, then z, times 0.5 cell
+//! then the material as in rtiow-final (80% lambertian, 15% metal, 5% dielectric)
+//! ```
+//!
+//! Each sphere has its own material, `small-<k>` for the k-th sphere; the ground is `ground`
+//! (materials and spheres: ground first, then the grid in order).
 
 use glam::Vec3;
 
@@ -34,6 +54,16 @@ use crate::rng::Stream;
 
 /// The stream id of the `rtiow-final` layout. Changing it changes the scene.
 pub const RTIOW_FINAL_SEED: u32 = 1;
+
+/// The stream id of the `spheres-N` layouts. Changing it changes those scenes.
+pub const SPHERES_SEED: u32 = 2;
+
+/// The largest N of `spheres-N`.
+pub const SPHERES_MAX: u32 = 1_000_000;
+
+/// The `spheres-N` entry of [`BUILTINS`]: one member of the family stands for all of it, so that
+/// every listed name builds (`scene list` counts its spheres, exports round-trip).
+const SPHERES_EXAMPLE: u32 = 1000;
 
 /// A built-in scene: its name, a one-line description, and how to build it.
 pub struct Builtin {
@@ -51,6 +81,12 @@ pub const BUILTINS: &[Builtin] = &[
         build: rtiow_final,
     },
     Builtin {
+        name: "rtiow-heavy",
+        description: "rtiow-final made costly to shade (rtiow-heavy-O: O in 1..=16 octaves of noise, \
+                      here 8): checker ground, noise or marble on every diffuse sphere",
+        build: || super::heavy::rtiow_heavy(super::heavy::DEFAULT_OCTAVES),
+    },
+    Builtin {
         name: "three-spheres",
         description: "The final scene's ground and three big spheres (glass, diffuse, mirror) only",
         build: three_spheres,
@@ -61,9 +97,15 @@ pub const BUILTINS: &[Builtin] = &[
                       image is 0.5 on the sphere, 1 elsewhere",
         build: furnace,
     },
+    Builtin {
+        name: "spheres-1000",
+        description: "spheres-N, any N in 1..=1000000 (here 1000): N small spheres (80% diffuse, \
+                      15% metal, 5% glass) in a seeded square grid on the ground, whole grid in view",
+        build: || spheres(SPHERES_EXAMPLE),
+    },
 ];
 
-const NAMES: &[&str] = &["rtiow-final", "three-spheres", "furnace"];
+const NAMES: &[&str] = &["rtiow-final", "rtiow-heavy", "three-spheres", "furnace", "spheres-1000"];
 
 /// The names of the built-in scenes, in [`BUILTINS`] order.
 pub fn names() -> &'static [&'static str] {
@@ -75,9 +117,49 @@ pub fn list() -> Vec<(&'static str, &'static str)> {
     BUILTINS.iter().map(|b| (b.name, b.description)).collect()
 }
 
-/// The built-in scene called `name`, if there is one.
+/// The built-in scene called `name`, if there is one: a [`BUILTINS`] entry, `spheres-N` or
+/// `rtiow-heavy-O`.
 pub fn by_name(name: &str) -> Option<Scene> {
-    BUILTINS.iter().find(|b| b.name == name).map(|b| (b.build)())
+    match BUILTINS.iter().find(|b| b.name == name) {
+        Some(b) => Some((b.build)()),
+        None => spheres_count(name)
+            .map(spheres)
+            .or_else(|| super::heavy::parse_name(name).map(super::heavy::rtiow_heavy)),
+    }
+}
+
+/// N of a well-formed `spheres-N` name: decimal digits without a leading zero or sign, N in
+/// 1..=[`SPHERES_MAX`]; otherwise `None`, so that each scene has exactly one name.
+pub fn spheres_count(name: &str) -> Option<u32> {
+    let digits = name.strip_prefix("spheres-")?;
+    if digits.is_empty() || digits.starts_with('0') || !digits.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    // Long digit strings overflow u32: also out of range.
+    let n: u32 = digits.parse().ok()?;
+    (n <= SPHERES_MAX).then_some(n)
+}
+
+/// Why `name`, which looks like a member of a built-in family but is not one, names no scene; for
+/// the "no such scene" error (`None` when `name` does not look like one).
+pub fn family_hint(name: &str) -> Option<String> {
+    if let Some(digits) = name.strip_prefix("rtiow-heavy-") {
+        return super::heavy::parse_name(name).is_none().then(|| {
+            format!(
+                "{name:?} is not a built-in scene: rtiow-heavy-O takes O in 1..={}, written without \
+                 leading zeros (got {digits:?})",
+                super::texture::MAX_OCTAVES
+            )
+        });
+    }
+    let digits = name.strip_prefix("spheres-")?;
+    if spheres_count(name).is_some() {
+        return None;
+    }
+    Some(format!(
+        "{name:?} is not a built-in scene: spheres-N takes N in 1..={SPHERES_MAX}, written without \
+         leading zeros (got {digits:?})"
+    ))
 }
 
 /// Collects materials and spheres; each sphere refers to a material by its index.
@@ -114,15 +196,15 @@ fn rtiow_camera() -> CameraSpec {
 }
 
 fn add_ground(b: &mut Builder) {
-    let ground = Material::Lambertian { albedo: Vec3::splat(0.5) };
+    let ground = Material::Lambertian { albedo: Vec3::splat(0.5).into() };
     b.add("ground".into(), ground, Vec3::new(0.0, -1000.0, 0.0), 1000.0);
 }
 
 fn add_big_three(b: &mut Builder) {
     b.add("glass".into(), Material::Dielectric { ior: 1.5 }, Vec3::new(0.0, 1.0, 0.0), 1.0);
-    let brown = Material::Lambertian { albedo: Vec3::new(0.4, 0.2, 0.1) };
+    let brown = Material::Lambertian { albedo: Vec3::new(0.4, 0.2, 0.1).into() };
     b.add("brown".into(), brown, Vec3::new(-4.0, 1.0, 0.0), 1.0);
-    let mirror = Material::Metal { albedo: Vec3::new(0.7, 0.6, 0.5), fuzz: 0.0 };
+    let mirror = Material::Metal { albedo: Vec3::new(0.7, 0.6, 0.5).into(), fuzz: 0.0 };
     b.add("mirror".into(), mirror, Vec3::new(4.0, 1.0, 0.0), 1.0);
 }
 
@@ -142,10 +224,10 @@ fn rtiow_final() -> Scene {
             let material = if choose_mat < 0.8 {
                 let v1 = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
                 let v2 = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
-                Material::Lambertian { albedo: v1 * v2 }
+                Material::Lambertian { albedo: (v1 * v2).into() }
             } else if choose_mat < 0.95 {
                 let albedo = Vec3::new(rng.range(0.5, 1.0), rng.range(0.5, 1.0), rng.range(0.5, 1.0));
-                Material::Metal { albedo, fuzz: rng.range(0.0, 0.5) }
+                Material::Metal { albedo: albedo.into(), fuzz: rng.range(0.0, 0.5) }
             } else {
                 Material::Dielectric { ior: 1.5 }
             };
@@ -167,7 +249,7 @@ fn three_spheres() -> Scene {
 /// axis: about 72% of the 40-degree frame's height, background all round it.
 fn furnace() -> Scene {
     let mut b = Builder::new();
-    let grey = Material::Lambertian { albedo: Vec3::splat(0.5) };
+    let grey = Material::Lambertian { albedo: Vec3::splat(0.5).into() };
     b.add("grey".into(), grey, Vec3::ZERO, 1.0);
     let camera = CameraSpec {
         lookfrom: Vec3::new(0.0, 0.0, 4.0),
@@ -180,9 +262,68 @@ fn furnace() -> Scene {
     b.finish("furnace", camera, Background::Constant(Vec3::ONE))
 }
 
+/// `spheres-N` (see the module doc): N small spheres in a seeded grid on the ground.
+fn spheres(n: u32) -> Scene {
+    assert!((1..=SPHERES_MAX).contains(&n), "spheres-N takes N in 1..={SPHERES_MAX}, got {n}");
+    let side = (n as f64).sqrt().ceil() as u32;
+    let rows = n.div_ceil(side);
+    // The book's grid is 22 cells of 1 unit; bigger grids keep its footprint.
+    let cell = if side <= 22 { 1.0 } else { 22.0 / side as f32 };
+    let radius = 0.2 * cell;
+    let ground = Vec3::new(0.0, -1000.0, 0.0);
+    let mut rng = Stream::new(SPHERES_SEED);
+    let mut b = Builder::new();
+    b.materials.reserve(n as usize + 1);
+    b.spheres.reserve(n as usize + 1);
+    add_ground(&mut b);
+    for k in 0..n {
+        let (i, j) = (k % side, k / side);
+        let choose_mat = rng.next_f32();
+        let x = (i as f32 - 0.5 * (side - 1) as f32 + 0.5 * (rng.next_f32() - 0.5)) * cell;
+        let z = (j as f32 - 0.5 * (rows - 1) as f32 + 0.5 * (rng.next_f32() - 0.5)) * cell;
+        // On the curved ground, not the plane y = 0: at the grid's edge the ground is ~0.06
+        // below the plane, more than a small sphere's radius at large N.
+        let center = ground + (1000.0 + radius) * (Vec3::new(x, 0.0, z) - ground).normalize();
+        let material = if choose_mat < 0.8 {
+            let v1 = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+            let v2 = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+            Material::Lambertian { albedo: (v1 * v2).into() }
+        } else if choose_mat < 0.95 {
+            let albedo = Vec3::new(rng.range(0.5, 1.0), rng.range(0.5, 1.0), rng.range(0.5, 1.0));
+            Material::Metal { albedo: albedo.into(), fuzz: rng.range(0.0, 0.5) }
+        } else {
+            Material::Dielectric { ior: 1.5 }
+        };
+        b.add(format!("small-{k}"), material, center, radius);
+    }
+    b.finish(&format!("spheres-{n}"), spheres_camera(side as f32 * cell, rows as f32 * cell), Background::Sky)
+}
+
+/// Looks down on a `width` × `depth` grid centred at the origin from 25 degrees above the
+/// ground and 25 degrees off its axis (a corner nearest, as in the book's view), at a distance
+/// proportional to the grid, so the whole grid is in a 16:9 frame with a strip of sky above the
+/// horizon at every N. Pinhole: the spheres are small enough that blur would hide them.
+fn spheres_camera(width: f32, depth: f32) -> CameraSpec {
+    let (elevation, azimuth) = (25f32.to_radians(), 25f32.to_radians());
+    let extent = width.max(depth);
+    let distance = 1.35 * extent;
+    let dir = Vec3::new(azimuth.sin() * elevation.cos(), elevation.sin(), azimuth.cos() * elevation.cos());
+    // Aimed a little above the grid's centre, which lowers the grid in the frame to show sky.
+    let lookat = Vec3::new(0.0, 0.06 * extent, 0.0);
+    CameraSpec {
+        lookfrom: lookat + distance * dir,
+        lookat,
+        vup: Vec3::Y,
+        vfov: 50.0,
+        defocus_angle: 0.0,
+        focus_dist: distance,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::Texture;
 
     #[test]
     fn names_match_the_table() {
@@ -192,6 +333,53 @@ mod tests {
             assert_eq!(by_name(name).expect("listed scene builds").name, name);
         }
         assert!(by_name("no-such-scene").is_none());
+    }
+
+    #[test]
+    fn spheres_names_parse_strictly() {
+        for (name, n) in [("spheres-1", 1), ("spheres-250", 250), ("spheres-1000000", SPHERES_MAX)] {
+            assert_eq!(spheres_count(name), Some(n), "{name}");
+            assert!(family_hint(name).is_none(), "{name}");
+        }
+        for bad in [
+            "spheres-0",
+            "spheres-01",
+            "spheres-1000001",
+            "spheres-2000000",
+            "spheres-99999999999",
+            "spheres-",
+            "spheres-x",
+            "spheres--5",
+            "spheres-+5",
+            "spheres- 5",
+            "spheres-1e3",
+            "spheres-N",
+            "Spheres-5",
+        ] {
+            assert_eq!(spheres_count(bad), None, "{bad}");
+            assert!(by_name(bad).is_none(), "{bad}");
+        }
+        let hint = family_hint("spheres-0").unwrap();
+        assert!(hint.contains("1..=1000000") && hint.contains("\"0\""), "{hint}");
+        assert!(family_hint("rtiow-finale").is_none());
+    }
+
+    #[test]
+    fn spheres_n_builds_n_small_spheres_on_the_ground() {
+        for n in [1, 2, 5, 22 * 22, 1000, 1001] {
+            let scene = by_name(&format!("spheres-{n}")).unwrap();
+            assert_eq!(scene.name, format!("spheres-{n}"));
+            assert_eq!(scene.spheres.len(), n as usize + 1);
+            assert_eq!(scene.materials.len(), n as usize + 1);
+            scene.validate().unwrap();
+            let ground = scene.spheres[0];
+            for s in &scene.spheres[1..] {
+                // Touching the ground up to f32 rounding at 1000 (ulp 6e-5): not sunk, not floating.
+                let gap = s.center.distance(ground.center) - ground.radius - s.radius;
+                assert!(gap.abs() < 5e-4, "spheres-{n}: gap {gap}");
+                assert!(s.radius <= 0.2);
+            }
+        }
     }
 
     #[test]
@@ -206,12 +394,15 @@ mod tests {
         assert!((count("dielectric") / n - 0.05).abs() < 0.03);
         for m in small {
             match m.material {
-                Material::Metal { albedo, fuzz } => {
+                Material::Metal { albedo: Texture::Solid(albedo), fuzz } => {
                     assert!(albedo.min_element() >= 0.5 && albedo.max_element() < 1.0);
                     assert!((0.0..0.5).contains(&fuzz));
                 }
-                Material::Lambertian { albedo } => {
+                Material::Lambertian { albedo: Texture::Solid(albedo) } => {
                     assert!(albedo.min_element() >= 0.0 && albedo.max_element() < 1.0)
+                }
+                Material::Lambertian { .. } | Material::Metal { .. } => {
+                    panic!("no textures in the final scene")
                 }
                 Material::Dielectric { ior } => assert_eq!(ior, 1.5),
                 Material::Emissive { .. } => panic!("no lights in the final scene"),

@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 
 use glam::Vec3;
 
-use super::{Background, Material, Scene, FORMAT};
+use super::{Background, Material, Scene, Texture, FORMAT};
 
 /// The scene as pretty-printed JSON: `format`, `camera`, `background`, `materials` (in scene
 /// order), `objects`. Spheres name their material.
@@ -45,9 +45,9 @@ pub fn to_json(scene: &Scene) -> String {
     let materials = scene.materials.iter().map(|m| {
         let kind = string(m.material.kind_name());
         let fields = match m.material {
-            Material::Lambertian { albedo } => format!(r#""albedo": {}"#, vec3(albedo)),
+            Material::Lambertian { albedo } => format!(r#""albedo": {}"#, texture(&albedo)),
             Material::Metal { albedo, fuzz } => {
-                format!(r#""albedo": {}, "fuzz": {}"#, vec3(albedo), number(fuzz))
+                format!(r#""albedo": {}, "fuzz": {}"#, texture(&albedo), number(fuzz))
             }
             Material::Dielectric { ior } => format!(r#""ior": {}"#, number(ior)),
             Material::Emissive { radiance } => format!(r#""radiance": {}"#, vec3(radiance)),
@@ -118,6 +118,27 @@ fn number(x: f32) -> String {
 
 fn reads_back(text: &str, x: f32) -> bool {
     serde_json::from_str::<f64>(text).is_ok_and(|y| (y as f32).to_bits() == x.to_bits())
+}
+
+/// A solid albedo as `[r, g, b]` (as before textures existed), others as tagged objects.
+fn texture(t: &Texture) -> String {
+    let kind = string(t.kind_name());
+    match *t {
+        Texture::Solid(c) => vec3(c),
+        Texture::Checker { scale, even, odd } => {
+            format!(
+                r#"{{"type": {kind}, "scale": {}, "even": {}, "odd": {}}}"#,
+                number(scale),
+                vec3(even),
+                vec3(odd)
+            )
+        }
+        Texture::Noise { scale, octaves, color } | Texture::Marble { scale, octaves, color } => format!(
+            r#"{{"type": {kind}, "scale": {}, "octaves": {octaves}, "color": {}}}"#,
+            number(scale),
+            vec3(color)
+        ),
+    }
 }
 
 #[cfg(test)]

@@ -45,7 +45,8 @@ use serde_json::{Map, Value};
 
 use crate::strict_json::{describe, did_you_mean, join, parse_strict, quoted_list};
 
-use super::{Background, CameraSpec, Material, NamedMaterial, Scene, SceneError, Sphere, FORMAT};
+use super::texture::MAX_OCTAVES;
+use super::{Background, CameraSpec, Material, NamedMaterial, Scene, SceneError, Sphere, Texture, FORMAT};
 
 /// The `format` tags this build reads.
 pub const SUPPORTED_FORMATS: &[&str] = &[FORMAT];
@@ -54,6 +55,7 @@ pub const SUPPORTED_FORMATS: &[&str] = &[FORMAT];
 const MATERIAL_TYPES: &[&str] = &["lambertian", "metal", "dielectric", "emissive"];
 const BACKGROUND_TYPES: &[&str] = &["sky", "constant"];
 const OBJECT_TYPES: &[&str] = &["sphere"];
+const TEXTURE_TYPES: &[&str] = &["solid", "checker", "noise", "marble"];
 
 /// Below this sine of the angle between `vup` and the view direction the camera basis
 /// (`cross(vup, w)`) is too ill-conditioned in f32 to be trusted (about 0.006 degrees).
@@ -156,9 +158,9 @@ pub fn validate(scene: &Scene, file: &str) -> Result<(), SceneError> {
             );
         }
         let problem = match m.material {
-            Material::Lambertian { albedo } => check_vec3(&format!("{path}.albedo"), albedo, true),
+            Material::Lambertian { albedo } => check_texture(&format!("{path}.albedo"), &albedo),
             Material::Metal { albedo, fuzz } => {
-                check_vec3(&format!("{path}.albedo"), albedo, true).or_else(|| {
+                check_texture(&format!("{path}.albedo"), &albedo).or_else(|| {
                     let reason = check_finite(fuzz).or_else(|| {
                         (!(0.0..=1.0).contains(&fuzz)).then(|| format!("must be in [0, 1], got {fuzz}"))
                     });
@@ -210,6 +212,31 @@ fn check_vec3(path: &str, v: Vec3, non_negative: bool) -> Option<(String, String
             check_finite(c).or_else(|| (non_negative && c < 0.0).then(|| format!("must be >= 0, got {c}")));
         reason.map(|r| (format!("{path}[{i}]"), r))
     })
+}
+
+/// A texture's colours must be finite and non-negative, its scale finite and > 0, its octaves in
+/// 1..=MAX_OCTAVES. Paths are those of the scene file (`materials.m.albedo.octaves`).
+fn check_texture(path: &str, t: &Texture) -> Option<(String, String)> {
+    let positive = |field: &str, x: f32| {
+        check_finite(x)
+            .or_else(|| (x <= 0.0).then(|| format!("must be > 0, got {x}")))
+            .map(|r| (format!("{path}.{field}"), r))
+    };
+    let octaves_ok = |n: u32| {
+        (!(1..=MAX_OCTAVES).contains(&n))
+            .then(|| (format!("{path}.octaves"), format!("must be in 1..={MAX_OCTAVES}, got {n}")))
+    };
+    match *t {
+        Texture::Solid(c) => check_vec3(path, c, true),
+        Texture::Checker { scale, even, odd } => positive("scale", scale)
+            .or_else(|| check_vec3(&format!("{path}.even"), even, true))
+            .or_else(|| check_vec3(&format!("{path}.odd"), odd, true)),
+        Texture::Noise { scale, octaves, color } | Texture::Marble { scale, octaves, color } => {
+            positive("scale", scale)
+                .or_else(|| octaves_ok(octaves))
+                .or_else(|| check_vec3(&format!("{path}.color"), color, true))
+        }
+    }
 }
 
 fn fmt_vec(v: Vec3) -> String {
@@ -303,12 +330,12 @@ impl Cx<'_> {
             let material = match self.type_field(&o, "material", MATERIAL_TYPES)? {
                 "lambertian" => {
                     self.only(&o, &["type", "albedo"])?;
-                    Material::Lambertian { albedo: self.vec3_field(&o, "albedo")? }
+                    Material::Lambertian { albedo: self.texture_field(&o, "albedo")? }
                 }
                 "metal" => {
                     self.only(&o, &["type", "albedo", "fuzz"])?;
                     Material::Metal {
-                        albedo: self.vec3_field(&o, "albedo")?,
+                        albedo: self.texture_field(&o, "albedo")?,
                         fuzz: self.number_field(&o, "fuzz")?,
                     }
                 }
@@ -417,6 +444,45 @@ impl Cx<'_> {
     fn number_field(&self, o: &Obj, key: &str) -> Res<f32> {
         let (v, path) = self.field(o, key)?;
         self.number(v, &path)
+    }
+
+    /// An albedo: `[r, g, b]`, or a texture object `{"type": "solid" | "checker" | "noise" |
+    /// "marble", ...}`.
+    fn texture_field(&self, o: &Obj, key: &str) -> Res<Texture> {
+        let (v, path) = self.field(o, key)?;
+        if !v.is_object() {
+            return Ok(Texture::Solid(self.vec3_field(o, key)?));
+        }
+        let t = self.object(v, &path)?;
+        Ok(match self.type_field(&t, "texture", TEXTURE_TYPES)? {
+            "solid" => {
+                self.only(&t, &["type", "color"])?;
+                Texture::Solid(self.vec3_field(&t, "color")?)
+            }
+            "checker" => {
+                self.only(&t, &["type", "scale", "even", "odd"])?;
+                Texture::Checker {
+                    scale: self.number_field(&t, "scale")?,
+                    even: self.vec3_field(&t, "even")?,
+                    odd: self.vec3_field(&t, "odd")?,
+                }
+            }
+            kind => {
+                self.only(&t, &["type", "scale", "octaves", "color"])?;
+                let scale = self.number_field(&t, "scale")?;
+                let (ov, opath) = self.field(&t, "octaves")?;
+                let octaves = match ov.as_u64() {
+                    Some(n) if n <= u32::MAX as u64 => n as u32,
+                    _ => return self.err(&opath, format!("expected a whole number, found {}", describe(ov))),
+                };
+                let color = self.vec3_field(&t, "color")?;
+                if kind == "noise" {
+                    Texture::Noise { scale, octaves, color }
+                } else {
+                    Texture::Marble { scale, octaves, color }
+                }
+            }
+        })
     }
 
     fn vec3_field(&self, o: &Obj, key: &str) -> Res<Vec3> {

@@ -6,11 +6,14 @@
 pub mod builtin;
 pub mod error;
 pub mod export;
+pub mod heavy;
 pub mod load;
+pub mod texture;
 
 use glam::Vec3;
 
 pub use error::SceneError;
+pub use texture::Texture;
 
 /// The format tag every scene file carries in its `"format"` field.
 pub const FORMAT: &str = "wavetrace-scene/1";
@@ -43,10 +46,10 @@ pub enum Background {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Material {
     Lambertian {
-        albedo: Vec3,
+        albedo: Texture,
     },
     Metal {
-        albedo: Vec3,
+        albedo: Texture,
         fuzz: f32,
     },
     /// Schlick's approximation for reflectance; `ior < 1` models a bubble.
@@ -98,9 +101,14 @@ pub struct Scene {
 impl Scene {
     /// Resolves a `--scene` argument: a built-in name, otherwise a path to a scene file.
     pub fn resolve(arg: &str) -> Result<Scene, SceneError> {
-        match builtin::by_name(arg) {
-            Some(scene) => Ok(scene),
-            None => load::from_file(std::path::Path::new(arg)),
+        if let Some(scene) = builtin::by_name(arg) {
+            return Ok(scene);
+        }
+        let path = std::path::Path::new(arg);
+        // `spheres-0` is a mistyped family member, not a missing file.
+        match builtin::family_hint(arg) {
+            Some(hint) if !path.exists() => Err(SceneError::new(arg, "", hint)),
+            _ => load::from_file(path),
         }
     }
 

@@ -1,0 +1,96 @@
+//! `rtiow-heavy`: the book's final scene made expensive to shade, the case where divergent,
+//! costly shading should favour the wavefront (Laine et al.'s speed-ups grew with material
+//! cost). Same layout as `rtiow-final`; the ground becomes a checker, and each small diffuse
+//! sphere and the big brown one get a layered-noise albedo: turbulence sums `octaves` layers of
+//! Perlin noise, so the octave count sets the shading cost (`rtiow-heavy-O` for O octaves,
+//! 1..=16; `rtiow-heavy` has 8). Noise and marble alternate at random, so neighbouring threads
+//! of a megakernel take different texture branches.
+
+use glam::Vec3;
+
+use super::{builtin, Material, Scene, Texture};
+use crate::rng::Stream;
+
+/// Octaves of plain `rtiow-heavy`.
+pub const DEFAULT_OCTAVES: u32 = 8;
+/// The stream id of the texture choices. Changing it changes the scene.
+const HEAVY_SEED: u32 = 2;
+
+/// `rtiow-heavy` with `octaves` layers of noise (checked by the caller: 1..=MAX_OCTAVES).
+pub fn rtiow_heavy(octaves: u32) -> Scene {
+    let mut scene = builtin::by_name("rtiow-final").expect("rtiow-final is built in");
+    scene.name =
+        if octaves == DEFAULT_OCTAVES { "rtiow-heavy".into() } else { format!("rtiow-heavy-{octaves}") };
+    let mut rng = Stream::new(HEAVY_SEED);
+    for (i, m) in scene.materials.iter_mut().enumerate() {
+        let Material::Lambertian { albedo: Texture::Solid(color) } = m.material else { continue };
+        m.material = Material::Lambertian {
+            albedo: if i == 0 {
+                // The ground: The Next Week's checker.
+                Texture::Checker { scale: 0.32, even: Vec3::new(0.2, 0.3, 0.1), odd: Vec3::splat(0.9) }
+            } else if rng.next_f32() < 0.5 {
+                Texture::Noise { scale: 4.0, octaves, color }
+            } else {
+                Texture::Marble { scale: 4.0, octaves, color }
+            },
+        };
+    }
+    scene
+}
+
+/// The octave count of a `rtiow-heavy-O` name, if it is one (O in 1..=16, no leading zeros).
+pub fn parse_name(name: &str) -> Option<u32> {
+    if name == "rtiow-heavy" {
+        return Some(DEFAULT_OCTAVES);
+    }
+    let digits = name.strip_prefix("rtiow-heavy-")?;
+    if digits.starts_with('0') || !digits.chars().all(|c| c.is_ascii_digit()) {
+        return None;
+    }
+    let octaves: u32 = digits.parse().ok()?;
+    (1..=super::texture::MAX_OCTAVES).contains(&octaves).then_some(octaves)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_parse_to_octaves_in_range() {
+        assert_eq!(parse_name("rtiow-heavy"), Some(8));
+        assert_eq!(parse_name("rtiow-heavy-1"), Some(1));
+        assert_eq!(parse_name("rtiow-heavy-16"), Some(16));
+        for bad in ["rtiow-heavy-0", "rtiow-heavy-17", "rtiow-heavy-01", "rtiow-heavy-x", "rtiow-heavy-"] {
+            assert_eq!(parse_name(bad), None, "{bad}");
+        }
+    }
+
+    #[test]
+    fn every_diffuse_material_is_textured_and_the_layout_is_the_final_scenes() {
+        let heavy = rtiow_heavy(5);
+        let fin = builtin::by_name("rtiow-final").unwrap();
+        assert_eq!(heavy.spheres, fin.spheres);
+        assert_eq!(heavy.camera, fin.camera);
+        let mut kinds = [0; 4];
+        for m in &heavy.materials {
+            if let Material::Lambertian { albedo } = m.material {
+                match albedo {
+                    Texture::Solid(_) => panic!("{} is untextured", m.name),
+                    Texture::Checker { .. } => kinds[1] += 1,
+                    Texture::Noise { octaves, .. } => {
+                        assert_eq!(octaves, 5);
+                        kinds[2] += 1
+                    }
+                    Texture::Marble { octaves, .. } => {
+                        assert_eq!(octaves, 5);
+                        kinds[3] += 1
+                    }
+                }
+            }
+        }
+        assert_eq!(kinds[1], 1, "one checker ground");
+        assert!(kinds[2] > 100 && kinds[3] > 100, "noise and marble both common: {kinds:?}");
+        assert_eq!(rtiow_heavy(5), heavy, "deterministic");
+        heavy.validate().unwrap();
+    }
+}
