@@ -162,6 +162,21 @@ pub fn family_hint(name: &str) -> Option<String> {
     ))
 }
 
+/// The book's random small-sphere material for `choose_mat` in [0, 1): 80% diffuse (albedo a
+/// product of two random colours), 15% metal, 5% glass; draws from `rng` in the book's order.
+fn book_material(choose_mat: f32, rng: &mut Stream) -> Material {
+    if choose_mat < 0.8 {
+        let v1 = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+        let v2 = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+        Material::Lambertian { albedo: (v1 * v2).into() }
+    } else if choose_mat < 0.95 {
+        let albedo = Vec3::new(rng.range(0.5, 1.0), rng.range(0.5, 1.0), rng.range(0.5, 1.0));
+        Material::Metal { albedo: albedo.into(), fuzz: rng.range(0.0, 0.5) }
+    } else {
+        Material::Dielectric { ior: 1.5 }
+    }
+}
+
 /// Collects materials and spheres; each sphere refers to a material by its index.
 struct Builder {
     materials: Vec<NamedMaterial>,
@@ -221,16 +236,7 @@ fn rtiow_final() -> Scene {
             if (center - Vec3::new(4.0, 0.2, 0.0)).length() <= 0.9 {
                 continue;
             }
-            let material = if choose_mat < 0.8 {
-                let v1 = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
-                let v2 = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
-                Material::Lambertian { albedo: (v1 * v2).into() }
-            } else if choose_mat < 0.95 {
-                let albedo = Vec3::new(rng.range(0.5, 1.0), rng.range(0.5, 1.0), rng.range(0.5, 1.0));
-                Material::Metal { albedo: albedo.into(), fuzz: rng.range(0.0, 0.5) }
-            } else {
-                Material::Dielectric { ior: 1.5 }
-            };
+            let material = book_material(choose_mat, &mut rng);
             b.add(format!("small-a{a}-b{bb}"), material, center, 0.2);
         }
     }
@@ -284,16 +290,7 @@ fn spheres(n: u32) -> Scene {
         // On the curved ground, not the plane y = 0: at the grid's edge the ground is ~0.06
         // below the plane, more than a small sphere's radius at large N.
         let center = ground + (1000.0 + radius) * (Vec3::new(x, 0.0, z) - ground).normalize();
-        let material = if choose_mat < 0.8 {
-            let v1 = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
-            let v2 = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
-            Material::Lambertian { albedo: (v1 * v2).into() }
-        } else if choose_mat < 0.95 {
-            let albedo = Vec3::new(rng.range(0.5, 1.0), rng.range(0.5, 1.0), rng.range(0.5, 1.0));
-            Material::Metal { albedo: albedo.into(), fuzz: rng.range(0.0, 0.5) }
-        } else {
-            Material::Dielectric { ior: 1.5 }
-        };
+        let material = book_material(choose_mat, &mut rng);
         b.add(format!("small-{k}"), material, center, radius);
     }
     b.finish(&format!("spheres-{n}"), spheres_camera(side as f32 * cell, rows as f32 * cell), Background::Sky)
