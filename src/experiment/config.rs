@@ -393,12 +393,7 @@ impl Cx {
     fn method_entry(&self, v: &Value, path: &str) -> Res<Vec<MethodVariant>> {
         let o = self.object(v, path)?;
         let mpath = join(path, "method");
-        let method = match self.choice(self.field(o, path, "method")?, &mpath, METHOD_NAMES)? {
-            "cpu" => Method::Cpu,
-            "cpu-f64" => Method::CpuF64,
-            "megakernel" => Method::Megakernel,
-            _ => Method::Wavefront,
-        };
+        let method = self.method(self.field(o, path, "method")?, &mpath)?;
         let knobs: &[&str] = match method {
             Method::Cpu | Method::CpuF64 => &[],
             Method::Megakernel => &["workgroup_size", "samples_per_dispatch"],
@@ -511,13 +506,7 @@ impl Cx {
             return Ok(ReferenceSpec::Exr { pattern });
         }
         self.only(o, "reference", &["method", "spp", "max_depth", "seed"])?;
-        let method =
-            match self.choice(self.field(o, "reference", "method")?, "reference.method", METHOD_NAMES)? {
-                "cpu" => Method::Cpu,
-                "cpu-f64" => Method::CpuF64,
-                "megakernel" => Method::Megakernel,
-                _ => Method::Wavefront,
-            };
+        let method = self.method(self.field(o, "reference", "method")?, "reference.method")?;
         let spp = self.uint32(self.field(o, "reference", "spp")?, "reference.spp", 1, u32::MAX)?;
         let max_depth =
             self.optional(o, "max_depth", |v, p| self.uint32(v, p, 1, (1 << 24) - 1))?.unwrap_or(max_depth);
@@ -674,6 +663,15 @@ impl Cx {
 
     fn uint32(&self, v: &Value, path: &str, min: u32, max: u32) -> Res<u32> {
         self.uint(v, path, min.into(), max.into()).map(|x| x as u32)
+    }
+
+    /// A method name (`METHOD_NAMES`, as `Method::name` spells them).
+    fn method(&self, v: &Value, path: &str) -> Res<Method> {
+        let name = self.choice(v, path, METHOD_NAMES)?;
+        Ok([Method::Cpu, Method::CpuF64, Method::Megakernel, Method::Wavefront]
+            .into_iter()
+            .find(|m| m.name() == name)
+            .expect("METHOD_NAMES lists every method's name"))
     }
 
     fn choice(&self, v: &Value, path: &str, options: &[&'static str]) -> Res<&'static str> {
