@@ -87,7 +87,7 @@ fn time_by_scene(report: &ExperimentReport) -> Vec<Chart> {
         let title = format!("Time by scene: {w}x{h}, {spp} spp, depth {depth}");
         let chart = GroupedBarChart {
             title: title.clone(),
-            y_label: "time per render, s (GPU where measured, else wall; median)".into(),
+            y_label: "median time per render, s".into(),
             y_max: None,
             percent: false,
             groups,
