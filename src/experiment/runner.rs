@@ -68,18 +68,23 @@ pub fn run(config: &ExperimentConfig, opts: &RunnerOptions) -> Result<Experiment
 
     let mut gpu = GpuSlot::new(config.adapter.clone());
     let mut references = References::new(opts.cache_dir.clone());
-    let progress = Progress::new(runs.len() as u64, &config.name);
+    // The bar counts path samples over every render of every run, so it moves within long runs.
+    let total: u64 = runs.iter().map(|r| run_samples(config, r)).sum();
+    let progress = Progress::new(total, &config.name);
+    let mut done = 0;
     for (n, spec) in runs.iter().enumerate() {
         let what = format!("[{}/{}] {}", n + 1, runs.len(), spec.id);
         progress.set_message(&what);
         progress.println(&what);
-        let record = execute(config, spec, &mut gpu, &mut references, out);
+        let bar = RunProgress { progress: &progress, base: done };
+        let record = execute(config, spec, &mut gpu, &mut references, out, &bar);
+        done += run_samples(config, spec);
         progress.println(&summary_line(&record));
         report.runs.push(record);
         report.references = references.records();
         report.environments[0].adapter = gpu.adapter.as_ref().map(serde_json::to_value).transpose()?;
         report.write(out)?;
-        progress.set(n as u64 + 1);
+        progress.set(done);
     }
     progress.finish();
     report.status = ReportStatus::Complete;
@@ -102,6 +107,20 @@ fn summary_line(r: &RunRecord) -> String {
     }
 }
 
+/// Path samples a run renders: warm-ups, timed repetitions and the instrumented render.
+fn run_samples(config: &ExperimentConfig, spec: &RunSpec) -> u64 {
+    let instrumented = config.instrument && config.methods[spec.variant].method.needs_gpu();
+    let renders = u64::from(config.warmup) + u64::from(config.repetitions) + u64::from(instrumented);
+    renders * spec.settings.sample_count()
+}
+
+/// Where a run's renders report their samples: the experiment's bar, from the samples of the
+/// runs before it.
+struct RunProgress<'a> {
+    progress: &'a Progress,
+    base: u64,
+}
+
 /// One run, never panicking: failures (and panics) become a failed record.
 fn execute(
     config: &ExperimentConfig,
@@ -109,9 +128,10 @@ fn execute(
     gpu: &mut GpuSlot,
     refs: &mut References,
     out: &Path,
+    bar: &RunProgress,
 ) -> RunRecord {
     let mut record = planned_record(config, spec);
-    let result = catch_unwind(AssertUnwindSafe(|| measure(config, spec, gpu, refs, out, &mut record)));
+    let result = catch_unwind(AssertUnwindSafe(|| measure(config, spec, gpu, refs, out, bar, &mut record)));
     let error = match result {
         Ok(Ok(())) => return record,
         Ok(Err(e)) => format!("{e:#}"),
@@ -209,6 +229,7 @@ fn measure(
     gpu: &mut GpuSlot,
     refs: &mut References,
     out: &Path,
+    bar: &RunProgress,
     rec: &mut RunRecord,
 ) -> Result<()> {
     let scene = &config.scenes[spec.scene].scene;
@@ -219,8 +240,13 @@ fn measure(
 
     let ctx = if variant.method.needs_gpu() { Some(gpu.get()?) } else { None };
     let adapter = ctx.map(|c| &c.summary);
-    let render =
-        |options: &MethodOptions| method::render(variant.method, scene, settings, options, ctx, &|_| {});
+    let renders_done = std::cell::Cell::new(0u64);
+    let render = |options: &MethodOptions| {
+        let start = bar.base + renders_done.get() * settings.sample_count();
+        renders_done.set(renders_done.get() + 1);
+        let progress = bar.progress;
+        method::render(variant.method, scene, settings, options, ctx, &|d| progress.set(start + d))
+    };
 
     for _ in 0..config.warmup {
         render(&variant.options)?;
