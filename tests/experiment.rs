@@ -26,6 +26,21 @@ fn wavetrace(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_wavetrace")).args(args).output().expect("run wavetrace")
 }
 
+/// `wavetrace experiment run CONFIG --out OUT --cache CACHE`.
+fn run_experiment(config: &Path, out: &Path, cache: &Path) -> Output {
+    let arg = |p: &Path| p.to_str().unwrap().to_owned();
+    let args = [
+        "experiment".into(),
+        "run".into(),
+        arg(config),
+        "--out".into(),
+        arg(out),
+        "--cache".into(),
+        arg(cache),
+    ];
+    wavetrace(&args.iter().map(String::as_str).collect::<Vec<_>>())
+}
+
 /// Writes `config` into `dir/name.json` and returns its path.
 fn write_config(dir: &Path, name: &str, config: &Value) -> PathBuf {
     let path = dir.join(format!("{name}.json"));
@@ -76,15 +91,7 @@ fn full_report_matches_the_schema_and_holds_every_output() {
     let path = write_config(&dir, "full", &config);
     let out = dir.join("out");
     let cache = dir.join("cache");
-    let o = wavetrace(&[
-        "experiment",
-        "run",
-        path.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--cache",
-        cache.to_str().unwrap(),
-    ]);
+    let o = run_experiment(&path, &out, &cache);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let json = assert_valid(&out);
     assert_eq!(json["status"], "complete");
@@ -158,15 +165,7 @@ fn full_report_matches_the_schema_and_holds_every_output() {
 
     // A rerun takes the reference from the cache and measures the same errors.
     let again = dir.join("again");
-    let o = wavetrace(&[
-        "experiment",
-        "run",
-        path.to_str().unwrap(),
-        "--out",
-        again.to_str().unwrap(),
-        "--cache",
-        cache.to_str().unwrap(),
-    ]);
+    let o = run_experiment(&path, &again, &cache);
     assert!(o.status.success());
     let second = ExperimentReport::read(&again).unwrap();
     assert!(second.references[0].cached);
@@ -190,15 +189,7 @@ fn a_failed_run_is_recorded_and_the_others_go_on() {
     config["adapter"] = Value::String("no-such-adapter-anywhere".into());
     let path = write_config(&dir, "failed", &config);
     let out = dir.join("out");
-    let o = wavetrace(&[
-        "experiment",
-        "run",
-        path.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--cache",
-        dir.join("cache").to_str().unwrap(),
-    ]);
+    let o = run_experiment(&path, &out, &dir.join("cache"));
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success(), "failed runs make the exit status fail");
     assert!(stderr.contains("2 of 4 runs failed") && !stderr.contains("panicked"), "{stderr}");

@@ -181,7 +181,7 @@ impl ExperimentConfig {
         cx.config(&raw, path)
     }
 
-    /// Every run's render settings, in no particular order (for validation and planning).
+    /// Every run's render settings, in plan order: resolution, then max depth, then spp.
     pub fn settings(&self) -> impl Iterator<Item = RenderSettings> + '_ {
         self.resolutions.iter().flat_map(move |&(width, height)| {
             self.max_depth.iter().flat_map(move |&max_depth| {

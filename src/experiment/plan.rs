@@ -25,27 +25,19 @@ pub struct RunSpec {
 pub fn plan(config: &ExperimentConfig) -> Vec<RunSpec> {
     let mut runs = Vec::new();
     for (scene, entry) in config.scenes.iter().enumerate() {
-        for &(width, height) in &config.resolutions {
-            for &max_depth in &config.max_depth {
-                for &spp in &config.spp {
-                    for (variant, v) in config.methods.iter().enumerate() {
-                        let index = runs.len();
-                        let settings = RenderSettings {
-                            width,
-                            height,
-                            spp,
-                            max_depth,
-                            seed: config.seed,
-                            accel: config.accel,
-                        };
-                        let id = format!(
-                            "{index:03}-{}-{width}x{height}-{spp}spp-d{max_depth}-{}",
-                            file_safe(&entry.scene.name),
-                            file_safe(&v.label)
-                        );
-                        runs.push(RunSpec { index, id, scene, settings, variant });
-                    }
-                }
+        for settings in config.settings() {
+            for (variant, v) in config.methods.iter().enumerate() {
+                let index = runs.len();
+                let id = format!(
+                    "{index:03}-{}-{}x{}-{}spp-d{}-{}",
+                    file_safe(&entry.scene.name),
+                    settings.width,
+                    settings.height,
+                    settings.spp,
+                    settings.max_depth,
+                    file_safe(&v.label)
+                );
+                runs.push(RunSpec { index, id, scene, settings: settings.clone(), variant });
             }
         }
     }
