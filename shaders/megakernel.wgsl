@@ -20,19 +20,22 @@ fn trace_path(x: u32, y: u32, sample: u32) -> vec4<f32> {
     let pixel = y * frame.width + x;
     var ray = camera_ray(x, y, uniform4(pixel, sample, 0u, PURPOSE_CAMERA, frame.seed));
     var throughput = vec3<f32>(1.0);
-    // Every path ends at one light (emitter or background) or contributes nothing.
     var radiance = vec3<f32>(0.0);
-    var rays = frame.max_depth; // unless the path ends earlier
+    var rays = 0u;
+    // When the previous hit sampled the lights: this ray's density under the diffuse bounce, for
+    // the MIS weight of the emission it may find (0: no light sampling, full weight).
+    var bsdf_pdf = 0.0;
+    let nee = frame.nee == 1u && frame.light_count > 0u;
     for (var bounce = 0u; bounce < frame.max_depth; bounce++) {
         instrument(PASS_MEGAKERNEL_BOUNCE);
+        rays += 1u;
         let hit = closest_hit(ray, T_MIN);
-        if hit.sphere == NO_HIT {
-            radiance = throughput * background(ray.dir);
-            rays = bounce + 1u;
+        if hit.prim == NO_HIT {
+            radiance += throughput * background(ray.dir);
             break;
         }
-        let sphere = spheres[hit.sphere];
-        let material = materials[sphere_material[hit.sphere]];
+        let prim = primitives[hit.prim];
+        let material = materials[prim.material];
         instrument(PASS_MEGAKERNEL_MATERIAL);
         // Lanes active inside each material's branch: the divergence the wavefront removes.
         switch material.kind {
@@ -41,20 +44,36 @@ fn trace_path(x: u32, y: u32, sample: u32) -> vec4<f32> {
             case MATERIAL_DIELECTRIC: { instrument(PASS_MEGAKERNEL_DIELECTRIC); }
             default: { instrument(PASS_MEGAKERNEL_EMISSIVE); }
         }
+        let p = ray.origin + ray.dir * hit.t;
         if material.kind == MATERIAL_EMISSIVE {
-            radiance = throughput * material.color;
-            rays = bounce + 1u;
+            var w = 1.0;
+            if bsdf_pdf > 0.0 {
+                w = emission_weight(hit.prim, p, ray.dir, hit.t, bsdf_pdf);
+            }
+            radiance += throughput * material.color * w;
             break;
         }
-        let p = ray.origin + ray.dir * hit.t;
-        let outward = outward_normal(sphere, p);
+        let outward = outward_normal(prim, p);
         let front_face = dot(ray.dir, outward) < 0.0;
         let normal = select(-outward, outward, front_face);
         let u = uniform4(pixel, sample, bounce, PURPOSE_SCATTER, frame.seed);
         let s = scatter(material, ray, p, normal, front_face, u);
         if !s.ok {
-            rays = bounce + 1u;
             break;
+        }
+        // Direct light at diffuse hits, when the ray it stands in for is within the depth limit.
+        let lights_sampled = nee && material.kind == MATERIAL_LAMBERTIAN && bounce + 2u <= frame.max_depth;
+        bsdf_pdf = 0.0;
+        if lights_sampled {
+            bsdf_pdf = diffuse_pdf(dot(normal, s.dir));
+            let shadow = next_event(p, normal, uniform4(pixel, sample, bounce, PURPOSE_LIGHT, frame.seed));
+            if shadow.ok {
+                instrument(PASS_MEGAKERNEL_SHADOW);
+                rays += 1u;
+                if !occluded(shadow.ray, T_MIN, shadow.t_max) {
+                    radiance += throughput * s.attenuation * shadow.weight;
+                }
+            }
         }
         throughput *= s.attenuation;
         ray = Ray(p, s.dir);

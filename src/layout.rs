@@ -4,12 +4,28 @@
 
 use bytemuck::{Pod, Zeroable};
 
-/// WGSL: `Sphere` in `shaders/shared/sphere.wgsl`.
+/// Primitive kinds as stored in [`PrimitiveRecord::kind`] (WGSL: `PRIM_*` in `primitive.wgsl`).
+pub mod primitive_kind {
+    pub const SPHERE: u32 = 0;
+    pub const QUAD: u32 = 1;
+    pub const TRIANGLE: u32 = 2;
+}
+
+/// WGSL: `Primitive` in `shaders/shared/primitive.wgsl`. One record for every shape, so the BVH
+/// leaves index one array and every method keeps one traversal loop:
+/// - sphere: `a` centre, `radius`;
+/// - quad: corner `a`, edges `b` and `c` (The Next Week's Q, u, v);
+/// - triangle: vertex `a`, edges `b = p1 - a` and `c = p2 - a`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct SphereRecord {
-    pub center: [f32; 3],
+pub struct PrimitiveRecord {
+    pub a: [f32; 3],
+    pub kind: u32,
+    pub b: [f32; 3],
     pub radius: f32,
+    pub c: [f32; 3],
+    /// Index into the material records.
+    pub material: u32,
 }
 
 /// Material kinds as stored in [`MaterialRecord::kind`] (WGSL: `MATERIAL_*` in `material.wgsl`).
@@ -50,7 +66,7 @@ pub struct MaterialRecord {
 }
 
 /// WGSL: `BvhNode` in `shaders/shared/bvh.wgsl`. An interior node has `count == 0`, its left
-/// child right after it and its right child at `left_or_first`; a leaf holds spheres
+/// child right after it and its right child at `left_or_first`; a leaf holds primitives
 /// `left_or_first .. left_or_first + count`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -84,7 +100,11 @@ pub struct FrameUniform {
     pub defocus_disk_v: [f32; 3],
     pub background_kind: u32,
     pub background_color: [f32; 3],
-    pub _pad: u32,
+    /// Emitting primitives in the scene's light list (0: nothing to sample).
+    pub light_count: u32,
+    /// 1: next-event estimation (shadow rays to the lights at diffuse hits).
+    pub nee: u32,
+    pub _pad: [u32; 3],
 }
 
 /// WGSL: `Dispatch` in `shaders/megakernel.wgsl`: one dispatch's share of the render.

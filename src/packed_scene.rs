@@ -1,11 +1,12 @@
-//! A scene flattened for rendering: spheres in BVH order, material records, BVH nodes. Every
-//! method (CPU reference, megakernel, wavefront) renders from one `PackedScene`, so they
-//! traverse identical data.
+//! A scene flattened for rendering: primitives (spheres, quads, triangles) in BVH order, material
+//! records, BVH nodes and the list of lights. Every method (CPU reference, megakernel, wavefront)
+//! renders from one `PackedScene`, so they traverse identical data.
 
 use crate::bvh::{Aabb, Bvh};
 use crate::camera::CameraFrame;
 use crate::layout::{
-    background_kind, material_kind, texture_kind, BvhNode, FrameUniform, MaterialRecord, SphereRecord,
+    background_kind, material_kind, primitive_kind, texture_kind, BvhNode, FrameUniform, MaterialRecord,
+    PrimitiveRecord,
 };
 use crate::scene::{Background, Material, Scene, Texture};
 use crate::settings::{Accel, RenderSettings};
@@ -13,50 +14,51 @@ use glam::Vec3;
 
 #[derive(Clone, Debug)]
 pub struct PackedScene {
-    pub spheres: Vec<SphereRecord>,
-    /// Material index of each sphere, parallel to `spheres`.
-    pub sphere_material: Vec<u32>,
+    /// Every shape, in BVH leaf order.
+    pub primitives: Vec<PrimitiveRecord>,
     pub materials: Vec<MaterialRecord>,
     pub nodes: Vec<BvhNode>,
+    /// Slots in `primitives` of the emitters with non-zero radiance, ascending: what next-event
+    /// estimation picks from (uniformly).
+    pub lights: Vec<u32>,
     pub background: Background,
 }
 
 impl PackedScene {
     pub fn new(scene: &Scene, accel: Accel) -> Self {
-        let boxes: Vec<Aabb> = scene.spheres.iter().map(|s| sphere_box(s.center, s.radius)).collect();
+        let records = records(scene);
+        let boxes: Vec<Aabb> = records.iter().map(primitive_box).collect();
         let bvh = match accel {
             Accel::Bvh => Bvh::build(&boxes),
             Accel::None => Bvh::single_leaf(&boxes),
         };
-        let spheres = bvh
-            .order
-            .iter()
-            .map(|&i| {
-                let s = &scene.spheres[i as usize];
-                SphereRecord { center: s.center.to_array(), radius: s.radius }
+        let primitives: Vec<PrimitiveRecord> = bvh.order.iter().map(|&i| records[i as usize]).collect();
+        let materials: Vec<MaterialRecord> =
+            scene.materials.iter().map(|m| material_record(&m.material)).collect();
+        let lights = (0..primitives.len() as u32)
+            .filter(|&i| {
+                let m = &materials[primitives[i as usize].material as usize];
+                m.kind == material_kind::EMISSIVE && m.color.iter().any(|&c| c > 0.0)
             })
             .collect();
-        let sphere_material = bvh.order.iter().map(|&i| scene.spheres[i as usize].material).collect();
-        let materials = scene.materials.iter().map(|m| material_record(&m.material)).collect();
-        PackedScene {
-            spheres,
-            sphere_material,
-            materials,
-            nodes: bvh.nodes,
-            background: scene.background.clone(),
-        }
+        PackedScene { primitives, materials, nodes: bvh.nodes, lights, background: scene.background.clone() }
     }
 
-    /// Material kinds (`layout::material_kind`) that at least one sphere uses, ascending.
+    /// The material of the primitive in `slot`.
+    pub fn material_of(&self, slot: u32) -> &MaterialRecord {
+        &self.materials[self.primitives[slot as usize].material as usize]
+    }
+
+    /// Material kinds (`layout::material_kind`) that at least one primitive uses, ascending.
     pub fn material_kinds_used(&self) -> Vec<u32> {
         let mut kinds: Vec<u32> =
-            self.sphere_material.iter().map(|&m| self.materials[m as usize].kind).collect();
+            self.primitives.iter().map(|p| self.materials[p.material as usize].kind).collect();
         kinds.sort_unstable();
         kinds.dedup();
         kinds
     }
 
-    /// Spheres in the largest BVH leaf (all of them with `--accel none`).
+    /// Primitives in the largest BVH leaf (all of them with `--accel none`).
     pub fn largest_leaf(&self) -> u32 {
         self.nodes.iter().map(|n| n.count).max().unwrap_or(0)
     }
@@ -82,16 +84,64 @@ impl PackedScene {
             defocus_disk_v: f(camera.defocus_disk_v),
             background_kind,
             background_color,
-            _pad: 0,
+            light_count: self.lights.len() as u32,
+            nee: settings.nee as u32,
+            _pad: [0; 3],
         }
     }
 }
 
-/// The sphere's box, padded by a few ulps so that traversal in f64 (`cpu-f64`) of this f32 box
-/// never misses a surface point that rounding put just outside it.
-fn sphere_box(center: Vec3, radius: f32) -> Aabb {
-    let pad = 1e-6 * (center.abs().max_element() + radius);
-    Aabb { min: center - (radius + pad), max: center + (radius + pad) }
+/// Every shape of the scene as a record, in scene order: spheres, quads, mesh triangles.
+fn records(scene: &Scene) -> Vec<PrimitiveRecord> {
+    let mut out = Vec::with_capacity(scene.primitive_count());
+    for s in &scene.spheres {
+        out.push(PrimitiveRecord {
+            a: s.center.to_array(),
+            kind: primitive_kind::SPHERE,
+            radius: s.radius,
+            material: s.material,
+            ..Default::default()
+        });
+    }
+    let planar = |kind, a: Vec3, b: Vec3, c: Vec3, material| PrimitiveRecord {
+        a: a.to_array(),
+        kind,
+        b: b.to_array(),
+        radius: 0.0,
+        c: c.to_array(),
+        material,
+    };
+    for q in &scene.quads {
+        out.push(planar(primitive_kind::QUAD, q.corner, q.u, q.v, q.material));
+    }
+    for m in &scene.meshes {
+        for t in &m.triangles {
+            out.push(planar(primitive_kind::TRIANGLE, t[0], t[1] - t[0], t[2] - t[0], m.material));
+        }
+    }
+    out
+}
+
+/// The primitive's box, padded by a few ulps so that traversal in f64 (`cpu-f64`) of this f32
+/// box never misses a surface point that rounding put just outside it (and so that a flat
+/// quad's box has thickness).
+fn primitive_box(p: &PrimitiveRecord) -> Aabb {
+    let a = Vec3::from(p.a);
+    let b = match p.kind {
+        primitive_kind::SPHERE => Aabb { min: a - p.radius, max: a + p.radius },
+        _ => {
+            let (e1, e2) = (Vec3::from(p.b), Vec3::from(p.c));
+            let b = Aabb { min: a, max: a }.grow(a + e1).grow(a + e2);
+            // A quad's fourth corner; a triangle's edges already bound it.
+            if p.kind == primitive_kind::QUAD {
+                b.grow(a + e1 + e2)
+            } else {
+                b
+            }
+        }
+    };
+    let pad = 1e-6 * (b.min.abs().max(b.max.abs()).max_element() + (b.max - b.min).max_element());
+    Aabb { min: b.min - pad, max: b.max + pad }
 }
 
 fn material_record(m: &Material) -> MaterialRecord {

@@ -155,6 +155,7 @@ impl RunReport {
             ("spp", s.spp.to_string()),
             ("max_depth", s.max_depth.to_string()),
             ("seed", s.seed.to_string()),
+            ("nee", if s.nee { "on" } else { "off" }.to_string()),
             ("render_time_s", format!("{:.6}", self.wall_seconds)),
             ("git_commit", self.build.git_commit.to_string()),
         ]

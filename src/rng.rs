@@ -13,6 +13,8 @@ pub enum Purpose {
     Camera = 0,
     /// Scattering direction (two numbers) and a discrete choice (one number).
     Scatter = 1,
+    /// Next-event estimation: which light (one number) and where on it (two numbers).
+    Light = 2,
 }
 
 /// The pcg4d hash: four 32-bit words in, four well-mixed words out.

@@ -6,7 +6,7 @@
 pub enum Accel {
     /// SAH bounding volume hierarchy (the default).
     Bvh,
-    /// No hierarchy: every ray tests every sphere, as the seeds' megakernels did. Implemented as a
+    /// No hierarchy: every ray tests every primitive, as the seeds' megakernels did. Implemented as a
     /// BVH with a single leaf, so all methods keep one traversal code path.
     None,
 }
@@ -20,11 +20,15 @@ pub struct RenderSettings {
     pub max_depth: u32,
     pub seed: u32,
     pub accel: Accel,
+    /// Next-event estimation: at each diffuse hit, a shadow ray to a point sampled on an emitter.
+    /// Emission found by the bounce that follows is then not counted again, so on and off
+    /// converge to the same image.
+    pub nee: bool,
 }
 
 impl Default for RenderSettings {
     fn default() -> Self {
-        Self { width: 400, height: 225, spp: 16, max_depth: 50, seed: 0, accel: Accel::Bvh }
+        Self { width: 400, height: 225, spp: 16, max_depth: 50, seed: 0, accel: Accel::Bvh, nee: false }
     }
 }
 

@@ -227,6 +227,25 @@ pub fn chi2_test(observed: &[f64], expected: &[f64], min_expected: f64) -> Chi2 
     Chi2 { statistic: stat, dof, p_value: chi2_sf(stat, dof), pooled_cells: pooled, in_empty_cells: in_empty }
 }
 
+/// P(X ≥ k) for X ~ Binomial(n, p): how surprising `k` failed pixel tests out of `n` are when
+/// each fails with probability `p` by chance. Two independent renders of a true match fail about
+/// α·n per-pixel z-tests, so "at least 99% pass at α = 0.01" would fail half the time; tests of
+/// independent images bound the failures by this tail instead.
+pub fn binomial_tail(n: usize, k: usize, p: f64) -> f64 {
+    if k == 0 {
+        return 1.0;
+    }
+    if k > n {
+        return 0.0;
+    }
+    let ln_choose =
+        |i: usize| ln_gamma(n as f64 + 1.0) - ln_gamma(i as f64 + 1.0) - ln_gamma((n - i) as f64 + 1.0);
+    (k..=n)
+        .map(|i| (ln_choose(i) + i as f64 * p.ln() + (n - i) as f64 * (1.0 - p).ln()).exp())
+        .sum::<f64>()
+        .min(1.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -321,5 +340,18 @@ mod tests {
         assert!((t.statistic - 200.0).abs() < 1e-9 && t.dof == 1 && t.p_value < 1e-40, "{t:?}");
         assert!((sidak(0.01, 1) - 0.01).abs() < 1e-15);
         assert!((1.0 - (1.0 - sidak(0.01, 18)).powi(18) - 0.01).abs() < 1e-12);
+    }
+
+    #[test]
+    fn binomial_tail_matches_hand_values() {
+        assert_eq!(binomial_tail(10, 0, 0.3), 1.0);
+        // P(X >= 1) = 1 - 0.7^10.
+        assert!((binomial_tail(10, 1, 0.3) - (1.0 - 0.7f64.powi(10))).abs() < 1e-12);
+        // P(X = 10) = 0.3^10.
+        assert!((binomial_tail(10, 10, 0.3) - 0.3f64.powi(10)).abs() < 1e-15);
+        assert_eq!(binomial_tail(10, 11, 0.3), 0.0);
+        // 256 tests at 1%: 5 failures is unremarkable, 12 is not.
+        assert!(binomial_tail(256, 5, 0.01) > 0.05);
+        assert!(binomial_tail(256, 12, 0.01) < 1e-4);
     }
 }

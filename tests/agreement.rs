@@ -11,7 +11,7 @@ use wavetrace::settings::{Accel, RenderSettings};
 use wavetrace::stats::z_test;
 
 fn settings(width: u32, height: u32, spp: u32) -> RenderSettings {
-    RenderSettings { width, height, spp, max_depth: 50, seed: 1, accel: Accel::Bvh }
+    RenderSettings { width, height, spp, max_depth: 50, seed: 1, accel: Accel::Bvh, nee: false }
 }
 
 fn run(method: Method, scene: &Scene, s: &RenderSettings) -> Film {

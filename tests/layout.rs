@@ -32,8 +32,8 @@ macro_rules! check {
 }
 
 #[test]
-fn sphere() {
-    check!(SphereRecord, "Sphere", [center, radius]);
+fn primitive() {
+    check!(PrimitiveRecord, "Primitive", [a, kind, b, radius, c, material]);
 }
 
 #[test]
@@ -65,7 +65,8 @@ fn frame() {
             defocus_disk_v,
             background_kind,
             background_color,
-            _pad
+            light_count,
+            nee
         ]
     );
 }

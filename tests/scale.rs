@@ -135,7 +135,7 @@ fn scenes_too_big_for_the_adapter_are_refused_naming_the_buffer() {
 }
 
 fn settings() -> RenderSettings {
-    RenderSettings { width: 32, height: 18, spp: 4, max_depth: 50, seed: 1, accel: Accel::Bvh }
+    RenderSettings { width: 32, height: 18, spp: 4, max_depth: 50, seed: 1, accel: Accel::Bvh, nee: false }
 }
 
 fn run(method: Method) -> Film {

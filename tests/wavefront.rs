@@ -10,7 +10,7 @@ use wavetrace::scene::builtin;
 use wavetrace::settings::{Accel, RenderSettings};
 
 fn settings(spp: u32) -> RenderSettings {
-    RenderSettings { width: 40, height: 24, spp, max_depth: 50, seed: 3, accel: Accel::Bvh }
+    RenderSettings { width: 40, height: 24, spp, max_depth: 50, seed: 3, accel: Accel::Bvh, nee: false }
 }
 
 fn run(method: Method, scene: &str, s: &RenderSettings, opts: &MethodOptions) -> RenderOutput {

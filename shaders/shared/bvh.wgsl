@@ -1,5 +1,5 @@
-// Closest-hit BVH traversal; twin of src/cpu/bvh.rs (same stack, same child order).
-// Needs `nodes` and `spheres` bound (shared/scene.wgsl).
+// Closest-hit and any-hit BVH traversal; twin of src/cpu/bvh.rs (same stack, same child order).
+// Needs `nodes` and `primitives` bound (shared/scene.wgsl).
 
 // Matches bvh::MAX_DEPTH: the builder never makes a deeper tree.
 const BVH_STACK: u32 = 64u;
@@ -13,8 +13,8 @@ struct BvhNode {
 
 struct Hit {
     t: f32,
-    // Sphere slot, or 0xffffffff for a miss.
-    sphere: u32,
+    // Primitive slot, or 0xffffffff for a miss.
+    prim: u32,
 }
 
 const NO_HIT: u32 = 0xffffffffu;
@@ -53,7 +53,7 @@ fn closest_hit(ray: Ray, t_min: f32) -> Hit {
         let n = nodes[current];
         if n.count > 0u {
             for (var slot = n.left_or_first; slot < n.left_or_first + n.count; slot++) {
-                let t = hit_sphere(spheres[slot], ray, t_min, closest);
+                let t = hit_primitive(primitives[slot], ray, t_min, closest);
                 if t >= 0.0 {
                     closest = t;
                     hit = Hit(t, slot);
@@ -92,4 +92,49 @@ fn closest_hit(ray: Ray, t_min: f32) -> Hit {
         current = stack[top];
     }
     return hit;
+}
+
+// Whether anything lies on the ray in (t_min, t_max): the shadow-ray query. Stops at the first
+// hit, visiting children in stored order.
+fn occluded(ray: Ray, t_min: f32, t_max: f32) -> bool {
+    let inv = safe_inverse(ray.dir);
+    var stack: array<u32, BVH_STACK>;
+    var top = 0u;
+    var current = 0u;
+    if hit_box(nodes[0], ray.origin, inv, t_min, t_max) < 0.0 {
+        return false;
+    }
+    loop {
+        let n = nodes[current];
+        if n.count > 0u {
+            for (var slot = n.left_or_first; slot < n.left_or_first + n.count; slot++) {
+                if hit_primitive(primitives[slot], ray, t_min, t_max) >= 0.0 {
+                    return true;
+                }
+            }
+        } else {
+            let a = current + 1u;
+            let b = n.left_or_first;
+            let ta = hit_box(nodes[a], ray.origin, inv, t_min, t_max) >= 0.0;
+            let tb = hit_box(nodes[b], ray.origin, inv, t_min, t_max) >= 0.0;
+            if ta && tb {
+                stack[top] = b;
+                top++;
+            }
+            if ta {
+                current = a;
+                continue;
+            }
+            if tb {
+                current = b;
+                continue;
+            }
+        }
+        if top == 0u {
+            break;
+        }
+        top--;
+        current = stack[top];
+    }
+    return false;
 }

@@ -17,5 +17,8 @@ struct Frame {
     defocus_disk_v: vec3<f32>,
     background_kind: u32,
     background_color: vec3<f32>,
-    _pad: u32,
+    // Emitting primitives in `lights`.
+    light_count: u32,
+    // 1: next-event estimation.
+    nee: u32,
 }

@@ -13,4 +13,6 @@ const PASS_SHADE_METAL: u32 = 9u;
 const PASS_SHADE_DIELECTRIC: u32 = 10u;
 const PASS_SHADE_EMISSIVE: u32 = 11u;
 const PASS_SHADE: u32 = 12u;
-const PASS_SLOTS: u32 = 13u;
+const PASS_MEGAKERNEL_SHADOW: u32 = 13u;     // the megakernel's shadow rays (--nee on)
+const PASS_SHADOW: u32 = 14u;
+const PASS_SLOTS: u32 = 15u;

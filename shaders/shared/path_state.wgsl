@@ -8,16 +8,18 @@
 // Queue ids: regions of `queues`, each `pool` entries long, and their counters.
 const QUEUE_RAY_0: u32 = 0u;        // ray queues alternate by bounce parity
 const QUEUE_MATERIAL_0: u32 = 2u;   // + material kind (one shared queue with --shade single)
-const QUEUE_COUNT: u32 = 6u;
+const QUEUE_SHADOW: u32 = 6u;       // shadow rays (--nee on); always appended atomically
+const QUEUE_COUNT: u32 = 7u;
 // Word indices in `counters` besides the queue counts.
-const COUNTER_BOUNCE: u32 = 6u;     // current bounce, advanced by queue_setup_intersect
-const COUNTER_POSITIONS: u32 = 7u;  // queue positions the next scan compaction covers
-const COUNTER_STATS: u32 = 8u;      // + bounce * QUEUE_COUNT + queue: paths queued, summed over waves
-const COUNTER_SHADE_BASE: u32 = 8u + 64u * QUEUE_COUNT; // + kind: first scan position of each shade pass
+const COUNTER_BOUNCE: u32 = 7u;     // current bounce, advanced by queue_setup_intersect
+const COUNTER_POSITIONS: u32 = 8u;  // queue positions the next scan compaction covers
+const COUNTER_STATS: u32 = 9u;      // + bounce * QUEUE_COUNT + queue: paths queued, summed over waves
+const COUNTER_SHADE_BASE: u32 = 9u + 64u * QUEUE_COUNT; // + kind: first scan position of each shade pass
 // Indirect-dispatch argument slots (3 words each) in queue_setup's `indirect`.
 const ARGS_INTERSECT: u32 = 0u;
 const ARGS_SHADE_0: u32 = 1u;       // + material kind
 const ARGS_COMPACT: u32 = 5u;       // the scan passes over the positions just produced
+const ARGS_SHADOW: u32 = 6u;
 
 // A path that no pass should touch again.
 const DEAD: u32 = 0xffffffffu;
@@ -39,9 +41,10 @@ struct Wave {
 @group(1) @binding(2) var<storage, read_write> path_origin: array<vec4<f32>>;
 // xyz: ray direction; w: bitcast sphere slot hit, or DEAD once the path has ended.
 @group(1) @binding(3) var<storage, read_write> path_dir: array<vec4<f32>>;
-// xyz: throughput.
+// xyz: throughput; w: when the last hit sampled the lights, the diffuse bounce's density for the
+// ray now traced (MIS weight of the emission it finds), else 0.
 @group(1) @binding(4) var<storage, read_write> path_throughput: array<vec4<f32>>;
-// rgb: the path's radiance; w: rays it traced (both read by the accumulate pass).
+// rgb: the path's radiance so far; w: rays it traced (both read by the accumulate pass).
 @group(1) @binding(5) var<storage, read_write> radiance: array<vec4<f32>>;
 @group(1) @binding(6) var<storage, read_write> queues: array<u32>;
 @group(1) @binding(7) var<storage, read_write> counters: array<atomic<u32>>;
@@ -51,6 +54,10 @@ struct Wave {
 @group(1) @binding(9) var<storage, read_write> scan_offset: array<u32>;
 @group(1) @binding(10) var<storage, read_write> block_sums: array<vec4<u32>>;
 @group(1) @binding(11) var<storage, read_write> scan_slot: array<u32>;
+// The pending shadow ray (--nee on), from path_origin.xyz: xyz direction, w its t_max.
+@group(1) @binding(12) var<storage, read_write> shadow_ray: array<vec4<f32>>;
+// rgb: what it adds to the radiance if unblocked; w: 1 while it is pending.
+@group(1) @binding(13) var<storage, read_write> shadow_weight: array<vec4<f32>>;
 
 // Paths in the pool this wave.
 fn wave_paths() -> u32 {
@@ -78,6 +85,16 @@ fn enqueue(q: u32, slot: u32, position: u32) {
     } else if wave.compaction == 2u {
         next_queue[position] = q;
         scan_slot[position] = slot;
+    }
+}
+
+// Puts `slot`'s shadow ray on the shadow queue: appended atomically with either compaction
+// method (a path can go to both the next ray queue and this one, which a scan's single target per
+// position cannot express); without compaction the pending flag alone marks it.
+fn enqueue_shadow(slot: u32) {
+    if wave.compaction != 0u {
+        let at = atomicAdd(&counters[QUEUE_SHADOW], 1u);
+        queues[QUEUE_SHADOW * wave.pool + at] = slot;
     }
 }
 

@@ -2,16 +2,18 @@
 
 #include "shared/frame.wgsl"
 #include "shared/ray.wgsl"
-#include "shared/sphere.wgsl"
 #include "shared/sampling.wgsl"
+#include "shared/primitive.wgsl"
 #include "shared/material.wgsl"
 
 @group(0) @binding(0) var<uniform> frame: Frame;
-@group(0) @binding(1) var<storage, read> spheres: array<Sphere>;
-@group(0) @binding(2) var<storage, read> sphere_material: array<u32>;
-@group(0) @binding(3) var<storage, read> materials: array<Material>;
-@group(0) @binding(4) var<storage, read> nodes: array<BvhNode>;
+@group(0) @binding(1) var<storage, read> primitives: array<Primitive>;
+@group(0) @binding(2) var<storage, read> materials: array<Material>;
+@group(0) @binding(3) var<storage, read> nodes: array<BvhNode>;
+// Slots of the emitting primitives (one unused entry when there are none: frame.light_count).
+@group(0) @binding(4) var<storage, read> lights: array<u32>;
 
 #include "shared/bvh.wgsl"
+#include "shared/light.wgsl"
 #include "shared/camera.wgsl"
 #include "shared/background.wgsl"

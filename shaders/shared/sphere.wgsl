@@ -1,13 +1,9 @@
 // Ray–sphere intersection; twin of src/cpu/sphere.rs (Ray Tracing Gems ch. 7 discriminant).
-
-struct Sphere {
-    center: vec3<f32>,
-    radius: f32,
-}
+// A sphere is a Primitive (shared/primitive.wgsl) with centre `a` and `radius`.
 
 // Distance to the nearest intersection in (t_min, t_max), or -1 for none.
-fn hit_sphere(s: Sphere, ray: Ray, t_min: f32, t_max: f32) -> f32 {
-    let f = ray.origin - s.center;
+fn hit_sphere(s: Primitive, ray: Ray, t_min: f32, t_max: f32) -> f32 {
+    let f = ray.origin - s.a;
     let b = dot(f, ray.dir);
     let l = f - ray.dir * b;
     let disc = s.radius * s.radius - dot(l, l);
@@ -42,6 +38,6 @@ fn hit_sphere(s: Sphere, ray: Ray, t_min: f32, t_max: f32) -> f32 {
     return -1.0;
 }
 
-fn outward_normal(s: Sphere, p: vec3<f32>) -> vec3<f32> {
-    return (p - s.center) / s.radius;
+fn sphere_normal(s: Primitive, p: vec3<f32>) -> vec3<f32> {
+    return (p - s.a) / s.radius;
 }

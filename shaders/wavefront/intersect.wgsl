@@ -22,18 +22,20 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>) {
     instrument(PASS_INTERSECT);
     let ray = Ray(path_origin[slot].xyz, dir.xyz);
     let hit = closest_hit(ray, T_MIN);
-    if hit.sphere == NO_HIT {
-        radiance[slot] = vec4<f32>(path_throughput[slot].xyz * background(ray.dir), f32(bounce + 1u));
+    // w counts the rays traced.
+    let sum = radiance[slot] + vec4<f32>(0.0, 0.0, 0.0, 1.0);
+    if hit.prim == NO_HIT {
+        radiance[slot] = sum + vec4<f32>(path_throughput[slot].xyz * background(ray.dir), 0.0);
         path_dir[slot].w = bitcast<f32>(DEAD);
         retire(gid.x);
         return;
     }
-    radiance[slot].w = f32(bounce + 1u); // rays traced so far; rgb stays 0 until a light
+    radiance[slot] = sum;
     path_origin[slot].w = hit.t;
-    path_dir[slot].w = bitcast<f32>(hit.sphere);
+    path_dir[slot].w = bitcast<f32>(hit.prim);
     var q = QUEUE_MATERIAL_0;
     if wave.per_material == 1u {
-        q += materials[sphere_material[hit.sphere]].kind;
+        q += materials[primitives[hit.prim].material].kind;
     }
     enqueue(q, slot, gid.x);
 }

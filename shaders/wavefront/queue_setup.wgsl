@@ -70,4 +70,16 @@ fn queue_setup_shade() {
     indirect[3u * ARGS_COMPACT + 1u] = 1u;
     indirect[3u * ARGS_COMPACT + 2u] = 1u;
     atomicStore(&counters[QUEUE_RAY_0 + (bounce + 1u) % 2u], 0u);
+    atomicStore(&counters[QUEUE_SHADOW], 0u);
+}
+
+// Before the shadow pass (--nee on): size it from the shadow rays the shade passes queued.
+@compute @workgroup_size(1)
+fn queue_setup_shadow() {
+    var n = wave_paths();
+    if wave.compaction != 0u {
+        n = atomicLoad(&counters[QUEUE_SHADOW]);
+    }
+    set_args(ARGS_SHADOW, n);
+    record(current_bounce(), QUEUE_SHADOW, n);
 }

@@ -1,6 +1,7 @@
 // shade: scattering for the paths queued at one material kind (one entry point, and pipeline,
 // per kind), or for every hit with a material switch (`shade`). Surviving paths go on the next
-// bounce's ray queue. Twin of the bounce body of src/cpu/integrator.rs. Rust: src/gpu/wavefront/shade.rs.
+// bounce's ray queue; with --nee on, diffuse hits also put a shadow ray on the shadow queue for
+// the shadow pass. Twin of the bounce body of src/cpu/integrator.rs. Rust: src/gpu/wavefront/shade.rs.
 
 #include "shared/rng.wgsl"
 #include "shared/scene.wgsl"
@@ -26,25 +27,32 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     }
     let o = path_origin[slot];
     let d = path_dir[slot];
-    let sphere_slot = bitcast<u32>(d.w);
-    if sphere_slot == DEAD {
+    let prim_slot = bitcast<u32>(d.w);
+    if prim_slot == DEAD {
         return; // only without compaction
     }
-    let material = materials[sphere_material[sphere_slot]];
+    let prim = primitives[prim_slot];
+    let material = materials[prim.material];
     if kind != NO_KIND && material.kind != kind {
         return; // only without compaction
     }
     instrument(pass_id);
-    let throughput = path_throughput[slot].xyz;
+    let state = path_throughput[slot];
+    let throughput = state.xyz;
+    let ray = Ray(o.xyz, d.xyz);
+    let p = ray.origin + ray.dir * o.w;
     if material.kind == MATERIAL_EMISSIVE {
-        radiance[slot] = vec4<f32>(throughput * material.color, f32(bounce + 1u));
+        // MIS-weighted when the previous hit sampled the lights (state.w: its bounce density).
+        var w = 1.0;
+        if state.w > 0.0 {
+            w = emission_weight(prim_slot, p, ray.dir, o.w, state.w);
+        }
+        radiance[slot] += vec4<f32>(throughput * material.color * w, 0.0);
         path_dir[slot].w = bitcast<f32>(DEAD);
         retire(position);
         return;
     }
-    let ray = Ray(o.xyz, d.xyz);
-    let p = ray.origin + ray.dir * o.w;
-    let outward = outward_normal(spheres[sphere_slot], p);
+    let outward = outward_normal(prim, p);
     let front_face = dot(ray.dir, outward) < 0.0;
     let normal = select(-outward, outward, front_face);
     let u = uniform4(slot_pixel(slot), slot_sample(slot), bounce, PURPOSE_SCATTER, frame.seed);
@@ -55,9 +63,24 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         retire(position);
         return;
     }
+    // Direct light at diffuse hits, when the ray it stands in for is within the depth limit
+    // (which also means this path goes on, so path_origin below is the shadow ray's origin).
+    let lights_sampled = frame.nee == 1u && frame.light_count > 0u && material.kind == MATERIAL_LAMBERTIAN
+        && bounce + 2u <= frame.max_depth;
+    var bsdf_pdf = 0.0;
+    if lights_sampled {
+        bsdf_pdf = diffuse_pdf(dot(normal, s.dir));
+        let u_light = uniform4(slot_pixel(slot), slot_sample(slot), bounce, PURPOSE_LIGHT, frame.seed);
+        let shadow = next_event(p, normal, u_light);
+        if shadow.ok {
+            shadow_ray[slot] = vec4<f32>(shadow.ray.dir, shadow.t_max);
+            shadow_weight[slot] = vec4<f32>(throughput * s.attenuation * shadow.weight, 1.0);
+            enqueue_shadow(slot);
+        }
+    }
     path_origin[slot] = vec4<f32>(p, 0.0);
     path_dir[slot] = vec4<f32>(s.dir, 0.0);
-    path_throughput[slot] = vec4<f32>(throughput * s.attenuation, 0.0);
+    path_throughput[slot] = vec4<f32>(throughput * s.attenuation, bsdf_pdf);
     enqueue(QUEUE_RAY_0 + (bounce + 1u) % 2u, slot, position);
 }
 

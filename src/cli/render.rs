@@ -18,7 +18,9 @@ Examples:
   wavetrace render --scene rtiow-final --method megakernel --width 1200 --height 675 --spp 10 \\
       --out final.exr --png final.png
   wavetrace render --scene three-spheres --method cpu-f64 --spp 256 --out truth.exr
-  wavetrace render --scene furnace --method megakernel --accel none --out f.exr --report f.json";
+  wavetrace render --scene furnace --method megakernel --accel none --out f.exr --report f.json
+  wavetrace render --scene cornell --method wavefront --nee on --width 300 --height 300 --spp 64 \
+      --out cornell.exr --png cornell.png";
 
 #[derive(clap::Args, Debug)]
 #[command(after_help = EXAMPLES)]
@@ -41,9 +43,14 @@ pub struct RenderArgs {
     /// Seed of the counter-based RNG: same seed, same paths, on every method.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
-    /// `none` tests every sphere for every ray, as the seeds did.
+    /// `none` tests every primitive for every ray, as the seeds did.
     #[arg(long, value_enum, default_value_t = Accel::Bvh)]
     pub accel: Accel,
+    /// Next-event estimation: at each diffuse hit, a shadow ray to a point sampled on an
+    /// emitter (`off`: lights are found only by bounced rays, as in the book). Both converge
+    /// to the same image.
+    #[arg(long, value_enum, default_value_t = OnOff::Off)]
+    pub nee: OnOff,
     /// Output EXR (linear RGB, f32).
     #[arg(long)]
     pub out: PathBuf,
@@ -105,6 +112,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         max_depth: a.max_depth,
         seed: a.seed,
         accel: a.accel,
+        nee: a.nee == OnOff::On,
     };
     settings.validate().map_err(anyhow::Error::msg)?;
     let compaction = match (a.compaction, a.compaction_method) {

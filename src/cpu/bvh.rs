@@ -1,14 +1,15 @@
-//! Closest-hit BVH traversal; twin of `shaders/shared/bvh.wgsl` (same stack, same child order).
+//! Closest-hit and any-hit BVH traversal; twin of `shaders/shared/bvh.wgsl` (same stack, same
+//! child order).
 
-use super::{ray::Ray, real::Real, sphere::hit_sphere, vec3::V3};
+use super::{primitive::hit as hit_primitive, ray::Ray, real::Real, vec3::V3};
 use crate::bvh::MAX_DEPTH;
-use crate::layout::{BvhNode, SphereRecord};
+use crate::layout::{BvhNode, PrimitiveRecord};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit<T> {
     pub t: T,
-    /// Slot of the sphere in `PackedScene::spheres`.
-    pub sphere: u32,
+    /// Slot of the primitive in `PackedScene::primitives`.
+    pub prim: u32,
 }
 
 /// Reciprocal direction with zero components replaced by a tiny signed value, so the slab test
@@ -42,7 +43,7 @@ fn hit_box<T: Real>(n: &BvhNode, o: V3<T>, inv: V3<T>, t_min: T, t_max: T) -> Op
 
 pub fn closest_hit<T: Real>(
     nodes: &[BvhNode],
-    spheres: &[SphereRecord],
+    prims: &[PrimitiveRecord],
     ray: &Ray<T>,
     t_min: T,
 ) -> Option<Hit<T>> {
@@ -57,9 +58,9 @@ pub fn closest_hit<T: Real>(
         let n = &nodes[current as usize];
         if n.count > 0 {
             for slot in n.left_or_first..n.left_or_first + n.count {
-                if let Some(t) = hit_sphere(&spheres[slot as usize], ray, t_min, closest) {
+                if let Some(t) = hit_primitive(&prims[slot as usize], ray, t_min, closest) {
                     closest = t;
-                    hit = Some(Hit { t, sphere: slot });
+                    hit = Some(Hit { t, prim: slot });
                 }
             }
         } else {
@@ -94,6 +95,51 @@ pub fn closest_hit<T: Real>(
     }
 }
 
+/// Whether anything lies on the ray in (t_min, t_max): the shadow-ray query. Stops at the first
+/// hit found, so it visits children in stored order rather than nearest first.
+pub fn occluded<T: Real>(
+    nodes: &[BvhNode],
+    prims: &[PrimitiveRecord],
+    ray: &Ray<T>,
+    t_min: T,
+    t_max: T,
+) -> bool {
+    let inv = safe_inverse(ray.dir);
+    let mut stack = [0u32; MAX_DEPTH];
+    let mut top = 0usize;
+    let mut current = 0u32;
+    if hit_box(&nodes[0], ray.origin, inv, t_min, t_max).is_none() {
+        return false;
+    }
+    loop {
+        let n = &nodes[current as usize];
+        if n.count > 0 {
+            for slot in n.left_or_first..n.left_or_first + n.count {
+                if hit_primitive(&prims[slot as usize], ray, t_min, t_max).is_some() {
+                    return true;
+                }
+            }
+        } else {
+            let (a, b) = (current + 1, n.left_or_first);
+            let ta = hit_box(&nodes[a as usize], ray.origin, inv, t_min, t_max).is_some();
+            let tb = hit_box(&nodes[b as usize], ray.origin, inv, t_min, t_max).is_some();
+            if ta && tb {
+                stack[top] = b;
+                top += 1;
+            }
+            if ta || tb {
+                current = if ta { a } else { b };
+                continue;
+            }
+        }
+        if top == 0 {
+            return false;
+        }
+        top -= 1;
+        current = stack[top];
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -101,32 +147,56 @@ mod tests {
     use crate::scene::builtin;
     use crate::settings::Accel;
 
-    /// The BVH and the linear loop (single leaf) find the same closest sphere at the same
-    /// distance for random rays through the final scene, from outside and inside spheres.
+    /// The BVH and the linear loop (single leaf) find the same closest primitive at the same
+    /// distance for random rays through a scene, from outside and inside spheres; any-hit
+    /// queries agree with closest hits.
     #[test]
     fn bvh_and_linear_find_the_same_hits() {
-        let scene = builtin::by_name("rtiow-final").unwrap();
+        check_same_hits("rtiow-final");
+    }
+
+    #[test]
+    fn bvh_and_linear_find_the_same_hits_on_quads() {
+        check_same_hits("cornell");
+    }
+
+    fn check_same_hits(name: &str) {
+        let scene = builtin::by_name(name).unwrap();
         let bvh = PackedScene::new(&scene, Accel::Bvh);
         let linear = PackedScene::new(&scene, Accel::None);
-        assert!(bvh.nodes.len() > 100 && linear.nodes.len() == 1);
+        assert!(bvh.nodes.len() > 10 && linear.nodes.len() == 1);
+        // Rays start in the scene's bounding box.
+        let root = bvh.nodes[0];
+        let (lo, hi) = (glam::Vec3::from(root.min), glam::Vec3::from(root.max));
         let mut s = crate::rng::Stream::new(11);
         let mut hits = 0;
         for i in 0..20_000 {
             let origin = if i % 4 == 0 {
-                // Start at a random sphere's centre (inside it).
-                V3::of(linear.spheres[(s.next_f32() * linear.spheres.len() as f32) as usize].center)
+                // Start at a random primitive's first point (inside a sphere; on a quad).
+                V3::of(linear.primitives[(s.next_f32() * linear.primitives.len() as f32) as usize].a)
             } else {
-                V3::new(s.range(-15.0, 15.0), s.range(0.0, 6.0), s.range(-15.0, 15.0))
+                let t = |k: usize, s: &mut crate::rng::Stream| s.range(lo[k], hi[k]);
+                V3::new(t(0, &mut s), t(1, &mut s), t(2, &mut s))
             };
             let dir = V3::new(s.range(-1.0, 1.0), s.range(-1.0, 0.5), s.range(-1.0, 1.0)).normalize();
             let ray = Ray { origin, dir };
-            let a = closest_hit(&bvh.nodes, &bvh.spheres, &ray, 1e-3f32);
-            let b = closest_hit(&linear.nodes, &linear.spheres, &ray, 1e-3f32);
+            let a = closest_hit(&bvh.nodes, &bvh.primitives, &ray, 1e-3f32);
+            let b = closest_hit(&linear.nodes, &linear.primitives, &ray, 1e-3f32);
+            if let Some(a) = a {
+                // Any-hit agrees: something before the closest hit's far side, nothing before it.
+                assert!(occluded(&bvh.nodes, &bvh.primitives, &ray, 1e-3, a.t * 1.001), "ray {i}");
+                assert!(!occluded(&bvh.nodes, &bvh.primitives, &ray, 1e-3, a.t * 0.999), "ray {i}");
+            } else {
+                assert!(!occluded(&bvh.nodes, &bvh.primitives, &ray, 1e-3, f32::INFINITY), "ray {i}");
+            }
             match (a, b) {
                 (Some(a), Some(b)) => {
                     hits += 1;
                     assert_eq!(a.t, b.t, "ray {i}");
-                    assert_eq!(bvh.spheres[a.sphere as usize], linear.spheres[b.sphere as usize], "ray {i}");
+                    assert_eq!(
+                        bvh.primitives[a.prim as usize], linear.primitives[b.prim as usize],
+                        "ray {i}"
+                    );
                 }
                 (None, None) => {}
                 _ => panic!("ray {i}: BVH {a:?} vs linear {b:?}"),

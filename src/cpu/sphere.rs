@@ -5,12 +5,12 @@
 //! the book's radius-1000 ground sphere accurate where the textbook b² − 4ac form loses them.
 
 use super::{ray::Ray, real::Real, vec3::V3};
-use crate::layout::SphereRecord;
+use crate::layout::PrimitiveRecord;
 
 /// Distance to the nearest intersection in (t_min, t_max), if any.
 #[inline(always)]
-pub fn hit_sphere<T: Real>(s: &SphereRecord, ray: &Ray<T>, t_min: T, t_max: T) -> Option<T> {
-    let center = V3::of(s.center);
+pub fn hit_sphere<T: Real>(s: &PrimitiveRecord, ray: &Ray<T>, t_min: T, t_max: T) -> Option<T> {
+    let center = V3::of(s.a);
     let r = T::of(s.radius);
     let f = ray.origin - center;
     let b = f.dot(ray.dir);
@@ -38,8 +38,8 @@ pub fn hit_sphere<T: Real>(s: &SphereRecord, ray: &Ray<T>, t_min: T, t_max: T) -
 
 /// Outward unit normal at point `p` on the sphere.
 #[inline(always)]
-pub fn outward_normal<T: Real>(s: &SphereRecord, p: V3<T>) -> V3<T> {
-    (p - V3::of(s.center)) / T::of(s.radius)
+pub fn outward_normal<T: Real>(s: &PrimitiveRecord, p: V3<T>) -> V3<T> {
+    (p - V3::of(s.a)) / T::of(s.radius)
 }
 
 #[cfg(test)]
@@ -49,7 +49,11 @@ mod tests {
     fn ray(o: [f64; 3], d: [f64; 3]) -> Ray<f64> {
         Ray { origin: V3::new(o[0], o[1], o[2]), dir: V3::new(d[0], d[1], d[2]).normalize() }
     }
-    const UNIT: SphereRecord = SphereRecord { center: [0.0, 0.0, 0.0], radius: 1.0 };
+    const UNIT: PrimitiveRecord = sphere([0.0, 0.0, 0.0], 1.0);
+
+    const fn sphere(a: [f32; 3], radius: f32) -> PrimitiveRecord {
+        PrimitiveRecord { a, kind: 0, b: [0.0; 3], radius, c: [0.0; 3], material: 0 }
+    }
 
     #[test]
     fn hits_the_near_side_from_outside() {
@@ -84,7 +88,7 @@ mod tests {
     fn f32_hits_on_the_radius_1000_ground_stay_on_the_surface() {
         // The book's ground sphere seen at a shallow angle from the final scene's camera: the
         // textbook b² − 4ac form loses most digits here in f32.
-        let ground = SphereRecord { center: [0.0, -1000.0, 0.0], radius: 1000.0 };
+        let ground = sphere([0.0, -1000.0, 0.0], 1000.0);
         let mut s = crate::rng::Stream::new(3);
         for _ in 0..1000 {
             // Steep enough (at least ~6° down) to meet the curved ground rather than pass over it.

@@ -32,6 +32,11 @@ impl<T: Real> V3<T> {
         self.x * o.x + self.y * o.y + self.z * o.z
     }
     #[inline(always)]
+    pub fn cross(self, o: Self) -> Self {
+        V3::new(self.y * o.z - self.z * o.y, self.z * o.x - self.x * o.z, self.x * o.y - self.y * o.x)
+    }
+
+    #[inline(always)]
     pub fn length_squared(self) -> T {
         self.dot(self)
     }

@@ -11,6 +11,7 @@
 //!   "resolutions": ["400x225"],
 //!   "spp": [4, 16, 64],
 //!   "max_depth": [50],
+//!   "nee": [false, true],
 //!   "seed": 0,
 //!   "accel": "bvh",
 //!   "repetitions": 3,
@@ -53,6 +54,7 @@ const TOP_FIELDS: &[&str] = &[
     "resolutions",
     "spp",
     "max_depth",
+    "nee",
     "seed",
     "accel",
     "repetitions",
@@ -111,7 +113,7 @@ pub struct MethodVariant {
 #[derive(Clone, Debug, PartialEq)]
 pub enum ReferenceSpec {
     /// Render each (scene, resolution) with `method` at `spp`; cached on disk.
-    Render { method: Method, spp: u32, max_depth: u32, seed: u32 },
+    Render { method: Method, spp: u32, max_depth: u32, seed: u32, nee: bool },
     /// Read EXRs: `pattern` with `{scene}`, `{width}`, `{height}` replaced, relative to the config.
     Exr { pattern: String },
 }
@@ -142,6 +144,8 @@ pub struct ExperimentConfig {
     pub spp: Vec<u32>,
     /// Default `[50]` (the book's).
     pub max_depth: Vec<u32>,
+    /// Next-event estimation off and/or on (default `[false]`).
+    pub nee: Vec<bool>,
     /// Default 0.
     pub seed: u32,
     /// Default `bvh`.
@@ -181,17 +185,21 @@ impl ExperimentConfig {
         cx.config(&raw, path)
     }
 
-    /// Every run's render settings, in plan order: resolution, then max depth, then spp.
+    /// Every run's render settings, in plan order: resolution, then max depth, then next-event
+    /// estimation, then spp.
     pub fn settings(&self) -> impl Iterator<Item = RenderSettings> + '_ {
         self.resolutions.iter().flat_map(move |&(width, height)| {
             self.max_depth.iter().flat_map(move |&max_depth| {
-                self.spp.iter().map(move |&spp| RenderSettings {
-                    width,
-                    height,
-                    spp,
-                    max_depth,
-                    seed: self.seed,
-                    accel: self.accel,
+                self.nee.iter().flat_map(move |&nee| {
+                    self.spp.iter().map(move |&spp| RenderSettings {
+                        width,
+                        height,
+                        spp,
+                        max_depth,
+                        seed: self.seed,
+                        accel: self.accel,
+                        nee,
+                    })
                 })
             })
         })
@@ -263,6 +271,10 @@ impl Cx {
             Some(v) => self.list(v, "max_depth", |v, p| self.uint32(v, p, 1, (1 << 24) - 1))?,
             None => vec![RenderSettings::default().max_depth],
         };
+        let nee = match root.get("nee") {
+            Some(v) => self.list(v, "nee", |v, p| self.boolean(v, p))?,
+            None => vec![false],
+        };
         let seed = self.optional(root, "seed", |v, p| self.uint32(v, p, 0, u32::MAX))?.unwrap_or(0);
         let accel = match self.optional(root, "accel", |v, p| self.choice(v, p, &["bvh", "none"]))? {
             Some("none") => Accel::None,
@@ -291,6 +303,7 @@ impl Cx {
             resolutions,
             spp,
             max_depth,
+            nee,
             seed,
             accel,
             repetitions,
@@ -505,7 +518,7 @@ impl Cx {
             let pattern = self.string(self.field(o, "reference", "exr")?, "reference.exr")?.to_owned();
             return Ok(ReferenceSpec::Exr { pattern });
         }
-        self.only(o, "reference", &["method", "spp", "max_depth", "seed"])?;
+        self.only(o, "reference", &["method", "spp", "max_depth", "seed", "nee"])?;
         let method = self.method(self.field(o, "reference", "method")?, "reference.method")?;
         let spp = self.uint32(self.field(o, "reference", "spp")?, "reference.spp", 1, u32::MAX)?;
         let max_depth =
@@ -520,7 +533,10 @@ impl Cx {
                 format!("equals the runs' seed ({seed}): the reference would trace the runs' own paths and hide their error; choose another seed"),
             );
         }
-        Ok(ReferenceSpec::Render { method, spp, max_depth, seed: ref_seed })
+        // Next-event estimation converges to the same image; on, a reference of lit scenes
+        // such as cornell needs far fewer samples.
+        let nee = self.optional(o, "nee", |v, p| self.boolean(v, p))?.unwrap_or(false);
+        Ok(ReferenceSpec::Render { method, spp, max_depth, seed: ref_seed, nee })
     }
 
     fn metrics(&self, v: Option<&Value>) -> Res<MetricOptions> {

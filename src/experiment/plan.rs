@@ -1,4 +1,4 @@
-//! An experiment's runs: every combination of scene × resolution × max depth × spp × method
+//! An experiment's runs: every combination of scene × resolution × max depth × NEE × spp × method
 //! variant, numbered in that order (methods innermost), and the share of them one shard runs.
 
 use std::fmt;
@@ -12,7 +12,8 @@ use crate::settings::RenderSettings;
 pub struct RunSpec {
     /// Position in the whole config's plan (the same in every shard).
     pub index: usize,
-    /// Unique, file-name safe: `007-rtiow-final-400x225-16spp-d50-wavefront`.
+    /// Unique, file-name safe: `007-rtiow-final-400x225-16spp-d50-wavefront` (`-d50-nee-` with
+    /// next-event estimation).
     pub id: String,
     /// Index into `config.scenes`.
     pub scene: usize,
@@ -29,12 +30,13 @@ pub fn plan(config: &ExperimentConfig) -> Vec<RunSpec> {
             for (variant, v) in config.methods.iter().enumerate() {
                 let index = runs.len();
                 let id = format!(
-                    "{index:03}-{}-{}x{}-{}spp-d{}-{}",
+                    "{index:03}-{}-{}x{}-{}spp-d{}{}-{}",
                     file_safe(&entry.scene.name),
                     settings.width,
                     settings.height,
                     settings.spp,
                     settings.max_depth,
+                    if settings.nee { "-nee" } else { "" },
                     file_safe(&v.label)
                 );
                 runs.push(RunSpec { index, id, scene, settings: settings.clone(), variant });

@@ -79,8 +79,8 @@ impl References {
         height: u32,
         gpu: &mut GpuSlot,
     ) -> Result<Reference> {
-        let ReferenceSpec::Render { method, spp, max_depth, seed } = *spec else { unreachable!() };
-        let settings = RenderSettings { width, height, spp, max_depth, seed, accel: config.accel };
+        let ReferenceSpec::Render { method, spp, max_depth, seed, nee } = *spec else { unreachable!() };
+        let settings = RenderSettings { width, height, spp, max_depth, seed, accel: config.accel, nee };
         let key = cache_key(scene, &settings, method.name());
         let path = self.cache_dir.join(format!("{key}.exr"));
         let mut record = ReferenceRecord {
@@ -93,6 +93,7 @@ impl References {
             spp: Some(spp),
             max_depth: Some(max_depth),
             seed: Some(seed),
+            nee: Some(nee),
             exr: path.display().to_string(),
             cached: true,
             render_seconds: 0.0,
@@ -152,6 +153,7 @@ fn read(path: &Path, scene: &Scene, width: u32, height: u32) -> Result<Reference
         method: attribute(&attrs, "wavetrace.method"),
         spp: attribute(&attrs, "wavetrace.spp").and_then(|s| s.parse().ok()),
         max_depth: attribute(&attrs, "wavetrace.max_depth").and_then(|s| s.parse().ok()),
+        nee: attribute(&attrs, "wavetrace.nee").map(|s| s == "on"),
         seed: attribute(&attrs, "wavetrace.seed").and_then(|s| s.parse().ok()),
         exr: path.display().to_string(),
         cached: false,
@@ -170,15 +172,17 @@ fn attribute(attrs: &[(String, String)], name: &str) -> Option<String> {
 /// image: the scene's exact text, the settings, the method and the crate version.
 pub fn cache_key(scene: &Scene, s: &RenderSettings, method: &str) -> String {
     let identity = format!(
-        "{}\n{}\n{}x{} spp {} depth {} seed {} accel {:?} {method}",
+        "{}\n{}\n{}\n{}x{} spp {} depth {} seed {} accel {:?} nee {} {method}",
         env!("CARGO_PKG_VERSION"),
         crate::scene::export::to_json(scene),
+        mesh_digest(scene),
         s.width,
         s.height,
         s.spp,
         s.max_depth,
         s.seed,
-        s.accel
+        s.accel,
+        s.nee
     );
     format!(
         "{}-{}x{}-{method}-{}spp-d{}-s{}-{:016x}",
@@ -190,6 +194,21 @@ pub fn cache_key(scene: &Scene, s: &RenderSettings, method: &str) -> String {
         s.seed,
         fnv1a(identity.as_bytes())
     )
+}
+
+/// The meshes' vertices, hashed: a scene file names its OBJ files only by path, so an edited
+/// mesh must change the key by itself.
+fn mesh_digest(scene: &Scene) -> String {
+    let digests: Vec<String> = scene
+        .meshes
+        .iter()
+        .map(|m| {
+            let bytes: Vec<u8> =
+                m.triangles.iter().flatten().flat_map(|v| v.to_array()).flat_map(f32::to_le_bytes).collect();
+            format!("{:016x}", fnv1a(&bytes))
+        })
+        .collect();
+    digests.join(" ")
 }
 
 /// 64-bit FNV-1a: stable across builds and platforms, unlike `std`'s hasher.

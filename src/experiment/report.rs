@@ -126,6 +126,9 @@ pub struct RunRecord {
     pub height: u32,
     pub spp: u32,
     pub max_depth: u32,
+    /// Next-event estimation on (absent in reports from before it existed: off).
+    #[serde(default)]
+    pub nee: bool,
     pub seed: u32,
     pub accel: String,
     pub method: String,
@@ -189,6 +192,9 @@ pub struct ReferenceRecord {
     pub spp: Option<u32>,
     pub max_depth: Option<u32>,
     pub seed: Option<u32>,
+    /// Next-event estimation on (rendered references).
+    #[serde(default)]
+    pub nee: Option<bool>,
     /// The EXR: in the cache (rendered) or as configured.
     pub exr: String,
     /// Taken from the cache instead of rendered now.

@@ -167,6 +167,7 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         height: s.height,
         spp: s.spp,
         max_depth: s.max_depth,
+        nee: s.nee,
         seed: s.seed,
         accel: serde_json::to_value(s.accel)
             .ok()

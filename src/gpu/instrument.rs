@@ -9,7 +9,7 @@ use anyhow::{bail, Result};
 use std::collections::BTreeMap;
 
 /// Slot names, in the order of `shaders/shared/instrument_ids.wgsl`.
-pub const SLOTS: [&str; 13] = [
+pub const SLOTS: [&str; 15] = [
     "megakernel_bounce",
     "megakernel_material",
     "megakernel_lambertian",
@@ -23,6 +23,8 @@ pub const SLOTS: [&str; 13] = [
     "shade_dielectric",
     "shade_emissive",
     "shade",
+    "megakernel_shadow",
+    "shadow",
 ];
 
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]

@@ -61,10 +61,13 @@ pub(crate) fn check_loop_limit(
     settings: &RenderSettings,
 ) -> Result<()> {
     const LLVMPIPE_LOOP_LIMIT: u64 = 65_535;
-    let worst = settings.max_depth as u64 * (scene.largest_leaf() as u64 + crate::bvh::MAX_DEPTH as u64);
+    // With next-event estimation each bounce also traverses for its shadow ray.
+    let traversals = if settings.nee && !scene.lights.is_empty() { 2 } else { 1 };
+    let worst =
+        traversals * settings.max_depth as u64 * (scene.largest_leaf() as u64 + crate::bvh::MAX_DEPTH as u64);
     if ctx.summary.name.contains("llvmpipe") && worst > LLVMPIPE_LOOP_LIMIT {
         bail!(
-            "on {} a path may need {worst} loop iterations (max depth {} x a leaf of {} spheres), \
+            "on {} a path may need {worst} loop iterations (max depth {} x a leaf of {} primitives), \
              past llvmpipe's limit of {LLVMPIPE_LOOP_LIMIT} per shader invocation, which would \
              silently truncate paths; use --accel bvh or a smaller --max-depth",
             ctx.summary.name,

@@ -29,6 +29,9 @@ pub mod label {
     pub const COMPACT_SCAN: &str = "compact_scan";
     pub const COMPACT_BLOCKS: &str = "compact_blocks";
     pub const COMPACT_SCATTER: &str = "compact_scatter";
+    pub const QUEUE_SETUP_SHADOW: &str = "queue_setup_shadow";
+    /// Shadow rays of next-event estimation (`--nee on`).
+    pub const SHADOW: &str = "shadow";
 }
 
 pub use context::GpuContext;

@@ -41,22 +41,23 @@ impl SceneBuffers {
             contents: bytemuck::bytes_of(frame),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let spheres = storage_init(ctx, "spheres", cast_slice(&scene.spheres), none)?;
-        let sphere_material =
-            storage_init(ctx, "sphere materials", cast_slice(&scene.sphere_material), none)?;
+        let primitives = storage_init(ctx, "primitives", cast_slice(&scene.primitives), none)?;
         let materials = storage_init(ctx, "materials", cast_slice(&scene.materials), none)?;
         let nodes = storage_init(ctx, "BVH nodes", cast_slice(&scene.nodes), none)?;
-        let bytes = [&spheres, &sphere_material, &materials, &nodes].iter().map(|b| b.size()).sum();
+        // A binding cannot be empty: a scene without lights binds one unused entry.
+        let lights = if scene.lights.is_empty() { &[0u32][..] } else { &scene.lights[..] };
+        let lights = storage_init(ctx, "lights", cast_slice(lights), none)?;
+        let bytes = [&primitives, &materials, &nodes, &lights].iter().map(|b| b.size()).sum();
         let layout = Self::layout(ctx);
         let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("scene"),
             layout: &layout,
             entries: &[
                 wgpu::BindGroupEntry { binding: 0, resource: frame_buf.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: spheres.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 2, resource: sphere_material.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 3, resource: materials.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 4, resource: nodes.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: primitives.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: materials.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 3, resource: nodes.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 4, resource: lights.as_entire_binding() },
             ],
         });
         ctx.check()?;
@@ -68,10 +69,10 @@ impl SceneBuffers {
 pub fn buffer_sizes(scene: &PackedScene) -> [(&'static str, u64); 4] {
     use std::mem::size_of_val;
     [
-        ("spheres", size_of_val(scene.spheres.as_slice()) as u64),
-        ("sphere materials", size_of_val(scene.sphere_material.as_slice()) as u64),
+        ("primitives", size_of_val(scene.primitives.as_slice()) as u64),
         ("materials", size_of_val(scene.materials.as_slice()) as u64),
         ("BVH nodes", size_of_val(scene.nodes.as_slice()) as u64),
+        ("lights", size_of_val(scene.lights.as_slice()) as u64),
     ]
 }
 
@@ -93,12 +94,12 @@ pub fn check_fits_limits(
     for (label, size) in buffer_sizes(scene) {
         if size > limit {
             bail!(
-                "the scene ({} spheres) does not fit on {adapter}: its {label} buffer needs {} \
+                "the scene ({} primitives) does not fit on {adapter}: its {label} buffer needs {} \
                  ({size} bytes) but the adapter allows at most {} ({limit} bytes) per storage \
                  buffer (max_storage_buffer_binding_size {max_storage_buffer_binding_size}, \
-                 max_buffer_size {max_buffer_size}); use a scene with fewer spheres or a GPU with \
+                 max_buffer_size {max_buffer_size}); use a scene with fewer primitives or a GPU with \
                  larger limits",
-                scene.spheres.len(),
+                scene.primitives.len(),
                 human_bytes(size),
                 human_bytes(limit),
             );

@@ -38,5 +38,6 @@ pub const RNG_PROBE: &str = composed!("tests_rng_probe");
 pub const GENERATE: Variants = variants!("wavefront_generate");
 pub const INTERSECT: Variants = variants!("wavefront_intersect");
 pub const SHADE: Variants = variants!("wavefront_shade");
+pub const SHADOW: Variants = variants!("wavefront_shadow");
 pub const QUEUE_SETUP: &str = composed!("wavefront_queue_setup");
 pub const COMPACT: &str = composed!("wavefront_compact");

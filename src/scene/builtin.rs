@@ -98,6 +98,18 @@ pub const BUILTINS: &[Builtin] = &[
         build: furnace,
     },
     Builtin {
+        name: "cornell",
+        description: "The Next Week's Cornell box: five walls and two rotated boxes as quads, a \
+                      130x105 light of radiance 15, black background",
+        build: super::cornell::cornell,
+    },
+    Builtin {
+        name: "enclosure",
+        description: "Camera inside a closed diffuse sphere lit by an emitting sphere at its centre; \
+                      exact image known in closed form (tests lights and --nee)",
+        build: super::enclosure::enclosure,
+    },
+    Builtin {
         name: "spheres-1000",
         description: "spheres-N, any N in 1..=1000000 (here 1000): N small spheres (80% diffuse, \
                       15% metal, 5% glass) in a seeded square grid on the ground, whole grid in view",
@@ -105,7 +117,8 @@ pub const BUILTINS: &[Builtin] = &[
     },
 ];
 
-const NAMES: &[&str] = &["rtiow-final", "rtiow-heavy", "three-spheres", "furnace", "spheres-1000"];
+const NAMES: &[&str] =
+    &["rtiow-final", "rtiow-heavy", "three-spheres", "furnace", "cornell", "enclosure", "spheres-1000"];
 
 /// The names of the built-in scenes, in [`BUILTINS`] order.
 pub fn names() -> &'static [&'static str] {
@@ -194,7 +207,15 @@ impl Builder {
     }
 
     fn finish(self, name: &str, camera: CameraSpec, background: Background) -> Scene {
-        Scene { name: name.to_owned(), camera, background, materials: self.materials, spheres: self.spheres }
+        Scene {
+            name: name.to_owned(),
+            camera,
+            background,
+            materials: self.materials,
+            spheres: self.spheres,
+            quads: Vec::new(),
+            meshes: Vec::new(),
+        }
     }
 }
 

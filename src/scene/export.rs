@@ -14,7 +14,8 @@ use glam::Vec3;
 use super::{Background, Material, Scene, Texture, FORMAT};
 
 /// The scene as pretty-printed JSON: `format`, `camera`, `background`, `materials` (in scene
-/// order), `objects`. Spheres name their material.
+/// order), `objects` (spheres, quads, then meshes by their absolute OBJ path). Objects name their
+/// material.
 ///
 /// Expects a scene that passes [`Scene::validate`]: a non-finite number is written as `null` and
 /// an out-of-range material index as a name no material has, so such a file fails to load with
@@ -57,17 +58,35 @@ pub fn to_json(scene: &Scene) -> String {
     block(&mut out, "materials", ('{', '}'), materials);
     out.push_str(",\n");
 
-    let objects = scene.spheres.iter().map(|s| {
-        let material = match scene.materials.get(s.material as usize) {
-            Some(m) => string(&m.name),
-            None => string(&format!("<missing material #{}>", s.material)),
-        };
+    let material = |m: u32| match scene.materials.get(m as usize) {
+        Some(m) => string(&m.name),
+        None => string(&format!("<missing material #{m}>")),
+    };
+    let spheres = scene.spheres.iter().map(|s| {
         format!(
-            r#"{{"type": "sphere", "center": {}, "radius": {}, "material": {material}}}"#,
+            r#"{{"type": "sphere", "center": {}, "radius": {}, "material": {}}}"#,
             vec3(s.center),
-            number(s.radius)
+            number(s.radius),
+            material(s.material)
         )
     });
+    let quads = scene.quads.iter().map(|q| {
+        format!(
+            r#"{{"type": "quad", "corner": {}, "u": {}, "v": {}, "material": {}}}"#,
+            vec3(q.corner),
+            vec3(q.u),
+            vec3(q.v),
+            material(q.material)
+        )
+    });
+    let meshes = scene.meshes.iter().map(|m| {
+        format!(
+            r#"{{"type": "mesh", "file": {}, "material": {}}}"#,
+            string(&m.file.to_string_lossy()),
+            material(m.material)
+        )
+    });
+    let objects = spheres.chain(quads).chain(meshes);
     block(&mut out, "objects", ('[', ']'), objects);
     out.push_str("\n}\n");
     out

@@ -17,10 +17,16 @@
 //!     "g": {"type": "dielectric", "ior": 1.5},
 //!     "l": {"type": "emissive", "radiance": [4, 4, 4]}
 //!   },
-//!   "objects": [{"type": "sphere", "center": [0, -1000, 0], "radius": 1000, "material": "ground"}]
+//!   "objects": [
+//!     {"type": "sphere", "center": [0, -1000, 0], "radius": 1000, "material": "ground"},
+//!     {"type": "quad", "corner": [343, 554, 332], "u": [-130, 0, 0], "v": [0, 0, -105], "material": "l"},
+//!     {"type": "mesh", "file": "bunny.obj", "material": "m"}
+//!   ]
 //! }
 //! ```
-//! `background` is `{"type": "sky"}` or `{"type": "constant", "color": [r, g, b]}`.
+//! `background` is `{"type": "sky"}` or `{"type": "constant", "color": [r, g, b]}`. A quad is
+//! `corner + α·u + β·v` for α, β in [0, 1] (The Next Week's `quad`). A mesh's `file` is an OBJ
+//! ([`super::obj`]) whose path is relative to the scene file; its vertices are used as written.
 //!
 //! Rules:
 //! - Every field shown is required; there are no defaults, so a file says everything it means.
@@ -46,7 +52,10 @@ use serde_json::{Map, Value};
 use crate::strict_json::{describe, did_you_mean, join, parse_strict, quoted_list};
 
 use super::texture::MAX_OCTAVES;
-use super::{Background, CameraSpec, Material, NamedMaterial, Scene, SceneError, Sphere, Texture, FORMAT};
+use super::{
+    obj, Background, CameraSpec, Material, Mesh, NamedMaterial, Quad, Scene, SceneError, Sphere, Texture,
+    FORMAT,
+};
 
 /// The `format` tags this build reads.
 pub const SUPPORTED_FORMATS: &[&str] = &[FORMAT];
@@ -54,8 +63,12 @@ pub const SUPPORTED_FORMATS: &[&str] = &[FORMAT];
 /// Material `type`s, in the order error messages list them.
 const MATERIAL_TYPES: &[&str] = &["lambertian", "metal", "dielectric", "emissive"];
 const BACKGROUND_TYPES: &[&str] = &["sky", "constant"];
-const OBJECT_TYPES: &[&str] = &["sphere"];
+const OBJECT_TYPES: &[&str] = &["sphere", "quad", "mesh"];
 const TEXTURE_TYPES: &[&str] = &["solid", "checker", "noise", "marble"];
+
+/// Below this sine of the angle between a quad's edges it is refused as degenerate: a sliver
+/// whose normal f32 cannot resolve.
+const MIN_QUAD_SINE: f32 = 1e-6;
 
 /// Below this sine of the angle between `vup` and the view direction the camera basis
 /// (`cross(vup, w)`) is too ill-conditioned in f32 to be trusted (about 0.006 degrees).
@@ -67,13 +80,19 @@ pub fn from_file(path: &Path) -> Result<Scene, SceneError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| SceneError::new(&file, "", format!("cannot read the file: {e}")))?;
     let name = path.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
-    from_str(&text, &file, &name)
+    let dir = path.parent().unwrap_or(Path::new("."));
+    from_str_in(&text, &file, &name, dir)
 }
 
 /// Reads a scene from text. `file_label` names the source in errors (a path, or `<string>`);
-/// `name` becomes [`Scene::name`].
+/// `name` becomes [`Scene::name`]. Mesh files are found relative to the working directory.
 pub fn from_str(text: &str, file_label: &str, name: &str) -> Result<Scene, SceneError> {
-    let cx = Cx { file: file_label };
+    from_str_in(text, file_label, name, Path::new("."))
+}
+
+/// [`from_str`] with mesh files found relative to `dir` (the scene file's folder).
+pub fn from_str_in(text: &str, file_label: &str, name: &str, dir: &Path) -> Result<Scene, SceneError> {
+    let cx = Cx { file: file_label, dir };
     let root = parse_strict(text).map_err(|(path, reason)| SceneError::new(file_label, path, reason))?;
     let scene = cx.scene(&root, name)?;
     validate(&scene, file_label)?;
@@ -88,7 +107,8 @@ impl Scene {
     }
 }
 
-/// Checks what a well-formed scene may still get wrong: non-finite numbers, radius <= 0, fuzz
+/// Checks what a well-formed scene may still get wrong: non-finite numbers, radius <= 0, a
+/// degenerate quad (a zero edge, or parallel edges), an empty mesh, fuzz
 /// outside [0, 1], ior <= 0, negative albedo / radiance / background colour, vfov outside
 /// (0, 180), defocus_angle outside [0, 180), focus_dist <= 0, lookat == lookfrom, vup zero or
 /// parallel to the view direction, empty or duplicate material names, material indices out of
@@ -177,28 +197,71 @@ pub fn validate(scene: &Scene, file: &str) -> Result<(), SceneError> {
         }
     }
 
-    for (i, s) in scene.spheres.iter().enumerate() {
+    // Shapes are numbered as a file written by `export` lists them: spheres, quads, meshes.
+    let n_materials = scene.materials.len();
+    let material_ok = |path: &str, m: u32| {
+        ((m as usize) >= n_materials).then(|| {
+            (
+                format!("{path}.material"),
+                format!("refers to material index {m}, but the scene has {n_materials} materials"),
+            )
+        })
+    };
+    let quads = scene.quads.iter().map(|q| (Some(q), q.material));
+    let shapes = scene.spheres.iter().map(|s| (None, s.material)).chain(quads);
+    let meshes = scene.meshes.iter().map(|m| (None, m.material));
+    for (i, (quad, material)) in shapes.chain(meshes).enumerate() {
         let path = format!("objects[{i}]");
-        if let Some((path, reason)) = check_vec3(&format!("{path}.center"), s.center, false) {
+        let problem = match (i < scene.spheres.len(), quad) {
+            (true, _) => check_sphere(&path, &scene.spheres[i]),
+            (false, Some(q)) => check_quad(&path, q),
+            (false, None) => None,
+        };
+        if let Some((path, reason)) = problem.or_else(|| material_ok(&path, material)) {
             return err(path, reason);
         }
-        if let Some(reason) = check_finite(s.radius)
-            .or_else(|| (s.radius <= 0.0).then(|| format!("must be > 0, got {}", s.radius)))
-        {
-            return err(format!("{path}.radius"), reason);
+    }
+    for (k, m) in scene.meshes.iter().enumerate() {
+        let path = format!("objects[{}]", scene.spheres.len() + scene.quads.len() + k);
+        if m.triangles.is_empty() {
+            return err(format!("{path}.file"), "the mesh has no triangles".into());
         }
-        if s.material as usize >= scene.materials.len() {
-            return err(
-                format!("{path}.material"),
-                format!(
-                    "refers to material index {}, but the scene has {} materials",
-                    s.material,
-                    scene.materials.len()
-                ),
-            );
+        if let Some(t) = m.triangles.iter().flatten().find(|p| !p.is_finite()) {
+            return err(format!("{path}.file"), format!("a vertex is not finite: {}", fmt_vec(*t)));
         }
     }
     Ok(())
+}
+
+/// A sphere needs a finite centre and a finite radius > 0.
+fn check_sphere(path: &str, s: &Sphere) -> Option<(String, String)> {
+    check_vec3(&format!("{path}.center"), s.center, false).or_else(|| {
+        check_finite(s.radius)
+            .or_else(|| (s.radius <= 0.0).then(|| format!("must be > 0, got {}", s.radius)))
+            .map(|r| (format!("{path}.radius"), r))
+    })
+}
+
+/// A quad needs finite vectors and two edges that span a parallelogram.
+fn check_quad(path: &str, q: &Quad) -> Option<(String, String)> {
+    let vectors = [("corner", q.corner), ("u", q.u), ("v", q.v)];
+    if let Some(p) = vectors.iter().find_map(|(f, v)| check_vec3(&format!("{path}.{f}"), *v, false)) {
+        return Some(p);
+    }
+    for (f, e) in [("u", q.u), ("v", q.v)] {
+        if e == Vec3::ZERO {
+            return Some((format!("{path}.{f}"), "is the zero vector, so the quad is degenerate".into()));
+        }
+    }
+    // In f64 so that large edges cannot overflow the product.
+    let (u, v) = (q.u.as_dvec3(), q.v.as_dvec3());
+    if (u.cross(v).length() / (u.length() * v.length())) < MIN_QUAD_SINE as f64 {
+        return Some((
+            format!("{path}.v"),
+            format!("is parallel to u = {} (or nearly), so the quad is degenerate (zero area)", fmt_vec(q.u)),
+        ));
+    }
+    None
 }
 
 fn check_finite(x: f32) -> Option<String> {
@@ -251,6 +314,8 @@ type Res<T> = Result<T, SceneError>;
 /// The walk's context: the file label every error carries.
 struct Cx<'a> {
     file: &'a str,
+    /// Where relative mesh paths start.
+    dir: &'a Path,
 }
 
 /// A JSON object being read: its fields, its path, and the fields it may have.
@@ -284,8 +349,8 @@ impl Cx<'_> {
         let camera = self.camera(&root)?;
         let background = self.background(&root)?;
         let materials = self.materials(&root)?;
-        let spheres = self.objects(&root, &materials)?;
-        Ok(Scene { name: name.to_owned(), camera, background, materials, spheres })
+        let (spheres, quads, meshes) = self.objects(&root, &materials)?;
+        Ok(Scene { name: name.to_owned(), camera, background, materials, spheres, quads, meshes })
     }
 
     fn camera(&self, root: &Obj) -> Res<CameraSpec> {
@@ -353,29 +418,71 @@ impl Cx<'_> {
         Ok(out)
     }
 
-    fn objects(&self, root: &Obj, materials: &[NamedMaterial]) -> Res<Vec<Sphere>> {
+    fn objects(&self, root: &Obj, materials: &[NamedMaterial]) -> Res<(Vec<Sphere>, Vec<Quad>, Vec<Mesh>)> {
         let (v, path) = self.field(root, "objects")?;
         let Value::Array(items) = v else {
             return self.err(&path, format!("expected an array of objects, found {}", describe(v)));
         };
         let index: HashMap<&str, u32> =
             materials.iter().enumerate().map(|(i, m)| (m.name.as_str(), i as u32)).collect();
-        let mut out = Vec::with_capacity(items.len());
+        let (mut spheres, mut quads, mut meshes) = (Vec::new(), Vec::new(), Vec::new());
         for (i, v) in items.iter().enumerate() {
             let o = self.object(v, &format!("{path}[{i}]"))?;
-            // "sphere" is the only object type so far.
-            self.type_field(&o, "object", OBJECT_TYPES)?;
-            self.only(&o, &["type", "center", "radius", "material"])?;
-            let center = self.vec3_field(&o, "center")?;
-            let radius = self.number_field(&o, "radius")?;
-            let (mv, mpath) = self.field(&o, "material")?;
-            let mname = self.string(mv, &mpath)?;
-            let Some(&material) = index.get(mname) else {
-                return self.err(&mpath, unknown_material(mname, materials));
+            let kind = self.type_field(&o, "object", OBJECT_TYPES)?;
+            let material = |o: &Obj| -> Res<u32> {
+                let (mv, mpath) = self.field(o, "material")?;
+                let mname = self.string(mv, &mpath)?;
+                match index.get(mname) {
+                    Some(&m) => Ok(m),
+                    None => self.err(&mpath, unknown_material(mname, materials)),
+                }
             };
-            out.push(Sphere { center, radius, material });
+            // Value checks run here, where the object's index in the file is known; `validate`
+            // repeats them on the grouped shapes.
+            let problem = match kind {
+                "sphere" => {
+                    self.only(&o, &["type", "center", "radius", "material"])?;
+                    let center = self.vec3_field(&o, "center")?;
+                    let radius = self.number_field(&o, "radius")?;
+                    let s = Sphere { center, radius, material: material(&o)? };
+                    spheres.push(s);
+                    check_sphere(&o.path, &s)
+                }
+                "quad" => {
+                    self.only(&o, &["type", "corner", "u", "v", "material"])?;
+                    let q = Quad {
+                        corner: self.vec3_field(&o, "corner")?,
+                        u: self.vec3_field(&o, "u")?,
+                        v: self.vec3_field(&o, "v")?,
+                        material: material(&o)?,
+                    };
+                    quads.push(q);
+                    check_quad(&o.path, &q)
+                }
+                _ => {
+                    self.only(&o, &["type", "file", "material"])?;
+                    let (fv, fpath) = self.field(&o, "file")?;
+                    let name = self.string(fv, &fpath)?;
+                    let file = std::path::absolute(self.dir.join(name))
+                        .map_err(|e| SceneError::new(self.file, &fpath, format!("bad path {name:?}: {e}")))?;
+                    let mesh = obj::read(&file).map_err(|e| SceneError::new(self.file, &fpath, e))?;
+                    if mesh.degenerate > 0 {
+                        log::warn!(
+                            "{}: {fpath}: dropped {} zero-area triangles of {}",
+                            self.file,
+                            mesh.degenerate,
+                            mesh.degenerate + mesh.triangles.len()
+                        );
+                    }
+                    meshes.push(Mesh { file, triangles: mesh.triangles, material: material(&o)? });
+                    None
+                }
+            };
+            if let Some((path, reason)) = problem {
+                return self.err(&path, reason);
+            }
         }
-        Ok(out)
+        Ok((spheres, quads, meshes))
     }
 
     // -- Field helpers ----------------------------------------------------------------------

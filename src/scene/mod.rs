@@ -4,10 +4,13 @@
 //! written back out ([`export`]) and loaded again unchanged.
 
 pub mod builtin;
+pub mod cornell;
+pub mod enclosure;
 pub mod error;
 pub mod export;
 pub mod heavy;
 pub mod load;
+pub mod obj;
 pub mod texture;
 
 use glam::Vec3;
@@ -42,7 +45,7 @@ pub enum Background {
     Constant(Vec3),
 }
 
-/// The four material kinds the book's scenes use.
+/// The book's four material kinds (the emitter from The Next Week).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Material {
     Lambertian {
@@ -56,7 +59,7 @@ pub enum Material {
     Dielectric {
         ior: f32,
     },
-    /// A light: adds `radiance` and ends the path.
+    /// A light on any primitive: emits `radiance` from both sides and ends the path.
     Emissive {
         radiance: Vec3,
     },
@@ -88,6 +91,26 @@ pub struct Sphere {
     pub material: u32,
 }
 
+/// A parallelogram, as in Ray Tracing: The Next Week: `corner + α·u + β·v` for α, β in [0, 1].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Quad {
+    pub corner: Vec3,
+    pub u: Vec3,
+    pub v: Vec3,
+    pub material: u32,
+}
+
+/// A triangle mesh read from an OBJ file, its vertices used as written there.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mesh {
+    /// The OBJ file, absolute, so a scene written back out still finds it.
+    pub file: std::path::PathBuf,
+    pub triangles: Vec<[Vec3; 3]>,
+    pub material: u32,
+}
+
+/// The scene's shapes. A scene file lists them in one `objects` array; here they are grouped by
+/// shape, and files written back out list spheres, then quads, then meshes.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
     /// A built-in name, or the file's stem.
@@ -96,6 +119,8 @@ pub struct Scene {
     pub background: Background,
     pub materials: Vec<NamedMaterial>,
     pub spheres: Vec<Sphere>,
+    pub quads: Vec<Quad>,
+    pub meshes: Vec<Mesh>,
 }
 
 impl Scene {
@@ -114,5 +139,10 @@ impl Scene {
 
     pub fn material(&self, sphere: &Sphere) -> &Material {
         &self.materials[sphere.material as usize].material
+    }
+
+    /// Spheres, quads and mesh triangles: what the BVH is built over.
+    pub fn primitive_count(&self) -> usize {
+        self.spheres.len() + self.quads.len() + self.meshes.iter().map(|m| m.triangles.len()).sum::<usize>()
     }
 }

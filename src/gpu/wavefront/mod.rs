@@ -10,8 +10,10 @@
 //!     intersect                             closest hits; escaped rays add the background
 //!     [compact_scan, _blocks, _scatter]     (scan method) build the material queues
 //!     queue_setup_shade                     material queue counts → shade passes' args
-//!     shade_<kind> for each kind used       scatter; survivors → next ray queue
+//!     shade_<kind> for each kind used       scatter; survivors → next ray queue;
+//!                                           (--nee on) diffuse hits → shadow queue
 //!     [compact_scan, _blocks, _scatter]     (scan method) build the next ray queue
+//!     [queue_setup_shadow, shadow]          (--nee on, scene has lights) shadow rays
 //! accumulate                                the wave's radiance → film, in sample order
 //! ```
 //!
@@ -24,6 +26,7 @@ pub mod intersect;
 pub mod path_state;
 pub mod queue_setup;
 pub mod shade;
+pub mod shadow;
 
 use super::accumulate::Accumulate;
 use super::buffers::{read_back, storage_zeroed};
@@ -41,7 +44,9 @@ use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
 use compact::Target;
-use path_state::{PathState, BYTES_PER_PATH, COUNTER_STATS, LARGEST_BINDING_PER_PATH, QUEUE_COUNT};
+use path_state::{
+    PathState, BYTES_PER_PATH, COUNTER_STATS, LARGEST_BINDING_PER_PATH, QUEUE_COUNT, QUEUE_SHADOW,
+};
 use std::time::Instant;
 
 /// How queues are kept dense.
@@ -102,12 +107,15 @@ pub fn max_pool(ctx: &GpuContext, workgroup_size: u32) -> u32 {
     by_binding.min(by_threads).min(u32::MAX as u64) as u32
 }
 
-/// Per-bounce queue sizes summed over waves: `rays[b]` paths were intersected at bounce b and
-/// `materials[k][b]` shaded with material kind k (all in `materials[0]` with one shade pass).
+/// Per-bounce queue sizes summed over waves: `rays[b]` paths were intersected at bounce b,
+/// `materials[k][b]` shaded with material kind k (all in `materials[0]` with one shade pass) and
+/// `shadow[b]` shadow rays traced (empty without `--nee on`).
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct QueueHistogram {
     pub rays: Vec<u64>,
     pub materials: [Vec<u64>; 4],
+    #[serde(default)]
+    pub shadow: Vec<u64>,
 }
 
 /// The GPU objects every stage binds: scene (group 0), path state (group 1), SIMD counters
@@ -215,10 +223,14 @@ pub fn render(
     let shade = shade::Shade::new(ctx, &b, shade_kinds, wg, instrument)?;
     let compact =
         (opts.compaction == Compaction::Scan).then(|| compact::Compact::new(ctx, &b)).transpose()?;
+    let shadow = (settings.nee && !scene.lights.is_empty())
+        .then(|| shadow::Shadow::new(ctx, &b, wg, instrument))
+        .transpose()?;
     let accumulate = Accumulate::new(ctx, &b.state.radiance, &film, &params)?;
 
     // Passes per bounce, to keep each submission within the timer's capacity.
-    let per_bounce = 3 + shade.passes() + if compact.is_some() { 6 } else { 0 };
+    let per_bounce =
+        3 + shade.passes() + if compact.is_some() { 6 } else { 0 } + if shadow.is_some() { 2 } else { 0 };
     let mut timer = GpuTimer::new(ctx);
     let mut histogram = (opts.compaction != Compaction::Off).then(QueueHistogram::default);
     let mut done = 0u64;
@@ -241,6 +253,10 @@ pub fn render(
             shade.record(&mut wave, bounce);
             if let Some(compact) = &compact {
                 compact.record(&mut wave, bounce, Target::NextRayQueue);
+            }
+            if let Some(shadow) = &shadow {
+                queue_setup.record_shadow(&mut wave, bounce);
+                shadow.record(&mut wave, bounce);
             }
         }
         accumulate.record(&mut wave.enc, wave.timer, wave.offset, d.pixel_count);
@@ -311,6 +327,10 @@ fn add_wave_histogram(ctx: &GpuContext, state: &PathState, h: &mut QueueHistogra
             *v += row(b, 2 + k);
         }
     }
+    h.shadow.resize(bounces, 0);
+    for b in 0..bounces {
+        h.shadow[b] += row(b, QUEUE_SHADOW as usize);
+    }
     let mut enc = ctx.device.create_command_encoder(&Default::default());
     enc.clear_buffer(&state.counters, COUNTER_STATS * 4, Some((n - COUNTER_STATS) * 4));
     ctx.queue.submit([enc.finish()]);
@@ -324,6 +344,10 @@ impl QueueHistogram {
         self.rays.truncate(used);
         for m in &mut self.materials {
             m.truncate(used);
+        }
+        self.shadow.truncate(used);
+        if self.shadow.iter().all(|&n| n == 0) {
+            self.shadow.clear();
         }
     }
 }

@@ -8,22 +8,27 @@ use crate::layout::WaveUniform;
 use anyhow::Result;
 use wgpu::util::DeviceExt;
 
-/// Queue regions (two ray queues, four material queues), as `QUEUE_COUNT` in WGSL.
-pub const QUEUE_COUNT: u64 = 6;
+/// Queue regions (two ray queues, four material queues, the shadow queue), as `QUEUE_COUNT` in
+/// WGSL.
+pub const QUEUE_COUNT: u64 = 7;
+/// The shadow queue's region (`QUEUE_SHADOW`).
+pub const QUEUE_SHADOW: u64 = 6;
 /// Words of `counters` before the bounce histogram (`COUNTER_STATS`).
-pub const COUNTER_STATS: u64 = 8;
+pub const COUNTER_STATS: u64 = 9;
 /// Histogram rows the counters have room for (`COUNTER_SHADE_BASE` follows them).
 pub const MAX_STATS_BOUNCES: u64 = 64;
 /// Words of `counters`: header, histogram, the four shade passes' first scan positions.
 const COUNTER_WORDS: u64 = COUNTER_STATS + MAX_STATS_BOUNCES * QUEUE_COUNT + 4;
-/// Indirect-argument slots: intersect, one per material kind, the scan passes.
-const ARGS_SLOTS: u64 = 6;
+/// Indirect-argument slots: intersect, one per material kind, the scan passes, the shadow pass.
+const ARGS_SLOTS: u64 = 7;
 pub const ARGS_INTERSECT: u64 = 0;
 pub const ARGS_SHADE_0: u64 = 1;
 pub const ARGS_COMPACT: u64 = 5;
-/// Bytes of GPU memory per pool slot: origin, direction, throughput, radiance (16 each),
-/// six queue entries, the scan's target queue, offset and slot (4 each).
-pub const BYTES_PER_PATH: u64 = 4 * 16 + QUEUE_COUNT * 4 + 3 * 4;
+pub const ARGS_SHADOW: u64 = 6;
+/// Bytes of GPU memory per pool slot: origin, direction, throughput, radiance, shadow ray and
+/// shadow weight (16 each), seven queue entries, the scan's target queue, offset and slot (4
+/// each).
+pub const BYTES_PER_PATH: u64 = 6 * 16 + QUEUE_COUNT * 4 + 3 * 4;
 /// Bytes of the largest single binding per slot (the queues), which bounds the pool.
 pub const LARGEST_BINDING_PER_PATH: u64 = QUEUE_COUNT * 4;
 pub const SCAN_WG: u64 = 256;
@@ -72,13 +77,15 @@ impl PathState {
         let scan_offset = storage_zeroed(ctx, "scan offsets", pool64 * 4, none)?;
         let block_sums = storage_zeroed(ctx, "scan block sums", pool64.div_ceil(SCAN_WG) * 16, none)?;
         let scan_slot = storage_zeroed(ctx, "scan slots", pool64 * 4, none)?;
+        let shadow_ray = vec4s("shadow ray")?;
+        let shadow_weight = vec4s("shadow weight")?;
         let wave_buf = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("wave"),
             contents: bytemuck::bytes_of(&wave),
             usage: wgpu::BufferUsages::UNIFORM,
         });
         let mut entries = vec![uniform_entry(0, true), uniform_entry(1, false)];
-        entries.extend((2..=11).map(|b| storage_entry(b, false)));
+        entries.extend((2..=13).map(|b| storage_entry(b, false)));
         let layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("path state"),
             entries: &entries,
@@ -94,6 +101,8 @@ impl PathState {
             &scan_offset,
             &block_sums,
             &scan_slot,
+            &shadow_ray,
+            &shadow_weight,
         ];
         let mut bind = vec![
             wgpu::BindGroupEntry { binding: 0, resource: params.binding() },

@@ -9,6 +9,7 @@ use anyhow::Result;
 pub struct QueueSetup {
     before_intersect: Stage,
     before_shade: Stage,
+    before_shadow: Stage,
 }
 
 impl QueueSetup {
@@ -21,6 +22,7 @@ impl QueueSetup {
         Ok(Self {
             before_intersect: Stage::new(ctx, label::QUEUE_SETUP_INTERSECT, &module, layouts, &constants)?,
             before_shade: Stage::new(ctx, label::QUEUE_SETUP_SHADE, &module, layouts, &constants)?,
+            before_shadow: Stage::new(ctx, label::QUEUE_SETUP_SHADOW, &module, layouts, &constants)?,
         })
     }
 
@@ -30,6 +32,10 @@ impl QueueSetup {
 
     pub fn record_shade(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
         record(&self.before_shade, wave, bounce);
+    }
+
+    pub fn record_shadow(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
+        record(&self.before_shadow, wave, bounce);
     }
 }
 

@@ -1,0 +1,57 @@
+// Every shape in one record; twin of PrimitiveRecord in src/layout.rs and of src/cpu/primitive.rs.
+// Sphere: centre a, radius. Quad: corner a, edges b, c. Triangle: vertex a, edges b, c.
+
+const PRIM_SPHERE: u32 = 0u;
+const PRIM_QUAD: u32 = 1u;
+const PRIM_TRIANGLE: u32 = 2u;
+
+struct Primitive {
+    a: vec3<f32>,
+    kind: u32,
+    b: vec3<f32>,
+    radius: f32,
+    c: vec3<f32>,
+    material: u32,
+}
+
+#include "shared/sphere.wgsl"
+#include "shared/planar.wgsl"
+
+// Distance to the nearest hit in (t_min, t_max), or -1 for none.
+fn hit_primitive(p: Primitive, ray: Ray, t_min: f32, t_max: f32) -> f32 {
+    if p.kind == PRIM_SPHERE {
+        return hit_sphere(p, ray, t_min, t_max);
+    }
+    return hit_planar(p, ray, t_min, t_max);
+}
+
+// Unit normal at `point`: outward for a sphere, b × c for a quad or triangle.
+fn outward_normal(p: Primitive, point: vec3<f32>) -> vec3<f32> {
+    if p.kind == PRIM_SPHERE {
+        return sphere_normal(p, point);
+    }
+    return planar_normal(p);
+}
+
+fn primitive_area(p: Primitive) -> f32 {
+    if p.kind == PRIM_SPHERE {
+        return 4.0 * PI * p.radius * p.radius;
+    }
+    let area = length(cross(p.b, p.c));
+    if p.kind == PRIM_QUAD {
+        return area;
+    }
+    return 0.5 * area;
+}
+
+// A point distributed uniformly by area (Shirley's warp for triangles).
+fn sample_point(p: Primitive, u1: f32, u2: f32) -> vec3<f32> {
+    if p.kind == PRIM_SPHERE {
+        return p.a + unit_vector(u1, u2) * p.radius;
+    }
+    if p.kind == PRIM_QUAD {
+        return p.a + p.b * u1 + p.c * u2;
+    }
+    let s = sqrt(u1);
+    return p.a + p.b * (s * (1.0 - u2)) + p.c * (s * u2);
+}

@@ -1,0 +1,31 @@
+// shadow (--nee on): the shadow rays the shade passes queued, an any-hit query each; an unblocked
+// one adds its light to the path's radiance. Its own queue and pass, as in pbrt-v4 and Cycles, so
+// the cheap any-hit traversal runs converged instead of inside the shade passes.
+// Rust side: src/gpu/wavefront/shadow.rs.
+
+#include "shared/rng.wgsl"
+#include "shared/scene.wgsl"
+#include "shared/path_state.wgsl"
+#include "shared/instrument.wgsl"
+
+override WORKGROUP_SIZE: u32 = 64u;
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn shadow(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let slot = queued_slot(QUEUE_SHADOW, gid.x);
+    if slot == DEAD {
+        return;
+    }
+    let w = shadow_weight[slot];
+    if w.w == 0.0 {
+        return; // only without compaction: no shadow ray pending at this slot
+    }
+    instrument(PASS_SHADOW);
+    let r = shadow_ray[slot];
+    var add = vec4<f32>(0.0, 0.0, 0.0, 1.0); // one more ray traced
+    if !occluded(Ray(path_origin[slot].xyz, r.xyz), T_MIN, r.w) {
+        add += vec4<f32>(w.xyz, 0.0);
+    }
+    radiance[slot] += add;
+    shadow_weight[slot].w = 0.0;
+}

@@ -1,0 +1,26 @@
+//! shadow (`shaders/wavefront/shadow.wgsl`): the shadow rays of next-event estimation, one
+//! any-hit query per queued ray, sized on the GPU by queue_setup_shadow. Recorded only with
+//! `--nee on` in a scene with lights.
+
+use super::super::stage::{Stage, Workgroups};
+use super::super::{context::GpuContext, label, shaders};
+use super::path_state::ARGS_SHADOW;
+use super::{Bindings, WaveRecorder};
+use anyhow::Result;
+
+pub struct Shadow {
+    stage: Stage,
+}
+
+impl Shadow {
+    pub fn new(ctx: &GpuContext, b: &Bindings, workgroup_size: u32, instrument: bool) -> Result<Self> {
+        let module = ctx.shader(label::SHADOW, shaders::SHADOW.get(instrument))?;
+        let constants = [("WORKGROUP_SIZE", workgroup_size as f64)];
+        Ok(Self { stage: Stage::new(ctx, label::SHADOW, &module, &b.layouts(), &constants)? })
+    }
+
+    pub fn record(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
+        let args = Workgroups::Indirect(&wave.b.state.indirect, ARGS_SHADOW * 12);
+        wave.record(&self.stage, Some(bounce), usize::MAX, args);
+    }
+}
