@@ -5,8 +5,15 @@ use wavetrace::method::{render, Method, MethodOptions};
 use wavetrace::settings::{Accel, RenderSettings};
 
 fn cpu_reference(c: &mut Criterion) {
-    let settings =
-        RenderSettings { width: 160, height: 90, spp: 8, max_depth: 50, seed: 0, accel: Accel::Bvh, nee: false };
+    let settings = RenderSettings {
+        width: 160,
+        height: 90,
+        spp: 8,
+        max_depth: 50,
+        seed: 0,
+        accel: Accel::Bvh,
+        nee: false,
+    };
     let mut group = c.benchmark_group("cpu_reference");
     group.sample_size(10);
     group.throughput(Throughput::Elements(settings.sample_count()));

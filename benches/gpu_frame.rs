@@ -20,8 +20,15 @@ fn gpu_frame(c: &mut Criterion) {
     };
     let scene_name = std::env::var("WAVETRACE_BENCH_SCENE").unwrap_or_else(|_| "three-spheres".into());
     let scene = wavetrace::scene::builtin::by_name(&scene_name).expect("a built-in scene");
-    let settings =
-        RenderSettings { width: 160, height: 90, spp: 4, max_depth: 50, seed: 0, accel: Accel::Bvh, nee: false };
+    let settings = RenderSettings {
+        width: 160,
+        height: 90,
+        spp: 4,
+        max_depth: 50,
+        seed: 0,
+        accel: Accel::Bvh,
+        nee: false,
+    };
     let mut group = c.benchmark_group(format!("gpu_frame/{scene_name}"));
     group.sample_size(10);
     group.throughput(Throughput::Elements(settings.sample_count()));

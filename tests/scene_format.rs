@@ -5,7 +5,8 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 use wavetrace::scene::{
-    builtin, export, load, Background, Material, NamedMaterial, Scene, SceneError, Sphere, Texture, FORMAT,
+    builtin, export, load, Background, Material, NamedMaterial, Quad, Scene, SceneError, Sphere, Texture,
+    FORMAT,
 };
 
 /// A valid file using every material kind and a constant background; the bad cases below are
@@ -157,6 +158,12 @@ fn bits(s: &Scene) -> Vec<u32> {
     for sp in &s.spheres {
         v3(sp.center, &mut out);
         out.extend([sp.radius.to_bits(), sp.material]);
+    }
+    for q in &s.quads {
+        for v in [q.corner, q.u, q.v] {
+            v3(v, &mut out);
+        }
+        out.push(q.material);
     }
     out
 }
@@ -696,4 +703,105 @@ fn single_byte_edits_never_panic() {
         }
     }
     assert!(refused > bytes.len(), "most edits should be refused");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Quads and meshes
+
+/// A quad and a mesh added to the example's objects.
+fn with_objects(extra: &str) -> String {
+    edit(
+        r#"{"type": "sphere", "center": [0, 3, 0], "radius": 0.75, "material": "lamp"}"#,
+        &format!(r#"{{"type": "sphere", "center": [0, 3, 0], "radius": 0.75, "material": "lamp"}}, {extra}"#),
+    )
+}
+
+#[test]
+fn quads_and_meshes_load_in_file_order_and_round_trip() {
+    let dir = std::env::temp_dir().join(format!("wavetrace-mesh-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("meshes")).unwrap();
+    std::fs::write(dir.join("meshes/tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 3\n").unwrap();
+    let text = with_objects(
+        r#"{"type": "mesh", "file": "meshes/tri.obj", "material": "red"},
+           {"type": "quad", "corner": [1, 2, 3], "u": [0.5, 0, 0], "v": [0, 0, 0.25], "material": "lamp"}"#,
+    );
+    std::fs::write(dir.join("scene.json"), &text).unwrap();
+    let scene = load::from_file(&dir.join("scene.json")).unwrap();
+    assert_eq!(
+        scene.quads,
+        [Quad {
+            corner: Vec3::new(1.0, 2.0, 3.0),
+            u: Vec3::new(0.5, 0.0, 0.0),
+            v: Vec3::new(0.0, 0.0, 0.25),
+            material: 4
+        }]
+    );
+    assert_eq!(scene.meshes.len(), 1);
+    let mesh = &scene.meshes[0];
+    assert_eq!(mesh.triangles.len(), 2, "one quad face fans into two triangles");
+    assert_eq!(mesh.material, 1);
+    assert!(mesh.file.is_absolute() && mesh.file.ends_with("meshes/tri.obj"), "{:?}", mesh.file);
+    // Written anywhere, the export still finds its mesh (absolute path) and loads unchanged.
+    let exported = export::to_json(&scene);
+    std::fs::create_dir_all(dir.join("elsewhere")).unwrap();
+    std::fs::write(dir.join("elsewhere/copy.json"), &exported).unwrap();
+    let mut again = load::from_file(&dir.join("elsewhere/copy.json")).unwrap();
+    again.name = scene.name.clone();
+    assert_eq!(again, scene);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn bad_quads_and_meshes_are_refused_with_their_path() {
+    let quad = |u: &str, v: &str| {
+        with_objects(&format!(
+            r#"{{"type": "quad", "corner": [0, 0, 0], "u": {u}, "v": {v}, "material": "red"}}"#
+        ))
+    };
+    // objects[5] is the first added object.
+    assert_error(&quad("[0, 0, 0]", "[0, 1, 0]"), "objects[5].u", &["zero vector", "degenerate"]);
+    assert_error(&quad("[1, 0, 0]", "[0, 0, 0]"), "objects[5].v", &["zero vector", "degenerate"]);
+    assert_error(&quad("[1, 0, 0]", "[2, 0, 0]"), "objects[5].v", &["parallel", "degenerate"]);
+    assert_error(&quad("[1, 0, 0]", "[1, 1e-9, 0]"), "objects[5].v", &["parallel"]);
+    assert_error(&quad("[1, 0, 0]", "[0, 1]"), "objects[5].v", &["expected an array of 3 numbers"]);
+    assert_error(
+        &with_objects(
+            r#"{"type": "quad", "corner": [0, 0, 0], "u": [1, 0, 0], "v": [0, 1, 0], "material": "nope"}"#,
+        ),
+        "objects[5].material",
+        &["unknown material \"nope\""],
+    );
+    assert_error(
+        &with_objects(r#"{"type": "quad", "corner": [0, 0, 0], "u": [1, 0, 0], "v": [0, 1, 0]}"#),
+        "objects[5]",
+        &["missing required field \"material\""],
+    );
+    assert_error(
+        &with_objects(r#"{"type": "quadd", "corner": [0, 0, 0]}"#),
+        "objects[5].type",
+        &["unknown object type \"quadd\"", "did you mean \"quad\"", "\"mesh\""],
+    );
+
+    // Meshes: the OBJ's problems carry the field's path, the OBJ's name and, where it has one,
+    // the line.
+    let dir = std::env::temp_dir().join(format!("wavetrace-badmesh-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("empty.obj"), "# nothing here\n").unwrap();
+    std::fs::write(dir.join("flat.obj"), "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").unwrap();
+    std::fs::write(dir.join("bad_index.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n").unwrap();
+    let mesh = |file: &str| {
+        let text = with_objects(&format!(r#"{{"type": "mesh", "file": "{file}", "material": "red"}}"#));
+        load::from_str_in(&text, "bad.json", "bad", &dir).unwrap_err()
+    };
+    for (file, reason) in [
+        ("missing.obj", "cannot read"),
+        ("empty.obj", "no faces"),
+        ("flat.obj", "zero area"),
+        ("bad_index.obj", "line 4: face corner \"7\" refers to vertex 7"),
+    ] {
+        let e = mesh(file);
+        assert_eq!((e.file.as_str(), e.path.as_str()), ("bad.json", "objects[5].file"), "{e}");
+        assert!(e.reason.contains(reason) && e.reason.contains(file), "{file}: {e}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -203,13 +203,21 @@ pub fn print_pass_table(t: &Timings, r: &RunReport) {
         }
     }
     if let Some(h) = &r.queue_histogram {
+        // The shadow column only with --nee on in a scene with lights.
+        let shadow = !h.shadow.is_empty();
+        let shadow_head = if shadow { format!(" {:>12}", "shadow") } else { String::new() };
         println!(
-            "bounce {:>12} {:>12} {:>12} {:>12} {:>12}",
+            "bounce {:>12} {:>12} {:>12} {:>12} {:>12}{shadow_head}",
             "rays", "lambertian", "metal", "dielectric", "emissive"
         );
         for (b, rays) in h.rays.iter().enumerate() {
             let m = |k: usize| h.materials[k].get(b).copied().unwrap_or(0);
-            println!("{b:>6} {rays:>12} {:>12} {:>12} {:>12} {:>12}", m(0), m(1), m(2), m(3));
+            let s = if shadow {
+                format!(" {:>12}", h.shadow.get(b).copied().unwrap_or(0))
+            } else {
+                String::new()
+            };
+            println!("{b:>6} {rays:>12} {:>12} {:>12} {:>12} {:>12}{s}", m(0), m(1), m(2), m(3));
         }
     }
 }

@@ -62,12 +62,12 @@ fn time_by_scene(report: &ExperimentReport) -> Vec<Chart> {
             scene_order.push(&r.scene);
         }
     }
-    let mut settings: BTreeMap<(u32, u32, u32, u32), Vec<&RunRecord>> = BTreeMap::new();
+    let mut settings: BTreeMap<(u32, u32, u32, u32, bool), Vec<&RunRecord>> = BTreeMap::new();
     for r in ok {
-        settings.entry((r.width, r.height, r.spp, r.max_depth)).or_default().push(r);
+        settings.entry((r.width, r.height, r.spp, r.max_depth, r.nee)).or_default().push(r);
     }
     let mut out = Vec::new();
-    for ((w, h, spp, depth), runs) in settings {
+    for ((w, h, spp, depth, nee), runs) in settings {
         let scenes: Vec<&str> =
             scene_order.iter().copied().filter(|s| runs.iter().any(|r| r.scene == *s)).collect();
         if scenes.len() < 2 {
@@ -84,7 +84,8 @@ fn time_by_scene(report: &ExperimentReport) -> Vec<Chart> {
                 (scene.to_string(), bars)
             })
             .collect();
-        let title = format!("Time by scene: {w}x{h}, {spp} spp, depth {depth}");
+        let nee_note = if nee { ", NEE" } else { "" };
+        let title = format!("Time by scene: {w}x{h}, {spp} spp, depth {depth}{nee_note}");
         let chart = GroupedBarChart {
             title: title.clone(),
             y_label: "median time per render, s".into(),
@@ -93,7 +94,7 @@ fn time_by_scene(report: &ExperimentReport) -> Vec<Chart> {
             groups,
         };
         out.push(Chart {
-            stem: format!("time-by-scene-{w}x{h}-{spp}spp-d{depth}"),
+            stem: format!("time-by-scene-{w}x{h}-{spp}spp-d{depth}{}", if nee { "-nee" } else { "" }),
             kind: "time-by-scene",
             title,
             svg: chart.to_svg(),
@@ -105,17 +106,37 @@ fn time_by_scene(report: &ExperimentReport) -> Vec<Chart> {
     out
 }
 
-/// The series name of a run: its label, and its max depth when the group has several.
-fn series_name(r: &RunRecord, several_depths: bool) -> String {
-    if several_depths {
-        format!("{} d{}", r.label, r.max_depth)
-    } else {
-        r.label.clone()
+/// Which render settings besides spp vary within a group, and so must name its series.
+#[derive(Clone, Copy)]
+struct Varying {
+    depth: bool,
+    nee: bool,
+}
+
+impl Varying {
+    fn of(runs: &[&RunRecord]) -> Self {
+        Varying {
+            depth: runs.iter().any(|r| r.max_depth != runs[0].max_depth),
+            nee: runs.iter().any(|r| r.nee != runs[0].nee),
+        }
+    }
+
+    /// ` d8`, ` NEE` / ` no NEE`: the settings that tell this run's series apart.
+    fn suffix(self, r: &RunRecord) -> String {
+        let mut s = String::new();
+        if self.depth {
+            s += &format!(" d{}", r.max_depth);
+        }
+        if self.nee {
+            s += if r.nee { " NEE" } else { " no NEE" };
+        }
+        s
     }
 }
 
-fn several_depths(runs: &[&RunRecord]) -> bool {
-    runs.iter().any(|r| r.max_depth != runs[0].max_depth)
+/// The series name of a run: its label, then the settings that vary in its group.
+fn series_name(r: &RunRecord, varying: Varying) -> String {
+    format!("{}{}", r.label, varying.suffix(r))
 }
 
 fn several_spps(runs: &[&RunRecord]) -> bool {
@@ -124,11 +145,11 @@ fn several_spps(runs: &[&RunRecord]) -> bool {
 
 /// relMSE against time, log–log, one line per method variant through its spp values.
 fn error_vs_time(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
-    let depths = several_depths(runs);
+    let varying = Varying::of(runs);
     let mut series: Vec<Series> = Vec::new();
     for r in runs {
         let (Some(m), Some(t)) = (&r.error_metrics, r.seconds) else { continue };
-        let name = series_name(r, depths);
+        let name = series_name(r, varying);
         match series.iter_mut().find(|s| s.name == name) {
             Some(s) => s.points.push((t, m.relmse)),
             None => series.push(Series { name, points: vec![(t, m.relmse)] }),
@@ -147,16 +168,14 @@ fn error_vs_time(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
     })
 }
 
-/// The label of a run among others of its group: variant, then spp and depth where they vary.
+/// The label of a run among others of its group: variant, then spp, depth and NEE where they
+/// vary.
 fn bar_label(r: &RunRecord, runs: &[&RunRecord]) -> String {
     let mut s = r.label.clone();
     if several_spps(runs) {
         s += &format!(" {}spp", r.spp);
     }
-    if several_depths(runs) {
-        s += &format!(" d{}", r.max_depth);
-    }
-    s
+    s + &Varying::of(runs).suffix(r)
 }
 
 /// Median GPU milliseconds per pass label, stacked, one bar per GPU run.
@@ -180,7 +199,7 @@ fn passes(runs: &[&RunRecord], group: &str) -> Option<StackedBarChart> {
 /// largest spp: occupancy hardly depends on spp).
 fn queues(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
     let max_spp = runs.iter().map(|r| r.spp).max()?;
-    let depths = several_depths(runs);
+    let varying = Varying::of(runs);
     let series: Vec<Series> = runs
         .iter()
         .filter(|r| r.spp == max_spp)
@@ -194,7 +213,7 @@ fn queues(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
                 .take_while(|(_, &n)| n > 0)
                 .map(|(b, &n)| (b as f64, n as f64 / first))
                 .collect();
-            Some(Series { name: series_name(r, depths), points })
+            Some(Series { name: series_name(r, varying), points })
         })
         .collect();
     (!series.is_empty()).then(|| LineChart {
