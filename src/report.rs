@@ -56,6 +56,8 @@ impl Build {
 pub struct SceneSummary {
     pub name: String,
     pub spheres: usize,
+    /// Spheres, quads and mesh triangles.
+    pub primitives: usize,
     pub materials: usize,
 }
 
@@ -121,6 +123,7 @@ impl RunReport {
             scene: SceneSummary {
                 name: scene.name.clone(),
                 spheres: scene.spheres.len(),
+                primitives: scene.primitive_count(),
                 materials: scene.materials.len(),
             },
             method,

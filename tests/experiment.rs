@@ -470,6 +470,7 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
             "cpu_vs_gpu.json",
             "material_cost.json",
             "megakernel_vs_wavefront.json",
+            "nee.json",
             "quick.json",
             "scene_scale.json",
             "speed_vs_accuracy.json",

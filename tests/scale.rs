@@ -119,7 +119,8 @@ fn scenes_too_big_for_the_adapter_are_refused_naming_the_buffer() {
     for (binding, buffer) in [(biggest - 1, u64::MAX), (u64::MAX, biggest - 1)] {
         let err = check_fits_limits(&packed, "Tiny GPU", binding, buffer).unwrap_err().to_string();
         eprintln!("{err}");
-        for want in [label, "Tiny GPU", &human_bytes(biggest), &human_bytes(biggest - 1), "20001 spheres"] {
+        for want in [label, "Tiny GPU", &human_bytes(biggest), &human_bytes(biggest - 1), "20001 primitives"]
+        {
             assert!(err.contains(want), "{want:?} missing from: {err}");
         }
     }

@@ -20,8 +20,8 @@ pub fn run(cmd: SceneCommand) -> anyhow::Result<()> {
     match cmd {
         SceneCommand::List => {
             for (name, about) in builtin::list() {
-                let spheres = builtin::by_name(name).map_or(0, |s| s.spheres.len());
-                println!("{name:16} {spheres:6} spheres  {about}");
+                let primitives = builtin::by_name(name).map_or(0, |s| s.primitive_count());
+                println!("{name:16} {primitives:6} primitives  {about}");
             }
             Ok(())
         }
