@@ -7,15 +7,27 @@
 //! wrong samplers; deltas (a perfect mirror, the dielectric's two directions, total internal
 //! reflection) are checked exactly instead.
 //!
+//! Light sampling for next-event estimation is tested the same way: 1e6 points from
+//! `sample_light`, seen from a shading point as directions binned over a cap of the sphere that
+//! holds the light(s), against bin probabilities integrated from the solid-angle density the
+//! estimator divides by (pdf_area · dist² / |cos| summed over every light point along a direction,
+//! computed by intersecting the light geometry in f64); each light kind is also checked for
+//! uniformity by area, and `next_event`'s MIS-weighted contribution (with the diffuse bounce's
+//! emission weight) against the direct illumination, in closed form and by quadrature.
+//!
 //! Run in release: `cargo test --release --test sampling`.
 
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use std::f64::consts::PI;
-use wavetrace::cpu::{material::scatter, ray::Ray, real::Real, vec3::V3};
-use wavetrace::layout::{material_kind, MaterialRecord};
+use wavetrace::cpu::light::{emission_weight, next_event, sample_light};
+use wavetrace::cpu::{material::scatter, ray::Ray, ray::T_MIN, real::Real, vec3::V3};
+use wavetrace::layout::{material_kind, primitive_kind, MaterialRecord, PrimitiveRecord};
+use wavetrace::packed_scene::PackedScene;
 use wavetrace::rng::{uniform4, Purpose};
-use wavetrace::stats::{chi2_test, sidak, Chi2};
+use wavetrace::scene::{builtin, Background, CameraSpec, Material, Mesh, NamedMaterial, Quad, Scene};
+use wavetrace::settings::Accel;
+use wavetrace::stats::{chi2_test, normal_critical, sidak, Chi2};
 
 const SAMPLES: u32 = 1_000_000;
 /// Test-only key of the uniforms ("chi2"), so no render shares these streams.
@@ -65,8 +77,14 @@ const DIELECTRIC: [(f32, bool, f64, Precision); 9] = [
     (1.0 / 1.5, true, 30.0, F64),
     (1.5, true, 45.0, F32),
 ];
-/// Every χ² test in this file (the negative controls excluded: they must fail).
-const N_TESTS: usize = LAMBERTIAN.len() + METAL.len() + DIELECTRIC.len();
+/// Every χ² test in this file, and the z-tests of `next_event` (the negative controls excluded:
+/// they must fail).
+const N_TESTS: usize = LAMBERTIAN.len()
+    + METAL.len()
+    + DIELECTRIC.len()
+    + LIGHT_CASES.len()
+    + AREA_CASES.len()
+    + 2 * NEE_CASES.len();
 
 fn alpha_each() -> f64 {
     sidak(ALPHA, N_TESTS)
@@ -558,4 +576,907 @@ fn chi2_rejects_wrong_samplers() {
     for (name, t) in &results {
         assert!(t.p_value < 1e-12, "{name}: the χ² test failed to reject (p = {:e}, n = {n})", t.p_value);
     }
+}
+
+// Light sampling for next-event estimation.
+
+/// Radiance of the lights of the test scenes built here.
+const LIGHT_LE: f32 = 4.0;
+/// Directions from a shading point are binned over a cap of the sphere around the light(s):
+/// rings of equal solid angle (equal steps of cosθ from the cap's edge to its axis) × sectors.
+const CAP_Z: usize = 50;
+const CAP_PHI: usize = 100;
+const CAP_BINS: usize = CAP_Z * CAP_PHI;
+/// Midpoint grid per cap bin, and the finer one for bins at or next to a light's edge.
+const CAP_SUB: usize = 8;
+const CAP_FINE: usize = 64;
+/// A sampled direction this little (in cosθ) outside the cap is rounding: it goes in the edge ring.
+const CAP_SLACK: f64 = 1e-6;
+/// Cells per side of the area histograms: K × K squares of a quad's (α, β), K² congruent
+/// triangles of a triangle.
+const AREA_K: usize = 100;
+/// How far (relative to the light's size) a sampled point may sit off the light, and its normal
+/// off the true one, by rounding.
+const F32_TOL: f64 = 1e-5;
+const F64_TOL: f64 = 1e-12;
+
+#[derive(Clone, Copy, Debug)]
+enum LightScene {
+    /// The built-in `cornell`: one 130 × 105 quad light under the ceiling.
+    CornellBox,
+    /// The built-in `enclosure`: one sphere light of radius 3 at the origin.
+    Enclosure,
+    /// One tilted triangle light, next to a lambertian quad and an emitter of zero radiance
+    /// (neither of which is a light).
+    OneTriangle,
+    /// A quad light of area 0.72 and a triangle light of area 2.0: each picked half the time.
+    TwoLights,
+}
+use LightScene::{CornellBox, Enclosure, OneTriangle, TwoLights};
+
+/// Directions from a shading point: (scene, shading point, arithmetic).
+const LIGHT_CASES: [(LightScene, [f64; 3], Precision); 6] = [
+    (CornellBox, [150.0, 0.0, 400.0], F32), // on the floor, off centre
+    (CornellBox, [0.0, 480.0, 60.0], F64),  // on the red wall under the ceiling: a grazing view
+    (OneTriangle, [0.6, 0.5, 0.9], F32),    // 0.84 from a triangle 2 across
+    (Enclosure, [10.0 / 3.0, 20.0 / 3.0, -20.0 / 3.0], F32), // on the wall: r/d = 0.3
+    (Enclosure, [2.0, -2.5, 2.0], F64),     // close: r/d = 0.79
+    (TwoLights, [0.2, 0.0, 0.1], F32),
+];
+/// Area uniformity: (scene of one light, arithmetic).
+const AREA_CASES: [(LightScene, Precision); 3] = [(CornellBox, F32), (OneTriangle, F32), (Enclosure, F32)];
+/// `next_event`: (case of `LIGHT_CASES`, surface normal). Every light lies wholly above the surface.
+const NEE_CASES: [(usize, [f64; 3]); 4] =
+    [(0, [0.0, 1.0, 0.0]), (1, [1.0, 0.0, 0.0]), (2, [0.3, 0.2, -1.0]), (3, [-1.0, -2.0, 2.0])];
+
+fn light_test_scene(quads: Vec<Quad>, triangles: Vec<[Vec3; 3]>) -> Scene {
+    let named = |name: &str, material| NamedMaterial { name: name.into(), material };
+    Scene {
+        name: "light-test".into(),
+        camera: CameraSpec {
+            lookfrom: Vec3::new(0.0, 0.0, 5.0),
+            lookat: Vec3::ZERO,
+            vup: Vec3::Y,
+            vfov: 40.0,
+            defocus_angle: 0.0,
+            focus_dist: 1.0,
+        },
+        background: Background::Constant(Vec3::ZERO),
+        materials: vec![
+            named("light", Material::Emissive { radiance: Vec3::splat(LIGHT_LE) }),
+            named("unlit", Material::Emissive { radiance: Vec3::ZERO }),
+            named("wall", Material::Lambertian { albedo: Vec3::splat(0.5).into() }),
+        ],
+        spheres: Vec::new(),
+        quads,
+        meshes: vec![Mesh { file: "light-test.obj".into(), triangles, material: 0 }],
+    }
+}
+
+fn packed(s: LightScene) -> PackedScene {
+    let quad = |corner: [f32; 3], u: [f32; 3], v: [f32; 3], material| Quad {
+        corner: corner.into(),
+        u: u.into(),
+        v: v.into(),
+        material,
+    };
+    let scene = match s {
+        CornellBox => builtin::by_name("cornell").expect("built-in cornell"),
+        Enclosure => builtin::by_name("enclosure").expect("built-in enclosure"),
+        OneTriangle => light_test_scene(
+            vec![
+                quad([-5.0, -1.0, -5.0], [10.0, 0.0, 0.0], [0.0, 0.0, 10.0], 2),
+                quad([3.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], 1),
+            ],
+            vec![[Vec3::ZERO, Vec3::new(2.0, 0.3, 0.0), Vec3::new(0.4, 1.7, 0.2)]],
+        ),
+        TwoLights => light_test_scene(
+            vec![quad([-1.0, 2.0, -0.6], [0.8, 0.0, 0.0], [0.0, 0.1, 0.9], 0)],
+            vec![[Vec3::new(0.4, 2.4, -0.8), Vec3::new(2.2, 2.0, -0.3), Vec3::new(0.6, 2.6, 1.4)]],
+        ),
+    };
+    PackedScene::new(&scene, Accel::Bvh)
+}
+
+/// A light's shape in f64, from its (f32) record.
+#[derive(Clone, Copy, Debug)]
+enum Shape {
+    /// a + α·b + β·c, α, β ∈ [0, 1].
+    Quad {
+        a: DVec3,
+        b: DVec3,
+        c: DVec3,
+    },
+    /// a + α·b + β·c, α, β ≥ 0, α + β ≤ 1.
+    Triangle {
+        a: DVec3,
+        b: DVec3,
+        c: DVec3,
+    },
+    Sphere {
+        center: DVec3,
+        radius: f64,
+    },
+}
+
+fn dvec(v: [f32; 3]) -> DVec3 {
+    DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64)
+}
+
+/// Planar coordinates (α, β) of `p` in the plane a + α·b + β·c (dual basis of the edges).
+fn planar_coords(a: DVec3, b: DVec3, c: DVec3, p: DVec3) -> (f64, f64) {
+    let n = b.cross(c);
+    let w = n / n.dot(n);
+    let h = p - a;
+    (w.dot(h.cross(c)), w.dot(b.cross(h)))
+}
+
+impl Shape {
+    fn of(p: &PrimitiveRecord) -> Self {
+        let (a, b, c) = (dvec(p.a), dvec(p.b), dvec(p.c));
+        match p.kind {
+            primitive_kind::SPHERE => Shape::Sphere { center: a, radius: p.radius as f64 },
+            primitive_kind::QUAD => Shape::Quad { a, b, c },
+            _ => Shape::Triangle { a, b, c },
+        }
+    }
+
+    fn area(&self) -> f64 {
+        match *self {
+            Shape::Quad { b, c, .. } => b.cross(c).length(),
+            Shape::Triangle { b, c, .. } => 0.5 * b.cross(c).length(),
+            Shape::Sphere { radius, .. } => 4.0 * PI * radius * radius,
+        }
+    }
+
+    fn vertices(&self) -> Vec<DVec3> {
+        match *self {
+            Shape::Quad { a, b, c } => vec![a, a + b, a + b + c, a + c],
+            Shape::Triangle { a, b, c } => vec![a, a + b, a + c],
+            Shape::Sphere { .. } => panic!("a sphere has no vertices"),
+        }
+    }
+
+    /// Every point of the surface on the ray x + t·w (w unit, t > 0), as (t, |cos| between w and
+    /// the surface's normal there).
+    fn hits(&self, x: DVec3, w: DVec3) -> [Option<(f64, f64)>; 2] {
+        match *self {
+            Shape::Quad { a, b, c } | Shape::Triangle { a, b, c } => {
+                let n = b.cross(c);
+                let denom = n.dot(w);
+                if denom == 0.0 {
+                    return [None, None];
+                }
+                let t = n.dot(a - x) / denom;
+                let (al, be) = planar_coords(a, b, c, x + w * t);
+                let inside = match self {
+                    Shape::Quad { .. } => (0.0..=1.0).contains(&al) && (0.0..=1.0).contains(&be),
+                    _ => al >= 0.0 && be >= 0.0 && al + be <= 1.0,
+                };
+                [(t > 0.0 && inside).then(|| (t, denom.abs() / n.length())), None]
+            }
+            Shape::Sphere { center, radius } => {
+                let oc = center - x;
+                let half_b = oc.dot(w);
+                let disc = half_b * half_b - (oc.length_squared() - radius * radius);
+                if disc <= 0.0 {
+                    return [None, None];
+                }
+                // At either hit the normal (x + t·w − center)/r has cosine (t − half_b)/r to w.
+                let root = disc.sqrt();
+                let cos = root / radius.abs();
+                [half_b - root, half_b + root].map(|t| (t > 0.0).then_some((t, cos)))
+            }
+        }
+    }
+
+    /// How far `q` is off the surface (relative to the shape's size), and `normal` off the true
+    /// unit normal there.
+    fn surface_error(&self, q: DVec3, normal: DVec3) -> (f64, f64) {
+        match *self {
+            Shape::Quad { a, b, c } | Shape::Triangle { a, b, c } => {
+                let n = b.cross(c).normalize();
+                let size = b.length().max(c.length());
+                let (al, be) = planar_coords(a, b, c, q);
+                let outside = match self {
+                    Shape::Quad { .. } => (-al).max(-be).max(al - 1.0).max(be - 1.0),
+                    _ => (-al).max(-be).max(al + be - 1.0),
+                };
+                ((n.dot(q - a).abs() / size).max(outside).max(0.0), (normal - n).length())
+            }
+            Shape::Sphere { center, radius } => {
+                let r = q - center;
+                ((r.length() - radius.abs()).abs() / radius.abs(), (normal - r / radius).length())
+            }
+        }
+    }
+}
+
+/// A light as the test sees it.
+#[derive(Clone, Copy, Debug)]
+struct Light {
+    slot: u32,
+    shape: Shape,
+    le: f64,
+}
+
+/// The scene's lights, checked to be its emitters of non-zero radiance.
+fn lights_of(scene: &PackedScene) -> Vec<Light> {
+    let emitters: Vec<u32> = (0..scene.primitives.len() as u32)
+        .filter(|&i| {
+            let m = scene.material_of(i);
+            m.kind == material_kind::EMISSIVE && m.color != [0.0; 3]
+        })
+        .collect();
+    assert_eq!(scene.lights, emitters, "the lights are the emitters of non-zero radiance");
+    scene
+        .lights
+        .iter()
+        .map(|&slot| {
+            let color = scene.material_of(slot).color;
+            assert!(color.iter().all(|&c| c == color[0]), "grey lights only: {color:?}");
+            Light { slot, shape: Shape::of(&scene.primitives[slot as usize]), le: color[0] as f64 }
+        })
+        .collect()
+}
+
+/// The density per unit area on each light under uniform choice of the light: 1 / (n × area).
+fn uniform_choice(lights: &[Light]) -> Vec<f64> {
+    lights.iter().map(|l| 1.0 / (lights.len() as f64 * l.shape.area())).collect()
+}
+
+/// Solid-angle density at `x` of the direction `w` when light i's points have density
+/// `per_area[i]`: the sum over every light point along w of per_area · t² / |cos|.
+fn solid_angle_pdf(lights: &[Light], per_area: &[f64], x: DVec3, w: DVec3) -> f64 {
+    let mut pdf = 0.0;
+    for (l, &pa) in lights.iter().zip(per_area) {
+        for (t, cos) in l.shape.hits(x, w).into_iter().flatten() {
+            pdf += pa * t * t / cos;
+        }
+    }
+    pdf
+}
+
+/// The first light point along the ray (origin, w) beyond `t_min`: (light, t, |cos|).
+fn nearest_light(lights: &[Light], origin: DVec3, w: DVec3, t_min: f64) -> Option<(usize, f64, f64)> {
+    let mut best: Option<(usize, f64, f64)> = None;
+    for (i, l) in lights.iter().enumerate() {
+        for (t, cos) in l.shape.hits(origin, w).into_iter().flatten() {
+            if t > t_min && best.is_none_or(|b| t < b.1) {
+                best = Some((i, t, cos));
+            }
+        }
+    }
+    best
+}
+
+/// A cap of directions: cosθ ≥ `cos_max` about `frame.n`.
+struct Cap {
+    frame: Frame,
+    cos_max: f64,
+    /// Bins holding a planar light's vertex.
+    corners: Vec<usize>,
+}
+
+impl Cap {
+    /// The cap seen from `x` that holds the lights: a lone sphere's exact silhouette (so that the
+    /// density's inverse-square-root rise there is at the cap's edge, see `quadrature`), or the
+    /// cone about the planar lights' vertices 5% wider than the widest vertex.
+    fn around(lights: &[Light], x: DVec3) -> Self {
+        if let [Light { shape: Shape::Sphere { center, radius }, .. }] = lights {
+            let to = *center - x;
+            let f = radius.abs() / to.length();
+            assert!(f < 1.0, "the shading point is inside the sphere light");
+            return Cap { frame: Frame::new(to), cos_max: (1.0 - f * f).sqrt(), corners: Vec::new() };
+        }
+        let dirs: Vec<DVec3> =
+            lights.iter().flat_map(|l| l.shape.vertices()).map(|v| (v - x).normalize()).collect();
+        let axis = dirs.iter().sum::<DVec3>().normalize();
+        let widest = dirs.iter().map(|d| d.dot(axis).clamp(-1.0, 1.0).acos()).fold(0.0, f64::max);
+        assert!(widest < 1.5, "lights spread over {widest} rad");
+        let mut cap = Cap { frame: Frame::new(axis), cos_max: (widest * 1.05).cos(), corners: Vec::new() };
+        cap.corners = dirs.iter().map(|&d| cap.bin(d).expect("a vertex inside its cap")).collect();
+        cap
+    }
+
+    fn bin(&self, w: DVec3) -> Option<usize> {
+        let w = w.normalize();
+        let z = w.dot(self.frame.n);
+        if z.is_nan() || z < self.cos_max - CAP_SLACK {
+            return None;
+        }
+        let iz =
+            (((z - self.cos_max) / (1.0 - self.cos_max) * CAP_Z as f64).max(0.0) as usize).min(CAP_Z - 1);
+        let phi = w.dot(self.frame.b).atan2(w.dot(self.frame.t));
+        let ip = (((phi + PI) / (2.0 * PI) * CAP_PHI as f64) as usize).min(CAP_PHI - 1);
+        Some(iz * CAP_PHI + ip)
+    }
+
+    /// ∫ f dω over bin `k` by the midpoint rule on an m × m grid in (s, φ), s = √(cosθ − cos_max):
+    /// dω = dcosθ dφ = 2s ds dφ, which cancels a density rising as 1/s at the cap's edge (a
+    /// sphere light's silhouette). Also whether f was zero at some grid point, and non-zero at
+    /// some.
+    fn quadrature(&self, k: usize, m: usize, f: &(impl Fn(DVec3) -> f64 + Sync)) -> (f64, bool, bool) {
+        let (iz, ip) = (k / CAP_PHI, k % CAP_PHI);
+        let h = (1.0 - self.cos_max) / CAP_Z as f64;
+        let (s0, s1) = ((h * iz as f64).sqrt(), (h * (iz + 1) as f64).sqrt());
+        let ds = (s1 - s0) / m as f64;
+        let dphi = 2.0 * PI / (CAP_PHI * m) as f64;
+        let (mut sum, mut zero, mut nonzero) = (0.0, false, false);
+        for a in 0..m {
+            let s = s0 + (a as f64 + 0.5) * ds;
+            let z = self.cos_max + s * s;
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            let mut ring = 0.0;
+            for b in 0..m {
+                let phi = -PI + ((ip * m + b) as f64 + 0.5) * dphi;
+                let v = f(self.frame.world(r * phi.cos(), r * phi.sin(), z));
+                ring += v;
+                zero |= v == 0.0;
+                nonzero |= v != 0.0;
+            }
+            sum += ring * 2.0 * s * ds * dphi;
+        }
+        (sum, zero, nonzero)
+    }
+}
+
+/// ∫ f dω over every bin of the cap. The midpoint rule on 8 × 8 points, except in the bins where
+/// f has an edge (the light's outline) in or next to them, or next to a vertex: those get 64 × 64
+/// points (against 128 × 128 everywhere, this moves no case's χ² statistic by more than 0.4).
+fn cap_bins(cap: &Cap, f: impl Fn(DVec3) -> f64 + Sync) -> Vec<f64> {
+    let coarse: Vec<(f64, bool, bool)> =
+        (0..CAP_BINS).into_par_iter().map(|k| cap.quadrature(k, CAP_SUB, &f)).collect();
+    let neighbours = |k: usize| {
+        let (iz, ip) = (k / CAP_PHI, k % CAP_PHI);
+        (iz.saturating_sub(1)..=(iz + 1).min(CAP_Z - 1))
+            .flat_map(move |jz| [CAP_PHI - 1, 0, 1].map(|dp| jz * CAP_PHI + (ip + dp) % CAP_PHI))
+    };
+    let near_corner: Vec<usize> = cap.corners.iter().flat_map(|&k| neighbours(k)).collect();
+    (0..CAP_BINS)
+        .into_par_iter()
+        .map(|k| {
+            let (mut zero, mut nonzero) = (false, false);
+            for j in neighbours(k) {
+                zero |= coarse[j].1;
+                nonzero |= coarse[j].2;
+            }
+            if (zero && nonzero) || near_corner.contains(&k) {
+                cap.quadrature(k, CAP_FINE, &f).0
+            } else {
+                coarse[k].0
+            }
+        })
+        .collect()
+}
+
+/// Bin probabilities of the directions from `x` to light points drawn with density `per_area`.
+fn light_bins(cap: &Cap, lights: &[Light], per_area: &[f64], x: DVec3) -> Vec<f64> {
+    cap_bins(cap, |w| solid_angle_pdf(lights, per_area, x, w))
+}
+
+/// Fraction of a sphere's area (seen from a distance d = r / f) at less than `a` from the
+/// direction of its centre. A point at angle ψ about the centre from the far pole is seen at α
+/// with r·sin(ψ − α) = d·sin α, so α < a on ψ < a + β and ψ > a + π − β, β = asin(sin a / f),
+/// and area is uniform in cos ψ.
+fn sphere_cone_fraction(f: f64, a: f64) -> f64 {
+    let beta = (a.sin() / f).clamp(-1.0, 1.0).asin();
+    1.0 - ((a + beta).cos() - (a + PI - beta).cos()) / 2.0
+}
+
+/// A light sample in f64.
+struct LightPoint {
+    point: DVec3,
+    normal: DVec3,
+    pdf_area: f64,
+    slot: u32,
+}
+
+fn light_each<T: Real>(scene: &PackedScene, case: u32, mut f: impl FnMut(LightPoint)) {
+    for i in 0..SAMPLES {
+        let u = uniform4(i, case, 0, Purpose::Light, SEED);
+        let s = sample_light::<T>(scene, u).expect("the scene has lights");
+        f(LightPoint {
+            point: DVec3::from_array(s.point.to_f64()),
+            normal: DVec3::from_array(s.normal.to_f64()),
+            pdf_area: s.pdf_area.to_f64(),
+            slot: s.slot,
+        });
+    }
+}
+
+/// Calls `f` with each of the `SAMPLES` light samples of `case` (uniforms
+/// `uniform4(sample, case, 0, Light, SEED)`), each first checked: a light's slot, on that light,
+/// its normal, and pdf_area = 1 / (lights × area).
+fn light_samples(
+    p: Precision,
+    scene: &PackedScene,
+    lights: &[Light],
+    case: u32,
+    mut f: impl FnMut(usize, DVec3),
+) {
+    let tol = match p {
+        F32 => F32_TOL,
+        F64 => F64_TOL,
+    };
+    let (mut worst_pdf, mut worst_point, mut worst_normal) = (0.0f64, 0.0f64, 0.0f64);
+    let per_area = uniform_choice(lights);
+    let mut check = |s: LightPoint| {
+        let i = lights
+            .iter()
+            .position(|l| l.slot == s.slot)
+            .unwrap_or_else(|| panic!("slot {} is no light", s.slot));
+        let (point, normal) = lights[i].shape.surface_error(s.point, s.normal);
+        worst_pdf = worst_pdf.max((s.pdf_area / per_area[i] - 1.0).abs());
+        worst_point = worst_point.max(point);
+        worst_normal = worst_normal.max(normal);
+        f(i, s.point);
+    };
+    match p {
+        F32 => light_each::<f32>(scene, case, &mut check),
+        F64 => light_each::<f64>(scene, case, &mut check),
+    }
+    // NaN fails these too.
+    assert!(worst_pdf <= tol, "pdf_area off 1/(lights × area) by {worst_pdf:e} (relative)");
+    assert!(worst_point <= tol, "a light sample {worst_point:e} (relative) off its light");
+    assert!(worst_normal <= tol, "a light sample's normal off by {worst_normal:e}");
+}
+
+/// Directions from a shading point, binned over a cap.
+struct CapHistogram {
+    bins: Vec<f64>,
+    /// Directions outside the cap (there must be none).
+    outside: usize,
+    /// Samples per light.
+    per_light: Vec<f64>,
+}
+
+impl CapHistogram {
+    fn new(lights: usize) -> Self {
+        Self { bins: vec![0.0; CAP_BINS], outside: 0, per_light: vec![0.0; lights] }
+    }
+
+    fn add(&mut self, cap: &Cap, w: DVec3) {
+        match cap.bin(w) {
+            Some(k) => self.bins[k] += 1.0,
+            None => self.outside += 1,
+        }
+    }
+}
+
+fn cap_histogram(
+    p: Precision,
+    scene: &PackedScene,
+    lights: &[Light],
+    x: DVec3,
+    cap: &Cap,
+    case: u32,
+) -> CapHistogram {
+    let mut h = CapHistogram::new(lights.len());
+    light_samples(p, scene, lights, case, |i, q| {
+        h.per_light[i] += 1.0;
+        h.add(cap, q - x);
+    });
+    h
+}
+
+fn chi2_cap(name: &str, h: &CapHistogram, probs: &[f64]) -> Chi2 {
+    assert_eq!(h.outside, 0, "{name}: {} directions outside the cap of the lights", h.outside);
+    let n = SAMPLES as f64;
+    let expected: Vec<f64> = probs.iter().map(|p| p * n).collect();
+    let t = chi2_test(&h.bins, &expected, MIN_EXPECTED);
+    let shares: Vec<String> = h.per_light.iter().map(|c| format!("{:.4}", c / n)).collect();
+    eprintln!(
+        "{name}: χ² = {:.1}, dof = {}, p = {:.3e} ({} cells pooled, {} samples in empty cells, \
+         share per light [{}], expected mass {:.6})",
+        t.statistic,
+        t.dof,
+        t.p_value,
+        t.pooled_cells,
+        t.in_empty_cells,
+        shares.join(", "),
+        probs.iter().sum::<f64>()
+    );
+    t
+}
+
+fn light_case_name(k: usize) -> String {
+    let (s, x, p) = LIGHT_CASES[k];
+    format!("light {s:?} from {x:?} {p:?}")
+}
+
+#[test]
+fn light_samples_match_the_solid_angle_density() {
+    let results: Vec<_> = LIGHT_CASES
+        .iter()
+        .enumerate()
+        .map(|(k, &(s, x, p))| {
+            let name = light_case_name(k);
+            let scene = packed(s);
+            let lights = lights_of(&scene);
+            let x = DVec3::from_array(x);
+            let cap = Cap::around(&lights, x);
+            let probs = light_bins(&cap, &lights, &uniform_choice(&lights), x);
+            // The bin probabilities check themselves: every light lies in the cap, so they sum to
+            // 1, and a lone sphere's rings hold what its area in closed form says.
+            let total: f64 = probs.iter().sum();
+            assert!((total - 1.0).abs() < 1e-4, "{name}: bin probabilities sum to {total}");
+            if let [Light { shape: Shape::Sphere { center, radius }, .. }] = lights[..] {
+                let f = radius / (center - x).length();
+                let h = (1.0 - cap.cos_max) / CAP_Z as f64;
+                for iz in 0..CAP_Z {
+                    let ring: f64 = probs[iz * CAP_PHI..(iz + 1) * CAP_PHI].iter().sum();
+                    let (z0, z1) = (cap.cos_max + h * iz as f64, cap.cos_max + h * (iz + 1) as f64);
+                    let exact = sphere_cone_fraction(f, z0.min(1.0).acos())
+                        - sphere_cone_fraction(f, z1.min(1.0).acos());
+                    // The midpoint rule is off by up to 6e-5 of the edge ring (r/d = 0.79): 5
+                    // samples over its 100 bins.
+                    assert!(
+                        (ring - exact).abs() < 1e-4 * exact,
+                        "{name}: ring {iz} holds {ring}, not {exact}"
+                    );
+                }
+            }
+            let h = cap_histogram(p, &scene, &lights, x, &cap, 400 + k as u32);
+            for (i, c) in h.per_light.iter().enumerate() {
+                let share = c / SAMPLES as f64;
+                // Uniform choice: each light's count is binomial(1e6, 1/n), sd ≤ 5e-4.
+                assert!((share - 1.0 / lights.len() as f64).abs() < 3e-3, "{name}: light {i} picked {share}");
+            }
+            (name.clone(), chi2_cap(&name, &h, &probs))
+        })
+        .collect();
+    assert_all_pass(&results);
+}
+
+/// The cell of a point of a lone light's area histogram (`None`: more than rounding off it): a
+/// quad's (α, β) in K × K squares, a triangle's in the K² congruent triangles of its K-fold
+/// subdivision, a sphere's direction about its centre in the bins of `Frame::normal`.
+fn area_cell(shape: &Shape, q: DVec3) -> Option<usize> {
+    const K: usize = AREA_K;
+    let cell = |v: f64| ((v * K as f64).max(0.0) as usize).min(K - 1);
+    match *shape {
+        Shape::Quad { a, b, c } => {
+            let (al, be) = planar_coords(a, b, c, q);
+            let ok = al > -F32_TOL && al < 1.0 + F32_TOL && be > -F32_TOL && be < 1.0 + F32_TOL;
+            ok.then(|| cell(al) * K + cell(be))
+        }
+        Shape::Triangle { a, b, c } => {
+            let (al, be) = planar_coords(a, b, c, q);
+            if !(al > -F32_TOL && be > -F32_TOL && al + be < 1.0 + F32_TOL) {
+                return None;
+            }
+            // Rounding's overshoot goes back inside, so that i + j ≤ K − 1, and fa + fb < 1 there.
+            let (al, be) = (al.max(0.0), be.max(0.0));
+            let scale = if al + be >= 1.0 { (1.0 - 1e-9) / (al + be) } else { 1.0 };
+            let (al, be) = (al * scale * K as f64, be * scale * K as f64);
+            let (i, j) = (al.floor(), be.floor());
+            let upper = (al - i) + (be - j) >= 1.0;
+            let (i, j) = (i as usize, j as usize);
+            // Row r holds K − r lower and K − r − 1 upper triangles: rows 0..i hold i(2K − i).
+            Some(i * (2 * K - i) + 2 * j + upper as usize)
+        }
+        Shape::Sphere { center, radius } => {
+            let r = q - center;
+            ((r.length() / radius.abs() - 1.0).abs() < F32_TOL).then(|| Frame::normal().bin(r))
+        }
+    }
+}
+
+fn area_cells(shape: &Shape) -> usize {
+    match shape {
+        Shape::Sphere { .. } => N_BINS,
+        _ => AREA_K * AREA_K,
+    }
+}
+
+struct AreaHistogram {
+    cells: Vec<f64>,
+    off: usize,
+}
+
+impl AreaHistogram {
+    fn new(shape: &Shape) -> Self {
+        Self { cells: vec![0.0; area_cells(shape)], off: 0 }
+    }
+
+    fn add(&mut self, shape: &Shape, q: DVec3) {
+        match area_cell(shape, q) {
+            Some(k) => self.cells[k] += 1.0,
+            None => self.off += 1,
+        }
+    }
+}
+
+fn chi2_area(name: &str, h: &AreaHistogram) -> Chi2 {
+    assert_eq!(h.off, 0, "{name}: {} points off the light", h.off);
+    let expected = vec![SAMPLES as f64 / h.cells.len() as f64; h.cells.len()];
+    let t = chi2_test(&h.cells, &expected, MIN_EXPECTED);
+    eprintln!("{name}: χ² = {:.1}, dof = {}, p = {:.3e}", t.statistic, t.dof, t.p_value);
+    t
+}
+
+/// Cheaper than the solid-angle test and blind to the shading point: each kind of light's
+/// points are uniform by area. (A quad's cells are squares in the sampler's own uniforms, so for
+/// quads this checks the affine map and its rounding; the triangle's and sphere's cells are not
+/// aligned with their warps.)
+#[test]
+fn light_samples_are_uniform_by_area() {
+    let results: Vec<_> = AREA_CASES
+        .iter()
+        .enumerate()
+        .map(|(k, &(s, p))| {
+            let scene = packed(s);
+            let lights = lights_of(&scene);
+            assert_eq!(lights.len(), 1);
+            let shape = lights[0].shape;
+            let name = format!("area {s:?} {p:?}");
+            let mut h = AreaHistogram::new(&shape);
+            light_samples(p, &scene, &lights, 450 + k as u32, |_, q| h.add(&shape, q));
+            (name.clone(), chi2_area(&name, &h))
+        })
+        .collect();
+    assert_all_pass(&results);
+}
+
+/// Running mean and its standard error.
+#[derive(Default)]
+struct Mean {
+    n: f64,
+    sum: f64,
+    sum2: f64,
+}
+
+impl Mean {
+    fn add(&mut self, v: f64) {
+        self.n += 1.0;
+        self.sum += v;
+        self.sum2 += v * v;
+    }
+
+    fn mean(&self) -> f64 {
+        self.sum / self.n
+    }
+
+    fn standard_error(&self) -> f64 {
+        let m = self.mean();
+        ((self.sum2 / self.n - m * m).max(0.0) / (self.n - 1.0)).sqrt()
+    }
+}
+
+/// The two halves of the direct-light estimate at `x`: `next_event`'s weights (zero where the
+/// shadow ray is blocked, by a light itself: a sphere hides its far side), and the emission the
+/// cosine-weighted diffuse bounce finds times `emission_weight`. The third mean is the first
+/// without the shadow rays (for the negative control).
+fn nee_means<T: Real>(
+    scene: &PackedScene,
+    lights: &[Light],
+    x: DVec3,
+    normal: DVec3,
+    case: u32,
+) -> (Mean, Mean, Mean) {
+    let (mut light, mut bounce, mut unshadowed) = (Mean::default(), Mean::default(), Mean::default());
+    let (xt, nt) = (V3::<T>::of64(x), V3::<T>::of64(normal));
+    for i in 0..SAMPLES {
+        let u = uniform4(i, case, 0, Purpose::Light, SEED);
+        let (mut v, mut all) = (0.0, 0.0);
+        if let Some(s) = next_event::<T>(scene, xt, nt, u) {
+            let w = s.weight.to_f64();
+            assert!(w.iter().all(|&c| c == w[0] && c.is_finite() && c >= 0.0), "weight {w:?}");
+            let (o, d) = (DVec3::from_array(s.ray.origin.to_f64()), DVec3::from_array(s.ray.dir.to_f64()));
+            let t_max = s.t_max.to_f64();
+            let blocked = nearest_light(lights, o, d, T_MIN as f64).is_some_and(|(_, t, _)| t < t_max);
+            all = w[0];
+            v = if blocked { 0.0 } else { w[0] };
+        }
+        light.add(v);
+        unshadowed.add(all);
+    }
+    let frame = Frame::new(normal);
+    for i in 0..SAMPLES {
+        let u = uniform4(i, case, 0, Purpose::Scatter, SEED);
+        let (r, phi) = ((u[0] as f64).sqrt(), 2.0 * PI * u[1] as f64);
+        let z = (1.0 - u[0] as f64).sqrt();
+        let w = frame.world(r * phi.cos(), r * phi.sin(), z);
+        let mut v = 0.0;
+        if let Some((l, t, _)) = nearest_light(lights, x, w, T_MIN as f64) {
+            let q = x + w * t;
+            let mis = emission_weight::<T>(
+                scene,
+                lights[l].slot,
+                V3::of64(q),
+                V3::of64(w),
+                T::of64(t),
+                T::of64(z / PI),
+            )
+            .to_f64();
+            v = lights[l].le * mis;
+        }
+        bounce.add(v);
+    }
+    (light, bounce, unshadowed)
+}
+
+/// Irradiance / π from a polygon of radiance `le` wholly above the surface (Lambert's formula:
+/// the form factor is Σ θᵢ n·(rᵢ × rᵢ₊₁)/|rᵢ × rᵢ₊₁| / 2π over its edges).
+fn polygon_direct(le: f64, x: DVec3, normal: DVec3, vertices: &[DVec3]) -> f64 {
+    let r: Vec<DVec3> = vertices.iter().map(|v| (*v - x).normalize()).collect();
+    let sum: f64 = (0..r.len())
+        .map(|i| {
+            let (a, b) = (r[i], r[(i + 1) % r.len()]);
+            a.dot(b).clamp(-1.0, 1.0).acos() * normal.dot(a.cross(b).normalize())
+        })
+        .sum();
+    le * sum.abs() / (2.0 * PI)
+}
+
+/// What the two halves of `nee_means` estimate, by quadrature over the cap: Le · cos/π times the
+/// power heuristic's weight of light sampling (p_l = pdf_area · t² / |cos| of the first light
+/// point) against the bounce (p_b = cos / π), and times the bounce's weight.
+fn nee_expected(lights: &[Light], x: DVec3, normal: DVec3, cap: &Cap) -> (f64, f64) {
+    let per_area = uniform_choice(lights);
+    let part = |light_side: bool| {
+        cap_bins(cap, |w| {
+            let cos = w.dot(normal);
+            match nearest_light(lights, x, w, 0.0) {
+                Some((i, t, cos_l)) if cos > 0.0 => {
+                    let (pl, pb) = (per_area[i] * t * t / cos_l, cos / PI);
+                    let mis = if light_side { pl * pl } else { pb * pb } / (pl * pl + pb * pb);
+                    lights[i].le * cos / PI * mis
+                }
+                _ => 0.0,
+            }
+        })
+        .iter()
+        .sum::<f64>()
+    };
+    (part(true), part(false))
+}
+
+/// z-test of a mean against its expected value: (name, z).
+fn z_test(name: &str, m: &Mean, expected: f64) -> f64 {
+    let z = (m.mean() - expected) / m.standard_error();
+    eprintln!(
+        "{name}: mean {:.6} ± {:.2e} vs {:.6} (z = {z:.2}, relative error {:.2e})",
+        m.mean(),
+        m.standard_error(),
+        expected,
+        (m.mean() - expected) / expected
+    );
+    z
+}
+
+/// `next_event` with MIS is unbiased, half by half: its mean weight (shadow rays tested against
+/// the lights themselves) is the light-sampling share of the direct illumination, the diffuse
+/// bounce's emission times `emission_weight` is the rest, and the two add up to the closed form
+/// (Le·(r/d)² for a sphere facing the surface, Lambert's polygon formula otherwise).
+#[test]
+fn next_event_weights_are_unbiased() {
+    let z_crit = normal_critical(alpha_each());
+    let mut failed = Vec::new();
+    for (k, &(case, normal)) in NEE_CASES.iter().enumerate() {
+        let (s, x, p) = LIGHT_CASES[case];
+        let name = format!("next_event {s:?} from {x:?} {p:?}");
+        let scene = packed(s);
+        let lights = lights_of(&scene);
+        let (x, normal) = (DVec3::from_array(x), DVec3::from_array(normal).normalize());
+        let [light] = lights[..] else { panic!("{name}: one light") };
+        let exact = match light.shape {
+            Shape::Sphere { center, radius } => {
+                let to = center - x;
+                assert!(to.normalize().dot(normal) > 1.0 - 1e-12, "{name}: the sphere faces the surface");
+                light.le * radius * radius / to.length_squared()
+            }
+            shape => polygon_direct(light.le, x, normal, &shape.vertices()),
+        };
+        let (light_part, bounce_part) = nee_expected(&lights, x, normal, &Cap::around(&lights, x));
+        let sum = light_part + bounce_part;
+        // Off by 1.1e-5 at most (the grazing view), a twentieth of the standard error.
+        assert!((sum - exact).abs() < 5e-5 * exact, "{name}: quadrature {sum} vs closed form {exact}");
+        let (l, b, _) = match p {
+            F32 => nee_means::<f32>(&scene, &lights, x, normal, 500 + k as u32),
+            F64 => nee_means::<f64>(&scene, &lights, x, normal, 500 + k as u32),
+        };
+        // Enough samples that an error of 1.5% of the total in either half is rejected.
+        let se = l.standard_error().max(b.standard_error());
+        assert!(se * z_crit < 0.015 * exact, "{name}: standard error {se:e} of {exact}");
+        let zl = z_test(&format!("{name}: light sampling"), &l, light_part);
+        let zb = z_test(&format!("{name}: bounce"), &b, bounce_part);
+        eprintln!("{name}: both {:.6} vs closed form {exact:.6}", l.mean() + b.mean());
+        for (half, z) in [("light sampling", zl), ("bounce", zb)] {
+            if z.is_nan() || z.abs() > z_crit {
+                failed.push(format!("{name}: {half} z = {z:.2}"));
+            }
+        }
+    }
+    assert!(failed.is_empty(), "|z| > {z_crit:.2} (α = {ALPHA}, {N_TESTS} tests): {failed:?}");
+}
+
+#[test]
+fn scenes_without_lights_sample_none() {
+    let mut scene = light_test_scene(Vec::new(), vec![[Vec3::ZERO, Vec3::X, Vec3::Y]]);
+    scene.meshes[0].material = 1; // zero radiance: no light
+    let scene = PackedScene::new(&scene, Accel::Bvh);
+    assert!(scene.lights.is_empty());
+    let u = uniform4(0, 0, 0, Purpose::Light, SEED);
+    assert!(sample_light::<f32>(&scene, u).is_none());
+    assert!(next_event::<f64>(&scene, V3::new(0.2, 0.2, 1.0), V3::new(0.0, 0.0, -1.0), u).is_none());
+}
+
+/// As `chi2_rejects_wrong_samplers`, for light sampling: samplers that are not uniform by area,
+/// and right samplers against wrong densities, are rejected far beyond any Šidák threshold.
+#[test]
+fn chi2_rejects_wrong_light_samplers() {
+    let n = SAMPLES as f64;
+    let mut results: Vec<(&str, Chi2)> = Vec::new();
+    let uniforms = |case: u32| (0..SAMPLES).map(move |i| uniform4(i, case, 0, Purpose::Light, SEED));
+
+    // The triangle with the naive warp α = u1, β = u2(1 − u1): inside it, but denser towards the
+    // vertex a + b.
+    let (s, x, _) = LIGHT_CASES[2];
+    let scene = packed(s);
+    let lights = lights_of(&scene);
+    let x = DVec3::from_array(x);
+    let Shape::Triangle { a, b, c } = lights[0].shape else { panic!("a triangle") };
+    let naive = |u: [f32; 4]| {
+        let (u1, u2) = (u[1] as f64, u[2] as f64);
+        a + b * u1 + c * (u2 * (1.0 - u1))
+    };
+    let cap = Cap::around(&lights, x);
+    let probs = light_bins(&cap, &lights, &uniform_choice(&lights), x);
+    let mut h = CapHistogram::new(1);
+    uniforms(600).for_each(|u| h.add(&cap, naive(u) - x));
+    results.push(("naive triangle warp, solid angle", chi2_cap("control: naive triangle warp", &h, &probs)));
+    let mut area = AreaHistogram::new(&lights[0].shape);
+    uniforms(601).for_each(|u| area.add(&lights[0].shape, naive(u)));
+    results.push(("naive triangle warp, area", chi2_area("control: naive triangle warp, by area", &area)));
+    // The right sampler against the density of the triangle's parallelogram (the triangle's area
+    // taken as |b × c|, half the mass missing).
+    let h = cap_histogram(F32, &scene, &lights, x, &cap, 602);
+    let parallelogram = light_bins(&cap, &lights, &[1.0 / b.cross(c).length()], x);
+    results.push((
+        "triangle vs parallelogram pdf",
+        chi2_cap("control: triangle against its parallelogram's pdf", &h, &parallelogram),
+    ));
+
+    // Two lights picked uniformly, against the density of picking them by area.
+    let (s, x, _) = LIGHT_CASES[5];
+    let scene = packed(s);
+    let lights = lights_of(&scene);
+    let x = DVec3::from_array(x);
+    let cap = Cap::around(&lights, x);
+    let total: f64 = lights.iter().map(|l| l.shape.area()).sum();
+    let by_area = light_bins(&cap, &lights, &[1.0 / total; 2], x);
+    let h = cap_histogram(F32, &scene, &lights, x, &cap, 603);
+    results.push((
+        "two lights vs choice by area",
+        chi2_cap("control: two lights against choice by area", &h, &by_area),
+    ));
+
+    // Directions uniform in the sphere light's cone (cone sampling) against area sampling's density.
+    let (s, x, _) = LIGHT_CASES[3];
+    let scene = packed(s);
+    let lights = lights_of(&scene);
+    let x = DVec3::from_array(x);
+    let cap = Cap::around(&lights, x);
+    let probs = light_bins(&cap, &lights, &uniform_choice(&lights), x);
+    let mut h = CapHistogram::new(1);
+    uniforms(604).for_each(|u| {
+        let z = 1.0 - (1.0 - cap.cos_max) * u[1] as f64;
+        let (r, phi) = ((1.0 - z * z).sqrt(), 2.0 * PI * u[2] as f64);
+        h.add(&cap, cap.frame.world(r * phi.cos(), r * phi.sin(), z));
+    });
+    results.push(("sphere cone sampling vs area", chi2_cap("control: sphere cone sampling", &h, &probs)));
+    for (name, t) in &results {
+        assert!(t.p_value < 1e-12, "{name}: the χ² test failed to reject (p = {:e}, n = {n})", t.p_value);
+    }
+
+    // next_event at a sphere light whose far side is not hidden by the light itself: the far
+    // points' weights more than double the light-sampling share.
+    let (case, normal) = NEE_CASES[3];
+    let normal = DVec3::from_array(normal).normalize();
+    let (light_part, _) = nee_expected(&lights, x, normal, &cap);
+    let (_, _, unshadowed) = nee_means::<f32>(&scene, &lights, x, normal, 605 + case as u32);
+    let z = z_test("control: next_event without the sphere's self-shadowing", &unshadowed, light_part);
+    assert!(z > 20.0, "the unshadowed sphere's mean was not rejected (z = {z})");
 }
