@@ -1,7 +1,8 @@
 //! A megakernel frame and a wavefront frame (each knob setting) on a small scene, timed by GPU
 //! time (the sum of the passes' timestamp intervals, via criterion's `iter_custom`), so
 //! `cargo bench --bench gpu_frame` compares the methods on this machine's adapter. Set
-//! `WAVETRACE_BENCH_SCENE` to bench another built-in scene.
+//! `WAVETRACE_BENCH_SCENE` to bench another built-in scene and `WAVETRACE_BENCH_NEE=on` for
+//! next-event estimation (e.g. `WAVETRACE_BENCH_SCENE=cornell WAVETRACE_BENCH_NEE=on`).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use std::time::Duration;
@@ -27,9 +28,10 @@ fn gpu_frame(c: &mut Criterion) {
         max_depth: 50,
         seed: 0,
         accel: Accel::Bvh,
-        nee: false,
+        nee: std::env::var("WAVETRACE_BENCH_NEE").is_ok_and(|v| v == "on"),
     };
-    let mut group = c.benchmark_group(format!("gpu_frame/{scene_name}"));
+    let nee = if settings.nee { "-nee" } else { "" };
+    let mut group = c.benchmark_group(format!("gpu_frame/{scene_name}{nee}"));
     group.sample_size(10);
     group.throughput(Throughput::Elements(settings.sample_count()));
 
