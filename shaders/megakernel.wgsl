@@ -25,7 +25,6 @@ fn trace_path(x: u32, y: u32, sample: u32) -> vec4<f32> {
     // When the previous hit sampled the lights: this ray's density under the diffuse bounce, for
     // the MIS weight of the emission it may find (0: no light sampling, full weight).
     var bsdf_pdf = 0.0;
-    let nee = frame.nee == 1u && frame.light_count > 0u;
     for (var bounce = 0u; bounce < frame.max_depth; bounce++) {
         instrument(PASS_MEGAKERNEL_BOUNCE);
         rays += 1u;
@@ -62,7 +61,7 @@ fn trace_path(x: u32, y: u32, sample: u32) -> vec4<f32> {
             break;
         }
         // Direct light at diffuse hits, when the ray it stands in for is within the depth limit.
-        let lights_sampled = nee && material.kind == MATERIAL_LAMBERTIAN && bounce + 2u <= frame.max_depth;
+        let lights_sampled = NEE && material.kind == MATERIAL_LAMBERTIAN && bounce + 2u <= frame.max_depth;
         bsdf_pdf = 0.0;
         if lights_sampled {
             bsdf_pdf = diffuse_pdf(dot(normal, s.dir));

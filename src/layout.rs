@@ -100,11 +100,9 @@ pub struct FrameUniform {
     pub defocus_disk_v: [f32; 3],
     pub background_kind: u32,
     pub background_color: [f32; 3],
-    /// Emitting primitives in the scene's light list (0: nothing to sample).
+    /// Emitting primitives in the scene's light list (0: nothing to sample). Whether to sample
+    /// them is the `NEE` pipeline constant (`PackedScene::pipeline_constants`).
     pub light_count: u32,
-    /// 1: next-event estimation (shadow rays to the lights at diffuse hits).
-    pub nee: u32,
-    pub _pad: [u32; 3],
 }
 
 /// WGSL: `Dispatch` in `shaders/megakernel.wgsl`: one dispatch's share of the render.

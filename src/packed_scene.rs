@@ -58,6 +58,25 @@ impl PackedScene {
         kinds
     }
 
+    /// Bit k set when some primitive has `layout::primitive_kind` k: the `PRIM_KINDS` pipeline
+    /// constant, so each pipeline compiles only the intersection tests the scene needs.
+    pub fn primitive_kinds(&self) -> u32 {
+        self.primitives.iter().fold(0, |m, p| m | 1 << p.kind)
+    }
+
+    /// The pipeline constants every pass that binds the scene takes, besides its own:
+    /// `PRIM_KINDS`, and `NEE` (next-event estimation on, in a scene with lights). As
+    /// constants rather than uniforms so that the compiler drops the code a render does not use.
+    pub fn pipeline_constants(&self, settings: &RenderSettings) -> [(&'static str, f64); 2] {
+        // An empty scene still needs a valid mask; any kind will do.
+        let kinds = match self.primitive_kinds() {
+            0 => 1,
+            k => k,
+        };
+        let nee = settings.nee && !self.lights.is_empty();
+        [("PRIM_KINDS", kinds as f64), ("NEE", nee as u32 as f64)]
+    }
+
     /// Primitives in the largest BVH leaf (all of them with `--accel none`).
     pub fn largest_leaf(&self) -> u32 {
         self.nodes.iter().map(|n| n.count).max().unwrap_or(0)
@@ -85,8 +104,6 @@ impl PackedScene {
             background_kind,
             background_color,
             light_count: self.lights.len() as u32,
-            nee: settings.nee as u32,
-            _pad: [0; 3],
         }
     }
 }

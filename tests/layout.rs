@@ -65,8 +65,7 @@ fn frame() {
             defocus_disk_v,
             background_kind,
             background_color,
-            light_count,
-            nee
+            light_count
         ]
     );
 }

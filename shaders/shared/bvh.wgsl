@@ -53,7 +53,7 @@ fn closest_hit(ray: Ray, t_min: f32) -> Hit {
         let n = nodes[current];
         if n.count > 0u {
             for (var slot = n.left_or_first; slot < n.left_or_first + n.count; slot++) {
-                let t = hit_primitive(primitives[slot], ray, t_min, closest);
+                let t = hit_primitive(slot, ray, t_min, closest);
                 if t >= 0.0 {
                     closest = t;
                     hit = Hit(t, slot);
@@ -108,7 +108,7 @@ fn occluded(ray: Ray, t_min: f32, t_max: f32) -> bool {
         let n = nodes[current];
         if n.count > 0u {
             for (var slot = n.left_or_first; slot < n.left_or_first + n.count; slot++) {
-                if hit_primitive(primitives[slot], ray, t_min, t_max) >= 0.0 {
+                if hit_primitive(slot, ray, t_min, t_max) >= 0.0 {
                     return true;
                 }
             }

@@ -19,6 +19,4 @@ struct Frame {
     background_color: vec3<f32>,
     // Emitting primitives in `lights`.
     light_count: u32,
-    // 1: next-event estimation.
-    nee: u32,
 }

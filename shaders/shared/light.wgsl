@@ -3,6 +3,9 @@
 // emitters shine from both sides. The shadow ray and the diffuse bounce that may find the same
 // light are combined by MIS (power heuristic). Needs the scene bindings (shared/scene.wgsl).
 
+// Next-event estimation on, in a scene with lights (set per pipeline: off, its code is dropped).
+override NEE: bool = false;
+
 // A shadow ray stops this fraction of the distance short of the light (SHADOW_SHORTEN in Rust).
 const SHADOW_SHORTEN: f32 = 1e-4;
 

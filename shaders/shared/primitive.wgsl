@@ -17,12 +17,22 @@ struct Primitive {
 #include "shared/sphere.wgsl"
 #include "shared/planar.wgsl"
 
-// Distance to the nearest hit in (t_min, t_max), or -1 for none.
-fn hit_primitive(p: Primitive, ray: Ray, t_min: f32, t_max: f32) -> f32 {
-    if p.kind == PRIM_SPHERE {
-        return hit_sphere(p, ray, t_min, t_max);
+// Bit k is set when the scene has primitives of kind k (PackedScene::primitive_kinds), set per
+// pipeline so that a scene of one shape compiles that shape's test alone: the branch on the kind
+// inside the BVH loop made the book's sphere scenes about 1.4x slower on llvmpipe. 7: any kind.
+override PRIM_KINDS: u32 = 7u;
+
+// Distance to the nearest hit on primitive `slot` in (t_min, t_max), or -1 for none. Reads only
+// the fields the shape needs (a sphere, 20 of the record's 48 bytes).
+fn hit_primitive(slot: u32, ray: Ray, t_min: f32, t_max: f32) -> f32 {
+    if PRIM_KINDS == (1u << PRIM_SPHERE) {
+        return hit_sphere(primitives[slot].a, primitives[slot].radius, ray, t_min, t_max);
     }
-    return hit_planar(p, ray, t_min, t_max);
+    let kind = primitives[slot].kind;
+    if (PRIM_KINDS & (1u << PRIM_SPHERE)) != 0u && kind == PRIM_SPHERE {
+        return hit_sphere(primitives[slot].a, primitives[slot].radius, ray, t_min, t_max);
+    }
+    return hit_planar(kind, primitives[slot].a, primitives[slot].b, primitives[slot].c, ray, t_min, t_max);
 }
 
 // Unit normal at `point`: outward for a sphere, b × c for a quad or triangle.

@@ -2,15 +2,15 @@
 // A sphere is a Primitive (shared/primitive.wgsl) with centre `a` and `radius`.
 
 // Distance to the nearest intersection in (t_min, t_max), or -1 for none.
-fn hit_sphere(s: Primitive, ray: Ray, t_min: f32, t_max: f32) -> f32 {
-    let f = ray.origin - s.a;
+fn hit_sphere(center: vec3<f32>, radius: f32, ray: Ray, t_min: f32, t_max: f32) -> f32 {
+    let f = ray.origin - center;
     let b = dot(f, ray.dir);
     let l = f - ray.dir * b;
-    let disc = s.radius * s.radius - dot(l, l);
+    let disc = radius * radius - dot(l, l);
     if disc < 0.0 {
         return -1.0;
     }
-    let c = dot(f, f) - s.radius * s.radius;
+    let c = dot(f, f) - radius * radius;
     let sq = sqrt(disc);
     var q: f32;
     if b >= 0.0 {

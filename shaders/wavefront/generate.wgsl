@@ -29,7 +29,7 @@ fn generate(@builtin(global_invocation_id) gid: vec3<u32>) {
     path_dir[slot] = vec4<f32>(ray.dir, 0.0);
     path_throughput[slot] = vec4<f32>(1.0, 1.0, 1.0, 0.0);
     radiance[slot] = vec4<f32>(0.0);
-    if frame.nee == 1u {
+    if NEE {
         shadow_weight[slot] = vec4<f32>(0.0);
     }
     queues[QUEUE_RAY_0 * wave.pool + slot] = slot;

@@ -65,7 +65,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     }
     // Direct light at diffuse hits, when the ray it stands in for is within the depth limit
     // (which also means this path goes on, so path_origin below is the shadow ray's origin).
-    let lights_sampled = frame.nee == 1u && frame.light_count > 0u && material.kind == MATERIAL_LAMBERTIAN
+    let lights_sampled = NEE && material.kind == MATERIAL_LAMBERTIAN
         && bounce + 2u <= frame.max_depth;
     var bsdf_pdf = 0.0;
     if lights_sampled {

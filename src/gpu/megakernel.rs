@@ -93,7 +93,7 @@ pub fn render(
     check_loop_limit(ctx, scene, settings)?;
     let start = Instant::now();
     let frame = scene.frame_uniform(camera, settings);
-    let scene_buffers = SceneBuffers::new(ctx, scene, &frame)?;
+    let scene_buffers = SceneBuffers::new(ctx, scene, &frame, settings)?;
     let pixels = settings.width * settings.height;
     let max_threads = limits.max_compute_workgroups_per_dimension.saturating_mul(opts.workgroup_size);
     let plan = dispatch_plan::plan(pixels, settings.spp, opts.samples_per_dispatch, max_threads);
@@ -125,7 +125,7 @@ pub fn render(
         label::MEGAKERNEL,
         &module,
         &layouts,
-        &[("WORKGROUP_SIZE", opts.workgroup_size as f64)],
+        &scene_buffers.constants(&[("WORKGROUP_SIZE", opts.workgroup_size as f64)]),
     )?;
 
     let mut timer = GpuTimer::new(ctx);

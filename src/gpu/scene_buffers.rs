@@ -8,6 +8,7 @@ use super::buffers::{human_bytes, storage_entry, storage_init, uniform_entry};
 use super::context::{AdapterSummary, GpuContext};
 use crate::layout::FrameUniform;
 use crate::packed_scene::PackedScene;
+use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
 use bytemuck::cast_slice;
 use wgpu::util::DeviceExt;
@@ -17,6 +18,8 @@ pub struct SceneBuffers {
     pub bind_group: wgpu::BindGroup,
     /// Bytes of scene data uploaded (for reports).
     pub bytes: u64,
+    /// Pipeline constants of the scene's shaders (`PackedScene::pipeline_constants`).
+    scene_constants: [(&'static str, f64); 2],
 }
 
 impl SceneBuffers {
@@ -33,7 +36,17 @@ impl SceneBuffers {
         })
     }
 
-    pub fn new(ctx: &GpuContext, scene: &PackedScene, frame: &FrameUniform) -> Result<Self> {
+    /// A pass's own pipeline constants plus the scene's, for every pass that binds the scene.
+    pub fn constants(&self, own: &[(&'static str, f64)]) -> Vec<(&'static str, f64)> {
+        own.iter().chain(&self.scene_constants).copied().collect()
+    }
+
+    pub fn new(
+        ctx: &GpuContext,
+        scene: &PackedScene,
+        frame: &FrameUniform,
+        settings: &RenderSettings,
+    ) -> Result<Self> {
         check_fits(scene, &ctx.summary)?;
         let none = wgpu::BufferUsages::empty();
         let frame_buf = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -61,7 +74,7 @@ impl SceneBuffers {
             ],
         });
         ctx.check()?;
-        Ok(Self { layout, bind_group, bytes })
+        Ok(Self { layout, bind_group, bytes, scene_constants: scene.pipeline_constants(settings) })
     }
 }
 

@@ -13,7 +13,7 @@ pub struct Generate {
 impl Generate {
     pub fn new(ctx: &GpuContext, b: &Bindings, workgroup_size: u32, instrument: bool) -> Result<Self> {
         let module = ctx.shader(label::GENERATE, shaders::GENERATE.get(instrument))?;
-        let constants = [("WORKGROUP_SIZE", workgroup_size as f64)];
+        let constants = b.scene.constants(&[("WORKGROUP_SIZE", workgroup_size as f64)]);
         Ok(Self {
             stage: Stage::new(ctx, label::GENERATE, &module, &b.layouts(), &constants)?,
             workgroup_size,

@@ -208,7 +208,7 @@ pub fn render(
     let stats_bounces = settings.max_depth.min(STATS_BOUNCES);
     let frame = scene.frame_uniform(camera, settings);
     let b = Bindings {
-        scene: SceneBuffers::new(ctx, scene, &frame)?,
+        scene: SceneBuffers::new(ctx, scene, &frame, settings)?,
         state: PathState::new(ctx, pool, wave, &params, stats_bounces)?,
         simd: instrument.then(|| SimdCounters::new(ctx)).transpose()?,
     };
