@@ -39,7 +39,7 @@ struct Wave {
 @group(1) @binding(1) var<uniform> wave: Wave;
 // xyz: ray origin; w: distance of the hit found by intersect.
 @group(1) @binding(2) var<storage, read_write> path_origin: array<vec4<f32>>;
-// xyz: ray direction; w: bitcast sphere slot hit, or DEAD once the path has ended.
+// xyz: ray direction; w: bitcast primitive slot hit, or DEAD once the path has ended.
 @group(1) @binding(3) var<storage, read_write> path_dir: array<vec4<f32>>;
 // xyz: throughput; w: when the last hit sampled the lights, the diffuse bounce's density for the
 // ray now traced (MIS weight of the emission it finds), else 0.
