@@ -8,7 +8,6 @@ use wavetrace::film::Film;
 use wavetrace::method::{render, Method, MethodOptions};
 use wavetrace::scene::{builtin, Material, Scene, Texture};
 use wavetrace::settings::{Accel, RenderSettings};
-use wavetrace::stats::z_test;
 
 fn settings(width: u32, height: u32, spp: u32) -> RenderSettings {
     RenderSettings { width, height, spp, max_depth: 50, seed: 1, accel: Accel::Bvh, nee: false }
@@ -24,17 +23,7 @@ fn run(method: Method, scene: &Scene, s: &RenderSettings) -> Film {
 /// paths that rounding sends another way: rare between f32 methods (1e-3), more between f32 and
 /// f64, where a path's rounding differs at every bounce (0.43% measured on three-spheres: 1%).
 fn assert_agree(name: &str, a: &Film, b: &Film) {
-    assert_agree_rays(name, a, b, 1e-3);
-}
-
-fn assert_agree_rays(name: &str, a: &Film, b: &Film, ray_tolerance: f64) {
-    let t = z_test(a, b, 0.01);
-    eprintln!("{name}: {:.4} of pixels pass, means differ by {:.2e}", t.pass_fraction, t.mean_rel_diff);
-    assert!(t.pass_fraction >= 0.99, "{name}: only {:.4} of pixels pass ({t:?})", t.pass_fraction);
-    assert!(t.mean_rel_diff <= 0.01, "{name}: image means differ by {:.4}", t.mean_rel_diff);
-    let (ra, rb) = (a.rays() as f64, b.rays() as f64);
-    assert!(ra >= (a.spp as usize * a.pixels.len()) as f64, "{name}: at least one ray per sample");
-    assert!((ra - rb).abs() <= ray_tolerance * rb, "{name}: {ra} vs {rb} rays traced");
+    common::assert_agree_rays(name, a, b, 1e-3);
 }
 
 #[test]
@@ -93,7 +82,7 @@ fn textures_agree_on_cpu_megakernel_and_wavefront() {
     // The textures are really there: the image differs from the untextured scene's.
     let plain = run(Method::Cpu, &builtin::by_name("three-spheres").unwrap(), &s);
     assert!((cpu.image_mean() - plain.image_mean()).abs() > 0.01, "textures change the image");
-    assert_agree_rays("textures f32 vs f64", &cpu, &run(Method::CpuF64, &scene, &s), 1e-2);
+    common::assert_agree_rays("textures f32 vs f64", &cpu, &run(Method::CpuF64, &scene, &s), 1e-2);
     if common::gpu().is_none() {
         return;
     }
@@ -118,7 +107,12 @@ fn rtiow_heavy_agrees_on_cpu_megakernel_and_wavefront() {
 fn cpu_f32_agrees_with_the_f64_ground_truth() {
     let scene = builtin::by_name("rtiow-final").unwrap();
     let s = settings(64, 36, 32);
-    assert_agree_rays("f32 vs f64", &run(Method::Cpu, &scene, &s), &run(Method::CpuF64, &scene, &s), 1e-2);
+    common::assert_agree_rays(
+        "f32 vs f64",
+        &run(Method::Cpu, &scene, &s),
+        &run(Method::CpuF64, &scene, &s),
+        1e-2,
+    );
 }
 
 #[test]

@@ -27,18 +27,6 @@ fn run(method: Method, scene: &Scene, s: &RenderSettings) -> Film {
     run_with(method, scene, s, &MethodOptions::default())
 }
 
-/// The bar of the agreement tests: ≥ 99% of pixels pass a z-test at α = 0.01, image means within
-/// 1%; between f32 methods the paths (and so the rays traced) are the same up to rounding.
-#[track_caller]
-fn assert_agree(name: &str, a: &Film, b: &Film, ray_tolerance: f64) {
-    let t = z_test(a, b, 0.01);
-    eprintln!("{name}: {:.4} of pixels pass, means differ by {:.2e}", t.pass_fraction, t.mean_rel_diff);
-    assert!(t.pass_fraction >= 0.99, "{name}: only {:.4} of pixels pass ({t:?})", t.pass_fraction);
-    assert!(t.mean_rel_diff <= 0.01, "{name}: image means differ by {:.4}", t.mean_rel_diff);
-    let (ra, rb) = (a.rays() as f64, b.rays() as f64);
-    assert!((ra - rb).abs() <= ray_tolerance * rb, "{name}: {ra} vs {rb} rays traced");
-}
-
 #[test]
 fn cornell_agrees_on_cpu_megakernel_and_wavefront_with_nee_on_and_off() {
     let scene = builtin::by_name("cornell").unwrap();
@@ -46,18 +34,23 @@ fn cornell_agrees_on_cpu_megakernel_and_wavefront_with_nee_on_and_off() {
         let s = settings(40, 64, nee);
         let cpu = run(Method::Cpu, &scene, &s);
         assert!(cpu.image_mean() > 0.05, "the light reaches the camera");
-        assert_agree(&format!("cornell nee={nee} f32 vs f64"), &cpu, &run(Method::CpuF64, &scene, &s), 1e-2);
+        common::assert_agree_rays(
+            &format!("cornell nee={nee} f32 vs f64"),
+            &cpu,
+            &run(Method::CpuF64, &scene, &s),
+            1e-2,
+        );
         if common::gpu().is_none() {
             continue;
         }
         let name = |m: &str| format!("cornell nee={nee} cpu vs {m}");
-        assert_agree(&name("megakernel"), &cpu, &run(Method::Megakernel, &scene, &s), 1e-3);
+        common::assert_agree_rays(&name("megakernel"), &cpu, &run(Method::Megakernel, &scene, &s), 1e-3);
         // Every way of building the wavefront's queues, the shadow queue included.
         for compaction in [Compaction::Atomic, Compaction::Scan, Compaction::Off] {
             let mut opts = MethodOptions::default();
             opts.wavefront.compaction = compaction;
             let wf = run_with(Method::Wavefront, &scene, &s, &opts);
-            assert_agree(&name(&format!("wavefront {compaction:?}")), &cpu, &wf, 1e-3);
+            common::assert_agree_rays(&name(&format!("wavefront {compaction:?}")), &cpu, &wf, 1e-3);
         }
     }
 }
@@ -182,12 +175,12 @@ fn mesh_scene_agrees_on_cpu_megakernel_and_wavefront() {
     let s = settings(32, 64, true);
     let cpu = run(Method::Cpu, &scene, &s);
     assert!(cpu.image_mean() > 0.05, "the mesh light reaches the camera");
-    assert_agree("mesh f32 vs f64", &cpu, &run(Method::CpuF64, &scene, &s), 1e-2);
+    common::assert_agree_rays("mesh f32 vs f64", &cpu, &run(Method::CpuF64, &scene, &s), 1e-2);
     if common::gpu().is_none() {
         return;
     }
-    assert_agree("mesh cpu vs megakernel", &cpu, &run(Method::Megakernel, &scene, &s), 1e-3);
-    assert_agree("mesh cpu vs wavefront", &cpu, &run(Method::Wavefront, &scene, &s), 1e-3);
+    common::assert_agree_rays("mesh cpu vs megakernel", &cpu, &run(Method::Megakernel, &scene, &s), 1e-3);
+    common::assert_agree_rays("mesh cpu vs wavefront", &cpu, &run(Method::Wavefront, &scene, &s), 1e-3);
 }
 
 /// The light as two triangles and as one quad is the same light: hitting and sampling triangles

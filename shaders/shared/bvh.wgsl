@@ -39,9 +39,21 @@ fn hit_box(n: BvhNode, o: vec3<f32>, inv: vec3<f32>, t_min: f32, t_max: f32) -> 
     return -1.0;
 }
 
+// The nearest hit in (t_min, ∞).
 fn closest_hit(ray: Ray, t_min: f32) -> Hit {
+    return traverse(ray, t_min, 3.4028235e38, false);
+}
+
+// Whether anything lies on the ray in (t_min, t_max): the shadow-ray query.
+fn occluded(ray: Ray, t_min: f32, t_max: f32) -> bool {
+    return traverse(ray, t_min, t_max, true).prim != NO_HIT;
+}
+
+// The one traversal loop: nearer child first, the farther on the stack. `any_hit` returns the
+// first hit found in (t_min, t_max) instead of the nearest.
+fn traverse(ray: Ray, t_min: f32, t_max: f32, any_hit: bool) -> Hit {
     let inv = safe_inverse(ray.dir);
-    var closest = 3.4028235e38;
+    var closest = t_max;
     var hit = Hit(0.0, NO_HIT);
     var stack: array<u32, BVH_STACK>;
     var top = 0u;
@@ -57,6 +69,9 @@ fn closest_hit(ray: Ray, t_min: f32) -> Hit {
                 if t >= 0.0 {
                     closest = t;
                     hit = Hit(t, slot);
+                    if any_hit {
+                        return hit;
+                    }
                 }
             }
         } else {
@@ -92,49 +107,4 @@ fn closest_hit(ray: Ray, t_min: f32) -> Hit {
         current = stack[top];
     }
     return hit;
-}
-
-// Whether anything lies on the ray in (t_min, t_max): the shadow-ray query. Stops at the first
-// hit, visiting children in stored order.
-fn occluded(ray: Ray, t_min: f32, t_max: f32) -> bool {
-    let inv = safe_inverse(ray.dir);
-    var stack: array<u32, BVH_STACK>;
-    var top = 0u;
-    var current = 0u;
-    if hit_box(nodes[0], ray.origin, inv, t_min, t_max) < 0.0 {
-        return false;
-    }
-    loop {
-        let n = nodes[current];
-        if n.count > 0u {
-            for (var slot = n.left_or_first; slot < n.left_or_first + n.count; slot++) {
-                if hit_primitive(slot, ray, t_min, t_max) >= 0.0 {
-                    return true;
-                }
-            }
-        } else {
-            let a = current + 1u;
-            let b = n.left_or_first;
-            let ta = hit_box(nodes[a], ray.origin, inv, t_min, t_max) >= 0.0;
-            let tb = hit_box(nodes[b], ray.origin, inv, t_min, t_max) >= 0.0;
-            if ta && tb {
-                stack[top] = b;
-                top++;
-            }
-            if ta {
-                current = a;
-                continue;
-            }
-            if tb {
-                current = b;
-                continue;
-            }
-        }
-        if top == 0u {
-            break;
-        }
-        top--;
-        current = stack[top];
-    }
-    return false;
 }

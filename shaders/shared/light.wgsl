@@ -20,6 +20,11 @@ struct ShadowRay {
     ok: bool,
 }
 
+// The area density of a point sampled on `light`: uniform light choice, then uniform by area.
+fn light_pdf_area(light: Primitive) -> f32 {
+    return 1.0 / (f32(frame.light_count) * primitive_area(light));
+}
+
 // Power-heuristic weight of density `a` against `b` (both times the same positive factor).
 fn power_heuristic(a: f32, b: f32) -> f32 {
     let a2 = a * a;
@@ -40,8 +45,7 @@ fn diffuse_pdf(cos: f32) -> f32 {
 fn emission_weight(slot: u32, point: vec3<f32>, dir: vec3<f32>, dist: f32, bsdf_pdf: f32) -> f32 {
     let light = primitives[slot];
     let cos_light = abs(dot(outward_normal(light, point), dir));
-    let pdf_area = 1.0 / (f32(frame.light_count) * primitive_area(light));
-    return power_heuristic(bsdf_pdf * cos_light, pdf_area * dist * dist);
+    return power_heuristic(bsdf_pdf * cos_light, light_pdf_area(light) * dist * dist);
 }
 
 fn next_event(p: vec3<f32>, normal: vec3<f32>, u: vec4<f32>) -> ShadowRay {
@@ -54,7 +58,7 @@ fn next_event(p: vec3<f32>, normal: vec3<f32>, u: vec4<f32>) -> ShadowRay {
     let light = primitives[slot];
     let point = sample_point(light, u.y, u.z);
     let light_normal = outward_normal(light, point);
-    let pdf_area = 1.0 / (f32(n) * primitive_area(light));
+    let pdf_area = light_pdf_area(light);
     let to = point - p;
     let dist2 = dot(to, to);
     let dist = sqrt(dist2);

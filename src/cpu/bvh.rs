@@ -41,14 +41,42 @@ fn hit_box<T: Real>(n: &BvhNode, o: V3<T>, inv: V3<T>, t_min: T, t_max: T) -> Op
     (near <= far).then_some(near)
 }
 
+/// The nearest hit in (t_min, ∞).
+#[inline(always)]
 pub fn closest_hit<T: Real>(
     nodes: &[BvhNode],
     prims: &[PrimitiveRecord],
     ray: &Ray<T>,
     t_min: T,
 ) -> Option<Hit<T>> {
+    traverse(nodes, prims, ray, t_min, T::infinity(), false)
+}
+
+/// Whether anything lies on the ray in (t_min, t_max): the shadow-ray query.
+#[inline(always)]
+pub fn occluded<T: Real>(
+    nodes: &[BvhNode],
+    prims: &[PrimitiveRecord],
+    ray: &Ray<T>,
+    t_min: T,
+    t_max: T,
+) -> bool {
+    traverse(nodes, prims, ray, t_min, t_max, true).is_some()
+}
+
+/// The one traversal loop: nearer child first, the farther on the stack. `any_hit` returns the
+/// first hit found in (t_min, t_max) instead of the nearest.
+#[inline(always)]
+fn traverse<T: Real>(
+    nodes: &[BvhNode],
+    prims: &[PrimitiveRecord],
+    ray: &Ray<T>,
+    t_min: T,
+    t_max: T,
+    any_hit: bool,
+) -> Option<Hit<T>> {
     let inv = safe_inverse(ray.dir);
-    let mut closest = T::infinity();
+    let mut closest = t_max;
     let mut hit = None;
     let mut stack = [0u32; MAX_DEPTH];
     let mut top = 0usize;
@@ -61,6 +89,9 @@ pub fn closest_hit<T: Real>(
                 if let Some(t) = hit_primitive(&prims[slot as usize], ray, t_min, closest) {
                     closest = t;
                     hit = Some(Hit { t, prim: slot });
+                    if any_hit {
+                        return hit;
+                    }
                 }
             }
         } else {
@@ -89,51 +120,6 @@ pub fn closest_hit<T: Real>(
         }
         if top == 0 {
             return hit;
-        }
-        top -= 1;
-        current = stack[top];
-    }
-}
-
-/// Whether anything lies on the ray in (t_min, t_max): the shadow-ray query. Stops at the first
-/// hit found, so it visits children in stored order rather than nearest first.
-pub fn occluded<T: Real>(
-    nodes: &[BvhNode],
-    prims: &[PrimitiveRecord],
-    ray: &Ray<T>,
-    t_min: T,
-    t_max: T,
-) -> bool {
-    let inv = safe_inverse(ray.dir);
-    let mut stack = [0u32; MAX_DEPTH];
-    let mut top = 0usize;
-    let mut current = 0u32;
-    if hit_box(&nodes[0], ray.origin, inv, t_min, t_max).is_none() {
-        return false;
-    }
-    loop {
-        let n = &nodes[current as usize];
-        if n.count > 0 {
-            for slot in n.left_or_first..n.left_or_first + n.count {
-                if hit_primitive(&prims[slot as usize], ray, t_min, t_max).is_some() {
-                    return true;
-                }
-            }
-        } else {
-            let (a, b) = (current + 1, n.left_or_first);
-            let ta = hit_box(&nodes[a as usize], ray.origin, inv, t_min, t_max).is_some();
-            let tb = hit_box(&nodes[b as usize], ray.origin, inv, t_min, t_max).is_some();
-            if ta && tb {
-                stack[top] = b;
-                top += 1;
-            }
-            if ta || tb {
-                current = if ta { a } else { b };
-                continue;
-            }
-        }
-        if top == 0 {
-            return false;
         }
         top -= 1;
         current = stack[top];

@@ -14,6 +14,7 @@
 
 use super::primitive::{area, outward_normal, sample_point};
 use super::{ray::Ray, real::Real, vec3::V3};
+use crate::layout::PrimitiveRecord;
 use crate::packed_scene::PackedScene;
 
 /// A shadow ray stops this fraction of the distance short of the light, so that it does not
@@ -45,7 +46,13 @@ pub fn sample_light<T: Real>(scene: &PackedScene, u: [f32; 4]) -> Option<LightSa
     let p = &scene.primitives[slot as usize];
     let point = sample_point::<T>(p, u[1], u[2]);
     let normal = outward_normal(p, point);
-    Some(LightSample { point, normal, pdf_area: T::one() / (T::of(n as f32) * area::<T>(p)), slot })
+    Some(LightSample { point, normal, pdf_area: pdf_area(scene, p), slot })
+}
+
+/// The area density of a point sampled on light `p`: uniform light choice, then uniform by area.
+#[inline(always)]
+fn pdf_area<T: Real>(scene: &PackedScene, p: &PrimitiveRecord) -> T {
+    T::one() / (T::of(scene.lights.len() as f32) * area::<T>(p))
 }
 
 /// A shadow ray and what it carries if nothing blocks it.
@@ -91,9 +98,8 @@ pub fn emission_weight<T: Real>(
 ) -> T {
     let p = &scene.primitives[slot as usize];
     let cos_light = outward_normal(p, point).dot(dir).abs();
-    let pdf_area = T::one() / (T::of(scene.lights.len() as f32) * area::<T>(p));
     // p_light = pdf_area · dist² / cos_light; both densities times cos_light.
-    power_heuristic(bsdf_pdf * cos_light, pdf_area * dist * dist)
+    power_heuristic(bsdf_pdf * cos_light, pdf_area::<T>(scene, p) * dist * dist)
 }
 
 /// The shadow ray from `p` (normal `normal`, facing the incoming ray) to a light point picked by

@@ -3,7 +3,9 @@
 #![allow(dead_code)]
 
 use std::sync::OnceLock;
+use wavetrace::film::Film;
 use wavetrace::gpu::GpuContext;
+use wavetrace::stats::z_test;
 
 /// The GPU, or `None` on a machine without one — except where `WAVETRACE_REQUIRE_GPU` or `CI`
 /// is set, where a missing adapter fails the test instead of skipping it.
@@ -20,4 +22,18 @@ pub fn gpu() -> Option<&'static GpuContext> {
         }
     })
     .as_ref()
+}
+
+/// Two methods tracing the same paths agree (DESIGN.md §4): ≥ 99% of pixels pass a z-test at
+/// α = 0.01 and image means are within 1%; their ray counts (rays/s in reports) agree up to the
+/// paths that rounding sends another way, within `ray_tolerance` (relative).
+#[track_caller]
+pub fn assert_agree_rays(name: &str, a: &Film, b: &Film, ray_tolerance: f64) {
+    let t = z_test(a, b, 0.01);
+    eprintln!("{name}: {:.4} of pixels pass, means differ by {:.2e}", t.pass_fraction, t.mean_rel_diff);
+    assert!(t.pass_fraction >= 0.99, "{name}: only {:.4} of pixels pass ({t:?})", t.pass_fraction);
+    assert!(t.mean_rel_diff <= 0.01, "{name}: image means differ by {:.4}", t.mean_rel_diff);
+    let (ra, rb) = (a.rays() as f64, b.rays() as f64);
+    assert!(ra >= (a.spp as usize * a.pixels.len()) as f64, "{name}: at least one ray per sample");
+    assert!((ra - rb).abs() <= ray_tolerance * rb, "{name}: {ra} vs {rb} rays traced");
 }
