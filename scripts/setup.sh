@@ -1,26 +1,30 @@
 #!/usr/bin/env bash
-# Builds wavetrace (release) and makes sure a Vulkan adapter exists: when `wavetrace info` finds
-# none, installs Mesa's software Vulkan driver (lavapipe, Debian package mesa-vulkan-drivers).
+# Builds wavetrace and makes sure a Vulkan adapter exists: when `wavetrace info` finds none,
+# installs Mesa's software Vulkan driver (lavapipe, Debian package mesa-vulkan-drivers).
 # An OpenGL-only adapter does not count: Mesa's GL llvmpipe is on many machines without lavapipe,
 # and it has no subgroups, so SIMD-efficiency measurements and their tests would go missing.
-# Sourced by scripts/main.sh and scripts/test.sh; safe to run again.
+# Sourced by scripts/main.sh (release profile) and scripts/test.sh (WAVETRACE_PROFILE=ci: the
+# same optimisation without link-time work); safe to run again. Sets WAVETRACE_BIN.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# lavapipe's window-system code complains when this is unset; we render off-screen.
-if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
-  export XDG_RUNTIME_DIR="/tmp/xdg-runtime-$(id -u)"
-  mkdir -p "$XDG_RUNTIME_DIR" && chmod 700 "$XDG_RUNTIME_DIR"
+profile=${WAVETRACE_PROFILE:-release}
+if [ "$profile" = ci ]; then
+  # The binary exactly as `cargo test` builds it: a plain `cargo build` would resolve other
+  # features (no dev-dependencies) and compile every dependency twice.
+  cargo test --profile ci --locked --no-run
+else
+  cargo build --profile "$profile" --locked
 fi
+WAVETRACE_BIN="target/$profile/wavetrace"
+export WAVETRACE_BIN
 
-cargo build --release --locked
-
-if ! WGPU_BACKEND=vulkan target/release/wavetrace info >/dev/null 2>&1; then
+if ! WGPU_BACKEND=vulkan "$WAVETRACE_BIN" info >/dev/null 2>&1; then
   echo "setup: no Vulkan adapter found; installing the software Vulkan driver (mesa-vulkan-drivers)" >&2
   sudo=""
   if [ "$(id -u)" != 0 ]; then sudo="sudo"; fi
   $sudo apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq mesa-vulkan-drivers >/dev/null
-  WGPU_BACKEND=vulkan target/release/wavetrace info >/dev/null || { WGPU_BACKEND=vulkan target/release/wavetrace info; exit 1; }
+  WGPU_BACKEND=vulkan "$WAVETRACE_BIN" info >/dev/null || { WGPU_BACKEND=vulkan "$WAVETRACE_BIN" info; exit 1; }
 fi
-target/release/wavetrace info | sed -n '1,/^chosen/p'
+"$WAVETRACE_BIN" info | sed -n '1,/^chosen/p'

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # The test suite: sets up as scripts/setup.sh does, then runs every test with GPU tests
-# required (a missing adapter fails them instead of skipping them).
+# required (a missing adapter fails them instead of skipping them). Tests build in the `ci`
+# profile (Cargo.toml): release optimisation, no link-time optimisation, one test binary.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+export WAVETRACE_PROFILE=ci
 source scripts/setup.sh
 export WAVETRACE_REQUIRE_GPU=1
-cargo test --release --locked "$@"
+cargo test --profile ci --locked "$@"

@@ -11,7 +11,7 @@ use wavetrace::scene::{
 
 /// A valid file using every material kind and a constant background; the bad cases below are
 /// single edits of it.
-const EXAMPLE: &str = include_str!("scenes/example.json");
+const EXAMPLE: &str = include_str!("../scenes/example.json");
 
 /// The number of spheres `rtiow-final` has with `RTIOW_FINAL_SEED`. A change here means the
 /// layout changed: every figure rendered from it changes too.

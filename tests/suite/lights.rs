@@ -3,7 +3,7 @@
 //! matches its closed-form radiance with NEE on and off. Small images: these run on the software
 //! driver.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -3,7 +3,7 @@
 //! buffer, and a million spheres render alike on the CPU and both GPU methods. Small images:
 //! these run on the software driver.
 
-mod common;
+use crate::common;
 
 use std::collections::HashMap;
 use wavetrace::bvh;

@@ -1,7 +1,7 @@
 //! The `wavetrace` binary end to end: outputs, reports, and clear errors (never a panic) for bad
 //! input.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 use std::process::{Command, Output};

@@ -1,7 +1,7 @@
 //! The wavefront against the megakernel: every knob combination traces the same paths (shared
 //! RNG), so images match to rounding; repeat renders are bit-identical; measurements are there.
 
-mod common;
+use crate::common;
 
 use wavetrace::film::Film;
 use wavetrace::gpu::wavefront::{Compaction, ShadePasses, WavefrontOptions};

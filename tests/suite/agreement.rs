@@ -1,7 +1,7 @@
 //! CPU reference vs megakernel: per-pixel z-tests and image means (DESIGN.md §4), the analytic
 //! furnace, and bit-identical repeat renders. Small images: these run on the software driver.
 
-mod common;
+use crate::common;
 
 use wavetrace::camera::CameraFrame;
 use wavetrace::film::Film;

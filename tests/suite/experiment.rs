@@ -2,7 +2,7 @@
 //! documented JSON Schema; failed runs are recorded while others go on; a killed experiment
 //! leaves its last complete report; shards merge into the report an unsharded run gives.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};

@@ -1,6 +1,6 @@
 //! The WGSL RNG (`shaders/shared/rng.wgsl`) matches `src/rng.rs` bit for bit on the GPU.
 
-mod common;
+use crate::common;
 
 use wavetrace::gpu::buffers::{read_back, storage_entry, storage_init, storage_zeroed};
 use wavetrace::gpu::shaders;

@@ -1,0 +1,19 @@
+//! The integration tests, as one test binary: each module below was its own crate, and linking
+//! fifteen binaries against wgpu cost most of the test build's time. Modules share one GPU
+//! context (`common::gpu`), so GPU tests open the adapter once per run.
+
+mod common;
+
+mod agreement;
+mod chart;
+mod cli;
+mod experiment;
+mod gpu_rng;
+mod image_io;
+mod layout;
+mod lights;
+mod metrics;
+mod sampling;
+mod scale;
+mod scene_format;
+mod wavefront;
