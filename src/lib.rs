@@ -12,6 +12,7 @@ pub mod experiment;
 pub mod film;
 pub mod gpu;
 pub mod image_io;
+pub mod input_error;
 pub mod layout;
 pub mod method;
 pub mod metrics;

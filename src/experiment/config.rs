@@ -32,13 +32,13 @@
 //! value becomes its own method variant. See the README's "Experiments" section for every field.
 
 use std::collections::BTreeSet;
-use std::fmt;
 use std::path::{Path, PathBuf};
 
 use serde_json::{Map, Value};
 
 use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::wavefront::{Compaction, ShadePasses, WavefrontOptions};
+use crate::input_error::InputError;
 use crate::method::{Method, MethodOptions};
 use crate::scene::Scene;
 use crate::settings::{Accel, RenderSettings};
@@ -70,26 +70,6 @@ const COMPACTIONS: &[&str] = &["atomic", "scan", "off"];
 const SHADES: &[&str] = &["per-material", "single"];
 /// Repetitions and warm-ups above this are almost certainly typos (and would take forever).
 const MAX_REPETITIONS: u32 = 1000;
-
-/// An error in a config file: the file, the JSON path (empty for whole-file errors), the reason.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ConfigError {
-    pub file: String,
-    pub path: String,
-    pub reason: String,
-}
-
-impl fmt::Display for ConfigError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.path.is_empty() {
-            write!(f, "{}: {}", self.file, self.reason)
-        } else {
-            write!(f, "{}: {}: {}", self.file, self.path, self.reason)
-        }
-    }
-}
-
-impl std::error::Error for ConfigError {}
 
 /// A scene as the config names it, and the scene it resolved to.
 #[derive(Clone, Debug)]
@@ -166,9 +146,9 @@ pub struct ExperimentConfig {
 
 impl ExperimentConfig {
     /// Reads and validates a config file.
-    pub fn from_file(path: &Path) -> Result<Self, ConfigError> {
+    pub fn from_file(path: &Path) -> Result<Self, InputError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| ConfigError {
+        let text = std::fs::read_to_string(path).map_err(|e| InputError {
             file: file.clone(),
             path: String::new(),
             reason: format!("cannot read the file: {e}"),
@@ -178,7 +158,7 @@ impl ExperimentConfig {
 
     /// Reads a config from text; `path` locates relative scene and reference paths and labels
     /// errors.
-    pub fn from_str(text: &str, path: &Path) -> Result<Self, ConfigError> {
+    pub fn from_str(text: &str, path: &Path) -> Result<Self, InputError> {
         let cx =
             Cx { file: path.display().to_string(), dir: path.parent().unwrap_or(Path::new("")).to_owned() };
         let raw = parse_strict(text).map_err(|(p, reason)| cx.error(&p, reason))?;
@@ -225,7 +205,7 @@ pub fn expand_pattern(pattern: &str, scene: &str, width: u32, height: u32) -> St
         .replace("{height}", &height.to_string())
 }
 
-type Res<T> = Result<T, ConfigError>;
+type Res<T> = Result<T, InputError>;
 
 struct Cx {
     file: String,
@@ -234,8 +214,8 @@ struct Cx {
 }
 
 impl Cx {
-    fn error(&self, path: &str, reason: impl Into<String>) -> ConfigError {
-        ConfigError { file: self.file.clone(), path: path.to_owned(), reason: reason.into() }
+    fn error(&self, path: &str, reason: impl Into<String>) -> InputError {
+        InputError { file: self.file.clone(), path: path.to_owned(), reason: reason.into() }
     }
 
     fn err<T>(&self, path: &str, reason: impl Into<String>) -> Res<T> {
@@ -331,20 +311,8 @@ impl Cx {
                 Some(s) => s,
                 None => {
                     let file = self.dir.join(&arg);
-                    if let Some(hint) = crate::scene::builtin::family_hint(&arg).filter(|_| !file.exists()) {
-                        return self.err(&path, hint);
-                    }
                     if !file.exists() {
-                        let builtins = crate::scene::builtin::names();
-                        return self.err(
-                            &path,
-                            format!(
-                                "{arg:?} is neither a built-in scene{} nor a file ({} does not exist); built-in scenes: {}",
-                                did_you_mean(&arg, builtins),
-                                file.display(),
-                                quoted_list(builtins)
-                            ),
-                        );
+                        return self.err(&path, crate::scene::builtin::unknown_scene(&arg, &file));
                     }
                     crate::scene::load::from_file(&file)
                         .map_err(|e| self.error(&path, format!("in the scene file: {e}")))?

@@ -25,5 +25,6 @@ pub mod reference;
 pub mod report;
 pub mod runner;
 
-pub use config::{ConfigError, ExperimentConfig, CONFIG_SCHEMA};
+pub use crate::input_error::InputError;
+pub use config::{ExperimentConfig, CONFIG_SCHEMA};
 pub use report::{ExperimentReport, REPORT_SCHEMA};

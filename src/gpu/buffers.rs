@@ -5,21 +5,19 @@ use super::context::GpuContext;
 use anyhow::{anyhow, bail, Result};
 use wgpu::util::DeviceExt;
 
-/// A storage buffer holding `data` (at least 4 bytes: wgpu rejects empty bindings). Refused with
-/// a message naming `what` when it exceeds the adapter's storage-binding or buffer limit.
-pub fn storage_init(
+/// A storage buffer holding `data`. An empty slice gets one zeroed `T`: wgpu rejects empty
+/// bindings, and a binding shorter than one element of the shader's array fails validation
+/// ("bound with size 16 where the shader expects 48"), so padding must be a whole element.
+/// Refused with a message naming `label` when it exceeds the adapter's storage-binding or
+/// buffer limit.
+pub fn storage_init<T: bytemuck::Pod>(
     ctx: &GpuContext,
     label: &'static str,
-    data: &[u8],
+    data: &[T],
     extra: wgpu::BufferUsages,
 ) -> Result<wgpu::Buffer> {
-    let padded;
-    let contents = if data.is_empty() {
-        padded = [0u8; 16];
-        &padded[..]
-    } else {
-        data
-    };
+    let padding = [T::zeroed()];
+    let contents: &[u8] = bytemuck::cast_slice(if data.is_empty() { &padding[..] } else { data });
     check_size(ctx, label, contents.len() as u64)?;
     Ok(ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some(label),

@@ -156,7 +156,7 @@ impl GpuContext {
         let errors = Arc::new(Mutex::new(Vec::new()));
         let sink = errors.clone();
         device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
-            sink.lock().unwrap().push(e.to_string());
+            sink.lock().unwrap().push(describe(&e));
         }));
         let sink = errors.clone();
         device.set_device_lost_callback(move |reason, msg| {
@@ -214,7 +214,7 @@ impl GpuContext {
         });
         for scope in scopes.into_iter().rev() {
             if let Some(e) = pollster::block_on(scope.pop()) {
-                bail!("creating the {label} pipeline failed: {e}");
+                bail!("creating the {label} pipeline failed: {}", describe(&e));
             }
         }
         self.check()?;
@@ -229,8 +229,24 @@ impl GpuContext {
             source: wgpu::ShaderSource::Wgsl(source.into()),
         });
         if let Some(e) = pollster::block_on(scope.pop()) {
-            bail!("compiling shader {label} failed: {e}");
+            bail!("compiling shader {label} failed: {}", describe(&e));
         }
         Ok(module)
     }
+}
+
+/// A wgpu error with its causes: wgpu's own text is often just "Validation Error", and what
+/// was wrong (which buffer, which binding) is in the source chain.
+fn describe(e: &wgpu::Error) -> String {
+    let mut text = e.to_string();
+    let mut cause = std::error::Error::source(e);
+    while let Some(c) = cause {
+        let line = c.to_string();
+        if !text.contains(&line) {
+            text.push_str(": ");
+            text.push_str(&line);
+        }
+        cause = c.source();
+    }
+    text
 }

@@ -9,18 +9,19 @@ use super::accumulate::Accumulate;
 use super::buffers::{storage_entry, storage_zeroed, uniform_entry};
 use super::context::GpuContext;
 use super::dispatch_plan::{self, DispatchUniforms};
-use super::instrument::{SimdCounters, SimdEfficiency};
+use super::gpu_render::GpuRender;
+use super::instrument::SimdCounters;
+use super::loop_limit::check_loop_limit;
 use super::scene_buffers::SceneBuffers;
 use super::stage::{Stage, Workgroups};
-use super::timing::{GpuTimer, Timings, MAX_PASSES_PER_BATCH};
+use super::timing::{GpuTimer, MAX_PASSES_PER_BATCH};
 use super::{label, shaders};
 use crate::camera::CameraFrame;
 use crate::film::Film;
 use crate::layout::FilmPixel;
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
-use anyhow::{bail, Result};
-use std::collections::BTreeMap;
+use anyhow::Result;
 use std::time::Instant;
 
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -37,45 +38,6 @@ impl Default for MegakernelOptions {
     fn default() -> Self {
         Self { workgroup_size: 64, samples_per_dispatch: 1 << 21, dispatches_per_submit: 16 }
     }
-}
-
-/// A GPU render's film and how it went.
-#[derive(Clone, Debug)]
-pub struct GpuRender {
-    pub film: Film,
-    pub timings: Timings,
-    pub dispatches: u64,
-    pub wall_seconds: f64,
-    /// SIMD efficiency per instrumented point (`--instrument` only).
-    pub simd: Option<BTreeMap<String, SimdEfficiency>>,
-    /// GPU memory per path sample in flight.
-    pub bytes_per_path: u64,
-}
-
-/// llvmpipe (Mesa's software driver) ends all loops of a shader invocation after 65535
-/// iterations in total, silently. One path visits at most `max_depth` leaves; refuse renders
-/// whose worst case exceeds the cap rather than return a wrong image.
-pub(crate) fn check_loop_limit(
-    ctx: &GpuContext,
-    scene: &PackedScene,
-    settings: &RenderSettings,
-) -> Result<()> {
-    const LLVMPIPE_LOOP_LIMIT: u64 = 65_535;
-    // With next-event estimation each bounce also traverses for its shadow ray.
-    let traversals = if settings.nee && !scene.lights.is_empty() { 2 } else { 1 };
-    let worst =
-        traversals * settings.max_depth as u64 * (scene.largest_leaf() as u64 + crate::bvh::MAX_DEPTH as u64);
-    if ctx.summary.name.contains("llvmpipe") && worst > LLVMPIPE_LOOP_LIMIT {
-        bail!(
-            "on {} a path may need {worst} loop iterations (max depth {} x a leaf of {} primitives), \
-             past llvmpipe's limit of {LLVMPIPE_LOOP_LIMIT} per shader invocation, which would \
-             silently truncate paths; use --accel bvh or a smaller --max-depth",
-            ctx.summary.name,
-            settings.max_depth,
-            scene.largest_leaf()
-        );
-    }
-    Ok(())
 }
 
 pub fn render(
@@ -150,10 +112,7 @@ pub fn render(
             );
             accumulate.record(&mut enc, &mut timer, offset, d.pixel_count);
         }
-        timer.resolve(&mut enc);
-        ctx.queue.submit([enc.finish()]);
-        timer.submitted();
-        timer.finish_batch(ctx)?;
+        timer.submit_batch(ctx, enc)?;
         done += batch.iter().map(|d| d.pixel_count as u64 * d.sample_count as u64).sum::<u64>();
         on_progress(done);
     }

@@ -4,7 +4,10 @@ pub mod accumulate;
 pub mod buffers;
 pub mod context;
 pub mod dispatch_plan;
+pub mod gpu_render;
+pub mod headless;
 pub mod instrument;
+pub mod loop_limit;
 pub mod megakernel;
 pub mod scene_buffers;
 pub mod shaders;
@@ -35,3 +38,4 @@ pub mod label {
 }
 
 pub use context::GpuContext;
+pub use gpu_render::GpuRender;

@@ -10,7 +10,6 @@ use crate::layout::FrameUniform;
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
-use bytemuck::cast_slice;
 use wgpu::util::DeviceExt;
 
 pub struct SceneBuffers {
@@ -54,12 +53,12 @@ impl SceneBuffers {
             contents: bytemuck::bytes_of(frame),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let primitives = storage_init(ctx, "primitives", cast_slice(&scene.primitives), none)?;
-        let materials = storage_init(ctx, "materials", cast_slice(&scene.materials), none)?;
-        let nodes = storage_init(ctx, "BVH nodes", cast_slice(&scene.nodes), none)?;
-        // A binding cannot be empty: a scene without lights binds one unused entry.
-        let lights = if scene.lights.is_empty() { &[0u32][..] } else { &scene.lights[..] };
-        let lights = storage_init(ctx, "lights", cast_slice(lights), none)?;
+        // Empty arrays (no objects, no lights) bind one zeroed, unused element: the shaders
+        // read only the slots the BVH and the light count name.
+        let primitives = storage_init(ctx, "primitives", &scene.primitives, none)?;
+        let materials = storage_init(ctx, "materials", &scene.materials, none)?;
+        let nodes = storage_init(ctx, "BVH nodes", &scene.nodes, none)?;
+        let lights = storage_init(ctx, "lights", &scene.lights, none)?;
         let bytes = [&primitives, &materials, &nodes, &lights].iter().map(|b| b.size()).sum();
         let layout = Self::layout(ctx);
         let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {

@@ -109,22 +109,21 @@ impl GpuTimer {
         MAX_PASSES_PER_BATCH as usize - self.labels.len()
     }
 
-    /// Records the resolve of this batch's queries; call last in the batch's encoder.
-    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+    /// Ends a batch: records the resolve of its queries as the encoder's last command, submits
+    /// the encoder, waits for it and adds its pass times. The one submit loop of every GPU method.
+    pub fn submit_batch(&mut self, ctx: &GpuContext, mut encoder: wgpu::CommandEncoder) -> Result<()> {
         if let Some((set, buf)) = &self.queries {
             if !self.labels.is_empty() {
                 encoder.resolve_query_set(set, 0..2 * self.labels.len() as u32, buf, 0);
             }
         }
-    }
-
-    /// Call right after submitting the batch.
-    pub fn submitted(&mut self) {
+        ctx.queue.submit([encoder.finish()]);
         self.submitted_at = Some(Instant::now());
+        self.finish_batch(ctx)
     }
 
     /// Waits for the batch and adds its pass times.
-    pub fn finish_batch(&mut self, ctx: &GpuContext) -> Result<()> {
+    fn finish_batch(&mut self, ctx: &GpuContext) -> Result<()> {
         ctx.wait()?;
         let labels = std::mem::take(&mut self.labels);
         match &self.queries {

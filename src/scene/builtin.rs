@@ -153,6 +153,21 @@ pub fn spheres_count(name: &str) -> Option<u32> {
     (n <= SPHERES_MAX).then_some(n)
 }
 
+/// Why `arg` names no scene, when it is not a built-in and `file` (where `arg` leads as a path)
+/// does not exist: the family rule it breaks, or the built-in names with the closest one.
+/// Shared by `--scene` and experiment configs, so both say the same.
+pub fn unknown_scene(arg: &str, file: &std::path::Path) -> String {
+    family_hint(arg).unwrap_or_else(|| {
+        format!(
+            "{arg:?} is neither a built-in scene{} nor a file ({} does not exist); built-in scenes: {} \
+             (`wavetrace scene list` describes them)",
+            crate::strict_json::did_you_mean(arg, NAMES),
+            file.display(),
+            crate::strict_json::quoted_list(NAMES)
+        )
+    })
+}
+
 /// Why `name`, which looks like a member of a built-in family but is not one, names no scene; for
 /// the "no such scene" error (`None` when `name` does not look like one).
 pub fn family_hint(name: &str) -> Option<String> {

@@ -53,7 +53,7 @@ use crate::strict_json::{describe, did_you_mean, join, parse_strict, quoted_list
 
 use super::texture::MAX_OCTAVES;
 use super::{
-    obj, Background, CameraSpec, Material, Mesh, NamedMaterial, Quad, Scene, SceneError, Sphere, Texture,
+    obj, Background, CameraSpec, InputError, Material, Mesh, NamedMaterial, Quad, Scene, Sphere, Texture,
     FORMAT,
 };
 
@@ -75,10 +75,10 @@ const MIN_QUAD_SINE: f32 = 1e-6;
 const MIN_VUP_SINE: f64 = 1e-4;
 
 /// Reads a scene file; the scene is named after the file's stem.
-pub fn from_file(path: &Path) -> Result<Scene, SceneError> {
+pub fn from_file(path: &Path) -> Result<Scene, InputError> {
     let file = path.display().to_string();
     let text = std::fs::read_to_string(path)
-        .map_err(|e| SceneError::new(&file, "", format!("cannot read the file: {e}")))?;
+        .map_err(|e| InputError::new(&file, "", format!("cannot read the file: {e}")))?;
     let name = path.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
     let dir = path.parent().unwrap_or(Path::new("."));
     from_str_in(&text, &file, &name, dir)
@@ -86,14 +86,14 @@ pub fn from_file(path: &Path) -> Result<Scene, SceneError> {
 
 /// Reads a scene from text. `file_label` names the source in errors (a path, or `<string>`);
 /// `name` becomes [`Scene::name`]. Mesh files are found relative to the working directory.
-pub fn from_str(text: &str, file_label: &str, name: &str) -> Result<Scene, SceneError> {
+pub fn from_str(text: &str, file_label: &str, name: &str) -> Result<Scene, InputError> {
     from_str_in(text, file_label, name, Path::new("."))
 }
 
 /// [`from_str`] with mesh files found relative to `dir` (the scene file's folder).
-pub fn from_str_in(text: &str, file_label: &str, name: &str, dir: &Path) -> Result<Scene, SceneError> {
+pub fn from_str_in(text: &str, file_label: &str, name: &str, dir: &Path) -> Result<Scene, InputError> {
     let cx = Cx { file: file_label, dir };
-    let root = parse_strict(text).map_err(|(path, reason)| SceneError::new(file_label, path, reason))?;
+    let root = parse_strict(text).map_err(|(path, reason)| InputError::new(file_label, path, reason))?;
     let scene = cx.scene(&root, name)?;
     validate(&scene, file_label)?;
     Ok(scene)
@@ -102,7 +102,7 @@ pub fn from_str_in(text: &str, file_label: &str, name: &str, dir: &Path) -> Resu
 impl Scene {
     /// Checks the values a scene file may not hold (see [`validate`]); errors name the file as
     /// `<scene NAME>`.
-    pub fn validate(&self) -> Result<(), SceneError> {
+    pub fn validate(&self) -> Result<(), InputError> {
         validate(self, &format!("<scene {}>", self.name))
     }
 }
@@ -113,8 +113,8 @@ impl Scene {
 /// (0, 180), defocus_angle outside [0, 180), focus_dist <= 0, lookat == lookfrom, vup zero or
 /// parallel to the view direction, empty or duplicate material names, material indices out of
 /// range. Paths in the errors are the ones the scene's file would have; `file` labels them.
-pub fn validate(scene: &Scene, file: &str) -> Result<(), SceneError> {
-    let err = |path: String, reason: String| Err(SceneError::new(file, path, reason));
+pub fn validate(scene: &Scene, file: &str) -> Result<(), InputError> {
+    let err = |path: String, reason: String| Err(InputError::new(file, path, reason));
 
     let cam = &scene.camera;
     for (field, v) in [("lookfrom", cam.lookfrom), ("lookat", cam.lookat), ("vup", cam.vup)] {
@@ -309,7 +309,7 @@ fn fmt_vec(v: Vec3) -> String {
 // ---------------------------------------------------------------------------------------------
 // Walking the Value into the model.
 
-type Res<T> = Result<T, SceneError>;
+type Res<T> = Result<T, InputError>;
 
 /// The walk's context: the file label every error carries.
 struct Cx<'a> {
@@ -326,7 +326,7 @@ struct Obj<'v> {
 
 impl Cx<'_> {
     fn err<T>(&self, path: &str, reason: impl Into<String>) -> Res<T> {
-        Err(SceneError::new(self.file, path, reason))
+        Err(InputError::new(self.file, path, reason))
     }
 
     fn scene(&self, root: &Value, name: &str) -> Res<Scene> {
@@ -464,8 +464,8 @@ impl Cx<'_> {
                     let (fv, fpath) = self.field(&o, "file")?;
                     let name = self.string(fv, &fpath)?;
                     let file = std::path::absolute(self.dir.join(name))
-                        .map_err(|e| SceneError::new(self.file, &fpath, format!("bad path {name:?}: {e}")))?;
-                    let mesh = obj::read(&file).map_err(|e| SceneError::new(self.file, &fpath, e))?;
+                        .map_err(|e| InputError::new(self.file, &fpath, format!("bad path {name:?}: {e}")))?;
+                    let mesh = obj::read(&file).map_err(|e| InputError::new(self.file, &fpath, e))?;
                     if mesh.degenerate > 0 {
                         log::warn!(
                             "{}: {fpath}: dropped {} zero-area triangles of {}",

@@ -6,7 +6,6 @@
 pub mod builtin;
 pub mod cornell;
 pub mod enclosure;
-pub mod error;
 pub mod export;
 pub mod heavy;
 pub mod load;
@@ -15,7 +14,7 @@ pub mod texture;
 
 use glam::Vec3;
 
-pub use error::SceneError;
+pub use crate::input_error::InputError;
 pub use texture::Texture;
 
 /// The format tag every scene file carries in its `"format"` field.
@@ -125,16 +124,15 @@ pub struct Scene {
 
 impl Scene {
     /// Resolves a `--scene` argument: a built-in name, otherwise a path to a scene file.
-    pub fn resolve(arg: &str) -> Result<Scene, SceneError> {
+    pub fn resolve(arg: &str) -> Result<Scene, InputError> {
         if let Some(scene) = builtin::by_name(arg) {
             return Ok(scene);
         }
         let path = std::path::Path::new(arg);
-        // `spheres-0` is a mistyped family member, not a missing file.
-        match builtin::family_hint(arg) {
-            Some(hint) if !path.exists() => Err(SceneError::new(arg, "", hint)),
-            _ => load::from_file(path),
+        if !path.exists() {
+            return Err(InputError::new(arg, "", builtin::unknown_scene(arg, path)));
         }
+        load::from_file(path)
     }
 
     pub fn material(&self, sphere: &Sphere) -> &Material {

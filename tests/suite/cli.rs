@@ -139,7 +139,12 @@ fn exported_scene_renders_like_the_builtin() {
 fn bad_input_gives_clear_errors() {
     let out = scratch("x.exr");
     let out = out.to_str().unwrap();
-    fails_with(&["render", "--scene", "no-such-scene", "--out", out], &["no-such-scene"]);
+    // A name that is neither built-in nor a file lists the built-ins, as experiment configs do.
+    fails_with(
+        &["render", "--scene", "no-such-scene", "--out", out],
+        &["no-such-scene", "neither a built-in scene nor a file", "\"rtiow-final\"", "\"cornell\""],
+    );
+    fails_with(&["render", "--scene", "cornel", "--out", out], &["did you mean \"cornell\""]);
     let bad = scratch("bad.json");
     std::fs::write(&bad, "{\"format\": \"wavetrace-scene/1\",\n \"camera\": [}").unwrap();
     fails_with(
@@ -287,4 +292,42 @@ fn compare_reports_metrics_and_refuses_mismatched_sizes() {
     let r: serde_json::Value = serde_json::from_slice(&same.stdout).unwrap();
     assert_eq!(r["metrics"]["mse"], 0.0);
     fails_with(&["compare", a.to_str().unwrap(), c.to_str().unwrap()], &["16x9", "8x9"]);
+}
+
+/// Servers, containers and batch jobs have no `XDG_RUNTIME_DIR`: a GPU run there must not print
+/// the Vulkan device-selection layer's complaint about it (`gpu::headless`).
+#[test]
+fn gpu_runs_are_quiet_without_a_runtime_dir() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let exr = scratch("headless.exr");
+    for args in [
+        &["info"][..],
+        &[
+            "render",
+            "--scene",
+            "furnace",
+            "--method",
+            "megakernel",
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--spp",
+            "1",
+            "--out",
+            exr.to_str().unwrap(),
+        ],
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_wavetrace"))
+            .args(args)
+            .env_remove("XDG_RUNTIME_DIR")
+            .env_remove("NODEVICE_SELECT")
+            .output()
+            .expect("run wavetrace");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{args:?}: {stderr}");
+        assert!(!stderr.contains("XDG_RUNTIME_DIR"), "{args:?} printed:\n{stderr}");
+    }
 }

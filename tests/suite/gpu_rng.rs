@@ -19,7 +19,7 @@ fn wgsl_rng_is_bit_identical_to_rust() {
     }
     let n = keys.len() as u64;
     let none = wgpu::BufferUsages::empty();
-    let keys_buf = storage_init(ctx, "keys", bytemuck::cast_slice(&keys), none).unwrap();
+    let keys_buf = storage_init(ctx, "keys", &keys, none).unwrap();
     let hashes = storage_zeroed(ctx, "hashes", n * 16, wgpu::BufferUsages::COPY_SRC).unwrap();
     let unit = storage_zeroed(ctx, "unit", n * 16, wgpu::BufferUsages::COPY_SRC).unwrap();
     let layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

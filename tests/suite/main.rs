@@ -7,6 +7,7 @@ mod common;
 mod agreement;
 mod chart;
 mod cli;
+mod edge_cases;
 mod experiment;
 mod gpu_rng;
 mod image_io;

@@ -100,7 +100,7 @@ fn a_million_spheres_fit_lavapipe_and_the_loop_limit() {
     let packed = PackedScene::new(million(), Accel::Bvh);
     // lavapipe's limits (DESIGN.md §5): 128 MiB per storage binding.
     check_fits_limits(&packed, "llvmpipe", 128 << 20, 1 << 31).unwrap();
-    // megakernel::check_loop_limit's bound at the book's depth 50 stays under llvmpipe's 65535
+    // loop_limit::check_loop_limit's bound at the book's depth 50 stays under llvmpipe's 65535
     // loop iterations per invocation: leaves stay small however many spheres there are.
     let worst = 50 * (packed.largest_leaf() as u64 + bvh::MAX_DEPTH as u64);
     eprintln!("largest leaf {}, worst case {worst} iterations", packed.largest_leaf());

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 use wavetrace::scene::{
-    builtin, export, load, Background, Material, NamedMaterial, Quad, Scene, SceneError, Sphere, Texture,
+    builtin, export, load, Background, InputError, Material, NamedMaterial, Quad, Scene, Sphere, Texture,
     FORMAT,
 };
 
@@ -21,7 +21,7 @@ fn fixture(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes").join(name)
 }
 
-fn load_str(text: &str) -> Result<Scene, SceneError> {
+fn load_str(text: &str) -> Result<Scene, InputError> {
     load::from_str(text, "bad.json", "bad")
 }
 

@@ -32,8 +32,9 @@ use super::accumulate::Accumulate;
 use super::buffers::{read_back, storage_zeroed};
 use super::context::GpuContext;
 use super::dispatch_plan::{self, DispatchUniforms};
+use super::gpu_render::GpuRender;
 use super::instrument::SimdCounters;
-use super::megakernel::{check_loop_limit, GpuRender};
+use super::loop_limit::check_loop_limit;
 use super::scene_buffers::SceneBuffers;
 use super::stage::{Stage, Workgroups};
 use super::timing::GpuTimer;
@@ -163,12 +164,8 @@ impl WaveRecorder<'_> {
 
     /// Submits what is recorded, waits for it (adding its pass times) and opens a new encoder.
     pub fn submit_and_wait(&mut self, ctx: &GpuContext) -> Result<()> {
-        let mut enc =
-            std::mem::replace(&mut self.enc, ctx.device.create_command_encoder(&Default::default()));
-        self.timer.resolve(&mut enc);
-        ctx.queue.submit([enc.finish()]);
-        self.timer.submitted();
-        self.timer.finish_batch(ctx)
+        let enc = std::mem::replace(&mut self.enc, ctx.device.create_command_encoder(&Default::default()));
+        self.timer.submit_batch(ctx, enc)
     }
 }
 

@@ -1,0 +1,19 @@
+//! What every GPU method returns: the film and how the render went.
+
+use super::instrument::SimdEfficiency;
+use super::timing::Timings;
+use crate::film::Film;
+use std::collections::BTreeMap;
+
+/// A GPU render's film and how it went.
+#[derive(Clone, Debug)]
+pub struct GpuRender {
+    pub film: Film,
+    pub timings: Timings,
+    pub dispatches: u64,
+    pub wall_seconds: f64,
+    /// SIMD efficiency per instrumented point (`--instrument` only).
+    pub simd: Option<BTreeMap<String, SimdEfficiency>>,
+    /// GPU memory per path sample in flight.
+    pub bytes_per_path: u64,
+}
