@@ -135,5 +135,7 @@ pub struct WaveUniform {
     pub per_material: u32,
     /// Pool size: the length of each queue region.
     pub pool: u32,
-    pub _pad: u32,
+    /// Bit k: the shade pass over queue `QUEUE_MATERIAL_0 + k` is recorded (for counting the
+    /// empty ones).
+    pub shade_mask: u32,
 }

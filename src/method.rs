@@ -6,7 +6,7 @@ use crate::film::Film;
 use crate::gpu::instrument::SimdEfficiency;
 use crate::gpu::megakernel::{self, MegakernelOptions};
 use crate::gpu::timing::Timings;
-use crate::gpu::wavefront::{self, QueueHistogram, WavefrontOptions};
+use crate::gpu::wavefront::{self, QueueHistogram, ScheduleStats, WavefrontOptions};
 use crate::gpu::GpuContext;
 use crate::gpu::GpuRender;
 use crate::packed_scene::PackedScene;
@@ -62,29 +62,35 @@ pub struct RenderOutput {
     pub wall_seconds: f64,
     /// GPU pass times (None for CPU methods).
     pub timings: Option<Timings>,
-    /// GPU dispatches (megakernel) or waves (wavefront).
+    /// GPU compute passes dispatched, empty ones included (0 for CPU methods).
     pub dispatches: u64,
+    /// Of those, indirect dispatches sized to zero workgroups (GPU methods).
+    pub empty_dispatches: Option<u64>,
     /// SIMD efficiency per instrumented point (`instrument` only).
     pub simd: Option<BTreeMap<String, SimdEfficiency>>,
     /// GPU memory per path in flight (None for CPU methods).
     pub bytes_per_path: Option<u64>,
     /// Paths in flight (wavefront only).
     pub pool: Option<u32>,
-    /// Paths per queue per bounce (wavefront with compaction only).
+    /// Paths per queue per bounce (wavefront, waves with compaction only).
     pub histogram: Option<QueueHistogram>,
+    /// The wavefront's schedule and what it cost (wavefront only).
+    pub schedule: Option<ScheduleStats>,
 }
 
 impl RenderOutput {
-    fn from_gpu(r: GpuRender, pool: Option<u32>, histogram: Option<QueueHistogram>) -> Self {
+    fn from_gpu(r: GpuRender) -> Self {
         Self {
             film: r.film,
             wall_seconds: r.wall_seconds,
             timings: Some(r.timings),
             dispatches: r.dispatches,
+            empty_dispatches: r.empty_dispatches,
             simd: r.simd,
             bytes_per_path: Some(r.bytes_per_path),
-            pool,
-            histogram,
+            pool: None,
+            histogram: None,
+            schedule: None,
         }
     }
 }
@@ -120,10 +126,12 @@ pub fn render(
                 wall_seconds: start.elapsed().as_secs_f64(),
                 timings: None,
                 dispatches: 0,
+                empty_dispatches: None,
                 simd: None,
                 bytes_per_path: None,
                 pool: None,
                 histogram: None,
+                schedule: None,
             })
         }
         Method::Megakernel => {
@@ -137,7 +145,7 @@ pub fn render(
                 options.instrument,
                 on_progress,
             )?;
-            Ok(RenderOutput::from_gpu(r, None, None))
+            Ok(RenderOutput::from_gpu(r))
         }
         Method::Wavefront => {
             let ctx = gpu.ok_or_else(|| anyhow!("--method wavefront needs a GPU adapter"))?;
@@ -150,7 +158,12 @@ pub fn render(
                 options.instrument,
                 on_progress,
             )?;
-            Ok(RenderOutput::from_gpu(r.render, Some(r.pool), r.histogram))
+            Ok(RenderOutput {
+                pool: Some(r.pool),
+                histogram: r.histogram,
+                schedule: Some(r.schedule),
+                ..RenderOutput::from_gpu(r.render)
+            })
         }
     }
 }

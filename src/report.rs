@@ -4,7 +4,7 @@
 use crate::gpu::context::AdapterSummary;
 use crate::gpu::instrument::SimdEfficiency;
 use crate::gpu::timing::{PassTime, TimeSource};
-use crate::gpu::wavefront::QueueHistogram;
+use crate::gpu::wavefront::{QueueHistogram, ScheduleStats};
 use crate::method::{Method, MethodOptions, RenderOutput};
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
@@ -77,7 +77,12 @@ pub struct RunReport {
     pub gpu_seconds: Option<f64>,
     pub time_source: Option<TimeSource>,
     pub passes: BTreeMap<&'static str, PassTime>,
+    /// Compute passes dispatched, empty ones included (GPU methods).
     pub dispatches: u64,
+    /// Indirect dispatches the GPU sized to zero workgroups (GPU methods).
+    pub empty_dispatches: Option<u64>,
+    /// The wavefront's schedule: shares, iterations (idle ones apart), intersect occupancy.
+    pub schedule: Option<ScheduleStats>,
     pub samples: u64,
     /// Samples per second of GPU time where measured, else of wall time.
     pub samples_per_second: f64,
@@ -134,6 +139,8 @@ impl RunReport {
             time_source: out.timings.as_ref().map(|t| t.source),
             passes: out.timings.as_ref().map(|t| t.passes.clone()).unwrap_or_default(),
             dispatches: out.dispatches,
+            empty_dispatches: out.empty_dispatches,
+            schedule: out.schedule.clone(),
             samples,
             samples_per_second: samples as f64 / seconds,
             rays: out.film.rays(),

@@ -1,25 +1,42 @@
 // The wavefront's path pool (structure of arrays) and queues: bind group 1 of every wavefront
-// pass. Rust side: src/gpu/wavefront/path_state.rs. A wave holds dispatch.pixel_count ×
-// dispatch.sample_count paths; slot i traces sample (start + i / pixel_count) of pixel
-// (offset + i % pixel_count), so pixel and sample are never stored.
+// pass. Rust side: src/gpu/wavefront/path_state.rs. `dispatch` is a share of the image's samples
+// (pixel_count × sample_count); its sample l is sample (start + l / pixel_count) of pixel
+// (offset + l % pixel_count). With `--schedule waves` the share is one wave and slot l traces
+// sample l, so neither is stored. With `--schedule regenerate` the share (a chunk) is larger than
+// the pool: each slot stores the sample it traces and its bounce, and a slot whose path ended
+// takes the chunk's next sample (regenerate.wgsl), so the pool stays full.
 
 #include "shared/dispatch.wgsl"
 
+// Pipeline constant: true with `--schedule regenerate`.
+override REGENERATE: bool = false;
+
 // Queue ids: regions of `queues`, each `pool` entries long, and their counters.
-const QUEUE_RAY_0: u32 = 0u;        // ray queues alternate by bounce parity
+const QUEUE_RAY_0: u32 = 0u;        // ray queues alternate by iteration parity
 const QUEUE_MATERIAL_0: u32 = 2u;   // + material kind (one shared queue with --shade single)
 const QUEUE_SHADOW: u32 = 6u;       // shadow rays (--nee on); always appended atomically
-const QUEUE_COUNT: u32 = 7u;
+const QUEUE_FREE: u32 = 7u;         // (regenerate) slots whose path ended; always atomic
+const QUEUE_COUNT: u32 = 8u;
 // Word indices in `counters` besides the queue counts.
-const COUNTER_BOUNCE: u32 = 7u;     // current bounce, advanced by queue_setup_intersect
-const COUNTER_POSITIONS: u32 = 8u;  // queue positions the next scan compaction covers
-const COUNTER_STATS: u32 = 9u;      // + bounce * QUEUE_COUNT + queue: paths queued, summed over waves
-const COUNTER_SHADE_BASE: u32 = 9u + 64u * QUEUE_COUNT; // + kind: first scan position of each shade pass
+const COUNTER_BOUNCE: u32 = 8u;     // current iteration (= bounce in waves), advanced by queue_setup_intersect
+const COUNTER_POSITIONS: u32 = 9u;  // queue positions the next scan compaction covers
+const COUNTER_STATS: u32 = 10u;     // + bounce * QUEUE_COUNT + queue: paths queued, summed over waves
+const COUNTER_SHADE_BASE: u32 = 10u + 64u * QUEUE_COUNT; // + kind: first scan position of each shade pass
+// Scheduling counters, read by the host after each submission (src/gpu/wavefront/schedule.rs).
+const COUNTER_NEXT_SAMPLE: u32 = COUNTER_SHADE_BASE + 4u;  // (regenerate) the chunk's next sample to start
+const COUNTER_FINISHED: u32 = COUNTER_SHADE_BASE + 5u;     // (regenerate) samples whose path ended
+const COUNTER_REGEN_BASE: u32 = COUNTER_SHADE_BASE + 6u;   // (regenerate) first sample of this iteration's refill
+const COUNTER_EMPTY: u32 = COUNTER_SHADE_BASE + 7u;        // indirect dispatches sized to zero workgroups
+const COUNTER_INDIRECT: u32 = COUNTER_SHADE_BASE + 8u;     // indirect dispatches sized
+const COUNTER_INTERSECTED: u32 = COUNTER_SHADE_BASE + 9u;  // paths queued for intersect, summed
+const COUNTER_IDLE: u32 = COUNTER_SHADE_BASE + 10u;        // iterations that found no ray to trace
 // Indirect-dispatch argument slots (3 words each) in queue_setup's `indirect`.
 const ARGS_INTERSECT: u32 = 0u;
 const ARGS_SHADE_0: u32 = 1u;       // + material kind
 const ARGS_COMPACT: u32 = 5u;       // the scan passes over the positions just produced
 const ARGS_SHADOW: u32 = 6u;
+const ARGS_REGENERATE: u32 = 7u;
+const ARGS_TAIL: u32 = 8u;
 
 // A path that no pass should touch again.
 const DEAD: u32 = 0xffffffffu;
@@ -32,7 +49,8 @@ struct Wave {
     per_material: u32,
     // Queue region length (the pool size).
     pool: u32,
-    _pad: u32,
+    // Bit k: the shade pass of queue QUEUE_MATERIAL_0 + k is recorded (to count empty ones).
+    shade_mask: u32,
 }
 
 @group(1) @binding(0) var<uniform> dispatch: Dispatch;
@@ -58,22 +76,73 @@ struct Wave {
 @group(1) @binding(12) var<storage, read_write> shadow_ray: array<vec4<f32>>;
 // rgb: what it adds to the radiance if unblocked; w: 1 while it is pending.
 @group(1) @binding(13) var<storage, read_write> shadow_weight: array<vec4<f32>>;
+// (regenerate) x: the sample the slot traces (index l in the chunk); y: its bounce.
+@group(1) @binding(14) var<storage, read_write> path_sample: array<vec2<u32>>;
+// (regenerate) each finished sample's radiance, by l: the accumulate pass's input, so the film
+// adds samples in the same order as with waves.
+@group(1) @binding(15) var<storage, read_write> samples: array<vec4<f32>>;
 
-// Paths in the pool this wave.
+// Samples in this share of the image (a wave, or a chunk when regenerating).
 fn wave_paths() -> u32 {
     return dispatch.pixel_count * dispatch.sample_count;
 }
 
+// Slots a pass over the whole pool covers (no compaction): the wave's paths, or the whole pool.
+fn pool_slots() -> u32 {
+    if REGENERATE {
+        return wave.pool;
+    }
+    return wave_paths();
+}
+
+// The sample `slot` traces (its index l in this share).
+fn slot_index(slot: u32) -> u32 {
+    if REGENERATE {
+        return path_sample[slot].x;
+    }
+    return slot;
+}
+
+fn sample_pixel(l: u32) -> u32 {
+    return dispatch.pixel_offset + l % dispatch.pixel_count;
+}
+
+fn sample_number(l: u32) -> u32 {
+    return dispatch.sample_start + l / dispatch.pixel_count;
+}
+
 fn slot_pixel(slot: u32) -> u32 {
-    return dispatch.pixel_offset + slot % dispatch.pixel_count;
+    return sample_pixel(slot_index(slot));
 }
 
 fn slot_sample(slot: u32) -> u32 {
-    return dispatch.sample_start + slot / dispatch.pixel_count;
+    return sample_number(slot_index(slot));
 }
 
+// The iteration: waves advance every path one bounce per iteration; when regenerating, paths in
+// the pool are at different bounces, and only the queues' parity follows the iteration.
 fn current_bounce() -> u32 {
     return atomicLoad(&counters[COUNTER_BOUNCE]);
+}
+
+// The bounce of the path in `slot`.
+fn path_bounce(slot: u32) -> u32 {
+    if REGENERATE {
+        return path_sample[slot].y;
+    }
+    return current_bounce();
+}
+
+// The path in `slot` has ended (its radiance is final). Regenerating, its sample's radiance goes
+// to `samples` and the slot to the free queue, for the next iteration's refill; in waves the
+// accumulate pass reads `radiance` itself.
+fn finish_path(slot: u32) {
+    if REGENERATE {
+        samples[path_sample[slot].x] = radiance[slot];
+        let at = atomicAdd(&counters[QUEUE_FREE], 1u);
+        queues[QUEUE_FREE * wave.pool + at] = slot;
+        atomicAdd(&counters[COUNTER_FINISHED], 1u);
+    }
 }
 
 // Puts `slot`, processed at scan position `position`, on queue `q`: appended atomically, or
@@ -92,10 +161,7 @@ fn enqueue(q: u32, slot: u32, position: u32) {
 // method (a path can go to both the next ray queue and this one, which a scan's single target per
 // position cannot express); without compaction the pending flag alone marks it.
 fn enqueue_shadow(slot: u32) {
-    if wave.compaction != 0u {
-        let at = atomicAdd(&counters[QUEUE_SHADOW], 1u);
-        queues[QUEUE_SHADOW * wave.pool + at] = slot;
-    }
+    enqueue_atomic(QUEUE_SHADOW, slot);
 }
 
 // The path processed at scan position `position` has ended: the scan skips it.
@@ -105,11 +171,20 @@ fn retire(position: u32) {
     }
 }
 
+// Appends `slot` to queue `q` atomically, whatever the compaction method (a scan only orders the
+// paths a pass processed; new and shadow paths join with atomics); nothing without queues.
+fn enqueue_atomic(q: u32, slot: u32) {
+    if wave.compaction != 0u {
+        let at = atomicAdd(&counters[q], 1u);
+        queues[q * wave.pool + at] = slot;
+    }
+}
+
 // The path slot handled by thread `i` of a pass over queue `q`, or DEAD past the queue's end.
 // Without compaction, thread i handles slot i of the whole pool.
 fn queued_slot(q: u32, i: u32) -> u32 {
     if wave.compaction == 0u {
-        return select(DEAD, i, i < wave_paths());
+        return select(DEAD, i, i < pool_slots());
     }
     if i >= atomicLoad(&counters[q]) {
         return DEAD;

@@ -1,4 +1,6 @@
-// generate: a camera ray for every path of the wave, all on the bounce-0 ray queue.
+// generate: camera paths. `generate` starts every path of a wave on the bounce-0 ray queue
+// (--schedule waves); `regenerate_init` empties the pool at a chunk's start and `regenerate`
+// starts the chunk's next samples in the slots whose paths ended (--schedule regenerate).
 // Rust side: src/gpu/wavefront/generate.rs.
 
 #include "shared/rng.wgsl"
@@ -21,10 +23,16 @@ fn generate(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     instrument(PASS_GENERATE);
-    let pixel = slot_pixel(slot);
+    start_path(slot, slot);
+    queues[QUEUE_RAY_0 * wave.pool + slot] = slot;
+}
+
+// Slot `slot` starts tracing sample `l` of the share: its camera ray, at bounce 0.
+fn start_path(slot: u32, l: u32) {
+    let pixel = sample_pixel(l);
     let x = pixel % frame.width;
     let y = pixel / frame.width;
-    let ray = camera_ray(x, y, uniform4(pixel, slot_sample(slot), 0u, PURPOSE_CAMERA, frame.seed));
+    let ray = camera_ray(x, y, uniform4(pixel, sample_number(l), 0u, PURPOSE_CAMERA, frame.seed));
     path_origin[slot] = vec4<f32>(ray.origin, 0.0);
     path_dir[slot] = vec4<f32>(ray.dir, 0.0);
     path_throughput[slot] = vec4<f32>(1.0, 1.0, 1.0, 0.0);
@@ -32,5 +40,45 @@ fn generate(@builtin(global_invocation_id) gid: vec3<u32>) {
     if NEE {
         shadow_weight[slot] = vec4<f32>(0.0);
     }
-    queues[QUEUE_RAY_0 * wave.pool + slot] = slot;
+    if REGENERATE {
+        path_sample[slot] = vec2<u32>(l, 0u);
+    }
+}
+
+// A chunk's start: every slot free, no queue holding anything, no sample started.
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn regenerate_init(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let slot = gid.x;
+    if slot == 0u {
+        for (var q = 0u; q < QUEUE_COUNT; q++) {
+            atomicStore(&counters[q], 0u);
+        }
+        atomicStore(&counters[QUEUE_FREE], wave.pool);
+        // queue_setup_intersect advances this to 0 before the first iteration.
+        atomicStore(&counters[COUNTER_BOUNCE], DEAD);
+        atomicStore(&counters[COUNTER_NEXT_SAMPLE], 0u);
+        atomicStore(&counters[COUNTER_FINISHED], 0u);
+    }
+    if slot >= wave.pool {
+        return;
+    }
+    queues[QUEUE_FREE * wave.pool + slot] = slot;
+    path_dir[slot].w = bitcast<f32>(DEAD);
+    if NEE {
+        shadow_weight[slot] = vec4<f32>(0.0);
+    }
+}
+
+// The refill: thread i starts sample (base + i) in the i-th free slot and queues its camera ray
+// for the coming iteration (queue_setup_regenerate sized the pass and took the samples).
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn regenerate(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let base = atomicLoad(&counters[COUNTER_REGEN_BASE]);
+    if gid.x >= atomicLoad(&counters[COUNTER_NEXT_SAMPLE]) - base {
+        return;
+    }
+    instrument(PASS_GENERATE);
+    let slot = queues[QUEUE_FREE * wave.pool + gid.x];
+    start_path(slot, base + gid.x);
+    enqueue_atomic(QUEUE_RAY_0 + (current_bounce() + 1u) % 2u, slot);
 }

@@ -10,8 +10,7 @@ override WORKGROUP_SIZE: u32 = 64u;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn intersect(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let bounce = current_bounce();
-    let slot = queued_slot(QUEUE_RAY_0 + bounce % 2u, gid.x);
+    let slot = queued_slot(QUEUE_RAY_0 + current_bounce() % 2u, gid.x);
     if slot == DEAD {
         return;
     }
@@ -28,6 +27,7 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>) {
         radiance[slot] = sum + vec4<f32>(path_throughput[slot].xyz * background(ray.dir), 0.0);
         path_dir[slot].w = bitcast<f32>(DEAD);
         retire(gid.x);
+        finish_path(slot);
         return;
     }
     radiance[slot] = sum;

@@ -21,6 +21,40 @@ fn set_args(slot: u32, threads: u32) {
     indirect[3u * slot + 2u] = 1u;
 }
 
+// Counts `dispatches` recorded indirect dispatches sized to `threads` (empty ones apart): the
+// fixed cost the report shows.
+fn count_dispatches(threads: u32, dispatches: u32) {
+    atomicAdd(&counters[COUNTER_INDIRECT], dispatches);
+    if threads == 0u {
+        atomicAdd(&counters[COUNTER_EMPTY], dispatches);
+    }
+}
+
+// The scan passes (compact_scan and compact_scatter, indirect) over `positions`.
+fn set_compact_args(positions: u32) {
+    atomicStore(&counters[COUNTER_POSITIONS], positions);
+    indirect[3u * ARGS_COMPACT] = (positions + SCAN_WG - 1u) / SCAN_WG;
+    indirect[3u * ARGS_COMPACT + 1u] = 1u;
+    indirect[3u * ARGS_COMPACT + 2u] = 1u;
+    if wave.compaction == 2u {
+        count_dispatches(positions, 2u);
+    }
+}
+
+// (regenerate) Before the refill: as many of the chunk's next samples as there are free slots.
+@compute @workgroup_size(1)
+fn queue_setup_regenerate() {
+    let next = atomicLoad(&counters[COUNTER_NEXT_SAMPLE]);
+    let n = min(atomicLoad(&counters[QUEUE_FREE]), wave_paths() - next);
+    set_args(ARGS_REGENERATE, n);
+    count_dispatches(n, 1u);
+    atomicStore(&counters[COUNTER_REGEN_BASE], next);
+    atomicStore(&counters[COUNTER_NEXT_SAMPLE], next + n);
+    // The refill reads the first n entries; paths ending later append from 0 again. Slots left
+    // over once the chunk's samples are all started are not needed any more.
+    atomicStore(&counters[QUEUE_FREE], 0u);
+}
+
 fn record(bounce: u32, q: u32, n: u32) {
     if wave.compaction != 0u {
         let row = min(bounce, STATS_BOUNCES - 1u);
@@ -33,17 +67,19 @@ fn record(bounce: u32, q: u32, n: u32) {
 fn queue_setup_intersect() {
     let bounce = atomicAdd(&counters[COUNTER_BOUNCE], 1u) + 1u;
     let q = QUEUE_RAY_0 + bounce % 2u;
-    var n = wave_paths();
+    var n = pool_slots();
     if wave.compaction != 0u {
         n = atomicLoad(&counters[q]);
     }
     set_args(ARGS_INTERSECT, n);
+    count_dispatches(n, 1u);
+    atomicAdd(&counters[COUNTER_INTERSECTED], n);
+    if n == 0u {
+        atomicAdd(&counters[COUNTER_IDLE], 1u);
+    }
     record(bounce, QUEUE_RAY_0, n);
     // A scan after intersect covers the ray queue's positions.
-    atomicStore(&counters[COUNTER_POSITIONS], n);
-    indirect[3u * ARGS_COMPACT] = (n + SCAN_WG - 1u) / SCAN_WG;
-    indirect[3u * ARGS_COMPACT + 1u] = 1u;
-    indirect[3u * ARGS_COMPACT + 2u] = 1u;
+    set_compact_args(n);
     for (var k = 0u; k < 4u; k++) {
         atomicStore(&counters[QUEUE_MATERIAL_0 + k], 0u);
     }
@@ -55,31 +91,44 @@ fn queue_setup_shade() {
     let bounce = current_bounce();
     var positions = 0u;
     for (var k = 0u; k < 4u; k++) {
-        var n = wave_paths();
+        var n = pool_slots();
         if wave.compaction != 0u {
             n = atomicLoad(&counters[QUEUE_MATERIAL_0 + k]);
         }
         set_args(ARGS_SHADE_0 + k, n);
+        if (wave.shade_mask & (1u << k)) != 0u {
+            count_dispatches(n, 1u);
+        }
         record(bounce, QUEUE_MATERIAL_0 + k, n);
         atomicStore(&counters[COUNTER_SHADE_BASE + k], positions);
         positions += n;
     }
     // A scan after shade covers the material queues laid end to end.
-    atomicStore(&counters[COUNTER_POSITIONS], positions);
-    indirect[3u * ARGS_COMPACT] = (positions + SCAN_WG - 1u) / SCAN_WG;
-    indirect[3u * ARGS_COMPACT + 1u] = 1u;
-    indirect[3u * ARGS_COMPACT + 2u] = 1u;
+    set_compact_args(positions);
     atomicStore(&counters[QUEUE_RAY_0 + (bounce + 1u) % 2u], 0u);
     atomicStore(&counters[QUEUE_SHADOW], 0u);
+}
+
+// (regenerate, --tail megakernel) Before the tail: every path on the ray queue the last shade
+// pass filled.
+@compute @workgroup_size(1)
+fn queue_setup_tail() {
+    var n = pool_slots();
+    if wave.compaction != 0u {
+        n = atomicLoad(&counters[QUEUE_RAY_0 + (current_bounce() + 1u) % 2u]);
+    }
+    set_args(ARGS_TAIL, n);
+    count_dispatches(n, 1u);
 }
 
 // Before the shadow pass (--nee on): size it from the shadow rays the shade passes queued.
 @compute @workgroup_size(1)
 fn queue_setup_shadow() {
-    var n = wave_paths();
+    var n = pool_slots();
     if wave.compaction != 0u {
         n = atomicLoad(&counters[QUEUE_SHADOW]);
     }
     set_args(ARGS_SHADOW, n);
+    count_dispatches(n, 1u);
     record(current_bounce(), QUEUE_SHADOW, n);
 }

@@ -14,7 +14,6 @@ override WORKGROUP_SIZE: u32 = 64u;
 const NO_KIND: u32 = 0xffffffffu;
 
 fn shade_path(i: u32, kind: u32, pass_id: u32) {
-    let bounce = current_bounce();
     var q = QUEUE_MATERIAL_0;
     if kind != NO_KIND {
         q += kind;
@@ -37,6 +36,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         return; // only without compaction
     }
     instrument(pass_id);
+    let bounce = path_bounce(slot);
     let state = path_throughput[slot];
     let throughput = state.xyz;
     let ray = Ray(o.xyz, d.xyz);
@@ -50,6 +50,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         radiance[slot] += vec4<f32>(throughput * material.color * w, 0.0);
         path_dir[slot].w = bitcast<f32>(DEAD);
         retire(position);
+        finish_path(slot);
         return;
     }
     let outward = outward_normal(prim, p);
@@ -61,6 +62,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     if !s.ok || bounce + 1u >= frame.max_depth {
         path_dir[slot].w = bitcast<f32>(DEAD);
         retire(position);
+        finish_path(slot);
         return;
     }
     // Direct light at diffuse hits, when the ray it stands in for is within the depth limit
@@ -81,7 +83,11 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     path_origin[slot] = vec4<f32>(p, 0.0);
     path_dir[slot] = vec4<f32>(s.dir, 0.0);
     path_throughput[slot] = vec4<f32>(throughput * s.attenuation, bsdf_pdf);
-    enqueue(QUEUE_RAY_0 + (bounce + 1u) % 2u, slot, position);
+    if REGENERATE {
+        path_sample[slot].y = bounce + 1u;
+    }
+    // The next iteration's ray queue (iterations and bounces coincide only in waves).
+    enqueue(QUEUE_RAY_0 + (current_bounce() + 1u) % 2u, slot, position);
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)

@@ -2,7 +2,7 @@
 
 use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::timing::{TimeSource, Timings};
-use crate::gpu::wavefront::{Compaction, ShadePasses, WavefrontOptions};
+use crate::gpu::wavefront::{Compaction, Schedule, ShadePasses, Tail, WavefrontOptions};
 use crate::gpu::GpuContext;
 use crate::image_io::{self, RgbImage};
 use crate::method::{self, Method, MethodOptions};
@@ -83,6 +83,22 @@ pub struct RenderArgs {
     /// Wavefront: one shade pass per material kind, or one with a material switch.
     #[arg(long, value_enum, default_value_t = ShadePasses::PerMaterial)]
     pub shade: ShadePasses,
+    /// Wavefront: waves of paths that start together, or slots refilled with new samples as
+    /// paths end (the pool stays full).
+    #[arg(long, value_enum, default_value_t = WavefrontOptions::default().schedule)]
+    pub schedule: Schedule,
+    /// Wavefront, regenerate: iterations recorded between checks of the finished samples (the
+    /// host waits for the GPU at each check; up to this many iterations idle at a chunk's end).
+    #[arg(long, default_value_t = WavefrontOptions::default().sync_every)]
+    pub sync_every: u32,
+    /// Wavefront, regenerate: finish each chunk's last paths in one megakernel-style pass once
+    /// fewer than --tail-threshold × pool are left.
+    #[arg(long, value_enum, default_value_t = WavefrontOptions::default().tail)]
+    pub tail: Tail,
+    /// Wavefront, --tail megakernel: the live fraction of the pool, in (0, 1], below which the
+    /// tail takes over.
+    #[arg(long, default_value_t = WavefrontOptions::default().tail_threshold)]
+    pub tail_threshold: f64,
     /// GPU methods: count SIMD efficiency per pass with subgroup operations (adds atomics: use
     /// separate runs for timing).
     #[arg(long)]
@@ -131,6 +147,10 @@ pub fn run(a: RenderArgs) -> Result<()> {
             workgroup_size: a.workgroup_size,
             compaction,
             shade: a.shade,
+            schedule: a.schedule,
+            sync_every: a.sync_every,
+            tail: a.tail,
+            tail_threshold: a.tail_threshold,
         },
         instrument: a.instrument,
     };

@@ -37,7 +37,7 @@ use std::path::{Path, PathBuf};
 use serde_json::{Map, Value};
 
 use crate::gpu::megakernel::MegakernelOptions;
-use crate::gpu::wavefront::{Compaction, ShadePasses, WavefrontOptions};
+use crate::gpu::wavefront::{Compaction, Schedule, ShadePasses, Tail, WavefrontOptions};
 use crate::input_error::InputError;
 use crate::method::{Method, MethodOptions};
 use crate::scene::Scene;
@@ -68,6 +68,8 @@ const TOP_FIELDS: &[&str] = &[
 const METHOD_NAMES: &[&str] = &["cpu", "cpu-f64", "megakernel", "wavefront"];
 const COMPACTIONS: &[&str] = &["atomic", "scan", "off"];
 const SHADES: &[&str] = &["per-material", "single"];
+const SCHEDULES: &[&str] = &["waves", "regenerate"];
+const TAILS: &[&str] = &["off", "megakernel"];
 /// Repetitions and warm-ups above this are almost certainly typos (and would take forever).
 const MAX_REPETITIONS: u32 = 1000;
 
@@ -378,12 +380,31 @@ impl Cx {
         let knobs: &[&str] = match method {
             Method::Cpu | Method::CpuF64 => &[],
             Method::Megakernel => &["workgroup_size", "samples_per_dispatch"],
-            Method::Wavefront => &["workgroup_size", "pool_size", "compaction", "shade"],
+            Method::Wavefront => &[
+                "workgroup_size",
+                "pool_size",
+                "compaction",
+                "shade",
+                "schedule",
+                "sync_every",
+                "tail",
+                "tail_threshold",
+            ],
         };
         let mut allowed = vec!["method", "label"];
         allowed.extend_from_slice(knobs);
         if let Some(k) = o.keys().find(|k| !allowed.contains(&k.as_str())) {
-            let all = ["workgroup_size", "samples_per_dispatch", "pool_size", "compaction", "shade"];
+            let all = [
+                "workgroup_size",
+                "samples_per_dispatch",
+                "pool_size",
+                "compaction",
+                "shade",
+                "schedule",
+                "sync_every",
+                "tail",
+                "tail_threshold",
+            ];
             let reason = if all.contains(&k.as_str()) {
                 format!(
                     "{} has no knob {k:?}; its knobs are {}",
@@ -427,55 +448,83 @@ impl Cx {
             })
         })?;
 
+        let schedule = self.knob(o, &opt_path("schedule"), "schedule", |v, p| {
+            Ok(if self.choice(v, p, SCHEDULES)? == "regenerate" {
+                Schedule::Regenerate
+            } else {
+                Schedule::Waves
+            })
+        })?;
+        let sync_every = self.knob(o, &opt_path("sync_every"), "sync_every", |v, p| {
+            self.uint32(v, p, 1, crate::gpu::wavefront::schedule::MAX_SYNC_EVERY)
+        })?;
+        let tail = self.knob(o, &opt_path("tail"), "tail", |v, p| {
+            Ok(if self.choice(v, p, TAILS)? == "megakernel" { Tail::Megakernel } else { Tail::Off })
+        })?;
+        let tail_threshold =
+            self.knob(o, &opt_path("tail_threshold"), "tail_threshold", |v, p| match v.as_f64() {
+                Some(t) if t > 0.0 && t <= 1.0 => Ok(t),
+                _ => self.err(p, format!("must be a fraction of the pool in (0, 1], got {}", describe(v))),
+            })?;
+        if tail.values.contains(&Tail::Megakernel) && !schedule.values.contains(&Schedule::Regenerate) {
+            return self.err(
+                &opt_path("tail"),
+                "\"megakernel\" finishes a regenerating chunk: it needs \"schedule\": \"regenerate\"",
+            );
+        }
+
+        // The product of every knob's values, each variant labelled by the knobs that tell it
+        // apart: swept ones, and (without a label) ones set away from their defaults.
         let mk = MegakernelOptions::default();
         let wf = WavefrontOptions::default();
-        let mut out = Vec::new();
-        for &w in wg.values_or(&[mk.workgroup_size]) {
-            for &s in spd.values_or(&[mk.samples_per_dispatch]) {
-                for &p in pool.values_or(&[wf.pool_size]) {
-                    for &c in compaction.values_or(&[wf.compaction]) {
-                        for &sh in shade.values_or(&[wf.shade]) {
-                            let options = MethodOptions {
-                                megakernel: MegakernelOptions {
-                                    workgroup_size: w,
-                                    samples_per_dispatch: s,
-                                    ..mk
-                                },
-                                wavefront: WavefrontOptions {
-                                    pool_size: p,
-                                    workgroup_size: w,
-                                    compaction: c,
-                                    shade: sh,
-                                },
-                                instrument: false,
-                            };
-                            // The label: given or the method's name, then the knobs that tell
-                            // variants apart.
-                            let mut parts = vec![label.clone().unwrap_or_else(|| method.name().to_owned())];
-                            let show = |swept: bool, given: bool, differs: bool| {
-                                swept || (label.is_none() && given && differs)
-                            };
-                            if show(wg.swept, wg.given(), w != mk.workgroup_size) {
-                                parts.push(format!("wg={w}"));
-                            }
-                            if show(spd.swept, spd.given(), s != mk.samples_per_dispatch) {
-                                parts.push(format!("spd={s}"));
-                            }
-                            if show(pool.swept, pool.given(), p != wf.pool_size) {
-                                parts.push(format!("pool={}", p.map_or("auto".into(), |p| p.to_string())));
-                            }
-                            if show(compaction.swept, compaction.given(), c != wf.compaction) {
-                                parts.push(format!("compaction={}", kebab(&c)));
-                            }
-                            if show(shade.swept, shade.given(), sh != wf.shade) {
-                                parts.push(format!("shade={}", kebab(&sh)));
-                            }
-                            out.push(MethodVariant { label: parts.join(" "), method, options });
-                        }
-                    }
-                }
-            }
-        }
+        let defaults = MethodOptions { megakernel: mk, wavefront: wf, instrument: false };
+        let mut variants = vec![(defaults, vec![label.clone().unwrap_or_else(|| method.name().to_owned())])];
+        let labelled = label.is_some();
+        expand(&mut variants, &wg, mk.workgroup_size, labelled, |o, &w| {
+            o.megakernel.workgroup_size = w;
+            o.wavefront.workgroup_size = w;
+            format!("wg={w}")
+        });
+        expand(&mut variants, &spd, mk.samples_per_dispatch, labelled, |o, &s| {
+            o.megakernel.samples_per_dispatch = s;
+            format!("spd={s}")
+        });
+        expand(&mut variants, &pool, wf.pool_size, labelled, |o, &p| {
+            o.wavefront.pool_size = p;
+            format!("pool={}", p.map_or("auto".into(), |p| p.to_string()))
+        });
+        expand(&mut variants, &compaction, wf.compaction, labelled, |o, &c| {
+            o.wavefront.compaction = c;
+            format!("compaction={}", kebab(&c))
+        });
+        expand(&mut variants, &shade, wf.shade, labelled, |o, &sh| {
+            o.wavefront.shade = sh;
+            format!("shade={}", kebab(&sh))
+        });
+        expand(&mut variants, &schedule, wf.schedule, labelled, |o, &sc| {
+            o.wavefront.schedule = sc;
+            format!("schedule={}", kebab(&sc))
+        });
+        expand(&mut variants, &sync_every, wf.sync_every, labelled, |o, &k| {
+            o.wavefront.sync_every = k;
+            format!("sync={k}")
+        });
+        expand(&mut variants, &tail, wf.tail, labelled, |o, &t| {
+            o.wavefront.tail = t;
+            format!("tail={}", kebab(&t))
+        });
+        expand(&mut variants, &tail_threshold, wf.tail_threshold, labelled, |o, &t| {
+            o.wavefront.tail_threshold = t;
+            format!("tail-threshold={t}")
+        });
+        // A tail only means something when regenerating: a product that pairs it with waves
+        // would not run.
+        variants
+            .retain(|(o, _)| o.wavefront.tail == Tail::Off || o.wavefront.schedule == Schedule::Regenerate);
+        let out = variants
+            .into_iter()
+            .map(|(options, parts)| MethodVariant { label: parts.join(" "), method, options })
+            .collect();
         Ok(out)
     }
 
@@ -687,6 +736,33 @@ impl<T> Knob<T> {
             &self.values
         }
     }
+}
+
+/// Replaces each variant by one per value of `knob` (or the default, if not given), applying the
+/// value with `set`, which also names it; the name joins the label when the knob was swept, or
+/// given away from its default in an unlabelled entry.
+fn expand<T: PartialEq>(
+    variants: &mut Vec<(MethodOptions, Vec<String>)>,
+    knob: &Knob<T>,
+    default: T,
+    labelled: bool,
+    set: impl Fn(&mut MethodOptions, &T) -> String,
+) {
+    let default = [default];
+    let values = knob.values_or(&default);
+    let mut out = Vec::with_capacity(variants.len() * values.len());
+    for (options, parts) in variants.drain(..) {
+        for v in values {
+            let mut o = options.clone();
+            let mut p = parts.clone();
+            let name = set(&mut o, v);
+            if knob.swept || (!labelled && knob.given() && *v != default[0]) {
+                p.push(name);
+            }
+            out.push((o, p));
+        }
+    }
+    *variants = out;
 }
 
 /// A knob value as the config spells it (`"per-material"`).

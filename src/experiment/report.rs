@@ -155,7 +155,20 @@ pub struct RunRecord {
     pub passes_per_bounce: BTreeMap<String, Vec<f64>>,
     /// Paths per queue per bounce (wavefront with compaction).
     pub queue_histogram: Option<QueueHistogram>,
+    /// Compute passes dispatched per render, empty ones included.
     pub dispatches: Option<u64>,
+    /// Indirect dispatches the GPU sized to zero workgroups (their fixed cost bought nothing).
+    #[serde(default)]
+    pub empty_dispatches: Option<u64>,
+    /// Wavefront: iterations recorded (bounces × waves, or refill rounds when regenerating).
+    #[serde(default)]
+    pub iterations: Option<u64>,
+    /// Wavefront: iterations that found no ray to trace.
+    #[serde(default)]
+    pub idle_iterations: Option<u64>,
+    /// Wavefront: mean over intersect passes of the paths traced ÷ the pool.
+    #[serde(default)]
+    pub intersect_occupancy: Option<f64>,
     pub samples: u64,
     pub samples_per_second: Option<f64>,
     pub rays: Option<u64>,

@@ -188,6 +188,10 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         passes_per_bounce: BTreeMap::new(),
         queue_histogram: None,
         dispatches: None,
+        empty_dispatches: None,
+        iterations: None,
+        idle_iterations: None,
+        intersect_occupancy: None,
         samples: s.sample_count(),
         samples_per_second: None,
         rays: None,
@@ -220,6 +224,10 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
             "pool_size": o.wavefront.pool_size,
             "compaction": o.wavefront.compaction,
             "shade": o.wavefront.shade,
+            "schedule": o.wavefront.schedule,
+            "sync_every": o.wavefront.sync_every,
+            "tail": o.wavefront.tail,
+            "tail_threshold": o.wavefront.tail_threshold,
         }),
     }
 }
@@ -301,6 +309,12 @@ fn measure(
         median_rep.time_source.and_then(|t| serde_json::to_value(t).ok()?.as_str().map(str::to_owned));
     rec.queue_histogram = median_rep.queue_histogram.clone();
     rec.dispatches = Some(median_rep.dispatches);
+    rec.empty_dispatches = median_rep.empty_dispatches;
+    if let Some(s) = &median_rep.schedule {
+        rec.iterations = Some(s.iterations);
+        rec.idle_iterations = Some(s.idle_iterations);
+        rec.intersect_occupancy = Some(s.intersect_occupancy);
+    }
     rec.rays = Some(median_rep.rays);
     if let Some(s) = seconds.filter(|&s| s > 0.0) {
         rec.samples_per_second = Some(rec.samples as f64 / s);

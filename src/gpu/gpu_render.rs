@@ -10,7 +10,10 @@ use std::collections::BTreeMap;
 pub struct GpuRender {
     pub film: Film,
     pub timings: Timings,
+    /// Compute passes dispatched, empty ones included.
     pub dispatches: u64,
+    /// Of those, indirect dispatches the GPU sized to zero workgroups (wavefront).
+    pub empty_dispatches: Option<u64>,
     pub wall_seconds: f64,
     /// SIMD efficiency per instrumented point (`--instrument` only).
     pub simd: Option<BTreeMap<String, SimdEfficiency>>,

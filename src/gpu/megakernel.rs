@@ -121,7 +121,9 @@ pub fn render(
     Ok(GpuRender {
         film,
         timings: timer.into_timings(),
-        dispatches: plan.len() as u64,
+        // A trace and an accumulate pass per dispatch of the plan, none of them empty.
+        dispatches: 2 * plan.len() as u64,
+        empty_dispatches: Some(0),
         wall_seconds: start.elapsed().as_secs_f64(),
         simd: simd.as_ref().map(|s| s.read(ctx)).transpose()?,
         // The sample buffer: one radiance value per path of the largest dispatch.

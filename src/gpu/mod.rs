@@ -21,6 +21,12 @@ pub mod label {
     pub const MEGAKERNEL: &str = "megakernel";
     pub const ACCUMULATE: &str = "accumulate";
     pub const GENERATE: &str = "generate";
+    /// `--schedule regenerate`: empties the pool at a chunk's start.
+    pub const REGENERATE_INIT: &str = "regenerate_init";
+    /// `--schedule regenerate`: sizes the refill from the free slots and the samples left.
+    pub const QUEUE_SETUP_REGENERATE: &str = "queue_setup_regenerate";
+    /// `--schedule regenerate`: starts new samples in the slots whose paths ended.
+    pub const REGENERATE: &str = "regenerate";
     pub const QUEUE_SETUP_INTERSECT: &str = "queue_setup_intersect";
     pub const INTERSECT: &str = "intersect";
     pub const QUEUE_SETUP_SHADE: &str = "queue_setup_shade";
@@ -35,6 +41,10 @@ pub mod label {
     pub const QUEUE_SETUP_SHADOW: &str = "queue_setup_shadow";
     /// Shadow rays of next-event estimation (`--nee on`).
     pub const SHADOW: &str = "shadow";
+    /// `--tail megakernel`: sizes the tail from the paths left.
+    pub const QUEUE_SETUP_TAIL: &str = "queue_setup_tail";
+    /// `--tail megakernel`: finishes the last paths of a chunk megakernel-style.
+    pub const TAIL: &str = "tail";
 }
 
 pub use context::GpuContext;

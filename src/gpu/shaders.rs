@@ -39,5 +39,6 @@ pub const GENERATE: Variants = variants!("wavefront_generate");
 pub const INTERSECT: Variants = variants!("wavefront_intersect");
 pub const SHADE: Variants = variants!("wavefront_shade");
 pub const SHADOW: Variants = variants!("wavefront_shadow");
+pub const TAIL: Variants = variants!("wavefront_tail");
 pub const QUEUE_SETUP: &str = composed!("wavefront_queue_setup");
 pub const COMPACT: &str = composed!("wavefront_compact");

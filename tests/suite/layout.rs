@@ -97,5 +97,5 @@ fn material_kinds_match() {
 
 #[test]
 fn wave() {
-    check!(WaveUniform, "Wave", shaders::INTERSECT.plain, [compaction, per_material, pool, _pad]);
+    check!(WaveUniform, "Wave", shaders::INTERSECT.plain, [compaction, per_material, pool, shade_mask]);
 }

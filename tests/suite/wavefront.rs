@@ -4,7 +4,7 @@
 use crate::common;
 
 use wavetrace::film::Film;
-use wavetrace::gpu::wavefront::{Compaction, ShadePasses, WavefrontOptions};
+use wavetrace::gpu::wavefront::{Compaction, Schedule, ShadePasses, Tail, WavefrontOptions};
 use wavetrace::method::{render, Method, MethodOptions, RenderOutput};
 use wavetrace::scene::builtin;
 use wavetrace::settings::{Accel, RenderSettings};
@@ -23,7 +23,13 @@ fn all_knobs() -> Vec<WavefrontOptions> {
     for compaction in [Compaction::Off, Compaction::Atomic, Compaction::Scan] {
         for shade in [ShadePasses::PerMaterial, ShadePasses::Single] {
             // A small pool so every render runs several waves.
-            v.push(WavefrontOptions { pool_size: Some(7000), workgroup_size: 64, compaction, shade });
+            v.push(WavefrontOptions {
+                pool_size: Some(7000),
+                workgroup_size: 64,
+                compaction,
+                shade,
+                ..Default::default()
+            });
         }
     }
     v.push(WavefrontOptions { pool_size: None, workgroup_size: 32, ..Default::default() });
@@ -157,4 +163,186 @@ fn an_oversized_pool_is_reduced_not_fatal() {
     };
     let out = run(Method::Wavefront, "furnace", &settings(1), &opts);
     assert!(out.pool.unwrap() < u32::MAX);
+}
+
+fn regenerating(base: WavefrontOptions) -> WavefrontOptions {
+    WavefrontOptions { schedule: Schedule::Regenerate, ..base }
+}
+
+/// Path regeneration changes which slot traces which sample and when, never a sample's random
+/// numbers or the order the film adds a pixel's samples: its film is the waved film, bit for
+/// bit, for every compaction method and shade mode, with and without next-event estimation.
+#[test]
+fn regenerate_gives_the_waved_film_bit_for_bit() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let cases = [
+        ("rtiow-final", settings(16)),
+        ("cornell", RenderSettings { nee: true, max_depth: 12, ..settings(8) }),
+    ];
+    for (scene, s) in cases {
+        for knobs in all_knobs() {
+            // A pool of 700 makes chunks of 8 pools: many chunks, many refills per chunk.
+            let waves = WavefrontOptions { pool_size: Some(700), ..knobs };
+            let w =
+                run(Method::Wavefront, scene, &s, &MethodOptions { wavefront: waves, ..Default::default() });
+            let regen = WavefrontOptions { sync_every: 3, ..regenerating(waves) };
+            let r =
+                run(Method::Wavefront, scene, &s, &MethodOptions { wavefront: regen, ..Default::default() });
+            assert_eq!(w.film, r.film, "{scene} {regen:?}");
+            let stats = r.schedule.as_ref().unwrap();
+            assert_eq!(stats.schedule, Schedule::Regenerate);
+            assert!(stats.shares > 1, "{scene}: several chunks");
+            assert!(r.histogram.is_none(), "queues mix bounces when regenerating");
+        }
+    }
+}
+
+#[test]
+fn regenerate_repeats_bit_identically() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let opts = MethodOptions {
+        wavefront: regenerating(WavefrontOptions { pool_size: Some(1000), ..Default::default() }),
+        ..Default::default()
+    };
+    let a = run(Method::Wavefront, "rtiow-final", &settings(8), &opts);
+    let b = run(Method::Wavefront, "rtiow-final", &settings(8), &opts);
+    assert_eq!(a.film, b.film);
+}
+
+/// The point of regeneration: the intersect passes see a full pool until the chunk's samples
+/// run out, where waves see it drain every wave; and far fewer passes are dispatched, fewer of
+/// them empty. (Without the tail, the chunk's longest paths still drain it at the end: half the
+/// pool on average needs the tail, `the_tail_keeps_occupancy_high_on_small_jobs`.)
+#[test]
+fn regenerate_keeps_the_pool_full() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let s = settings(16); // 15 360 samples: 7.5 pools of 2048
+    let base = WavefrontOptions { pool_size: Some(2048), ..Default::default() };
+    let w =
+        run(Method::Wavefront, "rtiow-final", &s, &MethodOptions { wavefront: base, ..Default::default() });
+    let r = run(
+        Method::Wavefront,
+        "rtiow-final",
+        &s,
+        &MethodOptions { wavefront: regenerating(base), ..Default::default() },
+    );
+    let (ws, rs) = (w.schedule.unwrap(), r.schedule.unwrap());
+    eprintln!("waves: {ws:?}\nregenerate: {rs:?}");
+    assert!(rs.intersect_occupancy > 3.0 * ws.intersect_occupancy, "{rs:?} vs {ws:?}");
+    assert!(rs.dispatches * 4 < ws.dispatches, "{} vs {} dispatches", rs.dispatches, ws.dispatches);
+    assert!(rs.empty_dispatches * 4 < ws.empty_dispatches);
+    // Idle iterations come only after a chunk's work ran out, fewer than one check's worth.
+    assert!(rs.idle_iterations < rs.shares * rs.sync_every.unwrap() as u64, "{rs:?}");
+    assert_eq!(w.dispatches, ws.dispatches);
+    assert_eq!(r.empty_dispatches, Some(rs.empty_dispatches));
+}
+
+#[test]
+fn bad_sync_every_is_refused() {
+    if common::gpu().is_none() {
+        return;
+    }
+    for k in [0, 1025] {
+        let opts = MethodOptions {
+            wavefront: WavefrontOptions { sync_every: k, ..regenerating(Default::default()) },
+            ..Default::default()
+        };
+        let scene = builtin::by_name("furnace").unwrap();
+        let e = render(Method::Wavefront, &scene, &settings(1), &opts, common::gpu(), &|_| {}).unwrap_err();
+        assert!(format!("{e:#}").contains("--sync-every"), "{e:#}");
+    }
+}
+
+/// The megakernel tail finishes a chunk's last paths with the megakernel's own loop: its images
+/// agree with the megakernel as the passes do, for every knob, NEE on and off; a threshold of 1
+/// hands most paths to it.
+#[test]
+fn the_megakernel_tail_agrees_with_the_megakernel() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let cases = [
+        ("rtiow-final", settings(16)),
+        ("cornell", RenderSettings { nee: true, max_depth: 12, ..settings(8) }),
+    ];
+    for (scene, s) in cases {
+        let reference = run(Method::Megakernel, scene, &s, &MethodOptions::default()).film;
+        for knobs in all_knobs() {
+            for threshold in [0.05, 1.0] {
+                let wf = WavefrontOptions {
+                    pool_size: Some(2000),
+                    tail: Tail::Megakernel,
+                    tail_threshold: threshold,
+                    sync_every: 2,
+                    ..regenerating(knobs)
+                };
+                let out =
+                    run(Method::Wavefront, scene, &s, &MethodOptions { wavefront: wf, ..Default::default() });
+                let what = format!("{scene} {wf:?}");
+                assert_match(&what, &out.film, &reference);
+                assert_rays_match(&what, &out.film, &reference);
+                let stats = out.schedule.unwrap();
+                assert!(stats.tail_passes <= stats.shares, "{what}: at most one tail per chunk");
+                if threshold == 1.0 {
+                    // Due as soon as a chunk's samples have all started.
+                    assert!(stats.tail_passes >= 1 && stats.tail_paths > 0, "{what}: {stats:?}");
+                    assert!(out.timings.unwrap().passes.contains_key("tail"));
+                }
+            }
+        }
+    }
+}
+
+/// With the tail, the passes stop when the pool drains: the bar of half the pool
+/// occupied on average holds even for a job of two pools.
+#[test]
+fn the_tail_keeps_occupancy_high_on_small_jobs() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let s = settings(4); // 3 840 samples: 1.9 pools of 2 000
+    let wf = WavefrontOptions {
+        pool_size: Some(2000),
+        tail: Tail::Megakernel,
+        tail_threshold: 0.25,
+        sync_every: 1,
+        ..regenerating(Default::default())
+    };
+    let out =
+        run(Method::Wavefront, "rtiow-final", &s, &MethodOptions { wavefront: wf, ..Default::default() });
+    let stats = out.schedule.unwrap();
+    eprintln!("{stats:?}");
+    assert!(stats.intersect_occupancy >= 0.5, "{stats:?}");
+}
+
+#[test]
+fn a_tail_needs_regeneration() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let opts = MethodOptions {
+        wavefront: WavefrontOptions { tail: Tail::Megakernel, ..Default::default() },
+        ..Default::default()
+    };
+    let scene = builtin::by_name("furnace").unwrap();
+    let e = render(Method::Wavefront, &scene, &settings(1), &opts, common::gpu(), &|_| {}).unwrap_err();
+    assert!(format!("{e:#}").contains("--schedule regenerate"), "{e:#}");
+    for t in [0.0, -0.5, 1.5, f64::NAN] {
+        let opts = MethodOptions {
+            wavefront: WavefrontOptions {
+                tail: Tail::Megakernel,
+                tail_threshold: t,
+                ..regenerating(Default::default())
+            },
+            ..Default::default()
+        };
+        let e = render(Method::Wavefront, &scene, &settings(1), &opts, common::gpu(), &|_| {}).unwrap_err();
+        assert!(format!("{e:#}").contains("--tail-threshold"), "{t}: {e:#}");
+    }
 }

@@ -1,27 +1,55 @@
-//! generate (`shaders/wavefront/generate.wgsl`): a camera ray for every path of a wave.
+//! generate (`shaders/wavefront/generate.wgsl`): camera paths. With `--schedule waves`, one pass
+//! starts every path of a wave; with `--schedule regenerate`, `regenerate_init` empties the pool
+//! at a chunk's start and `regenerate` refills the slots whose paths ended, every iteration.
 
 use super::super::stage::{Stage, Workgroups};
 use super::super::{context::GpuContext, label, shaders};
-use super::{Bindings, WaveRecorder};
+use super::path_state::ARGS_REGENERATE;
+use super::{Bindings, Schedule, WaveRecorder};
 use anyhow::Result;
 
-pub struct Generate {
-    stage: Stage,
-    workgroup_size: u32,
+pub enum Generate {
+    Waves { generate: Stage, workgroup_size: u32 },
+    Regenerate { init: Stage, refill: Stage, workgroup_size: u32, pool: u32 },
 }
 
 impl Generate {
-    pub fn new(ctx: &GpuContext, b: &Bindings, workgroup_size: u32, instrument: bool) -> Result<Self> {
+    pub fn new(
+        ctx: &GpuContext,
+        b: &Bindings,
+        schedule: Schedule,
+        pool: u32,
+        workgroup_size: u32,
+        instrument: bool,
+    ) -> Result<Self> {
         let module = ctx.shader(label::GENERATE, shaders::GENERATE.get(instrument))?;
-        let constants = b.scene.constants(&[("WORKGROUP_SIZE", workgroup_size as f64)]);
-        Ok(Self {
-            stage: Stage::new(ctx, label::GENERATE, &module, &b.layouts(), &constants)?,
-            workgroup_size,
+        let constants = b.constants(&[("WORKGROUP_SIZE", workgroup_size as f64)]);
+        let stage = |l| Stage::new(ctx, l, &module, &b.layouts(), &constants);
+        Ok(match schedule {
+            Schedule::Waves => Generate::Waves { generate: stage(label::GENERATE)?, workgroup_size },
+            Schedule::Regenerate => Generate::Regenerate {
+                init: stage(label::REGENERATE_INIT)?,
+                refill: stage(label::REGENERATE)?,
+                workgroup_size,
+                pool,
+            },
         })
     }
 
-    pub fn record(&self, wave: &mut WaveRecorder<'_>) {
-        let groups = wave.paths.div_ceil(self.workgroup_size);
-        wave.record(&self.stage, None, usize::MAX, Workgroups::Direct(groups));
+    /// Waves: the wave's camera paths. Regenerating: a chunk's start (every slot free).
+    pub fn record_start(&self, wave: &mut WaveRecorder<'_>) {
+        let (stage, threads, wg) = match self {
+            Generate::Waves { generate, workgroup_size } => (generate, wave.paths, *workgroup_size),
+            Generate::Regenerate { init, workgroup_size, pool, .. } => (init, *pool, *workgroup_size),
+        };
+        wave.record(stage, None, usize::MAX, Workgroups::Direct(threads.div_ceil(wg)));
+    }
+
+    /// Regenerating: the refill, sized by queue_setup_regenerate (nothing in waves).
+    pub fn record_refill(&self, wave: &mut WaveRecorder<'_>, iteration: u32) {
+        if let Generate::Regenerate { refill, .. } = self {
+            let args = Workgroups::Indirect(&wave.b.state.indirect, ARGS_REGENERATE * 12);
+            wave.record(refill, Some(iteration), usize::MAX, args);
+        }
     }
 }

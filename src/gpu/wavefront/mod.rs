@@ -1,11 +1,16 @@
 //! The wavefront method (Laine, Karras & Aila, HPG 2013): each bounce is split into small passes
 //! over queues of paths held in GPU memory, so that each pass runs converged.
 //!
-//! Per wave of up to `pool` paths:
+//! The image's samples are cut into shares: with `--schedule waves`, waves of at most `pool`
+//! paths that all start together and run `max_depth` bounces; with `--schedule regenerate`,
+//! chunks of several pools whose slots are refilled as paths end (Laine et al.'s "new path"
+//! stage), so intersect and shade see a full pool until the chunk's last samples. Per share:
 //!
 //! ```text
-//! generate                                  camera rays → ray queue
-//! for bounce in 0..max_depth:
+//! generate | regenerate_init                camera rays (waves) | every slot free (regenerate)
+//! for each iteration (waves: max_depth; regenerate: until the share's samples are done,
+//!                     read back every --sync-every iterations):
+//!     [queue_setup_regenerate, regenerate]  (regenerate) next samples into the free slots
 //!     queue_setup_intersect                 ray queue count → intersect's indirect args
 //!     intersect                             closest hits; escaped rays add the background
 //!     [compact_scan, _blocks, _scatter]     (scan method) build the material queues
@@ -14,19 +19,23 @@
 //!                                           (--nee on) diffuse hits → shadow queue
 //!     [compact_scan, _blocks, _scatter]     (scan method) build the next ray queue
 //!     [queue_setup_shadow, shadow]          (--nee on, scene has lights) shadow rays
-//! accumulate                                the wave's radiance → film, in sample order
+//! accumulate                                the share's radiance → film, in sample order
 //! ```
 //!
-//! The host never reads a counter inside the loop: bounces whose queues are empty dispatch zero
-//! workgroups.
+//! The host never reads a counter inside a batch of iterations: passes whose queues are empty
+//! dispatch zero workgroups (and are counted as empty). Each sample keeps its counter-based
+//! random numbers and the film adds each pixel's samples in sample order under both schedules,
+//! so they give bit-identical films.
 
 pub mod compact;
 pub mod generate;
 pub mod intersect;
 pub mod path_state;
 pub mod queue_setup;
+pub mod schedule;
 pub mod shade;
 pub mod shadow;
+pub mod tail;
 
 use super::accumulate::Accumulate;
 use super::buffers::{read_back, storage_zeroed};
@@ -46,9 +55,11 @@ use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
 use compact::Target;
 use path_state::{
-    PathState, BYTES_PER_PATH, COUNTER_STATS, LARGEST_BINDING_PER_PATH, QUEUE_COUNT, QUEUE_SHADOW,
+    bytes_per_path, PathState, COUNTER_STATS, LARGEST_BINDING_PER_PATH, QUEUE_COUNT, QUEUE_SHADOW,
 };
+pub use schedule::{Schedule, ScheduleStats};
 use std::time::Instant;
+pub use tail::Tail;
 
 /// How queues are kept dense.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
@@ -79,6 +90,14 @@ pub struct WavefrontOptions {
     pub workgroup_size: u32,
     pub compaction: Compaction,
     pub shade: ShadePasses,
+    pub schedule: Schedule,
+    /// Regenerating: iterations recorded between read-backs of the finished-sample counter
+    /// (more: fewer host waits, up to this many idle iterations at a chunk's end).
+    pub sync_every: u32,
+    /// Regenerating: whether a chunk's last paths are finished megakernel-style.
+    pub tail: Tail,
+    /// The live fraction of the pool below which the tail takes over.
+    pub tail_threshold: f64,
 }
 
 impl Default for WavefrontOptions {
@@ -88,6 +107,10 @@ impl Default for WavefrontOptions {
             workgroup_size: 64,
             compaction: Compaction::Atomic,
             shade: ShadePasses::PerMaterial,
+            schedule: Schedule::Waves,
+            sync_every: schedule::DEFAULT_SYNC_EVERY,
+            tail: Tail::Off,
+            tail_threshold: tail::DEFAULT_THRESHOLD,
         }
     }
 }
@@ -125,9 +148,18 @@ pub struct Bindings {
     pub scene: SceneBuffers,
     pub state: PathState,
     pub simd: Option<SimdCounters>,
+    /// `--schedule regenerate` (the `REGENERATE` pipeline constant).
+    pub regenerate: bool,
 }
 
 impl Bindings {
+    /// A pass's own pipeline constants plus the scene's and the schedule's.
+    pub fn constants(&self, own: &[(&'static str, f64)]) -> Vec<(&'static str, f64)> {
+        let mut c = self.scene.constants(own);
+        c.push(("REGENERATE", self.regenerate as u32 as f64));
+        c
+    }
+
     pub fn layouts(&self) -> Vec<&wgpu::BindGroupLayout> {
         let mut l = vec![&self.scene.layout, &self.state.layout];
         l.extend(self.simd.as_ref().map(|s| &s.layout));
@@ -152,14 +184,34 @@ pub struct WaveRecorder<'a> {
     pub offset: u32,
     /// Paths in this wave.
     pub paths: u32,
+    /// Whether passes are timed per bounce (waves) or only per label (regenerating: an
+    /// iteration holds paths at every bounce).
+    pub per_bounce: bool,
+    /// Passes recorded (compute dispatches, empty ones included).
+    pub dispatches: u64,
 }
 
 impl WaveRecorder<'_> {
     /// Records `stage` as a timed pass with the wave's first `groups` bind groups.
     pub fn record(&mut self, stage: &Stage, bounce: Option<u32>, groups: usize, workgroups: Workgroups<'_>) {
+        self.record_with(stage, bounce, groups, None, workgroups);
+    }
+
+    /// [`Self::record`], with `extra` bound after the first `groups` bind groups.
+    pub fn record_with(
+        &mut self,
+        stage: &Stage,
+        bounce: Option<u32>,
+        groups: usize,
+        extra: Option<(&wgpu::BindGroup, Vec<u32>)>,
+        workgroups: Workgroups<'_>,
+    ) {
         let mut g = self.b.groups(self.offset);
         g.truncate(groups);
+        g.extend(extra);
+        let bounce = bounce.filter(|_| self.per_bounce);
         stage.record(&mut self.enc, self.timer, bounce, &g, workgroups);
+        self.dispatches += 1;
     }
 
     /// Submits what is recorded, waits for it (adding its pass times) and opens a new encoder.
@@ -174,7 +226,54 @@ impl WaveRecorder<'_> {
 pub struct WavefrontRender {
     pub render: GpuRender,
     pub pool: u32,
+    /// Per-bounce queue sizes (waves with compaction; regenerating mixes bounces in a queue).
     pub histogram: Option<QueueHistogram>,
+    pub schedule: ScheduleStats,
+}
+
+/// The passes of a render, recorded per share and per iteration.
+struct Stages {
+    generate: generate::Generate,
+    queue_setup: queue_setup::QueueSetup,
+    intersect: intersect::Intersect,
+    shade: shade::Shade,
+    compact: Option<compact::Compact>,
+    shadow: Option<shadow::Shadow>,
+    tail: Option<tail::TailPass>,
+    regenerate: bool,
+}
+
+impl Stages {
+    /// One iteration: a bounce of every path in waves; when regenerating, a refill and then a
+    /// bounce of every path in the pool, whatever its depth.
+    fn record_iteration(&self, wave: &mut WaveRecorder<'_>, i: u32) {
+        if self.regenerate {
+            self.queue_setup.record_regenerate(wave, i);
+            self.generate.record_refill(wave, i);
+        }
+        self.queue_setup.record_intersect(wave, i);
+        self.intersect.record(wave, i);
+        if let Some(compact) = &self.compact {
+            compact.record(wave, i, Target::MaterialQueues);
+        }
+        self.queue_setup.record_shade(wave, i);
+        self.shade.record(wave, i);
+        if let Some(compact) = &self.compact {
+            compact.record(wave, i, Target::NextRayQueue);
+        }
+        if let Some(shadow) = &self.shadow {
+            self.queue_setup.record_shadow(wave, i);
+            shadow.record(wave, i);
+        }
+    }
+
+    /// Passes one iteration records, to keep each submission within the timer's capacity.
+    fn per_iteration(&self) -> usize {
+        3 + self.shade.passes()
+            + if self.compact.is_some() { 6 } else { 0 }
+            + if self.shadow.is_some() { 2 } else { 0 }
+            + if self.regenerate { 2 } else { 0 }
+    }
 }
 
 pub fn render(
@@ -191,73 +290,124 @@ pub fn render(
     let wg = opts.workgroup_size;
     ctx.check_workgroup_size(wg)?;
     let pool = choose_pool(ctx, opts)?;
+    schedule::check_sync_every(opts.sync_every)?;
+    tail::check_threshold(opts.tail_threshold)?;
+    let regenerate = opts.schedule == Schedule::Regenerate;
+    if opts.tail == Tail::Megakernel && !regenerate {
+        bail!("--tail megakernel finishes a regenerating chunk: it needs --schedule regenerate");
+    }
     let start = Instant::now();
 
     let pixels = settings.width * settings.height;
-    let waves = dispatch_plan::plan(pixels, settings.spp, pool as u64, pool);
-    let params = DispatchUniforms::new(ctx, &waves);
+    let shares = match opts.schedule {
+        Schedule::Waves => dispatch_plan::plan(pixels, settings.spp, pool as u64, pool),
+        Schedule::Regenerate => {
+            dispatch_plan::plan(pixels, settings.spp, schedule::chunk_budget(ctx, pool), u32::MAX)
+        }
+    };
+    let params = DispatchUniforms::new(ctx, &shares);
+    let kinds = scene.material_kinds_used();
+    let per_material = opts.shade == ShadePasses::PerMaterial;
     let wave = WaveUniform {
         compaction: opts.compaction as u32,
-        per_material: (opts.shade == ShadePasses::PerMaterial) as u32,
+        per_material: per_material as u32,
         pool,
-        _pad: 0,
+        shade_mask: if per_material { kinds.iter().fold(0, |m, k| m | 1 << k) } else { 1 },
     };
-    let stats_bounces = settings.max_depth.min(STATS_BOUNCES);
+    let stats_bounces = if regenerate { 1 } else { settings.max_depth.min(STATS_BOUNCES) };
+    let largest_share =
+        shares.iter().map(|d| d.pixel_count as u64 * d.sample_count as u64).max().unwrap_or(1);
     let frame = scene.frame_uniform(camera, settings);
     let b = Bindings {
         scene: SceneBuffers::new(ctx, scene, &frame, settings)?,
-        state: PathState::new(ctx, pool, wave, &params, stats_bounces)?,
+        state: PathState::new(ctx, pool, wave, &params, stats_bounces, regenerate.then_some(largest_share))?,
         simd: instrument.then(|| SimdCounters::new(ctx)).transpose()?,
+        regenerate,
     };
     let film_bytes = pixels as u64 * std::mem::size_of::<FilmPixel>() as u64;
     let film = storage_zeroed(ctx, "film", film_bytes, wgpu::BufferUsages::COPY_SRC)?;
 
-    let kinds = scene.material_kinds_used();
-    let generate = generate::Generate::new(ctx, &b, wg, instrument)?;
-    let queue_setup = queue_setup::QueueSetup::new(ctx, &b, wg)?;
-    let intersect = intersect::Intersect::new(ctx, &b, wg, instrument)?;
-    let shade_kinds = (opts.shade == ShadePasses::PerMaterial).then_some(kinds.as_slice());
-    let shade = shade::Shade::new(ctx, &b, shade_kinds, wg, instrument)?;
-    let compact =
-        (opts.compaction == Compaction::Scan).then(|| compact::Compact::new(ctx, &b)).transpose()?;
-    let shadow = (settings.nee && !scene.lights.is_empty())
-        .then(|| shadow::Shadow::new(ctx, &b, wg, instrument))
-        .transpose()?;
-    let accumulate = Accumulate::new(ctx, &b.state.radiance, &film, &params)?;
+    let shade_kinds = per_material.then_some(kinds.as_slice());
+    let stages = Stages {
+        generate: generate::Generate::new(ctx, &b, opts.schedule, pool, wg, instrument)?,
+        queue_setup: queue_setup::QueueSetup::new(ctx, &b, wg)?,
+        intersect: intersect::Intersect::new(ctx, &b, wg, instrument)?,
+        shade: shade::Shade::new(ctx, &b, shade_kinds, wg, instrument)?,
+        compact: (opts.compaction == Compaction::Scan).then(|| compact::Compact::new(ctx, &b)).transpose()?,
+        shadow: (settings.nee && !scene.lights.is_empty())
+            .then(|| shadow::Shadow::new(ctx, &b, wg, instrument))
+            .transpose()?,
+        tail: (opts.tail == Tail::Megakernel)
+            .then(|| tail::TailPass::new(ctx, &b, wg, instrument))
+            .transpose()?,
+        regenerate,
+    };
+    let samples = if regenerate { &b.state.samples } else { &b.state.radiance };
+    let accumulate = Accumulate::new(ctx, samples, &film, &params)?;
 
-    // Passes per bounce, to keep each submission within the timer's capacity.
-    let per_bounce =
-        3 + shade.passes() + if compact.is_some() { 6 } else { 0 } + if shadow.is_some() { 2 } else { 0 };
+    let per_iteration = stages.per_iteration();
     let mut timer = GpuTimer::new(ctx);
-    let mut histogram = (opts.compaction != Compaction::Off).then(QueueHistogram::default);
+    let mut histogram = (opts.compaction != Compaction::Off && !regenerate).then(QueueHistogram::default);
+    let mut stats = ScheduleStats::new(opts.schedule, opts.sync_every, pool);
     let mut done = 0u64;
-    for (w, d) in waves.iter().enumerate() {
+    for (w, d) in shares.iter().enumerate() {
         let paths = d.pixel_count * d.sample_count;
         let enc = ctx.device.create_command_encoder(&Default::default());
-        let mut wave = WaveRecorder { enc, timer: &mut timer, b: &b, offset: params.offset(w), paths };
+        let mut wave = WaveRecorder {
+            enc,
+            timer: &mut timer,
+            b: &b,
+            offset: params.offset(w),
+            paths,
+            per_bounce: !regenerate,
+            dispatches: 0,
+        };
 
-        generate.record(&mut wave);
-        for bounce in 0..settings.max_depth {
-            if wave.timer.remaining() < per_bounce + 1 {
-                wave.submit_and_wait(ctx)?;
+        stages.generate.record_start(&mut wave);
+        let iterations = match opts.schedule {
+            Schedule::Waves => {
+                for bounce in 0..settings.max_depth {
+                    if wave.timer.remaining() < per_iteration + 1 {
+                        wave.submit_and_wait(ctx)?;
+                    }
+                    stages.record_iteration(&mut wave, bounce);
+                }
+                settings.max_depth
             }
-            queue_setup.record_intersect(&mut wave, bounce);
-            intersect.record(&mut wave, bounce);
-            if let Some(compact) = &compact {
-                compact.record(&mut wave, bounce, Target::MaterialQueues);
+            Schedule::Regenerate => {
+                // Iterate until every sample of the chunk has finished, reading the counter back
+                // only every `sync_every` iterations.
+                let mut i = 0;
+                let mut progress = schedule::Progress::new(paths, settings.max_depth, opts.sync_every);
+                loop {
+                    for _ in 0..opts.sync_every {
+                        if wave.timer.remaining() < per_iteration + 1 {
+                            wave.submit_and_wait(ctx)?;
+                        }
+                        stages.record_iteration(&mut wave, i);
+                        i += 1;
+                    }
+                    wave.submit_and_wait(ctx)?;
+                    let c = schedule::ChunkCounters::read(ctx, &b.state)?;
+                    on_progress(done + c.finished as u64);
+                    if progress.done_after(c.finished, i)? {
+                        break i;
+                    }
+                    if let Some(tail) =
+                        stages.tail.as_ref().filter(|_| c.tail_due(paths, opts.tail_threshold, pool))
+                    {
+                        stages.queue_setup.record_tail(&mut wave, i);
+                        tail.record(&mut wave);
+                        stats.add_tail(c.live());
+                        break i;
+                    }
+                }
             }
-            queue_setup.record_shade(&mut wave, bounce);
-            shade.record(&mut wave, bounce);
-            if let Some(compact) = &compact {
-                compact.record(&mut wave, bounce, Target::NextRayQueue);
-            }
-            if let Some(shadow) = &shadow {
-                queue_setup.record_shadow(&mut wave, bounce);
-                shadow.record(&mut wave, bounce);
-            }
-        }
+        };
         accumulate.record(&mut wave.enc, wave.timer, wave.offset, d.pixel_count);
+        wave.dispatches += 1;
         wave.submit_and_wait(ctx)?;
+        stats.add_share(ctx, &b.state, iterations, wave.dispatches)?;
 
         if let Some(h) = &mut histogram {
             // Per wave, so the GPU's u32 counters never overflow on long renders.
@@ -277,13 +427,15 @@ pub fn render(
         render: GpuRender {
             film,
             timings: timer.into_timings(),
-            dispatches: waves.len() as u64,
+            dispatches: stats.dispatches,
+            empty_dispatches: Some(stats.empty_dispatches),
             wall_seconds: start.elapsed().as_secs_f64(),
             simd,
-            bytes_per_path: BYTES_PER_PATH,
+            bytes_per_path: bytes_per_path(regenerate),
         },
         pool,
         histogram,
+        schedule: stats,
     })
 }
 
@@ -298,7 +450,7 @@ fn choose_pool(ctx: &GpuContext, opts: &WavefrontOptions) -> Result<u32> {
             eprintln!(
                 "notice: pool of {p} paths does not fit {} ({} bytes per path, {} per binding); using {max}",
                 ctx.summary.name,
-                BYTES_PER_PATH,
+                bytes_per_path(opts.schedule == Schedule::Regenerate),
                 super::buffers::human_bytes(ctx.summary.max_storage_buffer_binding_size)
             );
             max

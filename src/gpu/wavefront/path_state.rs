@@ -8,27 +8,46 @@ use crate::layout::WaveUniform;
 use anyhow::Result;
 use wgpu::util::DeviceExt;
 
-/// Queue regions (two ray queues, four material queues, the shadow queue), as `QUEUE_COUNT` in
-/// WGSL.
-pub const QUEUE_COUNT: u64 = 7;
+/// Queue regions (two ray queues, four material queues, the shadow queue, the free slots), as
+/// `QUEUE_COUNT` in WGSL.
+pub const QUEUE_COUNT: u64 = 8;
 /// The shadow queue's region (`QUEUE_SHADOW`).
 pub const QUEUE_SHADOW: u64 = 6;
 /// Words of `counters` before the bounce histogram (`COUNTER_STATS`).
-pub const COUNTER_STATS: u64 = 9;
+pub const COUNTER_STATS: u64 = 10;
 /// Histogram rows the counters have room for (`COUNTER_SHADE_BASE` follows them).
 pub const MAX_STATS_BOUNCES: u64 = 64;
-/// Words of `counters`: header, histogram, the four shade passes' first scan positions.
-const COUNTER_WORDS: u64 = COUNTER_STATS + MAX_STATS_BOUNCES * QUEUE_COUNT + 4;
-/// Indirect-argument slots: intersect, one per material kind, the scan passes, the shadow pass.
-const ARGS_SLOTS: u64 = 7;
+/// `COUNTER_SHADE_BASE`: the four shade passes' first scan positions.
+const COUNTER_SHADE_BASE: u64 = COUNTER_STATS + MAX_STATS_BOUNCES * QUEUE_COUNT;
+/// The scheduling counters (`COUNTER_NEXT_SAMPLE` … `COUNTER_IDLE`), read after submissions.
+pub const COUNTER_SCHEDULE: u64 = COUNTER_SHADE_BASE + 4;
+/// Offsets from [`COUNTER_SCHEDULE`].
+pub mod schedule_word {
+    pub const NEXT_SAMPLE: usize = 0;
+    pub const FINISHED: usize = 1;
+    pub const EMPTY: usize = 3;
+    pub const INDIRECT: usize = 4;
+    pub const INTERSECTED: usize = 5;
+    pub const IDLE: usize = 6;
+    pub const WORDS: u64 = 7;
+}
+/// Words of `counters`: header, histogram, shade positions, scheduling counters.
+const COUNTER_WORDS: u64 = COUNTER_SCHEDULE + schedule_word::WORDS;
+/// Indirect-argument slots: intersect, one per material kind, the scan passes, the shadow pass,
+/// the refill, the tail.
+const ARGS_SLOTS: u64 = 9;
 pub const ARGS_INTERSECT: u64 = 0;
 pub const ARGS_SHADE_0: u64 = 1;
 pub const ARGS_COMPACT: u64 = 5;
 pub const ARGS_SHADOW: u64 = 6;
+pub const ARGS_REGENERATE: u64 = 7;
+pub const ARGS_TAIL: u64 = 8;
 /// Bytes of GPU memory per pool slot: origin, direction, throughput, radiance, shadow ray and
-/// shadow weight (16 each), seven queue entries, the scan's target queue, offset and slot (4
-/// each).
-pub const BYTES_PER_PATH: u64 = 6 * 16 + QUEUE_COUNT * 4 + 3 * 4;
+/// shadow weight (16 each), eight queue entries, the scan's target queue, offset and slot (4
+/// each); regenerating, also the slot's sample and bounce (8).
+pub const fn bytes_per_path(regenerate: bool) -> u64 {
+    6 * 16 + QUEUE_COUNT * 4 + 3 * 4 + if regenerate { 8 } else { 0 }
+}
 /// Bytes of the largest single binding per slot (the queues), which bounds the pool.
 pub const LARGEST_BINDING_PER_PATH: u64 = QUEUE_COUNT * 4;
 pub const SCAN_WG: u64 = 256;
@@ -40,8 +59,10 @@ pub struct PathState {
     /// bound as storage cannot feed an indirect dispatch in the same pass.
     pub indirect_layout: wgpu::BindGroupLayout,
     pub indirect_group: wgpu::BindGroup,
-    /// Per-slot radiance: the accumulate pass's input.
+    /// Per-slot radiance: the accumulate pass's input in waves.
     pub radiance: wgpu::Buffer,
+    /// Per-sample radiance of a chunk: the accumulate pass's input when regenerating.
+    pub samples: wgpu::Buffer,
     pub counters: wgpu::Buffer,
     pub indirect: wgpu::Buffer,
     pub stats_bounces: u32,
@@ -54,6 +75,7 @@ impl PathState {
         wave: WaveUniform,
         params: &DispatchUniforms,
         stats_bounces: u32,
+        chunk_samples: Option<u64>,
     ) -> Result<Self> {
         let pool64 = pool as u64;
         let none = wgpu::BufferUsages::empty();
@@ -79,13 +101,18 @@ impl PathState {
         let scan_slot = storage_zeroed(ctx, "scan slots", pool64 * 4, none)?;
         let shadow_ray = vec4s("shadow ray")?;
         let shadow_weight = vec4s("shadow weight")?;
+        // Regenerating: each slot's sample and bounce, and the chunk's finished samples. In
+        // waves neither is read (slot = sample, bounce = iteration): minimal buffers.
+        let path_sample =
+            storage_zeroed(ctx, "path samples", chunk_samples.map_or(16, |_| pool64 * 8), none)?;
+        let samples = storage_zeroed(ctx, "chunk samples", chunk_samples.map_or(16, |c| c * 16), none)?;
         let wave_buf = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("wave"),
             contents: bytemuck::bytes_of(&wave),
             usage: wgpu::BufferUsages::UNIFORM,
         });
         let mut entries = vec![uniform_entry(0, true), uniform_entry(1, false)];
-        entries.extend((2..=13).map(|b| storage_entry(b, false)));
+        entries.extend((2..=15).map(|b| storage_entry(b, false)));
         let layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("path state"),
             entries: &entries,
@@ -103,6 +130,8 @@ impl PathState {
             &scan_slot,
             &shadow_ray,
             &shadow_weight,
+            &path_sample,
+            &samples,
         ];
         let mut bind = vec![
             wgpu::BindGroupEntry { binding: 0, resource: params.binding() },
@@ -135,6 +164,7 @@ impl PathState {
             indirect_layout,
             indirect_group,
             radiance,
+            samples,
             counters,
             indirect,
             stats_bounces,

@@ -7,6 +7,8 @@ use super::{Bindings, WaveRecorder};
 use anyhow::Result;
 
 pub struct QueueSetup {
+    before_regenerate: Stage,
+    before_tail: Stage,
     before_intersect: Stage,
     before_shade: Stage,
     before_shadow: Stage,
@@ -15,15 +17,28 @@ pub struct QueueSetup {
 impl QueueSetup {
     pub fn new(ctx: &GpuContext, b: &Bindings, workgroup_size: u32) -> Result<Self> {
         let module = ctx.shader(label::QUEUE_SETUP_INTERSECT, shaders::QUEUE_SETUP)?;
-        let constants =
-            [("WORKGROUP_SIZE", workgroup_size as f64), ("STATS_BOUNCES", b.state.stats_bounces as f64)];
+        let constants = [
+            ("WORKGROUP_SIZE", workgroup_size as f64),
+            ("STATS_BOUNCES", b.state.stats_bounces as f64),
+            ("REGENERATE", b.regenerate as u32 as f64),
+        ];
         // Scene, path state and the indirect arguments (never the instrument counters).
         let layouts = &[b.layouts()[0], b.layouts()[1], &b.state.indirect_layout];
         Ok(Self {
+            before_regenerate: Stage::new(ctx, label::QUEUE_SETUP_REGENERATE, &module, layouts, &constants)?,
+            before_tail: Stage::new(ctx, label::QUEUE_SETUP_TAIL, &module, layouts, &constants)?,
             before_intersect: Stage::new(ctx, label::QUEUE_SETUP_INTERSECT, &module, layouts, &constants)?,
             before_shade: Stage::new(ctx, label::QUEUE_SETUP_SHADE, &module, layouts, &constants)?,
             before_shadow: Stage::new(ctx, label::QUEUE_SETUP_SHADOW, &module, layouts, &constants)?,
         })
+    }
+
+    pub fn record_regenerate(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
+        record(&self.before_regenerate, wave, bounce);
+    }
+
+    pub fn record_tail(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
+        record(&self.before_tail, wave, bounce);
     }
 
     pub fn record_intersect(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
@@ -41,8 +56,6 @@ impl QueueSetup {
 
 /// Single-thread pass with scene, path state and the indirect arguments bound.
 fn record(stage: &Stage, wave: &mut WaveRecorder<'_>, bounce: u32) {
-    let mut groups = wave.b.groups(wave.offset);
-    groups.truncate(2);
-    groups.push((&wave.b.state.indirect_group, vec![]));
-    stage.record(&mut wave.enc, wave.timer, Some(bounce), &groups, Workgroups::Direct(1));
+    let indirect = (&wave.b.state.indirect_group, vec![]);
+    wave.record_with(stage, Some(bounce), 2, Some(indirect), Workgroups::Direct(1));
 }

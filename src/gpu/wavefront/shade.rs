@@ -22,7 +22,7 @@ impl Shade {
         instrument: bool,
     ) -> Result<Self> {
         let module = ctx.shader(label::SHADE, shaders::SHADE.get(instrument))?;
-        let constants = b.scene.constants(&[("WORKGROUP_SIZE", workgroup_size as f64)]);
+        let constants = b.constants(&[("WORKGROUP_SIZE", workgroup_size as f64)]);
         let passes: Vec<(u64, &'static str)> = match kinds {
             Some(kinds) => {
                 kinds.iter().map(|&k| (ARGS_SHADE_0 + k as u64, label::SHADE_BY_KIND[k as usize])).collect()
