@@ -93,7 +93,10 @@ fn git_commit() {
             .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
     };
     let mut commit = git(&["rev-parse", "HEAD"]).unwrap_or_else(|| "unknown".into());
-    if git(&["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty()) {
+    // --no-optional-locks: a plain `git status` refreshes the index it reads, and the index is
+    // watched below, so every build would re-run this script and recompile the crate.
+    let status = git(&["--no-optional-locks", "status", "--porcelain", "--untracked-files=no"]);
+    if status.is_some_and(|s| !s.is_empty()) {
         commit.push_str("-dirty");
     }
     println!("cargo:rustc-env=WAVETRACE_GIT_COMMIT={commit}");
