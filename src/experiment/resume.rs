@@ -92,7 +92,11 @@ fn resume(
             show(shard)
         );
     }
+    let mut seen = BTreeSet::new();
     for r in &earlier.runs {
+        if !seen.insert(r.index) {
+            bail!("cannot resume {dir}: its report holds run {} ({}) twice; {start_over}", r.index, r.id);
+        }
         let spec = planned.get(r.index);
         if spec.is_none_or(|p| p.id != r.id || shard.is_some_and(|s| !s.takes(p))) {
             bail!("cannot resume {dir}: its run {} ({}) is not in this plan; {start_over}", r.index, r.id);
@@ -110,13 +114,23 @@ fn resume(
             continue;
         }
         if !allow_other_build {
+            let unprovable = [then, &now.build].iter().any(|b| {
+                b.get("git_commit")
+                    .and_then(Value::as_str)
+                    .is_none_or(|c| c == "unknown" || c.ends_with("-dirty"))
+            });
             bail!(
-                "cannot resume {dir}: its finished runs were made by another build ({}); this is {}. \
-                 A build from a modified tree (-dirty) counts as the same only when its executable \
-                 is byte-identical. Rebuild that commit, {start_over}, or pass --allow-other-build \
-                 to keep those runs anyway (each run's environment names its build)",
+                "cannot resume {dir}: its finished runs were made by another build ({}); this is {}.{} \
+                 Resume with the build that made them, pass --allow-other-build to keep those runs anyway (each run's \
+                 environment names its build), or {start_over}",
                 describe(then),
-                describe(&now.build)
+                describe(&now.build),
+                if unprovable {
+                    " A build from a modified tree (-dirty) counts as the same only when its \
+                     executable is byte-identical."
+                } else {
+                    ""
+                }
             );
         }
         other_build = true;
@@ -141,12 +155,13 @@ fn resume(
         }
     }
 
-    let left = fresh.runs_selected - kept.len();
-    eprintln!(
-        "resuming {dir}: keeping {} finished runs, running {left} ({} failed before and run again)",
-        kept.len(),
-        failed.len()
-    );
+    let left = fresh.runs_selected.saturating_sub(kept.len());
+    let retried = if failed.is_empty() {
+        String::new()
+    } else {
+        format!(" ({} failed before, run again)", failed.len())
+    };
+    eprintln!("resuming {dir}: keeping {} finished runs, running {left}{retried}", kept.len());
     let mut env = now.clone();
     env.resume = Some(ResumeRecord {
         kept: kept.iter().map(|r| r.index).collect(),

@@ -48,8 +48,8 @@ fn a_killed_shard_resumes_without_rendering_its_finished_runs_again() {
         "schema": "wavetrace-experiment/1",
         "question": "test",
         "scenes": ["three-spheres", "rtiow-final"],
-        "resolutions": ["96x54"],
-        "spp": [1, 2, 3, 4, 5, 6, 7, 8],
+        "resolutions": ["128x72"],
+        "spp": [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12],
         "repetitions": 3,
         "warmup": 0,
         "methods": [{"method": "cpu"}, {"method": "cpu-f64"}],
@@ -186,7 +186,11 @@ fn resume_runs_failed_runs_again_and_starts_afresh_without_a_report() {
     // Failed runs are run again; the runs that succeeded are kept.
     let o = run(&path, &out, &cache, &["--resume"]);
     assert!(!o.status.success());
-    assert!(stderr(&o).contains("keeping 2 finished runs, running 2 (2 failed before"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("keeping 2 finished runs, running 2 (2 failed before, run again)"),
+        "{}",
+        stderr(&o)
+    );
     let second = assert_valid(&out);
     let resume = &second["environments"][1]["resume"];
     let retried = resume["retried"].as_array().unwrap();

@@ -55,7 +55,7 @@ fn same(cell: &str, v: &Value) -> bool {
             let (a, b) = (cell.parse::<f64>().unwrap_or(f64::NAN), n.as_f64().unwrap());
             a == b || (a - b).abs() <= 4.0 * f64::EPSILON * b.abs()
         }
-        other => cell == other.to_string(),
+        other => serde_json::from_str::<Value>(cell).is_ok_and(|v| &v == other),
     }
 }
 
@@ -205,8 +205,8 @@ fn tidy_tables_match_report_json_and_keep_commas_and_quotes() {
     let dir = scratch("tidy");
     let mut config =
         crate::experiment::small_config(serde_json::json!([{"method": "cpu"}, {"method": "megakernel"}]));
-    // Every GPU run fails, on any machine, with an error that quotes this name: a string with a
-    // comma, quotes and a line break for the CSV to carry.
+    // Every GPU run fails, on any machine, with an error that quotes this name (escaped, as Rust
+    // debug-prints it): a string with commas and quotes for the CSV to carry.
     let adapter = "no, \"such\"\nadapter";
     config["adapter"] = Value::String(adapter.into());
     let path = write_config(&dir, "tidy", &config);
