@@ -2,7 +2,7 @@
 //! with where and from what code, so each figure can be traced to its run. The schema is
 //! documented in the README and as JSON Schema in `experiments/report.schema.json`; a test checks
 //! real reports against it. Written atomically after every run, so a killed experiment leaves the
-//! last complete report.
+//! last complete report, which `experiment run --resume` continues (`resume.rs`).
 
 use std::collections::BTreeMap;
 use std::path::Path;
