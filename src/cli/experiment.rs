@@ -6,6 +6,7 @@ use anyhow::{bail, Result};
 
 use crate::experiment::plan::{self, Shard};
 use crate::experiment::report::{ExperimentReport, RunStatus};
+use crate::experiment::resume::Resume;
 use crate::experiment::runner::{self, RunnerOptions};
 use crate::experiment::{merge, outputs, ExperimentConfig};
 
@@ -15,11 +16,16 @@ Examples:
   wavetrace experiment run experiments/cpu_vs_gpu.json --out results/cpu_vs_gpu
   wavetrace experiment run experiments/quick.json --list          # the runs, without running
   wavetrace experiment run sweep.json --out shards/$SLURM_ARRAY_TASK_ID --shard $SLURM_ARRAY_TASK_ID/8
+  wavetrace experiment run sweep.json --out results/sweep --resume  # after a kill or preemption
   wavetrace experiment merge shards/* --out results/sweep
-  wavetrace experiment report out/quick                           # re-draw charts and HTML
+  wavetrace experiment report out/quick                           # re-draw charts, HTML and CSV
 
 Writes into the output directory: report.json (schema wavetrace-experiment-report/1, see the
-README), report.html, charts/*.svg, images/RUN.exr|.png|-error.png, references/*.png.
+README), runs.csv and passes.csv (tidy tables of it), report.html, charts/*.svg,
+images/RUN.exr|.png|-error.png, references/*.png.
+--resume keeps the runs an interrupted attempt in --out finished (same config, build and shard,
+else it refuses and says what differs), runs failed runs again and renders the rest; with no
+report.json there yet it starts afresh, so a requeued batch job can always pass it.
 Exits with status 1 when any run failed (the report records why).";
 
 #[derive(clap::Subcommand, Debug)]
@@ -28,7 +34,7 @@ pub enum ExperimentCommand {
     Run(RunArgs),
     /// Merge the output directories of shards of one config into one report.
     Merge(MergeArgs),
-    /// Re-draw charts and report.html from a directory's report.json.
+    /// Re-draw charts, report.html, runs.csv and passes.csv from a directory's report.json.
     Report(ReportArgs),
 }
 
@@ -50,6 +56,17 @@ pub struct RunArgs {
     /// Print the planned runs (index and id; with --shard, the shard's) and exit.
     #[arg(long)]
     pub list: bool,
+    /// Continue an interrupted attempt in the output directory: keep its finished runs (records
+    /// and images), run its failed runs again and render the rest. Refused, naming what differs,
+    /// when the config, the build or the shard differs. Without a report.json there, starts
+    /// afresh (a requeued batch job can always pass --resume).
+    #[arg(long)]
+    pub resume: bool,
+    /// With --resume: keep the finished runs even when their build cannot be shown to be this
+    /// one (another commit, or a modified "-dirty" tree whose executable differs). Each run's
+    /// environment still names its build.
+    #[arg(long, requires = "resume")]
+    pub allow_other_build: bool,
 }
 
 #[derive(clap::Args, Debug)]
@@ -96,7 +113,9 @@ fn run_config(a: RunArgs) -> Result<()> {
         return Ok(());
     }
     let cache_dir = a.cache.unwrap_or_else(|| a.config.parent().unwrap_or(Path::new("")).join(".cache"));
-    let report = runner::run(&config, &RunnerOptions { out_dir: out.clone(), shard: a.shard, cache_dir })?;
+    let resume = if a.resume { Resume::On { allow_other_build: a.allow_other_build } } else { Resume::Off };
+    let opts = RunnerOptions { out_dir: out.clone(), shard: a.shard, cache_dir, resume };
+    let report = runner::run(&config, &opts)?;
     finish(&report, &out)
 }
 

@@ -1,15 +1,17 @@
 //! Experiments: a config names scenes, settings and methods; every combination is a run; the
 //! runner renders them (timed repetitions after warm-ups), measures error against a reference and
-//! writes `report.json`, EXRs, PNG previews, charts and a self-contained `report.html`.
+//! writes `report.json` (with its tidy tables `runs.csv`, `passes.csv`), EXRs, PNG previews, charts
+//! and a self-contained `report.html`.
 //!
 //! ```text
 //! config.json ─► ExperimentConfig (validated whole) ─► plan: runs (scene × size × depth × spp × method)
-//!   for run in plan (or a shard's share):
+//!   [--resume: keep the runs an earlier attempt in DIR finished (same config, build, shard)]
+//!   for run in plan (or a shard's share), less those kept:
 //!       reference(scene, size)             cached on disk, keyed by scene text and settings
 //!       warm-up renders; timed renders     median / min / max over repetitions
 //!       [instrumented render]              SIMD efficiency (separate: counters skew time)
 //!       EXR, PNG, error map, metrics       MSE, relMSE, SMAPE, FLIP, 1/(relMSE·time)
-//!       report.json                        rewritten atomically after every run
+//!       report.json, runs.csv, passes.csv  rewritten atomically after every run
 //!   charts/*.svg, report.html              re-drawable from report.json (`experiment report`)
 //! ```
 
@@ -23,7 +25,9 @@ pub mod outputs;
 pub mod plan;
 pub mod reference;
 pub mod report;
+pub mod resume;
 pub mod runner;
+pub mod tidy;
 
 pub use crate::input_error::InputError;
 pub use config::{ExperimentConfig, CONFIG_SCHEMA};

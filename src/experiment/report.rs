@@ -2,7 +2,7 @@
 //! with where and from what code, so each figure can be traced to its run. The schema is
 //! documented in the README and as JSON Schema in `experiments/report.schema.json`; a test checks
 //! real reports against it. Written atomically after every run, so a killed experiment leaves the
-//! last complete report.
+//! last complete report, which `experiment run --resume` continues (`resume.rs`).
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -58,7 +58,8 @@ pub struct ExperimentReport {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Environment {
     pub shard: Option<Shard>,
-    /// crate version and git commit (`-dirty` when built from a modified tree).
+    /// crate version, git commit (`-dirty` when built from a modified tree) and the executable's
+    /// digest (what `--resume` compares when the commit cannot tell).
     pub build: Value,
     /// hostname, OS, CPU, logical cores.
     pub machine: Value,
@@ -66,7 +67,48 @@ pub struct Environment {
     pub adapter: Option<Value>,
     /// RFC 3339 UTC.
     pub started: String,
+    /// None while running, or when the process was killed.
     pub finished: Option<String>,
+    /// Set when this process resumed an earlier attempt (`experiment run --resume`).
+    #[serde(default)]
+    pub resume: Option<ResumeRecord>,
+}
+
+/// What a resuming process took over from the attempt before it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ResumeRecord {
+    /// Plan indices of the runs kept as they were (their records say `resumed: true`).
+    pub kept: Vec<usize>,
+    /// Runs that had failed in the earlier attempt and were run again, with their old error.
+    pub retried: Vec<RetriedRun>,
+    /// `--allow-other-build`: kept runs come from a build that could not be shown to be this one.
+    pub other_build: bool,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RetriedRun {
+    pub index: usize,
+    pub id: String,
+    pub error: Option<String>,
+}
+
+impl Environment {
+    /// This process: its build (with the executable's digest), machine and start time.
+    pub fn this(shard: Option<Shard>) -> Result<Self> {
+        let mut build = serde_json::to_value(crate::report::Build::this())?;
+        if let (Some(digest), Some(map)) = (super::resume::executable_digest(), build.as_object_mut()) {
+            map.insert("executable_digest".into(), Value::String(digest));
+        }
+        Ok(Self {
+            shard,
+            build,
+            machine: serde_json::to_value(crate::report::Machine::this())?,
+            adapter: None,
+            started: now_rfc3339(),
+            finished: None,
+            resume: None,
+        })
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -137,6 +179,10 @@ pub struct RunRecord {
     /// The knobs in force.
     pub options: Value,
     pub status: RunStatus,
+    /// Kept from an earlier, interrupted attempt by `--resume` instead of rendered by the process
+    /// that resumed (`environment` says which process rendered it).
+    #[serde(default)]
+    pub resumed: bool,
     /// Why the run failed (status `failed`).
     pub error: Option<String>,
     pub warmup: u32,
@@ -234,12 +280,14 @@ pub struct ChartRecord {
 }
 
 impl ExperimentReport {
-    /// Writes `DIR/report.json` atomically (temporary file, then rename).
+    /// Writes `DIR/report.json` atomically (temporary file, then rename), then the tidy tables
+    /// drawn from it (`runs.csv`, `passes.csv`), so the three always move together.
     pub fn write(&self, dir: &Path) -> Result<()> {
         let json = serde_json::to_string_pretty(self)?;
         let path = dir.join(REPORT_FILE);
         crate::image_io::write_file_atomically(&path, json.as_bytes())
-            .with_context(|| format!("writing {}", path.display()))
+            .with_context(|| format!("writing {}", path.display()))?;
+        super::tidy::write(self, dir)
     }
 
     /// Reads `DIR/report.json`.

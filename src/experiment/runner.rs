@@ -3,7 +3,7 @@
 //! reference and record. `report.json` is rewritten atomically after every run; a run that fails
 //! is recorded with its error and the others go on.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 
@@ -16,54 +16,60 @@ use super::outputs;
 use super::plan::{self, RunSpec, Shard};
 use super::reference::References;
 use super::report::{
-    now_rfc3339, Environment, ExperimentReport, PassStat, ReportStatus, RunImages, RunRecord, RunStatus, Stat,
+    now_rfc3339, Environment, ExperimentReport, PassStat, ReferenceRecord, ReportStatus, RunImages,
+    RunRecord, RunStatus, Stat,
 };
+use super::resume::{self, Resume};
 use crate::image_io::{self, RgbImage};
 use crate::method::{self, MethodOptions};
 use crate::metrics::{self, CompareOptions};
 use crate::progress::Progress;
-use crate::report::{Build, Machine, RunReport};
+use crate::report::RunReport;
 
 pub struct RunnerOptions {
     pub out_dir: PathBuf,
     pub shard: Option<Shard>,
     /// Where rendered references are cached.
     pub cache_dir: PathBuf,
+    /// Whether to keep the finished runs of an earlier attempt in `out_dir`.
+    pub resume: Resume,
 }
 
-/// Runs the config's runs (this shard's share) and writes `report.json`, images, charts and
-/// `report.html` under `opts.out_dir`. Errors only for what stops the whole experiment (the
-/// output directory cannot be written); failed runs are in the report.
+/// Runs the config's runs (this shard's share; with `--resume`, those an earlier attempt did not
+/// finish) and writes `report.json`, images, charts and `report.html` under `opts.out_dir`.
+/// Errors only for what stops the whole experiment (the output directory cannot be written, an
+/// earlier attempt that cannot be resumed); failed runs are in the report.
 pub fn run(config: &ExperimentConfig, opts: &RunnerOptions) -> Result<ExperimentReport> {
     let out = &opts.out_dir;
-    for sub in ["images", "references"] {
-        std::fs::create_dir_all(out.join(sub))
-            .with_context(|| format!("creating {}", out.join(sub).display()))?;
-    }
     let planned = plan::plan(config);
-    let runs: Vec<&RunSpec> = planned.iter().filter(|r| opts.shard.is_none_or(|s| s.takes(r))).collect();
-    let mut report = ExperimentReport {
+    let selected: Vec<&RunSpec> = planned.iter().filter(|r| opts.shard.is_none_or(|s| s.takes(r))).collect();
+    let fresh = ExperimentReport {
         schema: super::report::REPORT_SCHEMA.into(),
         status: ReportStatus::Running,
         name: config.name.clone(),
         question: config.question.clone(),
         config_file: config.file.display().to_string(),
         config: config.raw.clone(),
-        environments: vec![Environment {
-            shard: opts.shard,
-            build: serde_json::to_value(Build::this())?,
-            machine: serde_json::to_value(Machine::this())?,
-            adapter: None,
-            started: now_rfc3339(),
-            finished: None,
-        }],
+        environments: vec![Environment::this(opts.shard)?],
         runs_planned: planned.len(),
-        runs_selected: runs.len(),
+        runs_selected: selected.len(),
         missing_runs: Vec::new(),
         runs: Vec::new(),
         references: Vec::new(),
         charts: Vec::new(),
     };
+    // Checked before anything is written, so a refused resume leaves the directory as it was.
+    let mut report = resume::start(fresh, &planned, opts.shard, out, opts.resume)?;
+    for sub in ["images", "references"] {
+        std::fs::create_dir_all(out.join(sub))
+            .with_context(|| format!("creating {}", out.join(sub).display()))?;
+    }
+    let env = report.environments.len() - 1;
+    let kept: BTreeSet<usize> = report.runs.iter().map(|r| r.index).collect();
+    let runs: Vec<&RunSpec> = selected.into_iter().filter(|r| !kept.contains(&r.index)).collect();
+    // References of kept runs stay listed; those this process loads join them.
+    let earlier_references = std::mem::take(&mut report.references);
+    report.references = earlier_references.clone();
     report.write(out)?;
 
     let mut gpu = GpuSlot::new(config.adapter.clone());
@@ -77,21 +83,35 @@ pub fn run(config: &ExperimentConfig, opts: &RunnerOptions) -> Result<Experiment
         progress.set_message(&what);
         progress.println(&what);
         let bar = RunProgress { progress: &progress, base: done };
-        let record = execute(config, spec, &mut gpu, &mut references, out, &bar);
+        let mut record = execute(config, spec, &mut gpu, &mut references, out, &bar);
+        record.environment = env;
         done += run_samples(config, spec);
         progress.println(&summary_line(&record));
         report.runs.push(record);
-        report.references = references.records();
-        report.environments[0].adapter = gpu.adapter.as_ref().map(serde_json::to_value).transpose()?;
+        // Plan order, whichever attempt ran a run.
+        report.runs.sort_by_key(|r| r.index);
+        report.references = union_references(&earlier_references, references.records());
+        report.environments[env].adapter = gpu.adapter.as_ref().map(serde_json::to_value).transpose()?;
         report.write(out)?;
         progress.set(done);
     }
     progress.finish();
     report.status = ReportStatus::Complete;
-    report.environments[0].finished = Some(now_rfc3339());
+    report.environments[env].finished = Some(now_rfc3339());
     outputs::draw(&mut report, out)?;
     report.write(out)?;
     Ok(report)
+}
+
+/// `earlier` then the keys of `now` it lacks.
+fn union_references(earlier: &[ReferenceRecord], now: Vec<ReferenceRecord>) -> Vec<ReferenceRecord> {
+    let mut all = earlier.to_vec();
+    for r in now {
+        if all.iter().all(|e| e.key != r.key) {
+            all.push(r);
+        }
+    }
+    all
 }
 
 fn summary_line(r: &RunRecord) -> String {
@@ -177,6 +197,7 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         label: v.label.clone(),
         options: method_options_json(v.method, &v.options),
         status: RunStatus::Ok,
+        resumed: false,
         error: None,
         warmup: config.warmup,
         repetitions: config.repetitions,

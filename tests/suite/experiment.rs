@@ -1,6 +1,7 @@
 //! Experiments end to end: configs are validated whole with clear errors; reports match the
 //! documented JSON Schema; failed runs are recorded while others go on; a killed experiment
-//! leaves its last complete report; shards merge into the report an unsharded run gives.
+//! leaves its last complete report; shards merge into the report an unsharded run gives. (Resuming
+//! a killed experiment: `resume.rs`; the CSV tables beside report.json: `tidy.rs`.)
 
 use crate::common;
 
@@ -12,22 +13,23 @@ use serde_json::Value;
 use wavetrace::experiment::merge::merge;
 use wavetrace::experiment::plan::{plan, Shard};
 use wavetrace::experiment::report::{ExperimentReport, ReportStatus, RunStatus};
+use wavetrace::experiment::resume::Resume;
 use wavetrace::experiment::runner::{self, RunnerOptions};
 use wavetrace::experiment::ExperimentConfig;
 
-fn scratch(name: &str) -> PathBuf {
+pub fn scratch(name: &str) -> PathBuf {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("experiment").join(name);
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
 
-fn wavetrace(args: &[&str]) -> Output {
+pub fn wavetrace(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_wavetrace")).args(args).output().expect("run wavetrace")
 }
 
 /// `wavetrace experiment run CONFIG --out OUT --cache CACHE`.
-fn run_experiment(config: &Path, out: &Path, cache: &Path) -> Output {
+pub fn run_experiment(config: &Path, out: &Path, cache: &Path) -> Output {
     let arg = |p: &Path| p.to_str().unwrap().to_owned();
     let args = [
         "experiment".into(),
@@ -42,14 +44,14 @@ fn run_experiment(config: &Path, out: &Path, cache: &Path) -> Output {
 }
 
 /// Writes `config` into `dir/name.json` and returns its path.
-fn write_config(dir: &Path, name: &str, config: &Value) -> PathBuf {
+pub fn write_config(dir: &Path, name: &str, config: &Value) -> PathBuf {
     let path = dir.join(format!("{name}.json"));
     std::fs::write(&path, serde_json::to_string_pretty(config).unwrap()).unwrap();
     path
 }
 
 /// Checks `report.json` in `dir` against experiments/report.schema.json.
-fn assert_valid(dir: &Path) -> Value {
+pub fn assert_valid(dir: &Path) -> Value {
     let schema_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/report.schema.json");
     let schema: Value = serde_json::from_str(&std::fs::read_to_string(schema_path).unwrap()).unwrap();
     let report: Value =
@@ -61,7 +63,7 @@ fn assert_valid(dir: &Path) -> Value {
     report
 }
 
-fn small_config(methods: Value) -> Value {
+pub fn small_config(methods: Value) -> Value {
     serde_json::json!({
         "schema": "wavetrace-experiment/1",
         "question": "test",
@@ -95,6 +97,8 @@ fn full_report_matches_the_schema_and_holds_every_output() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let json = assert_valid(&out);
     assert_eq!(json["status"], "complete");
+    // Tidy tables beside it, with every pass (and SIMD point) of the GPU runs.
+    crate::tidy::assert_tidy(&out);
     let report = ExperimentReport::read(&out).unwrap();
     assert_eq!(report.runs.len(), 8);
     assert_eq!(report.runs_planned, 8);
@@ -210,7 +214,7 @@ fn a_failed_run_is_recorded_and_the_others_go_on() {
 }
 
 /// Reads `dir/report.json` if it exists; it must always be complete JSON.
-fn read_if_any(dir: &Path) -> Option<Value> {
+pub fn read_if_any(dir: &Path) -> Option<Value> {
     let text = std::fs::read_to_string(dir.join("report.json")).ok()?;
     Some(
         serde_json::from_str(&text)
@@ -313,7 +317,8 @@ fn shards_merge_into_the_report_of_an_unsharded_run() {
     let config = ExperimentConfig::from_file(&path).unwrap();
     let cache = dir.join("cache");
     let run = |out: &str, shard: Option<Shard>| {
-        let opts = RunnerOptions { out_dir: dir.join(out), shard, cache_dir: cache.clone() };
+        let opts =
+            RunnerOptions { out_dir: dir.join(out), shard, cache_dir: cache.clone(), resume: Resume::Off };
         runner::run(&config, &opts).unwrap()
     };
     let whole = run("whole", None);
@@ -326,6 +331,7 @@ fn shards_merge_into_the_report_of_an_unsharded_run() {
         .collect();
     let merged = merge(&shards, &dir.join("merged")).unwrap();
     assert_valid(&dir.join("merged"));
+    crate::tidy::assert_tidy(&dir.join("merged"));
     assert_eq!(merged.status, ReportStatus::Complete);
     assert_eq!(merged.environments.len(), 4);
     assert_eq!(comparable(&merged), comparable(&whole));
@@ -345,8 +351,16 @@ fn shards_merge_into_the_report_of_an_unsharded_run() {
     assert!(format!("{twice:#}").contains("is in both"), "{twice:#}");
     let other_path = write_config(&dir, "other", &small_config(serde_json::json!([{"method": "cpu"}])));
     let other = ExperimentConfig::from_file(&other_path).unwrap();
-    runner::run(&other, &RunnerOptions { out_dir: dir.join("other"), shard: None, cache_dir: cache.clone() })
-        .unwrap();
+    runner::run(
+        &other,
+        &RunnerOptions {
+            out_dir: dir.join("other"),
+            shard: None,
+            cache_dir: cache.clone(),
+            resume: Resume::Off,
+        },
+    )
+    .unwrap();
     let mixed = merge(&[shards[0].clone(), dir.join("other")], &dir.join("mixed")).unwrap_err();
     assert!(format!("{mixed:#}").contains("different configs"), "{mixed:#}");
 }
@@ -505,7 +519,12 @@ fn a_sweep_over_scenes_gets_a_time_by_scene_chart() {
         "methods": [{"method": "cpu"}, {"method": "cpu-f64"}]
     });
     let config = ExperimentConfig::from_file(&write_config(&dir, "by-scene", &config)).unwrap();
-    let opts = RunnerOptions { out_dir: dir.join("out"), shard: None, cache_dir: dir.join("cache") };
+    let opts = RunnerOptions {
+        out_dir: dir.join("out"),
+        shard: None,
+        cache_dir: dir.join("cache"),
+        resume: Resume::Off,
+    };
     let report = runner::run(&config, &opts).unwrap();
     assert_valid(&dir.join("out"));
     let chart = report.charts.iter().find(|c| c.kind == "time-by-scene").expect("a time-by-scene chart");

@@ -1,0 +1,285 @@
+//! Tidy tables beside `report.json`: `runs.csv` (one row per run) and `passes.csv` (one row per
+//! run × GPU pass), for pandas, R or a spreadsheet without walking the JSON. Derived from the
+//! report alone and rewritten with it, so they never say more or less than it does.
+//!
+//! RFC 4180: a header row, CRLF line ends, fields holding `,` `"` CR or LF quoted with `"` doubled.
+//! Missing values are empty cells; numbers are written as Rust prints them (shortest text that
+//! reads back to the same f64, `.` as decimal point whatever the locale, `1e-7` for small ones).
+
+use std::collections::BTreeSet;
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use serde_json::Value;
+
+use super::report::{ExperimentReport, RunRecord, Stat};
+use crate::image_io::write_file_atomically;
+
+pub const RUNS_FILE: &str = "runs.csv";
+pub const PASSES_FILE: &str = "passes.csv";
+
+/// The knobs the methods have, in the order their columns take; a knob a later build adds and
+/// this list lacks still gets a column, after these, by name.
+pub const KNOBS: [&str; 9] = [
+    "workgroup_size",
+    "samples_per_dispatch",
+    "pool_size",
+    "compaction",
+    "shade",
+    "schedule",
+    "sync_every",
+    "tail",
+    "tail_threshold",
+];
+
+/// `ErrorMetrics`' fields, in the order their columns take (a unit test keeps this in step).
+pub const METRICS: [&str; 10] = [
+    "mse",
+    "rmse",
+    "relmse",
+    "smape",
+    "mape",
+    "flip",
+    "non_finite_pixels",
+    "pixels",
+    "trimmed_pixels",
+    "trimmed_fraction",
+];
+
+/// Writes `runs.csv` and `passes.csv` into `dir`, each atomically.
+pub fn write(report: &ExperimentReport, dir: &Path) -> Result<()> {
+    for (file, text) in [(RUNS_FILE, runs_csv(report)), (PASSES_FILE, passes_csv(report))] {
+        let path = dir.join(file);
+        write_file_atomically(&path, text.as_bytes())
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(())
+}
+
+type Cell = Option<String>;
+type Column<'a, T> = (String, Box<dyn Fn(&T) -> Cell + 'a>);
+/// A run and one of its pass labels.
+type PassRow<'a> = (&'a RunRecord, String);
+
+/// `runs.csv`: one row per run, in the report's order.
+pub fn runs_csv(report: &ExperimentReport) -> String {
+    let cols = run_columns(report);
+    table(&cols, report.runs.iter())
+}
+
+/// `passes.csv`: one row per run and pass label (and per SIMD-efficiency point that is no pass).
+pub fn passes_csv(report: &ExperimentReport) -> String {
+    let rows: Vec<PassRow> = report
+        .runs
+        .iter()
+        .flat_map(|r| {
+            let labels: BTreeSet<&String> =
+                r.passes.keys().chain(r.simd.iter().flat_map(|s| s.keys())).collect();
+            labels.into_iter().map(move |l| (r, l.clone()))
+        })
+        .collect();
+    let pass = |(r, l): &PassRow| r.passes.get(l).cloned();
+    let simd = |(r, l): &PassRow| r.simd.as_ref().and_then(|s| s.get(l)).cloned();
+    let cols: Vec<Column<PassRow>> = vec![
+        col::<PassRow>("run_index", |x| int(x.0.index)),
+        col::<PassRow>("run_id", |x| text(&x.0.id)),
+        col::<PassRow>("scene", |x| text(&x.0.scene)),
+        col::<PassRow>("width", |x| int(x.0.width)),
+        col::<PassRow>("height", |x| int(x.0.height)),
+        col::<PassRow>("spp", |x| int(x.0.spp)),
+        col::<PassRow>("method", |x| text(&x.0.method)),
+        col::<PassRow>("label", |x| text(&x.0.label)),
+        col::<PassRow>("pass", |x| text(&x.1)),
+        col::<PassRow>("seconds_median", move |x| pass(x).map(|p| float(p.seconds.median))),
+        col::<PassRow>("seconds_min", move |x| pass(x).map(|p| float(p.seconds.min))),
+        col::<PassRow>("seconds_max", move |x| pass(x).map(|p| float(p.seconds.max))),
+        col::<PassRow>("passes", move |x| pass(x).map(|p| p.passes.to_string())),
+        // Of the run's summed median pass times, so a run's shares add up to 1.
+        col::<PassRow>("share", move |x| {
+            let total: f64 = x.0.passes.values().map(|p| p.seconds.median).sum();
+            pass(x).filter(|_| total > 0.0).map(|p| float(p.seconds.median / total))
+        }),
+        col::<PassRow>("simd_efficiency", move |x| simd(x).map(|s| float(s.efficiency))),
+        col::<PassRow>("simd_subgroups", move |x| simd(x).map(|s| s.subgroups.to_string())),
+    ];
+    table(&cols, rows.iter())
+}
+
+fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
+    let mut knobs: Vec<String> = KNOBS.iter().map(|k| k.to_string()).collect();
+    let extra: BTreeSet<&String> = report
+        .runs
+        .iter()
+        .filter_map(|r| r.options.as_object())
+        .flat_map(|o| o.keys())
+        .filter(|k| !KNOBS.contains(&k.as_str()))
+        .collect();
+    knobs.extend(extra.into_iter().cloned());
+
+    let mut cols: Vec<Column<RunRecord>> = vec![
+        rcol("index", |r| int(r.index)),
+        rcol("id", |r| text(&r.id)),
+        rcol("scene", |r| text(&r.scene)),
+        rcol("width", |r| int(r.width)),
+        rcol("height", |r| int(r.height)),
+        rcol("spp", |r| int(r.spp)),
+        rcol("max_depth", |r| int(r.max_depth)),
+        rcol("nee", |r| flag(r.nee)),
+        rcol("seed", |r| int(r.seed)),
+        rcol("accel", |r| text(&r.accel)),
+        rcol("method", |r| text(&r.method)),
+        rcol("label", |r| text(&r.label)),
+    ];
+    for k in knobs {
+        cols.push((k.clone(), Box::new(move |r: &RunRecord| r.options.get(&k).and_then(json))));
+    }
+    // The stat `seconds` is the median of: GPU time where measured, else wall time.
+    let timed =
+        |r: &RunRecord| r.gpu_seconds.clone().filter(|g| g.median > 0.0).or_else(|| r.wall_seconds.clone());
+    let stat = |f: fn(&Stat) -> f64, s: Option<Stat>| s.map(|s| float(f(&s)));
+    let metric = |name: &'static str| {
+        move |r: &RunRecord| {
+            r.error_metrics.as_ref().and_then(|m| serde_json::to_value(m).ok()?.get(name).and_then(json))
+        }
+    };
+    cols.extend([
+        rcol("status", |r| serde_json::to_value(r.status).ok().as_ref().and_then(json)),
+        rcol("error", |r| r.error.clone()),
+        rcol("resumed", |r| flag(r.resumed)),
+        rcol("environment", |r| int(r.environment)),
+        rcol("warmup", |r| int(r.warmup)),
+        rcol("repetitions", |r| int(r.repetitions)),
+        rcol("time_source", |r| r.time_source.clone()),
+        rcol("seconds", |r| r.seconds.map(float)),
+        rcol("seconds_min", move |r| stat(|s| s.min, timed(r))),
+        rcol("seconds_max", move |r| stat(|s| s.max, timed(r))),
+        rcol("wall_seconds_median", move |r| stat(|s| s.median, r.wall_seconds.clone())),
+        rcol("wall_seconds_min", move |r| stat(|s| s.min, r.wall_seconds.clone())),
+        rcol("wall_seconds_max", move |r| stat(|s| s.max, r.wall_seconds.clone())),
+        rcol("gpu_seconds_median", move |r| stat(|s| s.median, r.gpu_seconds.clone())),
+        rcol("gpu_seconds_min", move |r| stat(|s| s.min, r.gpu_seconds.clone())),
+        rcol("gpu_seconds_max", move |r| stat(|s| s.max, r.gpu_seconds.clone())),
+        rcol("samples", |r| int(r.samples)),
+        rcol("samples_per_second", |r| r.samples_per_second.map(float)),
+        rcol("rays", |r| r.rays.and_then(int)),
+        rcol("rays_per_second", |r| r.rays_per_second.map(float)),
+        rcol("dispatches", |r| r.dispatches.and_then(int)),
+        rcol("empty_dispatches", |r| r.empty_dispatches.and_then(int)),
+        rcol("iterations", |r| r.iterations.and_then(int)),
+        rcol("idle_iterations", |r| r.idle_iterations.and_then(int)),
+        rcol("intersect_occupancy", |r| r.intersect_occupancy.map(float)),
+        rcol("invalid_samples", |r| r.invalid_samples.and_then(int)),
+        rcol("image_mean", |r| r.image_mean.map(float)),
+        rcol("repeatable", |r| r.repeatable.and_then(flag)),
+        rcol("bytes_per_path", |r| r.bytes_per_path.and_then(int)),
+        // The record's `pool_size` is the pool used; the knob column `pool_size` is the setting.
+        rcol("pool_size_used", |r| r.pool_size.and_then(int)),
+        rcol("indirect_validation", |r| r.indirect_validation.and_then(flag)),
+        rcol("reference", |r| r.reference.clone()),
+    ]);
+    for name in METRICS {
+        cols.push((name.to_string(), Box::new(metric(name))));
+    }
+    cols.extend([
+        rcol("efficiency", |r| r.efficiency.map(float)),
+        rcol("exr", |r| r.images.as_ref().map(|i| i.exr.clone())),
+        rcol("png", |r| r.images.as_ref().map(|i| i.png.clone())),
+        rcol("error_map", |r| r.images.as_ref().and_then(|i| i.error_map.clone())),
+    ]);
+    cols
+}
+
+/// A column of `runs.csv` (a plain `fn`, so closures learn their argument's type).
+fn rcol(name: &str, f: impl Fn(&RunRecord) -> Cell + 'static) -> Column<'static, RunRecord> {
+    col(name, f)
+}
+
+fn col<'a, T>(name: &str, f: impl Fn(&T) -> Cell + 'a) -> Column<'a, T> {
+    (name.to_string(), Box::new(f))
+}
+
+fn int(v: impl std::fmt::Display) -> Cell {
+    Some(v.to_string())
+}
+
+/// Shortest round-trip text (`0.1`, `3.0`, `1e-7`), never a locale's.
+fn float(v: f64) -> String {
+    format!("{v:?}")
+}
+
+fn text(s: &str) -> Cell {
+    Some(s.to_string())
+}
+
+fn flag(b: bool) -> Cell {
+    Some(b.to_string())
+}
+
+/// A JSON value as a cell: null empty, strings bare, anything else as JSON text.
+fn json(v: &Value) -> Cell {
+    match v {
+        Value::Null => None,
+        Value::String(s) => Some(s.clone()),
+        other => Some(other.to_string()),
+    }
+}
+
+fn table<'r, T: 'r>(cols: &[Column<T>], rows: impl Iterator<Item = &'r T>) -> String {
+    let mut out = String::new();
+    line(&mut out, cols.iter().map(|(name, _)| name.as_str()));
+    for row in rows {
+        let cells: Vec<Cell> = cols.iter().map(|(_, f)| f(row)).collect();
+        line(&mut out, cells.iter().map(|c| c.as_deref().unwrap_or("")));
+    }
+    out
+}
+
+fn line<'a>(out: &mut String, fields: impl Iterator<Item = &'a str>) {
+    for (i, f) in fields.enumerate() {
+        if i > 0 {
+            out.push(',');
+        }
+        out.push_str(&quote(f));
+    }
+    out.push_str("\r\n");
+}
+
+/// RFC 4180 §2.6–2.7: quote a field holding a separator, quote or line break; double its quotes.
+pub fn quote(field: &str) -> std::borrow::Cow<'_, str> {
+    if field.contains([',', '"', '\r', '\n']) {
+        format!("\"{}\"", field.replace('"', "\"\"")).into()
+    } else {
+        field.into()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fields_are_quoted_as_rfc_4180_says() {
+        assert_eq!(quote("plain"), "plain");
+        assert_eq!(quote("a,b"), "\"a,b\"");
+        assert_eq!(quote("say \"hi\""), "\"say \"\"hi\"\"\"");
+        assert_eq!(quote("two\nlines"), "\"two\nlines\"");
+        assert_eq!(quote(""), "");
+    }
+
+    #[test]
+    fn numbers_read_back_exactly() {
+        for v in [0.1, 3.0, 1e-7, 123456.789, 2.5e20, f64::MIN_POSITIVE] {
+            assert_eq!(float(v).parse::<f64>().unwrap(), v, "{}", float(v));
+        }
+        assert_eq!(float(3.0), "3.0");
+    }
+
+    #[test]
+    fn metric_columns_are_every_error_metric() {
+        let img = crate::image_io::RgbImage { width: 2, height: 1, data: vec![0.5; 6] };
+        let m = crate::metrics::compare(&img, &img, &crate::metrics::CompareOptions::default()).unwrap();
+        let v = serde_json::to_value(m).unwrap();
+        let fields: Vec<&str> = v.as_object().unwrap().keys().map(String::as_str).collect();
+        assert_eq!(fields, METRICS);
+    }
+}
