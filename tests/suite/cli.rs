@@ -331,3 +331,42 @@ fn gpu_runs_are_quiet_without_a_runtime_dir() {
         assert!(!stderr.contains("XDG_RUNTIME_DIR"), "{args:?} printed:\n{stderr}");
     }
 }
+
+/// `scripts/device_figures.sh` (the GPU suite for a machine without a toolchain) runs end to end
+/// on the software driver at its tiny scale: reports, the 1080p renders' reports, the adapter
+/// and one archive. One config here, to stay within CI's time; the others are checked by
+/// `every_shipped_config_is_valid_and_says_what_it_asks`.
+#[test]
+fn device_figures_script_runs_at_tiny_scale() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = scratch("device_figures");
+    let _ = std::fs::remove_dir_all(&out);
+    let run = Command::new("bash")
+        .arg(root.join("scripts/device_figures.sh"))
+        .arg(&out)
+        .env("WAVETRACE_BIN", env!("CARGO_BIN_EXE_wavetrace"))
+        .env("WAVETRACE_FIGURES_SCALE", "tiny")
+        .env("WAVETRACE_FIGURES_CONFIGS", "regeneration")
+        .output()
+        .expect("run device_figures.sh");
+    let log = std::fs::read_to_string(out.join("log.txt")).unwrap_or_default();
+    assert!(run.status.success(), "{}\n{log}", String::from_utf8_lossy(&run.stderr));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("regeneration/report.json")).unwrap())
+            .unwrap();
+    assert_eq!(report["status"], "complete");
+    assert_eq!(report["runs"].as_array().unwrap().len(), 32, "4 scenes × 2 spp × 4 methods");
+    assert!(std::fs::read_to_string(out.join("info.txt")).unwrap().contains("chosen"));
+    for tag in ["megakernel", "wavefront", "wavefront-regenerate", "wavefront-regenerate-tail-megakernel"] {
+        let r: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(out.join(format!("rtiow_final_1080p/{tag}.json"))).unwrap(),
+        )
+        .unwrap();
+        assert_eq!(r["settings"]["max_depth"], 50, "{tag}");
+    }
+    let archive = out.with_extension("tar.gz");
+    assert!(std::fs::metadata(&archive).unwrap().len() > 0);
+}

@@ -486,6 +486,7 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
             "megakernel_vs_wavefront.json",
             "nee.json",
             "quick.json",
+            "regeneration.json",
             "scene_scale.json",
             "speed_vs_accuracy.json",
             "workgroup_size.json"
