@@ -244,10 +244,11 @@ struct Stages {
 }
 
 impl Stages {
-    /// One iteration: a bounce of every path in waves; when regenerating, a refill and then a
-    /// bounce of every path in the pool, whatever its depth.
-    fn record_iteration(&self, wave: &mut WaveRecorder<'_>, i: u32) {
-        if self.regenerate {
+    /// One iteration: a bounce of every path in waves; when regenerating, a refill (while the
+    /// share has samples left to start) and then a bounce of every path in the pool, whatever
+    /// its depth.
+    fn record_iteration(&self, wave: &mut WaveRecorder<'_>, i: u32, refill: bool) {
+        if self.regenerate && refill {
             self.queue_setup.record_regenerate(wave, i);
             self.generate.record_refill(wave, i);
         }
@@ -289,7 +290,9 @@ pub fn render(
     check_loop_limit(ctx, scene, settings)?;
     let wg = opts.workgroup_size;
     ctx.check_workgroup_size(wg)?;
-    let pool = choose_pool(ctx, opts)?;
+    // A job smaller than the pool needs no more slots than samples: passes over the whole pool
+    // (the regenerating schedule's start, compaction off) and its memory shrink with it.
+    let pool = choose_pool(ctx, opts)?.min(u32::try_from(settings.sample_count()).unwrap_or(u32::MAX));
     schedule::check_sync_every(opts.sync_every)?;
     tail::check_threshold(opts.tail_threshold)?;
     let regenerate = opts.schedule == Schedule::Regenerate;
@@ -370,7 +373,7 @@ pub fn render(
                     if wave.timer.remaining() < per_iteration + 1 {
                         wave.submit_and_wait(ctx)?;
                     }
-                    stages.record_iteration(&mut wave, bounce);
+                    stages.record_iteration(&mut wave, bounce, false);
                 }
                 settings.max_depth
             }
@@ -379,17 +382,20 @@ pub fn render(
                 // only every `sync_every` iterations.
                 let mut i = 0;
                 let mut progress = schedule::Progress::new(paths, settings.max_depth, opts.sync_every);
+                // Once a check finds every sample started, the refill passes would be empty.
+                let mut refill = true;
                 loop {
                     for _ in 0..opts.sync_every {
                         if wave.timer.remaining() < per_iteration + 1 {
                             wave.submit_and_wait(ctx)?;
                         }
-                        stages.record_iteration(&mut wave, i);
+                        stages.record_iteration(&mut wave, i, refill);
                         i += 1;
                     }
                     wave.submit_and_wait(ctx)?;
                     let c = schedule::ChunkCounters::read(ctx, &b.state)?;
                     on_progress(done + c.finished as u64);
+                    refill = c.started < paths;
                     if progress.done_after(c.finished, i)? {
                         break i;
                     }
