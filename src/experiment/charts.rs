@@ -48,6 +48,75 @@ pub fn charts(report: &ExperimentReport) -> Vec<Chart> {
         }
     }
     out.extend(time_by_scene(report));
+    out.extend(crossover(report));
+    out
+}
+
+/// The crossover chart, per scene (and depth and NEE where they vary): each GPU method variant's
+/// speed-up over the fastest megakernel variant at the same job, against the job's size in
+/// samples per frame; drawn where a scene has two or more job sizes with a megakernel run.
+fn crossover(report: &ExperimentReport) -> Vec<Chart> {
+    type Job = (u32, u32, u32); // width, height, spp
+    let ok: Vec<&RunRecord> =
+        report.runs.iter().filter(|r| r.status == RunStatus::Ok && r.seconds.is_some()).collect();
+    let mut by_scene: BTreeMap<(String, u32, bool), Vec<&RunRecord>> = BTreeMap::new();
+    for r in ok {
+        by_scene.entry((r.scene.clone(), r.max_depth, r.nee)).or_default().push(r);
+    }
+    let mut out = Vec::new();
+    for ((scene, depth, nee), runs) in by_scene {
+        let mut fastest_mk: BTreeMap<Job, f64> = BTreeMap::new();
+        for r in runs.iter().filter(|r| r.method == "megakernel") {
+            let t = fastest_mk.entry((r.width, r.height, r.spp)).or_insert(f64::INFINITY);
+            *t = t.min(r.seconds.unwrap());
+        }
+        if fastest_mk.len() < 2 {
+            continue;
+        }
+        // Series in the order their labels first appear (config order).
+        let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+        for r in
+            runs.iter().filter(|r| r.method != "megakernel" && r.method != "cpu" && r.method != "cpu-f64")
+        {
+            if let Some(mk) = fastest_mk.get(&(r.width, r.height, r.spp)) {
+                let samples = r.width as f64 * r.height as f64 * r.spp as f64;
+                let point = (samples, mk / r.seconds.unwrap());
+                match series.iter_mut().find(|(l, _)| *l == r.label) {
+                    Some((_, points)) => points.push(point),
+                    None => series.push((r.label.clone(), vec![point])),
+                }
+            }
+        }
+        if series.is_empty() {
+            continue;
+        }
+        let series = series
+            .into_iter()
+            .map(|(name, mut points)| {
+                points.sort_by(|a, b| a.0.total_cmp(&b.0));
+                Series { name, points }
+            })
+            .collect();
+        let nee_note = if nee { ", NEE" } else { "" };
+        let title = format!("Speed-up over the fastest megakernel: {scene}, depth {depth}{nee_note}");
+        let chart = LineChart {
+            title: title.clone(),
+            x_label: "samples per frame (width x height x spp)".into(),
+            y_label: "speed-up over the megakernel (>1: faster)".into(),
+            x_log: true,
+            y_log: true,
+            series,
+        };
+        out.push(Chart {
+            stem: format!("crossover-{}-d{depth}{}", file_safe(&scene), if nee { "-nee" } else { "" }),
+            kind: "crossover",
+            title,
+            svg: chart.to_svg(),
+            scene: scene.clone(),
+            width: 0,
+            height: 0,
+        });
+    }
     out
 }
 
