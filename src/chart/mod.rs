@@ -1,18 +1,16 @@
-//! Dependency-free SVG charts for experiment reports: line charts (linear or log10 axes),
-//! stacked and grouped bar charts, a colour-blind-safe palette and the viridis colormap.
+//! SVG charts for experiment reports, drawn with [`plotters`]: line charts (linear or log10
+//! axes), stacked and grouped bar charts, a colour-blind-safe palette and the viridis colormap.
 //!
-//! Every chart renders to a standalone SVG document of fixed size (720×420, sans-serif) that
-//! also works inlined in HTML: it uses no ids, scripts or external resources. The output aims to
-//! be honest:
+//! Every chart renders to a standalone SVG document of fixed size (720×420, sans-serif text
+//! left to the viewer's fonts) that also works inlined in HTML: plotters emits no ids, scripts or
+//! external resources. What this module adds to plotters keeps the charts honest:
 //!
-//! - each data point or bar carries a `<title>` tooltip with its series and values;
-//! - log axes say "(log scale)" in their title;
+//! - log axes say "(log scale)" in their title and span whole decades;
 //! - values that cannot be drawn (non-finite, or ≤ 0 on a log axis) are left out, never moved,
 //!   and a footnote counts them; a line breaks where a point was left out;
 //! - a chart with nothing to draw shows its title and a centred "no data" note;
-//! - a zero-width data range is padded instead of dividing by zero.
-//!
-//! Data markers have `class="point"` and bars `class="bar"`, so reports and tests can find them.
+//! - a zero-width data range is padded instead of dividing by zero;
+//! - the legend sits beside the plot, never over the data.
 //!
 //! ```
 //! use wavetrace::chart::{LineChart, Series};
@@ -26,21 +24,165 @@
 //!     series: vec![Series { name: "wavefront".into(), points: vec![(1.0, 0.3), (16.0, 0.02), (256.0, 0.001)] }],
 //! };
 //! let svg = chart.to_svg();
-//! assert!(svg.starts_with("<svg xmlns=\"http://www.w3.org/2000/svg\""));
+//! assert!(svg.starts_with("<svg ") && svg.contains("relMSE (log scale)"));
 //! ```
 
-mod axis;
 mod bar_chart;
-mod category_axis;
-mod frame;
-mod legend;
 mod line_chart;
-mod marker;
 mod palette;
-mod svg;
 
-pub use axis::{format_tick, format_value, log_ticks, nice_ticks, Axis, Tick};
 pub use bar_chart::{Bar, GroupedBarChart, StackedBarChart};
 pub use line_chart::{LineChart, Series};
 pub use palette::{color, hex, viridis, PALETTE};
-pub use svg::escape;
+pub use plotters::style::RGBColor;
+
+use plotters::coord::Shift;
+use plotters::data::float::pretty_print_float;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+const WIDTH: u32 = 720;
+const HEIGHT: u32 = 420;
+/// Text sizes in plotters' units (the SVG's `font-size` is this / 1.24).
+const FONT: f64 = 14.0;
+const TITLE_FONT: f64 = 18.0;
+/// Height of one legend line and of the footnote's band.
+const LINE: u32 = 16;
+
+type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
+type Drawn = Result<(), Box<dyn std::error::Error>>;
+
+fn font() -> TextStyle<'static> {
+    ("sans-serif", FONT).into_text_style(&(WIDTH, HEIGHT))
+}
+
+/// Text as plotters will escape it: XML forbids most control characters even as references, so
+/// a stray byte in a series name must not make the whole document unparsable.
+fn clean(s: &str) -> String {
+    s.chars().filter(|&c| !c.is_control() || matches!(c, '\t' | '\n' | '\r')).collect()
+}
+
+/// An axis title that says when the axis is logarithmic.
+fn axis_title(label: &str, log: bool) -> String {
+    clean(&if log { format!("{label} (log scale)") } else { label.to_string() })
+}
+
+/// A compact tick label: "0.25", "1500", "1e-4", "2.5e6" (no floating-point noise).
+fn tick(v: f64) -> String {
+    pretty_print_float(v, true)
+}
+
+/// Draws a chart into a fresh SVG document. Should plotters fail (it has no failure path when
+/// writing into a string, but its API is fallible), the chart says so rather than look complete.
+fn render(draw: impl FnOnce(&Area) -> Drawn) -> String {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (WIDTH, HEIGHT)).into_drawing_area();
+        let drawn = root.fill(&WHITE).map_err(Into::into).and_then(|()| draw(&root));
+        if let Err(e) = drawn {
+            let _ = root.draw_text(&format!("chart not fully drawn: {e}"), &font().color(&RED), (8, 8));
+        }
+    } // Dropping the backend closes the document.
+    svg
+}
+
+/// A chart with nothing to draw: its title and a centred "no data" note.
+fn no_data(title: &str) -> String {
+    render(|root| {
+        let centre = Pos::new(HPos::Center, VPos::Center);
+        let title_font = ("sans-serif", TITLE_FONT).into_text_style(root);
+        root.draw_text(&clean(title), &title_font.pos(centre), (WIDTH as i32 / 2, 24))?;
+        root.draw_text("no data", &font().pos(centre), (WIDTH as i32 / 2, HEIGHT as i32 / 2))?;
+        Ok(())
+    })
+}
+
+/// Estimated width of `text` in pixels (plotters' estimate for fonts it cannot measure).
+fn text_width(root: &Area, text: &str) -> f64 {
+    root.estimate_text_size(text, &font()).map_or(0.0, |(w, _)| w as f64)
+}
+
+/// `s` cut to at most `max` pixels wide, ending in "…" if it was cut.
+fn cut(root: &Area, s: &str, max: f64) -> String {
+    let mut out = clean(s);
+    if text_width(root, &out) <= max {
+        return out;
+    }
+    while !out.is_empty() && text_width(root, &format!("{out}…")) > max {
+        out.pop();
+    }
+    out + "…"
+}
+
+/// Legend names (cut to a fifth of the chart's width) and the room the legend needs beside the
+/// plot; a small margin when there is no legend.
+fn legend_names(root: &Area, names: &[&str]) -> (Vec<String>, u32) {
+    let names: Vec<String> = names.iter().map(|n| cut(root, n, WIDTH as f64 / 5.0)).collect();
+    let widest = names
+        .iter()
+        .map(|n| text_width(root, n))
+        .fold(None, |w: Option<f64>, n| Some(w.unwrap_or(0.0).max(n)));
+    (names, widest.map_or(24, |w| w as u32 + 56))
+}
+
+/// What a legend entry shows beside its name.
+enum Swatch {
+    /// The `i`-th line series: its line and marker.
+    Line(usize),
+    /// A filled box of the `i`-th palette colour.
+    Box(usize),
+}
+
+/// The `i`-th series' marker around `(x, y)` in pixels: round, square, triangle or diamond, so
+/// lines stay distinguishable without colour.
+fn marker(i: usize, (x, y): (i32, i32)) -> Polygon<(i32, i32)> {
+    let shape: &[(i32, i32)] = match i % 4 {
+        0 => &[(-2, -4), (2, -4), (4, -2), (4, 2), (2, 4), (-2, 4), (-4, 2), (-4, -2)],
+        1 => &[(-4, -4), (4, -4), (4, 4), (-4, 4)],
+        2 => &[(0, -5), (5, 4), (-5, 4)],
+        _ => &[(0, -5), (5, 0), (0, 5), (-5, 0)],
+    };
+    Polygon::new(shape.iter().map(|&(dx, dy)| (x + dx, y + dy)).collect::<Vec<_>>(), color(i).filled())
+}
+
+/// Draws the legend to the right of the plot (plotters' own legend stays inside the plot, over
+/// the data), top-aligned with it. Entries that do not fit are summarised as "+ N more".
+fn legend<X: Ranged, Y: Ranged>(
+    root: &Area,
+    plot: &DrawingArea<SVGBackend, Cartesian2d<X, Y>>,
+    entries: &[(String, Swatch)],
+) -> Drawn {
+    let (xs, ys) = plot.get_pixel_range();
+    let (x, y, bottom, line) = (xs.end + 10, ys.start, ys.end, LINE as i32);
+    let room = ((bottom - y) / line).max(2) as usize;
+    let shown = if entries.len() <= room { entries.len() } else { room - 1 };
+    let text = font().pos(Pos::new(HPos::Left, VPos::Center));
+    for (j, (name, swatch)) in entries.iter().take(shown).enumerate() {
+        let y = y + line * j as i32 + line / 2;
+        match *swatch {
+            Swatch::Line(i) => {
+                root.draw(&PathElement::new([(x, y), (x + 18, y)], color(i).stroke_width(2)))?;
+                root.draw(&marker(i, (x + 9, y)))?;
+            }
+            Swatch::Box(i) => {
+                root.draw(&Rectangle::new([(x + 2, y - 5), (x + 16, y + 5)], color(i).filled()))?
+            }
+        }
+        root.draw_text(name, &text, (x + 24, y))?;
+    }
+    if shown < entries.len() {
+        let more = format!("+ {} more", entries.len() - shown);
+        root.draw_text(&more, &text, (x + 24, y + line * shown as i32 + line / 2))?;
+    }
+    Ok(())
+}
+
+/// The footnote counting values left out, at the bottom left.
+fn footnote(root: &Area, omitted: usize, noun: &str, why: &str) -> Drawn {
+    if omitted > 0 {
+        let plural = if omitted == 1 { "" } else { "s" };
+        let text = format!("{omitted} {noun}{plural} not drawn ({why})");
+        root.draw_text(&text, &font().pos(Pos::new(HPos::Left, VPos::Bottom)), (8, HEIGHT as i32 - 6))?;
+    }
+    Ok(())
+}
