@@ -2,13 +2,7 @@
 //! per series side by side within each category). Bars start at zero so lengths compare
 //! honestly; non-finite values are not drawn and a footnote counts them.
 
-use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
-
-use super::{
-    clean, color, cut, font, footnote, legend, legend_names, no_data, render, text_width, tick, Area, Drawn,
-    Swatch, LINE, TITLE_FONT, WIDTH,
-};
+use super::*;
 
 /// One stacked bar: its category label and its segments (name, value), stacked in order.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -156,22 +150,23 @@ impl Bars<'_> {
     fn draw(&self, root: &Area) -> Drawn {
         let n = self.categories.len().max(1);
         let (names, legend_w) = legend_names(root, &self.legend.iter().map(|e| e.0).collect::<Vec<_>>());
-        // Category labels: horizontal where they fit their slot, else rotated and, if long, cut.
-        let slot = (WIDTH - legend_w - 90) as f64 / n as f64;
-        let rotate = self.categories.iter().any(|c| text_width(root, &clean(c)) > slot * 0.9);
-        let max = if rotate { 150.0 } else { slot };
-        let labels: Vec<String> = self.categories.iter().map(|c| cut(root, c, max)).collect();
+        // Category labels: horizontal where they fit their slot, else rotated, cut if long and,
+        // in narrow slots, smaller (down to 7 px) and only then thinned.
+        let slot = (WIDTH - MARGIN - Y_AXIS - legend_w) as f64 / n as f64;
+        let rotate = self.categories.iter().any(|c| text_width(root, &clean(c)) > slot - 4.0);
+        let labels: Vec<String> =
+            self.categories.iter().map(|c| cut(root, c, if rotate { 150.0 } else { slot })).collect();
         let label_height =
             if rotate { labels.iter().map(|l| text_width(root, l)).fold(0.0, f64::max) as u32 } else { LINE };
+        // Label every `every`-th slot, in a font (in pixels; plotters' sizes are 1.24 times
+        // larger) at least 7 px and a pixel less than the labels' spacing.
+        let every = if rotate { (8.0 / slot).ceil() as usize } else { 1 };
+        let size = if rotate { (slot * every as f64 - 1.0).min(FONT / 1.24) } else { FONT / 1.24 };
 
         let (lo, hi) = self.value_range();
-        let mut chart = ChartBuilder::on(root)
-            .caption(clean(self.title), ("sans-serif", TITLE_FONT))
-            .margin(10)
-            .margin_right(legend_w)
-            .margin_bottom(if self.omitted > 0 { 6 + LINE } else { 6 })
+        title(root, self.title)?;
+        let mut chart = layout(root, legend_w, self.omitted > 0)
             .x_label_area_size(label_height + 14)
-            .y_label_area_size(64)
             .build_cartesian_2d(0.0..n as f64, lo..hi)?;
         let percent = |v: &f64| format!("{}%", tick(v * 100.0));
         let plain = |v: &f64| tick(*v);
@@ -195,12 +190,11 @@ impl Bars<'_> {
         if lo < 0.0 {
             chart.draw_series(LineSeries::new([(0.0, 0.0), (n as f64, 0.0)], BLACK))?;
         }
-        // Every label at least a line apart: with many thin bars, every k-th.
-        let every = (LINE as f64 / slot).ceil().max(1.0) as usize;
+        let font = ("sans-serif", size * 1.24).into_text_style(root);
         let style = if rotate {
-            font().transform(FontTransform::Rotate270).pos(Pos::new(HPos::Right, VPos::Center))
+            font.transform(FontTransform::Rotate270).pos(Pos::new(HPos::Right, VPos::Center))
         } else {
-            font().pos(Pos::new(HPos::Center, VPos::Top))
+            font.pos(Pos::new(HPos::Center, VPos::Top))
         };
         for (i, label) in labels.iter().enumerate().step_by(every) {
             let (x, y) = chart.backend_coord(&(i as f64 + 0.5, lo));

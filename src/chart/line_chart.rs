@@ -3,12 +3,8 @@
 use std::ops::Range;
 
 use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
-use plotters::prelude::*;
 
-use super::{
-    axis_title, clean, color, font, footnote, legend, legend_names, marker, no_data, render, tick, Area,
-    Drawn, Swatch, LINE, TITLE_FONT,
-};
+use super::*;
 
 /// A named sequence of points, drawn as a line with a marker at each point, in the given order.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -64,14 +60,8 @@ impl LineChart {
         let named =
             if has_legend { self.series.iter().map(|s| s.name.as_str()).collect() } else { Vec::new() };
         let (names, legend_w) = legend_names(root, &named);
-        let mut chart = ChartBuilder::on(root)
-            .caption(clean(&self.title), ("sans-serif", TITLE_FONT))
-            .margin(10)
-            .margin_right(legend_w)
-            .margin_bottom(if omitted > 0 { 6 + LINE } else { 6 })
-            .x_label_area_size(44)
-            .y_label_area_size(64)
-            .build_cartesian_2d(x, y)?;
+        title(root, &self.title)?;
+        let mut chart = layout(root, legend_w, omitted > 0).x_label_area_size(44).build_cartesian_2d(x, y)?;
         chart
             .configure_mesh()
             .x_desc(axis_title(&self.x_label, self.x_log))
@@ -110,7 +100,7 @@ fn range(values: impl Iterator<Item = f64>, log: bool) -> Range<f64> {
             (e0, e1) = (e0 - 1.0, e1 + 1.0);
         }
         // A hair wider, so that rounding never makes plotters skip the end decades' ticks.
-        10f64.powf(e0) * (1.0 - 1e-9)..10f64.powf(e1) * (1.0 + 1e-9)
+        10f64.powf(e0) * (1.0 - 1e-9)..(10f64.powf(e1) * (1.0 + 1e-9)).min(f64::MAX)
     } else {
         let span = hi - lo;
         let pad = if span > lo.abs().max(hi.abs()) * 1e-12 {

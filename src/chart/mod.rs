@@ -43,6 +43,10 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 const WIDTH: u32 = 720;
 const HEIGHT: u32 = 420;
+/// Space around the chart, above the plot for the title, and left of it for the y axis.
+const MARGIN: u32 = 10;
+const TITLE_HEIGHT: u32 = 36;
+const Y_AXIS: u32 = 64;
 /// Text sizes in plotters' units (the SVG's `font-size` is this / 1.24).
 const FONT: f64 = 14.0;
 const TITLE_FONT: f64 = 18.0;
@@ -59,7 +63,8 @@ fn font() -> TextStyle<'static> {
 /// Text as plotters will escape it: XML forbids most control characters even as references, so
 /// a stray byte in a series name must not make the whole document unparsable.
 fn clean(s: &str) -> String {
-    s.chars().filter(|&c| !c.is_control() || matches!(c, '\t' | '\n' | '\r')).collect()
+    let allowed = |c: char| !(c.is_control() || c == '\u{FFFE}' || c == '\u{FFFF}') || "\t\n\r".contains(c);
+    s.chars().filter(|&c| allowed(c)).collect()
 }
 
 /// An axis title that says when the axis is logarithmic.
@@ -86,13 +91,33 @@ fn render(draw: impl FnOnce(&Area) -> Drawn) -> String {
     svg
 }
 
+/// The title, centred on the canvas and cut to fit it.
+fn title(root: &Area, title: &str) -> Drawn {
+    let style = ("sans-serif", TITLE_FONT).into_text_style(root).pos(Pos::new(HPos::Center, VPos::Top));
+    let title = cut(root, title, (WIDTH - 2 * MARGIN) as f64 * FONT / TITLE_FONT);
+    root.draw_text(&title, &style, (WIDTH as i32 / 2, MARGIN as i32))?;
+    Ok(())
+}
+
+/// The layout every chart shares below its title: `right` pixels beside the plot for the
+/// legend, and a line below it for a footnote where there is one.
+fn layout<'a, 'b>(root: &'a Area<'b>, right: u32, note: bool) -> ChartBuilder<'a, 'b, SVGBackend<'b>> {
+    let mut builder = ChartBuilder::on(root);
+    builder
+        .margin(MARGIN)
+        .margin_top(TITLE_HEIGHT)
+        .margin_right(right)
+        .margin_bottom(if note { MARGIN + LINE } else { MARGIN })
+        .y_label_area_size(Y_AXIS);
+    builder
+}
+
 /// A chart with nothing to draw: its title and a centred "no data" note.
-fn no_data(title: &str) -> String {
+fn no_data(text: &str) -> String {
     render(|root| {
-        let centre = Pos::new(HPos::Center, VPos::Center);
-        let title_font = ("sans-serif", TITLE_FONT).into_text_style(root);
-        root.draw_text(&clean(title), &title_font.pos(centre), (WIDTH as i32 / 2, 24))?;
-        root.draw_text("no data", &font().pos(centre), (WIDTH as i32 / 2, HEIGHT as i32 / 2))?;
+        title(root, text)?;
+        let centre = font().pos(Pos::new(HPos::Center, VPos::Center));
+        root.draw_text("no data", &centre, (WIDTH as i32 / 2, HEIGHT as i32 / 2))?;
         Ok(())
     })
 }
@@ -118,10 +143,7 @@ fn cut(root: &Area, s: &str, max: f64) -> String {
 /// plot; a small margin when there is no legend.
 fn legend_names(root: &Area, names: &[&str]) -> (Vec<String>, u32) {
     let names: Vec<String> = names.iter().map(|n| cut(root, n, WIDTH as f64 / 5.0)).collect();
-    let widest = names
-        .iter()
-        .map(|n| text_width(root, n))
-        .fold(None, |w: Option<f64>, n| Some(w.unwrap_or(0.0).max(n)));
+    let widest = names.iter().map(|n| text_width(root, n)).reduce(f64::max);
     (names, widest.map_or(24, |w| w as u32 + 56))
 }
 
@@ -182,7 +204,11 @@ fn footnote(root: &Area, omitted: usize, noun: &str, why: &str) -> Drawn {
     if omitted > 0 {
         let plural = if omitted == 1 { "" } else { "s" };
         let text = format!("{omitted} {noun}{plural} not drawn ({why})");
-        root.draw_text(&text, &font().pos(Pos::new(HPos::Left, VPos::Bottom)), (8, HEIGHT as i32 - 6))?;
+        root.draw_text(
+            &text,
+            &font().pos(Pos::new(HPos::Left, VPos::Bottom)),
+            (MARGIN as i32, HEIGHT as i32 - 6),
+        )?;
     }
     Ok(())
 }

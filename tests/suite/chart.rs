@@ -442,7 +442,7 @@ fn stacked_segments_are_proportional_and_stack_from_zero() {
 }
 
 #[test]
-fn long_category_labels_are_rotated_cut_and_thinned() {
+fn long_category_labels_are_rotated_cut_shrunk_and_thinned() {
     let bars: Vec<Bar> = (0..60)
         .map(|i| Bar {
             label: format!("configuration with a very long descriptive name #{i}"),
@@ -465,7 +465,7 @@ fn long_category_labels_are_rotated_cut_and_thinned() {
         .filter(|(t, _)| t.starts_with("configuration"))
         .map(|(_, n)| n)
         .collect();
-    assert!(labels.len() >= 20, "{} labels", labels.len());
+    assert_eq!(labels.len(), 60, "slots of about 10 px still take a (smaller) label each");
     let mut xs: Vec<f64> = Vec::new();
     for l in &labels {
         assert!(
@@ -475,10 +475,20 @@ fn long_category_labels_are_rotated_cut_and_thinned() {
         assert!(l.text().unwrap().trim().ends_with('…'), "long labels are cut");
         xs.push(num(*l, "x"));
     }
-    // Rotated labels at least a line height apart.
+    // Rotated labels are at least a line of their font apart, and that font is readable.
+    let font = num(labels[0], "font-size");
+    assert!(font >= 7.0, "{font} px");
     for w in xs.windows(2) {
-        assert!(w[1] - w[0] >= 12.0, "labels at {} and {} overlap", w[0], w[1]);
+        assert!(w[1] - w[0] >= font, "labels at {} and {} overlap", w[0], w[1]);
     }
+    // With more bars than 7 px labels fit, every n-th is labelled.
+    let bars: Vec<Bar> =
+        (0..200).map(|i| Bar { label: format!("run {i:03}"), segments: vec![("a".into(), 1.0)] }).collect();
+    let svg = StackedBarChart { title: "many".into(), y_label: "ms".into(), bars }.to_svg();
+    let doc = check_svg(&svg);
+    let labels: Vec<String> = texts(&doc).into_iter().filter(|t| t.starts_with("run ")).collect();
+    assert!(labels.len() > 30 && labels.len() <= 100, "{} labels", labels.len());
+    assert_eq!(labels[0], "run 000");
 }
 
 #[test]
