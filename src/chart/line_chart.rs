@@ -90,8 +90,9 @@ impl LineChart {
     }
 }
 
-/// The axis range for the drawable `values`: log axes span whole decades, linear ones get 5% room
-/// on each side; a zero-width range is padded (a decade, or 10% of the value).
+/// The axis range for the drawable `values`: log axes span whole decades (so that each end has a
+/// labelled tick); both get 5% room on each side (in log space for log axes) so no marker sits
+/// on the frame; a zero-width range is padded (a decade, or 10% of the value).
 fn range(values: impl Iterator<Item = f64>, log: bool) -> Range<f64> {
     let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
     if log {
@@ -99,8 +100,8 @@ fn range(values: impl Iterator<Item = f64>, log: bool) -> Range<f64> {
         if e0 == e1 {
             (e0, e1) = (e0 - 1.0, e1 + 1.0);
         }
-        // A hair wider, so that rounding never makes plotters skip the end decades' ticks.
-        10f64.powf(e0) * (1.0 - 1e-9)..(10f64.powf(e1) * (1.0 + 1e-9)).min(f64::MAX)
+        let pad = (e1 - e0) * 0.05;
+        10f64.powf(e0 - pad)..10f64.powf(e1 + pad).min(f64::MAX)
     } else {
         let span = hi - lo;
         let pad = if span > lo.abs().max(hi.abs()) * 1e-12 {

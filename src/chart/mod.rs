@@ -72,9 +72,17 @@ fn axis_title(label: &str, log: bool) -> String {
     clean(&if log { format!("{label} (log scale)") } else { label.to_string() })
 }
 
-/// A compact tick label: "0.25", "1500", "1e-4", "2.5e6" (no floating-point noise).
+/// A compact tick label without floating-point noise: "0.25" and "1500" from 0.001 to 9999, SI
+/// suffixes up to 10^12 ("10k", "2.5M", "1G"), exponents beyond ("1e-4", "1e12").
 fn tick(v: f64) -> String {
-    pretty_print_float(v, true)
+    match v.abs() {
+        a if a == 0.0 || (1e-3..1e4).contains(&a) => pretty_print_float(v, false),
+        a if (1e4..1e12).contains(&a) => {
+            let (unit, suffix) = [(1e3, "k"), (1e6, "M"), (1e9, "G")][(a.log10() as usize / 3 - 1).min(2)];
+            format!("{}{suffix}", pretty_print_float(v / unit, false))
+        }
+        _ => pretty_print_float(v, true),
+    }
 }
 
 /// Draws a chart into a fresh SVG document. Should plotters fail (it has no failure path when

@@ -271,16 +271,27 @@ fn nonfinite_points_on_linear_axes_are_dropped() {
 
 #[test]
 fn tick_labels_are_compact() {
+    // Tick labels: every text that is a number, possibly with an SI suffix.
+    let ticks = |doc: &Document| -> Vec<String> {
+        let number = |t: &str| t.trim_end_matches(['k', 'M', 'G']).parse::<f64>().is_ok();
+        texts(doc).into_iter().filter(|t| number(t)).collect()
+    };
     for (lo, hi) in [(0.0, 0.93), (-1e-3, 7e-3), (1e5, 3.3e5), (0.1, 0.3)] {
         let chart = line_chart(vec![series("", &[(lo, lo), (hi, hi)])]);
         let svg = chart.to_svg();
-        let doc = check_svg(&svg);
-        let ticks: Vec<String> = texts(&doc).into_iter().filter(|t| t.parse::<f64>().is_ok()).collect();
+        let ticks = ticks(&check_svg(&svg));
         assert!(ticks.len() >= 6, "{ticks:?}");
         for t in ticks {
-            assert!(t.len() <= 7, "tick {t:?} too long (floating-point noise?)");
+            assert!(t.len() <= 6, "tick {t:?} too long (floating-point noise?)");
         }
     }
+    // Large values in thousands ("10k", "15k"), not "1e4" beside "15000".
+    let chart = line_chart(vec![series("", &[(0.0, 0.0), (0.5, 32_000.0)])]);
+    let svg = chart.to_svg();
+    let ticks = ticks(&check_svg(&svg));
+    let thousands: Vec<&String> = ticks.iter().filter(|t| t.ends_with('k')).collect();
+    assert!(thousands.len() >= 3 && ticks.contains(&"10k".to_string()), "{ticks:?}");
+    assert!(!ticks.iter().any(|t| t.contains('e')), "{ticks:?}");
 }
 
 #[test]
