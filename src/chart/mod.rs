@@ -1,18 +1,16 @@
-//! Dependency-free SVG charts for experiment reports: line charts (linear or log10 axes),
-//! stacked and grouped bar charts, a colour-blind-safe palette and the viridis colormap.
+//! SVG charts for experiment reports, drawn with [`plotters`]: line charts (linear or log10
+//! axes), stacked and grouped bar charts, a colour-blind-safe palette and the viridis colormap.
 //!
-//! Every chart renders to a standalone SVG document of fixed size (720×420, sans-serif) that
-//! also works inlined in HTML: it uses no ids, scripts or external resources. The output aims to
-//! be honest:
+//! Every chart renders to a standalone SVG document of fixed size (720×420, sans-serif text
+//! left to the viewer's fonts) that also works inlined in HTML: plotters emits no ids, scripts or
+//! external resources. What this module adds to plotters keeps the charts honest:
 //!
-//! - each data point or bar carries a `<title>` tooltip with its series and values;
-//! - log axes say "(log scale)" in their title;
+//! - log axes say "(log scale)" in their title and span whole decades;
 //! - values that cannot be drawn (non-finite, or ≤ 0 on a log axis) are left out, never moved,
 //!   and a footnote counts them; a line breaks where a point was left out;
 //! - a chart with nothing to draw shows its title and a centred "no data" note;
-//! - a zero-width data range is padded instead of dividing by zero.
-//!
-//! Data markers have `class="point"` and bars `class="bar"`, so reports and tests can find them.
+//! - a zero-width data range is padded instead of dividing by zero;
+//! - the legend sits beside the plot, never over the data.
 //!
 //! ```
 //! use wavetrace::chart::{LineChart, Series};
@@ -26,21 +24,199 @@
 //!     series: vec![Series { name: "wavefront".into(), points: vec![(1.0, 0.3), (16.0, 0.02), (256.0, 0.001)] }],
 //! };
 //! let svg = chart.to_svg();
-//! assert!(svg.starts_with("<svg xmlns=\"http://www.w3.org/2000/svg\""));
+//! assert!(svg.starts_with("<svg ") && svg.contains("relMSE (log scale)"));
 //! ```
 
-mod axis;
 mod bar_chart;
-mod category_axis;
-mod frame;
-mod legend;
 mod line_chart;
-mod marker;
 mod palette;
-mod svg;
 
-pub use axis::{format_tick, format_value, log_ticks, nice_ticks, Axis, Tick};
 pub use bar_chart::{Bar, GroupedBarChart, StackedBarChart};
 pub use line_chart::{LineChart, Series};
 pub use palette::{color, hex, viridis, PALETTE};
-pub use svg::escape;
+pub use plotters::style::RGBColor;
+
+use plotters::coord::Shift;
+use plotters::data::float::pretty_print_float;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+const WIDTH: u32 = 720;
+const HEIGHT: u32 = 420;
+/// Space around the chart, above the plot for the title, and left of it for the y axis.
+const MARGIN: u32 = 10;
+const TITLE_HEIGHT: u32 = 36;
+const Y_AXIS: u32 = 64;
+/// Text sizes in plotters' units (the SVG's `font-size` is this / 1.24).
+const FONT: f64 = 14.0;
+const TITLE_FONT: f64 = 18.0;
+/// Height of one legend line and of the footnote's band.
+const LINE: u32 = 16;
+
+type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
+type Drawn = Result<(), Box<dyn std::error::Error>>;
+
+fn font() -> TextStyle<'static> {
+    ("sans-serif", FONT).into_text_style(&(WIDTH, HEIGHT))
+}
+
+/// Text as plotters will escape it: XML forbids most control characters even as references, so
+/// a stray byte in a series name must not make the whole document unparsable.
+fn clean(s: &str) -> String {
+    let allowed = |c: char| !(c.is_control() || c == '\u{FFFE}' || c == '\u{FFFF}') || "\t\n\r".contains(c);
+    s.chars().filter(|&c| allowed(c)).collect()
+}
+
+/// An axis title that says when the axis is logarithmic.
+fn axis_title(label: &str, log: bool) -> String {
+    clean(&if log { format!("{label} (log scale)") } else { label.to_string() })
+}
+
+/// A compact tick label without floating-point noise: "0.25" and "1500" from 0.001 to 9999, SI
+/// suffixes up to 10^12 ("10k", "2.5M", "1G"), exponents beyond ("1e-4", "1e12").
+fn tick(v: f64) -> String {
+    match v.abs() {
+        a if a == 0.0 || (1e-3..1e4).contains(&a) => pretty_print_float(v, false),
+        a if (1e4..1e12).contains(&a) => {
+            let (unit, suffix) = [(1e3, "k"), (1e6, "M"), (1e9, "G")][(a.log10() as usize / 3 - 1).min(2)];
+            format!("{}{suffix}", pretty_print_float(v / unit, false))
+        }
+        _ => pretty_print_float(v, true),
+    }
+}
+
+/// Draws a chart into a fresh SVG document. Should plotters fail (it has no failure path when
+/// writing into a string, but its API is fallible), the chart says so rather than look complete.
+fn render(draw: impl FnOnce(&Area) -> Drawn) -> String {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (WIDTH, HEIGHT)).into_drawing_area();
+        let drawn = root.fill(&WHITE).map_err(Into::into).and_then(|()| draw(&root));
+        if let Err(e) = drawn {
+            let _ = root.draw_text(&format!("chart not fully drawn: {e}"), &font().color(&RED), (8, 8));
+        }
+    } // Dropping the backend closes the document.
+    svg
+}
+
+/// The title, centred on the canvas and cut to fit it.
+fn title(root: &Area, title: &str) -> Drawn {
+    let style = ("sans-serif", TITLE_FONT).into_text_style(root).pos(Pos::new(HPos::Center, VPos::Top));
+    let title = cut(root, title, (WIDTH - 2 * MARGIN) as f64 * FONT / TITLE_FONT);
+    root.draw_text(&title, &style, (WIDTH as i32 / 2, MARGIN as i32))?;
+    Ok(())
+}
+
+/// The layout every chart shares below its title: `right` pixels beside the plot for the
+/// legend, and a line below it for a footnote where there is one.
+fn layout<'a, 'b>(root: &'a Area<'b>, right: u32, note: bool) -> ChartBuilder<'a, 'b, SVGBackend<'b>> {
+    let mut builder = ChartBuilder::on(root);
+    builder
+        .margin(MARGIN)
+        .margin_top(TITLE_HEIGHT)
+        .margin_right(right)
+        .margin_bottom(if note { MARGIN + LINE } else { MARGIN })
+        .y_label_area_size(Y_AXIS);
+    builder
+}
+
+/// A chart with nothing to draw: its title and a centred "no data" note.
+fn no_data(text: &str) -> String {
+    render(|root| {
+        title(root, text)?;
+        let centre = font().pos(Pos::new(HPos::Center, VPos::Center));
+        root.draw_text("no data", &centre, (WIDTH as i32 / 2, HEIGHT as i32 / 2))?;
+        Ok(())
+    })
+}
+
+/// Estimated width of `text` in pixels (plotters' estimate for fonts it cannot measure).
+fn text_width(root: &Area, text: &str) -> f64 {
+    root.estimate_text_size(text, &font()).map_or(0.0, |(w, _)| w as f64)
+}
+
+/// `s` cut to at most `max` pixels wide, ending in "…" if it was cut.
+fn cut(root: &Area, s: &str, max: f64) -> String {
+    let mut out = clean(s);
+    if text_width(root, &out) <= max {
+        return out;
+    }
+    while !out.is_empty() && text_width(root, &format!("{out}…")) > max {
+        out.pop();
+    }
+    out + "…"
+}
+
+/// Legend names (cut to a fifth of the chart's width) and the room the legend needs beside the
+/// plot; a small margin when there is no legend.
+fn legend_names(root: &Area, names: &[&str]) -> (Vec<String>, u32) {
+    let names: Vec<String> = names.iter().map(|n| cut(root, n, WIDTH as f64 / 5.0)).collect();
+    let widest = names.iter().map(|n| text_width(root, n)).reduce(f64::max);
+    (names, widest.map_or(24, |w| w as u32 + 56))
+}
+
+/// What a legend entry shows beside its name.
+enum Swatch {
+    /// The `i`-th line series: its line and marker.
+    Line(usize),
+    /// A filled box of the `i`-th palette colour.
+    Box(usize),
+}
+
+/// The `i`-th series' marker around `(x, y)` in pixels: round, square, triangle or diamond, so
+/// lines stay distinguishable without colour.
+fn marker(i: usize, (x, y): (i32, i32)) -> Polygon<(i32, i32)> {
+    let shape: &[(i32, i32)] = match i % 4 {
+        0 => &[(-2, -4), (2, -4), (4, -2), (4, 2), (2, 4), (-2, 4), (-4, 2), (-4, -2)],
+        1 => &[(-4, -4), (4, -4), (4, 4), (-4, 4)],
+        2 => &[(0, -5), (5, 4), (-5, 4)],
+        _ => &[(0, -5), (5, 0), (0, 5), (-5, 0)],
+    };
+    Polygon::new(shape.iter().map(|&(dx, dy)| (x + dx, y + dy)).collect::<Vec<_>>(), color(i).filled())
+}
+
+/// Draws the legend to the right of the plot (plotters' own legend stays inside the plot, over
+/// the data), top-aligned with it. Entries that do not fit are summarised as "+ N more".
+fn legend<X: Ranged, Y: Ranged>(
+    root: &Area,
+    plot: &DrawingArea<SVGBackend, Cartesian2d<X, Y>>,
+    entries: &[(String, Swatch)],
+) -> Drawn {
+    let (xs, ys) = plot.get_pixel_range();
+    let (x, y, bottom, line) = (xs.end + 10, ys.start, ys.end, LINE as i32);
+    let room = ((bottom - y) / line).max(2) as usize;
+    let shown = if entries.len() <= room { entries.len() } else { room - 1 };
+    let text = font().pos(Pos::new(HPos::Left, VPos::Center));
+    for (j, (name, swatch)) in entries.iter().take(shown).enumerate() {
+        let y = y + line * j as i32 + line / 2;
+        match *swatch {
+            Swatch::Line(i) => {
+                root.draw(&PathElement::new([(x, y), (x + 18, y)], color(i).stroke_width(2)))?;
+                root.draw(&marker(i, (x + 9, y)))?;
+            }
+            Swatch::Box(i) => {
+                root.draw(&Rectangle::new([(x + 2, y - 5), (x + 16, y + 5)], color(i).filled()))?
+            }
+        }
+        root.draw_text(name, &text, (x + 24, y))?;
+    }
+    if shown < entries.len() {
+        let more = format!("+ {} more", entries.len() - shown);
+        root.draw_text(&more, &text, (x + 24, y + line * shown as i32 + line / 2))?;
+    }
+    Ok(())
+}
+
+/// The footnote counting values left out, at the bottom left.
+fn footnote(root: &Area, omitted: usize, noun: &str, why: &str) -> Drawn {
+    if omitted > 0 {
+        let plural = if omitted == 1 { "" } else { "s" };
+        let text = format!("{omitted} {noun}{plural} not drawn ({why})");
+        root.draw_text(
+            &text,
+            &font().pos(Pos::new(HPos::Left, VPos::Bottom)),
+            (MARGIN as i32, HEIGHT as i32 - 6),
+        )?;
+    }
+    Ok(())
+}

@@ -1,27 +1,29 @@
 //! Colours: a categorical palette safe for colour-vision deficiencies, and the viridis colormap.
 
+use plotters::style::RGBColor;
+
 /// The Okabe–Ito palette (Okabe & Ito, "Color Universal Design", 2002), distinguishable under
 /// the common colour-vision deficiencies. Reordered so the first colours contrast best on white;
 /// yellow and black come last (yellow is faint as a thin line, black reads as an axis). Then
 /// four darker and lighter tones of its hues, because a wavefront's pass chart stacks up to a
 /// dozen labels and a colour must not repeat within one chart.
-pub const PALETTE: &[&str] = &[
-    "#0072b2", // blue
-    "#e69f00", // orange
-    "#009e73", // bluish green
-    "#d55e00", // vermillion
-    "#cc79a7", // reddish purple
-    "#56b4e9", // sky blue
-    "#f0e442", // yellow
-    "#000000", // black
-    "#7f3c8d", // dark purple
-    "#8c6d31", // brown
-    "#a0a0a0", // grey
-    "#1b5e20", // dark green
+pub const PALETTE: [RGBColor; 12] = [
+    RGBColor(0x00, 0x72, 0xb2), // blue
+    RGBColor(0xe6, 0x9f, 0x00), // orange
+    RGBColor(0x00, 0x9e, 0x73), // bluish green
+    RGBColor(0xd5, 0x5e, 0x00), // vermillion
+    RGBColor(0xcc, 0x79, 0xa7), // reddish purple
+    RGBColor(0x56, 0xb4, 0xe9), // sky blue
+    RGBColor(0xf0, 0xe4, 0x42), // yellow
+    RGBColor(0x00, 0x00, 0x00), // black
+    RGBColor(0x7f, 0x3c, 0x8d), // dark purple
+    RGBColor(0x8c, 0x6d, 0x31), // brown
+    RGBColor(0xa0, 0xa0, 0xa0), // grey
+    RGBColor(0x1b, 0x5e, 0x20), // dark green
 ];
 
 /// The palette colour for the `i`-th series or segment, cycling after the last.
-pub fn color(i: usize) -> &'static str {
+pub fn color(i: usize) -> RGBColor {
     PALETTE[i % PALETTE.len()]
 }
 

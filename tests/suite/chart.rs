@@ -1,312 +1,125 @@
-//! The SVG chart module: tick rules, label formatting, colours, and properties of the rendered
-//! documents (well-formed XML, finite coordinates, escaping, dropped points, consistent colours).
+//! The chart module (plotters underneath): properties of the rendered documents (well-formed,
+//! standalone XML, finite coordinates on the canvas, escaping), and what each chart must show
+//! (series in the legend, log axes labelled as such and ticked in decades, points that cannot be
+//! drawn left out and counted, "no data", consistent colours, proportional bars).
 
+use roxmltree::{Document, Node};
 use wavetrace::chart::*;
 
 // ---------------------------------------------------------------------------------------------
-// A tiny XML reader, strict enough for what the charts emit: balanced tags, one root, quoted
-// attributes, no raw `<` or bad entities in text or attribute values.
+// Reading the SVG.
 
-#[derive(Debug)]
-struct Node {
-    name: String,
-    attrs: Vec<(String, String)>,
-    /// Unescaped direct text content.
-    text: String,
-    children: Vec<usize>,
-}
-
-impl Node {
-    fn attr(&self, key: &str) -> Option<&str> {
-        self.attrs.iter().find(|(k, _)| k == key).map(|(_, v)| v.as_str())
-    }
-}
-
-fn unescape(s: &str) -> Result<String, String> {
-    let mut out = String::new();
-    let mut rest = s;
-    while let Some(amp) = rest.find('&') {
-        out.push_str(&rest[..amp]);
-        let semi = rest[amp..].find(';').ok_or_else(|| format!("unterminated entity in {s:?}"))?;
-        let entity = &rest[amp + 1..amp + semi];
-        out.push(match entity {
-            "amp" => '&',
-            "lt" => '<',
-            "gt" => '>',
-            "quot" => '"',
-            "apos" | "#39" => '\'',
-            _ => return Err(format!("unknown entity &{entity}; in {s:?}")),
-        });
-        rest = &rest[amp + semi + 1..];
-    }
-    out.push_str(rest);
-    if out.contains('<') && !s.contains("&lt;") {
-        return Err(format!("raw '<' in {s:?}"));
-    }
-    Ok(out)
-}
-
-/// Parses `doc`, returning its nodes (index 0 is the root) or the first problem found.
-fn parse_xml(doc: &str) -> Result<Vec<Node>, String> {
-    let mut nodes: Vec<Node> = Vec::new();
-    let mut stack: Vec<usize> = Vec::new();
-    let mut i = 0;
-    loop {
-        let next = doc[i..].find('<').map(|o| i + o);
-        let text = &doc[i..next.unwrap_or(doc.len())];
-        match stack.last() {
-            Some(&top) => nodes[top].text.push_str(&unescape(text)?),
-            None if !text.trim().is_empty() => return Err(format!("text outside the root: {text:?}")),
-            None => {}
-        }
-        let Some(start) = next else { break };
-        let end = start + doc[start..].find('>').ok_or("unterminated tag")?;
-        let inner = &doc[start + 1..end];
-        if let Some(name) = inner.strip_prefix('/') {
-            let open = stack.pop().ok_or_else(|| format!("</{name}> closes nothing"))?;
-            if nodes[open].name != name.trim() {
-                return Err(format!("</{name}> closes <{}>", nodes[open].name));
-            }
-        } else {
-            let self_closing = inner.ends_with('/');
-            let inner = inner.strip_suffix('/').unwrap_or(inner);
-            let name_end = inner.find(char::is_whitespace).unwrap_or(inner.len());
-            let name = &inner[..name_end];
-            if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == ':') {
-                return Err(format!("bad element name {name:?}"));
-            }
-            let mut attrs = Vec::new();
-            let mut rest = inner[name_end..].trim_start();
-            while !rest.is_empty() {
-                let eq = rest.find('=').ok_or_else(|| format!("attribute without value in <{name}>"))?;
-                let key = rest[..eq].trim();
-                let after = &rest[eq + 1..];
-                let value = after.strip_prefix('"').ok_or_else(|| format!("unquoted attribute {key}"))?;
-                let close = value.find('"').ok_or_else(|| format!("unterminated attribute {key}"))?;
-                if attrs.iter().any(|(k, _): &(String, String)| k == key) {
-                    return Err(format!("duplicate attribute {key} in <{name}>"));
-                }
-                attrs.push((key.to_string(), unescape(&value[..close])?));
-                rest = value[close + 1..].trim_start();
-            }
-            if stack.is_empty() && !nodes.is_empty() {
-                return Err("more than one root element".into());
-            }
-            let id = nodes.len();
-            nodes.push(Node { name: name.to_string(), attrs, text: String::new(), children: Vec::new() });
-            if let Some(&parent) = stack.last() {
-                nodes[parent].children.push(id);
-            }
-            if !self_closing {
-                stack.push(id);
-            }
-        }
-        i = end + 1;
-    }
-    if let Some(&open) = stack.last() {
-        return Err(format!("<{}> never closed", nodes[open].name));
-    }
-    if nodes.is_empty() {
-        return Err("empty document".into());
-    }
-    Ok(nodes)
-}
-
-/// Checks the properties every chart must have and returns its parsed nodes.
-fn check_svg(svg: &str) -> Vec<Node> {
-    let nodes = parse_xml(svg).unwrap_or_else(|e| panic!("malformed SVG ({e}):\n{svg}"));
-    let root = &nodes[0];
-    assert_eq!(root.name, "svg");
-    assert_eq!(root.attr("xmlns"), Some("http://www.w3.org/2000/svg"));
-    assert_eq!(root.attr("viewBox"), Some("0 0 720 420"));
-    assert_eq!(root.attr("font-family"), Some("sans-serif"));
-    assert!(!svg.contains("NaN") && !svg.contains("inf"), "non-finite number in:\n{svg}");
-    for node in &nodes {
-        for (key, value) in &node.attrs {
-            let numeric: Vec<&str> = match key.as_str() {
+/// Parses `svg` and checks what every chart must be: well-formed XML with an `<svg>` root of the
+/// fixed size, standalone (nothing external, no ids that could clash when inlined in HTML, no
+/// scripts), every number finite and every position on the canvas.
+fn check_svg(svg: &str) -> Document<'_> {
+    let doc = Document::parse(svg).unwrap_or_else(|e| panic!("malformed SVG ({e}):\n{svg}"));
+    let root = doc.root_element();
+    assert_eq!(root.tag_name().name(), "svg");
+    assert_eq!(root.tag_name().namespace(), Some("http://www.w3.org/2000/svg"));
+    assert_eq!(root.attribute("viewBox"), Some("0 0 720 420"));
+    for node in doc.descendants().filter(Node::is_element) {
+        let name = node.tag_name().name();
+        assert!(!["script", "image", "use", "style", "foreignObject"].contains(&name), "<{name}> in:\n{svg}");
+        for a in node.attributes() {
+            let (key, value) = (a.name(), a.value());
+            assert!(
+                !["id", "href", "class", "style"].contains(&key) && !key.starts_with("on"),
+                "{key}= in {svg}"
+            );
+            assert!(!value.contains("url("), "{key}={value:?}");
+            let numbers: Vec<&str> = match key {
                 "x" | "y" | "x1" | "y1" | "x2" | "y2" | "cx" | "cy" | "r" | "width" | "height"
-                | "font-size" => {
-                    vec![value.as_str()]
-                }
-                "points" => value.split([' ', ',']).collect(),
-                "transform" => value.trim_start_matches("rotate(").trim_end_matches(')').split(' ').collect(),
+                | "font-size" | "opacity" | "stroke-width" => vec![value],
+                "points" => value.split([' ', ',']).filter(|s| !s.is_empty()).collect(),
                 _ => continue,
             };
-            for n in numeric {
+            for n in numbers {
                 let v: f64 = n.parse().unwrap_or_else(|_| panic!("{key}={value:?} is not numeric"));
                 assert!(v.is_finite(), "{key}={value:?}");
-            }
-            if ["x", "x1", "x2", "cx"].contains(&key.as_str()) {
-                let v: f64 = value.parse().unwrap();
-                assert!((-1.0..=721.0).contains(&v), "{key}={v} off the canvas");
-            }
-            if ["y", "y1", "y2", "cy"].contains(&key.as_str()) {
-                let v: f64 = value.parse().unwrap();
-                assert!((-1.0..=421.0).contains(&v), "{key}={v} off the canvas");
+                let limit =
+                    if matches!(key, "x" | "x1" | "x2" | "cx" | "width" | "points") { 721.0 } else { 421.0 };
+                if key != "font-size" && key != "opacity" && key != "stroke-width" {
+                    assert!((-1.0..=limit).contains(&v), "{key}={v} off the canvas in <{name}>");
+                }
             }
         }
     }
-    nodes
+    doc
 }
 
-fn with_class<'a>(nodes: &'a [Node], class: &str) -> Vec<&'a Node> {
-    nodes.iter().filter(|n| n.attr("class") == Some(class)).collect()
+/// The text of every `<text>` element, trimmed.
+fn texts(doc: &Document) -> Vec<String> {
+    text_nodes(doc).into_iter().map(|(t, _)| t).collect()
 }
 
-/// The tooltip text of a node (its `<title>` child).
-fn tooltip(nodes: &[Node], node: &Node) -> String {
-    node.children
-        .iter()
-        .map(|&c| &nodes[c])
-        .find(|c| c.name == "title")
-        .map(|c| c.text.clone())
-        .unwrap_or_else(|| panic!("<{}> without a <title>", node.name))
+fn text_nodes<'a, 'i>(doc: &'a Document<'i>) -> Vec<(String, Node<'a, 'i>)> {
+    doc.descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .map(|n| (n.text().unwrap_or("").trim().to_string(), n))
+        .collect()
 }
 
-/// All text shown by `<text>` elements.
-fn texts(nodes: &[Node]) -> Vec<String> {
-    nodes.iter().filter(|n| n.name == "text").map(|n| n.text.clone()).collect()
+fn shows(doc: &Document, want: &str) -> bool {
+    texts(doc).iter().any(|t| t == want)
 }
 
-/// Centre of a data marker (circle, square or polygon).
-fn marker_centre(node: &Node) -> (f64, f64) {
-    match node.name.as_str() {
-        "circle" => (num_attr(node, "cx"), num_attr(node, "cy")),
-        "rect" => (
-            num_attr(node, "x") + num_attr(node, "width") / 2.0,
-            num_attr(node, "y") + num_attr(node, "height") / 2.0,
-        ),
-        "polygon" => {
-            let v: Vec<f64> =
-                node.attr("points").unwrap().split([' ', ',']).map(|n| n.parse().unwrap()).collect();
-            let xs: Vec<f64> = v.iter().step_by(2).copied().collect();
-            let ys: Vec<f64> = v.iter().skip(1).step_by(2).copied().collect();
-            let mid = |a: &[f64]| {
-                (a.iter().copied().fold(f64::MAX, f64::min) + a.iter().copied().fold(f64::MIN, f64::max))
-                    / 2.0
+fn num(node: Node, key: &str) -> f64 {
+    node.attribute(key).unwrap_or_else(|| panic!("no {key}")).parse().unwrap()
+}
+
+fn fill_is(node: Node, c: RGBColor) -> bool {
+    node.attribute("fill").is_some_and(|f| f.eq_ignore_ascii_case(&hex([c.0, c.1, c.2])))
+}
+
+fn stroke_is(node: Node, c: RGBColor) -> bool {
+    node.attribute("stroke").is_some_and(|f| f.eq_ignore_ascii_case(&hex([c.0, c.1, c.2])))
+}
+
+fn points(node: Node) -> Vec<(f64, f64)> {
+    let v: Vec<f64> = node
+        .attribute("points")
+        .unwrap()
+        .split([' ', ','])
+        .filter(|s| !s.is_empty())
+        .map(|n| n.parse().unwrap())
+        .collect();
+    v.chunks(2).map(|p| (p[0], p[1])).collect()
+}
+
+/// Centres of the markers (filled polygons) of the `i`-th line series, data and legend alike,
+/// in document order.
+fn markers(doc: &Document, i: usize) -> Vec<(f64, f64)> {
+    doc.descendants()
+        .filter(|n| n.has_tag_name("polygon") && fill_is(*n, color(i)))
+        .map(|n| {
+            let p = points(n);
+            let mid = |f: fn(&(f64, f64)) -> f64| {
+                (p.iter().map(f).fold(f64::MAX, f64::min) + p.iter().map(f).fold(f64::MIN, f64::max)) / 2.0
             };
-            (mid(&xs), mid(&ys))
-        }
-        other => panic!("unexpected marker <{other}>"),
-    }
+            (mid(|p| p.0), mid(|p| p.1))
+        })
+        .collect()
 }
 
-fn num_attr(node: &Node, key: &str) -> f64 {
-    node.attr(key).unwrap_or_else(|| panic!("no {key}")).parse().unwrap()
+/// Polylines stroked in the `i`-th palette colour (a series' line runs, and its legend swatch).
+fn lines(doc: &Document, i: usize) -> usize {
+    doc.descendants().filter(|n| n.has_tag_name("polyline") && stroke_is(*n, color(i))).count()
 }
 
-#[test]
-fn xml_checker_catches_errors() {
-    assert!(parse_xml("<a><b></a></b>").is_err());
-    assert!(parse_xml("<a x=\"1\"><b/></a>").is_ok());
-    assert!(parse_xml("<a>x & y</a>").is_err());
-    assert!(parse_xml("<a x=1/>").is_err());
-    assert!(parse_xml("<a/><b/>").is_err());
-    assert!(parse_xml("<a>").is_err());
+/// The left edge of the legend: its entries' names are drawn 24 px right of their swatches.
+fn legend_left(doc: &Document, names: &[&str]) -> f64 {
+    let xs =
+        text_nodes(doc).into_iter().filter(|(t, _)| names.contains(&t.as_str())).map(|(_, n)| num(n, "x"));
+    xs.fold(f64::INFINITY, f64::min) - 24.0
 }
 
-// ---------------------------------------------------------------------------------------------
-// Axes and labels.
-
-#[test]
-fn log_ticks_are_exact_decades() {
-    assert_eq!(log_ticks(1e-4, 1.0), vec![1e-4, 1e-3, 1e-2, 1e-1, 1.0]);
-    // Widened outward to whole decades.
-    assert_eq!(log_ticks(3.0, 70.0), vec![1.0, 10.0, 100.0]);
-    assert_eq!(log_ticks(1e3, 1e6), vec![1e3, 1e4, 1e5, 1e6]);
-    assert!(log_ticks(0.0, 1.0).is_empty());
-    assert!(log_ticks(-1.0, 1.0).is_empty());
-    assert!(log_ticks(f64::NAN, 1.0).is_empty());
-}
-
-#[test]
-fn log_axis_labels() {
-    let labelled = |a: &Axis| -> Vec<(f64, String)> {
-        a.ticks.iter().filter_map(|t| t.label.clone().map(|l| (t.value, l))).collect()
-    };
-    // Four decades: only decades are labelled, in compact form.
-    let a = Axis::log10(1e-4, 1.0);
-    assert_eq!((a.min, a.max, a.log), (1e-4, 1.0, true));
-    assert_eq!(
-        labelled(&a),
-        vec![
-            (1e-4, "1e-4".to_string()),
-            (1e-3, "0.001".to_string()),
-            (1e-2, "0.01".to_string()),
-            (0.1, "0.1".to_string()),
-            (1.0, "1".to_string())
-        ]
-    );
-    // Unlabelled minor marks at 2..9 of each decade.
-    assert_eq!(a.ticks.len(), 4 * 9 + 1);
-    // Two decades or fewer: 1, 2 and 5 of each decade are labelled.
-    let a = Axis::log10(1.5, 80.0);
-    let values: Vec<f64> = labelled(&a).into_iter().map(|(v, _)| v).collect();
-    assert_eq!(values, vec![1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0]);
-    // Many decades: at most about 8 labels.
-    let a = Axis::log10(1e-12, 1e12);
-    let n = labelled(&a).len();
-    assert!((4..=9).contains(&n), "{n} labels");
-    // A single value gets a decade either side; fraction is 0 and 1 at the ends.
-    let a = Axis::log10(10.0, 10.0);
-    assert_eq!((a.min, a.max), (1.0, 100.0));
-    assert_eq!(a.fraction(10.0), 0.5);
-}
-
-#[test]
-fn nice_ticks_follow_1_2_5_steps() {
-    assert_eq!(nice_ticks(0.0, 0.93, 5), vec![0.0, 0.2, 0.4, 0.6, 0.8, 1.0]);
-    assert_eq!(nice_ticks(0.1, 0.35, 5), vec![0.1, 0.15, 0.2, 0.25, 0.3, 0.35]);
-    assert_eq!(nice_ticks(-3.2, 7.9, 5), vec![-5.0, 0.0, 5.0, 10.0]);
-    assert_eq!(nice_ticks(0.0, 1.0, 5), vec![0.0, 0.2, 0.4, 0.6, 0.8, 1.0]);
-    assert_eq!(nice_ticks(1000.0, 4_200_000.0, 5), vec![0.0, 1e6, 2e6, 3e6, 4e6, 5e6]);
-    assert_eq!(nice_ticks(0.0, 0.0007, 5), vec![0.0, 0.0002, 0.0004, 0.0006, 0.0008]);
-    // Reversed bounds are sorted.
-    assert_eq!(nice_ticks(0.93, 0.0, 5), nice_ticks(0.0, 0.93, 5));
-}
-
-#[test]
-fn degenerate_ranges_are_padded() {
-    // All-equal values: ±10% around the value.
-    let t = nice_ticks(5.0, 5.0, 5);
-    assert_eq!(t, vec![4.4, 4.6, 4.8, 5.0, 5.2, 5.4, 5.6]);
-    // Zero: ±1.
-    assert_eq!(nice_ticks(0.0, 0.0, 4), vec![-1.0, -0.5, 0.0, 0.5, 1.0]);
-    // Non-finite bounds fall back to [0, 1].
-    assert_eq!(nice_ticks(f64::NAN, 1.0, 5), vec![0.0, 0.2, 0.4, 0.6, 0.8, 1.0]);
-    let a = Axis::linear(3.0, 3.0, 5);
-    assert!(a.min < 3.0 && a.max > 3.0);
-    assert!((a.fraction(3.0) - 0.5).abs() < 1e-12);
-}
-
-#[test]
-fn tick_labels_are_compact_and_exact() {
-    assert_eq!(format_tick(0.1 + 0.2, 0.1), "0.3");
-    assert_eq!(format_tick(0.7 * 100.0, 10.0), "70");
-    assert_eq!(format_tick(1e-4, 1e-4), "1e-4");
-    assert_eq!(format_tick(2.5e-5, 5e-6), "2.5e-5");
-    assert_eq!(format_tick(0.001, 0.001), "0.001");
-    assert_eq!(format_tick(1500.0, 500.0), "1500");
-    assert_eq!(format_tick(10_000.0, 10_000.0), "10k");
-    assert_eq!(format_tick(12_500.0, 2500.0), "12.5k");
-    assert_eq!(format_tick(2_500_000.0, 500_000.0), "2.5M");
-    assert_eq!(format_tick(3e9, 1e9), "3G");
-    assert_eq!(format_tick(1e12, 1e12), "1e12");
-    assert_eq!(format_tick(-0.5, 0.5), "-0.5");
-    assert_eq!(format_tick(0.0, 0.2), "0");
-    assert_eq!(format_tick(-0.0, 0.2), "0");
-    assert_eq!(format_value(0.123456789), "0.123457");
-    assert_eq!(format_value(1234567.0), "1.23457M");
-
-    let labels = |a: Axis| a.ticks.into_iter().filter_map(|t| t.label).collect::<Vec<_>>();
-    assert_eq!(labels(Axis::linear(0.0, 0.93, 5)), ["0", "0.2", "0.4", "0.6", "0.8", "1"]);
-    assert_eq!(labels(Axis::linear(0.0, 1.0, 5).percent()), ["0%", "20%", "40%", "60%", "80%", "100%"]);
-    assert_eq!(labels(Axis::linear(0.0, 0.7, 7).percent())[7], "70%");
-    for a in [Axis::linear(0.0, 0.93, 9), Axis::linear(-1e-3, 7e-3, 9), Axis::linear(1e5, 3.3e5, 9)] {
-        for l in labels(a) {
-            assert!(l.len() <= 7, "label {l:?} too long");
-        }
-    }
+/// Filled rectangles in palette colour `i` left of `x_max`: (x, y, width, height).
+fn rects(doc: &Document, i: usize, x_max: f64) -> Vec<(f64, f64, f64, f64)> {
+    doc.descendants()
+        .filter(|n| n.has_tag_name("rect") && fill_is(*n, color(i)) && num(*n, "x") < x_max)
+        .map(|n| (num(n, "x"), num(n, "y"), num(n, "width"), num(n, "height")))
+        .collect()
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -334,19 +147,14 @@ fn viridis_matches_published_endpoints_and_clamps() {
 }
 
 #[test]
-fn palette_is_distinct_hex() {
+fn palette_colours_are_distinct_and_cycle() {
     assert!(PALETTE.len() >= 8);
     for (i, c) in PALETTE.iter().enumerate() {
-        assert!(c.len() == 7 && c.starts_with('#'), "{c}");
-        assert!(c[1..].chars().all(|h| h.is_ascii_hexdigit() && !h.is_ascii_uppercase()), "{c}");
-        assert!(!PALETTE[..i].contains(c), "{c} repeated");
+        assert!(!PALETTE[..i].contains(c), "{c:?} repeated");
+        assert_ne!(*c, RGBColor(255, 255, 255), "white is the background");
     }
+    assert_eq!(color(0), RGBColor(0x00, 0x72, 0xb2), "Okabe–Ito blue first");
     assert_eq!(color(PALETTE.len()), PALETTE[0]);
-}
-
-#[test]
-fn escape_handles_markup() {
-    assert_eq!(escape(r#"a<b & "c" 'd'>"#), "a&lt;b &amp; &quot;c&quot; &#39;d&#39;&gt;");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -368,45 +176,54 @@ fn series(name: &str, points: &[(f64, f64)]) -> Series {
 }
 
 #[test]
-fn line_chart_draws_every_point_with_a_tooltip() {
+fn line_chart_draws_every_point_and_names_every_series() {
     let chart = line_chart(vec![
         series("megakernel", &[(1.0, 10.0), (2.0, 8.0), (4.0, 7.5)]),
         series("wavefront", &[(1.0, 12.0), (2.0, 7.0), (4.0, 5.0), (8.0, 4.2)]),
     ]);
     let svg = chart.to_svg();
-    let nodes = check_svg(&svg);
-    let points = with_class(&nodes, "point");
-    assert_eq!(points.len(), 7);
-    let tips: Vec<String> = points.iter().map(|p| tooltip(&nodes, p)).collect();
-    assert!(tips.contains(&"wavefront: x = 8, y = 4.2".to_string()), "{tips:?}");
-    assert!(tips.contains(&"megakernel: x = 1, y = 10".to_string()), "{tips:?}");
-    assert_eq!(nodes.iter().filter(|n| n.name == "polyline").count(), 2);
-    let shown = texts(&nodes);
+    let doc = check_svg(&svg);
+    // One marker per point, plus one in the legend; one line per series, plus its legend swatch.
+    assert_eq!(markers(&doc, 0).len(), 3 + 1);
+    assert_eq!(markers(&doc, 1).len(), 4 + 1);
+    assert_eq!((lines(&doc, 0), lines(&doc, 1)), (2, 2));
     for want in ["time per frame", "pool size", "ms", "megakernel", "wavefront"] {
-        assert!(shown.iter().any(|t| t == want), "{want:?} not shown: {shown:?}");
+        assert!(shows(&doc, want), "{want:?} not shown: {:?}", texts(&doc));
     }
-    // Linear axes do not claim to be logarithmic.
-    assert!(!svg.contains("log scale"));
+    // The legend lists the series in order, beside the plot rather than over the data.
+    let legend = legend_left(&doc, &["megakernel", "wavefront"]);
+    let data = markers(&doc, 0).into_iter().chain(markers(&doc, 1)).filter(|m| m.0 < legend);
+    assert_eq!(data.count(), 7);
+    let y_of = |name: &str| num(text_nodes(&doc).into_iter().find(|(t, _)| t == name).unwrap().1, "y");
+    assert!(y_of("megakernel") < y_of("wavefront"));
+    // Linear axes do not claim to be logarithmic; nothing was left out.
+    assert!(!svg.contains("log scale") && !svg.contains("not drawn"));
 }
 
 #[test]
 fn line_chart_markers_follow_the_data() {
-    // y = 2x: marker positions must be collinear, and ordered as the data.
-    let chart = line_chart(vec![series("s", &[(0.0, 0.0), (1.0, 2.0), (3.0, 6.0), (5.0, 10.0)])]);
-    let nodes = check_svg(&chart.to_svg());
-    let pts: Vec<(f64, f64)> = with_class(&nodes, "point").iter().map(|p| marker_centre(p)).collect();
+    // y = 2x: marker positions must be collinear, and ordered as the data. A lone unnamed series
+    // has no legend, so every marker is a data point.
+    let chart = line_chart(vec![series("", &[(0.0, 0.0), (1.0, 2.0), (3.0, 6.0), (5.0, 10.0)])]);
+    let svg = chart.to_svg();
+    let doc = check_svg(&svg);
+    let pts = markers(&doc, 0);
     assert_eq!(pts.len(), 4);
     for w in pts.windows(2) {
         assert!(w[1].0 > w[0].0 && w[1].1 < w[0].1, "{pts:?}");
     }
+    // Pixels are whole numbers: the slopes agree to within rounding.
     let slope = |a: (f64, f64), b: (f64, f64)| (b.1 - a.1) / (b.0 - a.0);
-    assert!((slope(pts[0], pts[1]) - slope(pts[2], pts[3])).abs() < 0.01, "{pts:?}");
+    assert!((slope(pts[0], pts[1]) - slope(pts[1], pts[3])).abs() < 0.05, "{pts:?}");
+    // The line passes through the markers.
+    let line = doc.descendants().find(|n| n.has_tag_name("polyline") && stroke_is(*n, color(0))).unwrap();
+    assert_eq!(points(line), pts);
 }
 
 #[test]
-fn log_axis_drops_nonpositive_and_nonfinite_points() {
+fn log_axes_are_labelled_in_decades_and_drop_what_they_cannot_draw() {
     let mut chart = line_chart(vec![series(
-        "err",
+        "",
         &[
             (1.0, 0.0),
             (2.0, 0.5),
@@ -420,63 +237,95 @@ fn log_axis_drops_nonpositive_and_nonfinite_points() {
     chart.x_log = true;
     chart.y_log = true;
     let svg = chart.to_svg();
-    let nodes = check_svg(&svg);
-    let points = with_class(&nodes, "point");
-    assert_eq!(points.len(), 3, "kept: (2, 0.5), (4, 0.05), (32, 0.001)");
-    let tips: Vec<String> = points.iter().map(|p| tooltip(&nodes, p)).collect();
-    assert_eq!(tips, ["err: x = 2, y = 0.5", "err: x = 4, y = 0.05", "err: x = 32, y = 0.001"]);
+    let doc = check_svg(&svg);
+    let pts = markers(&doc, 0);
+    assert_eq!(pts.len(), 3, "kept: (2, 0.5), (4, 0.05), (32, 0.001)");
+    // Equal factors in x are equal distances: 2 → 4 is a quarter of 2 → 32.
+    let (dx1, dx2) = (pts[1].0 - pts[0].0, pts[2].0 - pts[0].0);
+    assert!((dx2 / dx1 - 4.0).abs() < 0.1, "{pts:?}");
     // The line breaks at the dropped points: (2, 4) is one run, (32) alone draws no line.
-    assert_eq!(nodes.iter().filter(|n| n.name == "polyline").count(), 1);
-    let shown = texts(&nodes);
-    assert!(shown.iter().any(|t| t == "pool size (log scale)"), "{shown:?}");
-    assert!(shown.iter().any(|t| t == "ms (log scale)"), "{shown:?}");
-    assert!(shown.iter().any(|t| t.starts_with("4 points not drawn")), "{shown:?}");
+    assert_eq!(lines(&doc, 0), 1);
+    assert!(shows(&doc, "pool size (log scale)"), "{:?}", texts(&doc));
+    assert!(shows(&doc, "ms (log scale)"), "{:?}", texts(&doc));
+    assert!(shows(&doc, "4 points not drawn (not finite, or ≤ 0 on a log axis)"), "{:?}", texts(&doc));
+    // Tick labels are whole decades spanning the data: 1..100 in x, 0.001..1 in y.
+    let ticks: Vec<f64> = texts(&doc).iter().filter_map(|t| t.parse().ok()).collect();
+    for want in [1.0, 10.0, 100.0, 0.001, 0.01, 0.1] {
+        assert!(ticks.contains(&want), "no {want} tick in {ticks:?}");
+    }
+    for t in &ticks {
+        assert_eq!(t.log10(), t.log10().round(), "tick {t} is not a decade");
+    }
 }
 
 #[test]
 fn nonfinite_points_on_linear_axes_are_dropped() {
     let chart =
-        line_chart(vec![series("a", &[(0.0, 1.0), (1.0, f64::NAN), (2.0, 3.0), (f64::NEG_INFINITY, 0.0)])]);
-    let nodes = check_svg(&chart.to_svg());
-    assert_eq!(with_class(&nodes, "point").len(), 2);
-    assert_eq!(nodes.iter().filter(|n| n.name == "polyline").count(), 0, "the gap is not bridged");
+        line_chart(vec![series("", &[(0.0, 1.0), (1.0, f64::NAN), (2.0, 3.0), (f64::NEG_INFINITY, 0.0)])]);
+    let svg = chart.to_svg();
+    let doc = check_svg(&svg);
+    assert_eq!(markers(&doc, 0).len(), 2);
+    assert_eq!(lines(&doc, 0), 0, "the gap is not bridged");
+    assert!(shows(&doc, "2 points not drawn (not finite)"), "{:?}", texts(&doc));
+}
+
+#[test]
+fn tick_labels_are_compact() {
+    // Tick labels: every text that is a number, possibly with an SI suffix.
+    let ticks = |doc: &Document| -> Vec<String> {
+        let number = |t: &str| t.trim_end_matches(['k', 'M', 'G']).parse::<f64>().is_ok();
+        texts(doc).into_iter().filter(|t| number(t)).collect()
+    };
+    for (lo, hi) in [(0.0, 0.93), (-1e-3, 7e-3), (1e5, 3.3e5), (0.1, 0.3)] {
+        let chart = line_chart(vec![series("", &[(lo, lo), (hi, hi)])]);
+        let svg = chart.to_svg();
+        let ticks = ticks(&check_svg(&svg));
+        assert!(ticks.len() >= 6, "{ticks:?}");
+        for t in ticks {
+            assert!(t.len() <= 6, "tick {t:?} too long (floating-point noise?)");
+        }
+    }
+    // Large values in thousands ("10k", "15k"), not "1e4" beside "15000".
+    let chart = line_chart(vec![series("", &[(0.0, 0.0), (0.5, 32_000.0)])]);
+    let svg = chart.to_svg();
+    let ticks = ticks(&check_svg(&svg));
+    let thousands: Vec<&String> = ticks.iter().filter(|t| t.ends_with('k')).collect();
+    assert!(thousands.len() >= 3 && ticks.contains(&"10k".to_string()), "{ticks:?}");
+    assert!(!ticks.iter().any(|t| t.contains('e')), "{ticks:?}");
 }
 
 #[test]
 fn names_and_titles_are_escaped() {
     let mut chart =
-        line_chart(vec![series(r#"a<b & "c""#, &[(1.0, 1.0), (2.0, 2.0)]), series("x'y", &[(1.0, 3.0)])]);
+        line_chart(vec![series("a<b & \"c\"\u{1}", &[(1.0, 1.0), (2.0, 2.0)]), series("x'y", &[(1.0, 3.0)])]);
     chart.title = "<script>alert(1)</script> & co".into();
     chart.x_label = "\"quoted\" & <x>".into();
     let svg = chart.to_svg();
-    let nodes = check_svg(&svg);
-    assert!(svg.contains("a&lt;b &amp; &quot;c&quot;"));
+    let doc = check_svg(&svg);
     assert!(!svg.contains("<script>") && !svg.contains("a<b"));
-    let shown = texts(&nodes);
-    assert!(shown.iter().any(|t| t == "<script>alert(1)</script> & co"), "{shown:?}");
-    assert!(shown.iter().any(|t| t == r#"a<b & "c""#), "{shown:?}");
-    let tips: Vec<String> = with_class(&nodes, "point").iter().map(|p| tooltip(&nodes, p)).collect();
-    assert!(tips.contains(&r#"a<b & "c": x = 2, y = 2"#.to_string()), "{tips:?}");
+    for want in ["<script>alert(1)</script> & co", "a<b & \"c\"", "x'y", "\"quoted\" & <x>"] {
+        assert!(shows(&doc, want), "{want:?} not in {:?}", texts(&doc));
+    }
 }
 
 #[test]
-fn single_point_and_constant_series_render() {
+fn single_point_and_constant_series_are_padded_mid_plot() {
     // (chart, whether x is degenerate too); a degenerate coordinate must land mid-plot, not on
     // an edge produced by a zero-width range.
     for (chart, x_degenerate) in [
-        (line_chart(vec![series("one", &[(3.0, 7.0)])]), true),
-        (line_chart(vec![series("flat", &[(1.0, 5.0), (2.0, 5.0), (3.0, 5.0)])]), false),
-        (line_chart(vec![series("zero", &[(0.0, 0.0), (0.0, 0.0)])]), true),
-        (LineChart { x_log: true, y_log: true, ..line_chart(vec![series("one", &[(100.0, 1e-3)])]) }, true),
+        (line_chart(vec![series("", &[(3.0, 7.0)])]), true),
+        (line_chart(vec![series("", &[(1.0, 5.0), (2.0, 5.0), (3.0, 5.0)])]), false),
+        (line_chart(vec![series("", &[(0.0, 0.0), (0.0, 0.0)])]), true),
+        (LineChart { x_log: true, y_log: true, ..line_chart(vec![series("", &[(100.0, 1e-3)])]) }, true),
     ] {
-        let nodes = check_svg(&chart.to_svg());
-        let points = with_class(&nodes, "point");
-        assert!(!points.is_empty());
-        for p in points {
-            let (x, y) = marker_centre(p);
-            assert!(y > 100.0 && y < 320.0, "y = {y}");
+        let svg = chart.to_svg();
+        let doc = check_svg(&svg);
+        let pts = markers(&doc, 0);
+        assert!(!pts.is_empty());
+        for (x, y) in pts {
+            assert!(y > 120.0 && y < 300.0, "y = {y}");
             if x_degenerate {
-                assert!(x > 200.0 && x < 600.0, "x = {x}");
+                assert!(x > 250.0 && x < 550.0, "x = {x}");
             }
         }
     }
@@ -504,48 +353,40 @@ fn empty_charts_say_no_data() {
         .to_svg(),
     ];
     for svg in charts {
-        let nodes = check_svg(&svg);
-        let shown = texts(&nodes);
-        assert!(shown.contains(&"no data".to_string()), "{svg}");
-        assert!(shown.contains(&"time per frame".to_string()), "{svg}");
-        assert!(with_class(&nodes, "point").is_empty() && with_class(&nodes, "bar").is_empty());
+        let doc = check_svg(&svg);
+        assert_eq!(texts(&doc), ["time per frame", "no data"], "{svg}");
+        let shapes =
+            doc.descendants().filter(|n| ["polygon", "polyline", "rect"].contains(&n.tag_name().name()));
+        let drawn = shapes.filter(|n| PALETTE.iter().any(|&c| fill_is(*n, c) || stroke_is(*n, c)));
+        assert_eq!(drawn.count(), 0, "{svg}");
     }
 }
 
 #[test]
-fn many_series_keep_the_legend_outside_the_plot() {
-    let many: Vec<Series> = (0..30)
-        .map(|i| {
-            series(
-                &format!("a rather long series name number {i}"),
-                &[(0.0, i as f64), (1.0, i as f64 + 1.0)],
-            )
-        })
-        .collect();
-    let nodes = check_svg(&line_chart(many).to_svg());
-    assert_eq!(with_class(&nodes, "point").len(), 60);
-    let max_marker_x = with_class(&nodes, "point").iter().map(|p| marker_centre(p).0).fold(0.0, f64::max);
-    let legend_x = nodes
-        .iter()
-        .filter(|n| n.name == "text" && n.text.starts_with("a rather"))
-        .map(|n| num_attr(n, "x"))
-        .fold(f64::INFINITY, f64::min);
-    assert!(legend_x > max_marker_x + 10.0, "legend at {legend_x}, data up to {max_marker_x}");
-    assert!(texts(&nodes).iter().any(|t| t.ends_with(" more")), "overflowing legend is summarised");
+fn many_series_keep_the_legend_beside_the_plot() {
+    let names: Vec<String> = (0..30).map(|i| format!("a rather long series name number {i}")).collect();
+    let many: Vec<Series> =
+        names.iter().enumerate().map(|(i, n)| series(n, &[(0.0, i as f64), (1.0, i as f64 + 1.0)])).collect();
+    let svg = line_chart(many).to_svg();
+    let doc = check_svg(&svg);
+    // Long names are cut, and entries that do not fit are summarised.
+    let legend: Vec<(String, Node)> =
+        text_nodes(&doc).into_iter().filter(|(t, _)| t.starts_with("a rather")).collect();
+    assert!(legend.len() >= 10 && legend.len() < 30, "{} entries", legend.len());
+    assert!(legend.iter().all(|(t, _)| t.ends_with('…')), "long names are cut");
+    assert!(shows(&doc, &format!("+ {} more", 30 - legend.len())), "{:?}", texts(&doc));
+    // Every data marker is left of the legend; the legend's own markers are inside it.
+    let left = legend.iter().map(|(_, n)| num(*n, "x")).fold(f64::INFINITY, f64::min) - 24.0;
+    for i in 0..30 {
+        let (data, swatch): (Vec<_>, Vec<_>) = markers(&doc, i).into_iter().partition(|m| m.0 < left - 5.0);
+        // Palette colours repeat after 12 and shapes after 4: series i shares both with i ± 12k.
+        assert!(data.len() >= 2 && data.len() % 2 == 0, "series {i}: {data:?}");
+        assert!(swatch.iter().all(|m| m.0 < left + 20.0), "series {i}: {swatch:?}");
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
 // Bar charts.
-
-/// (tooltip, fill, top y, height) of every bar.
-fn bars(nodes: &[Node]) -> Vec<(String, String, f64, f64)> {
-    with_class(nodes, "bar")
-        .iter()
-        .map(|b| {
-            (tooltip(nodes, b), b.attr("fill").unwrap().to_string(), num_attr(b, "y"), num_attr(b, "height"))
-        })
-        .collect()
-}
 
 fn stacked() -> StackedBarChart {
     let bar = |label: &str, segs: &[(&str, f64)]| Bar {
@@ -563,113 +404,102 @@ fn stacked() -> StackedBarChart {
     }
 }
 
+const SEGMENTS: [&str; 4] = ["generate", "intersect", "shade", "compact"];
+
 #[test]
-fn stacked_bar_colours_are_consistent_across_bars() {
+fn stacked_bars_keep_one_colour_per_segment_and_list_it_once() {
     let svg = stacked().to_svg();
-    let nodes = check_svg(&svg);
-    let bars = bars(&nodes);
-    assert_eq!(bars.len(), 8, "NaN segment not drawn");
-    let segment = |tip: &str| tip.split(": ").nth(1).unwrap().split(" = ").next().unwrap().to_string();
-    let mut colour_of: Vec<(String, String)> = Vec::new();
-    for (tip, fill, _, _) in &bars {
-        let name = segment(tip);
-        match colour_of.iter().find(|(n, _)| *n == name) {
-            Some((_, f)) => assert_eq!(f, fill, "{name} changes colour"),
-            None => colour_of.push((name, fill.clone())),
-        }
+    let doc = check_svg(&svg);
+    let left = legend_left(&doc, &SEGMENTS);
+    // Colours by first appearance: generate, intersect, shade, compact; the NaN segment is left
+    // out and counted.
+    let counts: Vec<usize> = (0..4).map(|k| rects(&doc, k, left).len()).collect();
+    assert_eq!(counts, [2, 2, 2, 2]);
+    assert!(rects(&doc, 4, left).is_empty(), "nothing drawn for the NaN segment");
+    assert!(shows(&doc, "1 value not drawn (not finite)"), "{:?}", texts(&doc));
+    // The legend lists each segment once, top to bottom as the stack reads (reverse order of
+    // first appearance), each beside a swatch of its colour.
+    let legend: Vec<(String, Node)> =
+        text_nodes(&doc).into_iter().filter(|(t, _)| SEGMENTS.contains(&t.as_str())).collect();
+    let order: Vec<&str> = legend.iter().map(|(t, _)| t.as_str()).collect();
+    assert_eq!(order, ["compact", "shade", "intersect", "generate"]);
+    for (name, node) in &legend {
+        let k = SEGMENTS.iter().position(|s| s == name).unwrap();
+        let swatch = rects(&doc, k, 721.0).into_iter().find(|r| r.0 >= left).expect("a swatch");
+        assert!((swatch.1 + swatch.3 / 2.0 - num(*node, "y")).abs() <= 1.0, "{name}'s swatch is beside it");
     }
-    assert_eq!(colour_of.len(), 4);
-    for (i, (_, a)) in colour_of.iter().enumerate() {
-        assert!(colour_of[..i].iter().all(|(_, b)| b != a), "two segments share {a}");
-    }
-    // The legend lists each segment once, with the same colour.
-    let shown = texts(&nodes);
-    for (name, fill) in &colour_of {
-        assert_eq!(shown.iter().filter(|t| *t == name).count(), 1, "{name} in legend");
-        let swatches = nodes.iter().filter(|n| n.name == "rect" && n.attr("class").is_none()).count();
-        assert!(swatches >= 4);
-        assert!(nodes
-            .iter()
-            .any(|n| n.name == "rect" && n.attr("class").is_none() && n.attr("fill") == Some(fill)));
-    }
-    assert!(shown.iter().any(|t| t == "1 value not drawn (not finite)"), "{shown:?}");
-}
-
-#[test]
-fn stacked_segments_are_proportional_and_stack() {
-    let nodes = check_svg(&stacked().to_svg());
-    let bars = bars(&nodes);
-    // Bar "pool 1M": generate 1, intersect 4, shade 2, stacked bottom-up without gaps.
-    let b1: Vec<_> = bars.iter().filter(|b| b.0.starts_with("pool 1M:")).collect();
-    assert_eq!(b1.len(), 3);
-    let unit = b1[0].3;
-    assert!((b1[1].3 - 4.0 * unit).abs() < 0.05 && (b1[2].3 - 2.0 * unit).abs() < 0.05, "{b1:?}");
-    assert!((b1[0].2 - (b1[1].2 + b1[1].3)).abs() < 0.02, "generate sits under intersect");
-    assert!((b1[1].2 - (b1[2].2 + b1[2].3)).abs() < 0.02, "intersect sits under shade");
-    assert!(b1[0].0.ends_with("(total 7)"), "{}", b1[0].0);
-    // All bars share the zero baseline.
-    let base = b1[0].2 + b1[0].3;
-    for b in bars.iter().filter(|b| b.0.contains("= ")) {
-        if b.0.starts_with("pool 16M") {
-            assert!((b.2 + b.3 - base).abs() < 0.02);
-        }
+    for label in ["pool 1M", "pool 4M", "pool 16M"] {
+        assert!(shows(&doc, label));
     }
 }
 
 #[test]
-fn sixty_bars_with_long_labels_render_without_overlap() {
+fn stacked_segments_are_proportional_and_stack_from_zero() {
+    let svg = stacked().to_svg();
+    let doc = check_svg(&svg);
+    let left = legend_left(&doc, &SEGMENTS);
+    // Bar "pool 1M" (the leftmost): generate 1, intersect 4, shade 2, bottom-up without gaps.
+    let first = |k: usize| rects(&doc, k, left).into_iter().min_by(|a, b| a.0.total_cmp(&b.0)).unwrap();
+    let (generate, intersect, shade) = (first(0), first(1), first(2));
+    assert!(generate.0 == intersect.0 && intersect.0 == shade.0, "one bar");
+    let unit = (generate.3 + intersect.3 + shade.3) / 7.0;
+    assert!((intersect.3 - 4.0 * unit).abs() <= 1.5 && (shade.3 - 2.0 * unit).abs() <= 1.5, "{unit}");
+    assert_eq!(generate.1, intersect.1 + intersect.3, "generate sits under intersect");
+    assert_eq!(intersect.1, shade.1 + shade.3, "intersect sits under shade");
+    // All bars stand on the same baseline.
+    let base = generate.1 + generate.3;
+    let compact = rects(&doc, 3, left).into_iter().max_by(|a, b| a.0.total_cmp(&b.0)).unwrap();
+    assert_eq!(compact.1 + compact.3, base);
+}
+
+#[test]
+fn long_category_labels_are_rotated_cut_shrunk_and_thinned() {
     let bars: Vec<Bar> = (0..60)
         .map(|i| Bar {
             label: format!("configuration with a very long descriptive name #{i}"),
             segments: vec![("a".into(), 1.0 + i as f64), ("b".into(), 2.0)],
         })
         .collect();
-    let chart = StackedBarChart { title: "many".into(), y_label: "ms".into(), bars };
-    let svg = chart.to_svg();
-    let nodes = check_svg(&svg);
-    assert_eq!(with_class(&nodes, "bar").len(), 120);
-    let labels: Vec<&Node> =
-        nodes.iter().filter(|n| n.name == "text" && n.text.starts_with("configuration")).collect();
-    assert!(!labels.is_empty());
-    for l in &labels {
-        assert!(l.attr("transform").is_some_and(|t| t.starts_with("rotate(")), "long labels are rotated");
-        assert!(l.text.ends_with('…'), "long labels are cut: {}", l.text);
-    }
-    // Rotated labels anchored at distinct x, at least one line height apart.
-    let mut xs: Vec<f64> = labels.iter().map(|l| num_attr(l, "x")).collect();
-    xs.sort_by(f64::total_cmp);
-    let font: f64 = labels[0].attr("font-size").unwrap().parse().unwrap();
+    let svg = StackedBarChart { title: "many".into(), y_label: "ms".into(), bars }.to_svg();
+    let doc = check_svg(&svg);
+    let left = legend_left(&doc, &["a", "b"]);
+    let (a, b) = (rects(&doc, 0, left), rects(&doc, 1, left));
+    assert_eq!((a.len(), b.len()), (60, 60));
+    // Bars do not overlap each other.
+    let mut xs: Vec<(f64, f64)> = a.iter().map(|r| (r.0, r.2)).collect();
+    xs.sort_by(|p, q| p.0.total_cmp(&q.0));
     for w in xs.windows(2) {
-        assert!(w[1] - w[0] >= font, "labels {} and {} overlap", w[0], w[1]);
+        assert!(w[0].0 + w[0].1 <= w[1].0, "{w:?}");
     }
-    // Bars do not overlap each other either.
-    let mut lefts: Vec<(f64, f64)> =
-        with_class(&nodes, "bar").iter().map(|b| (num_attr(b, "x"), num_attr(b, "width"))).collect();
-    lefts.sort_by(|a, b| a.0.total_cmp(&b.0));
-    lefts.dedup_by(|a, b| a.0 == b.0);
-    assert_eq!(lefts.len(), 60);
-    for w in lefts.windows(2) {
-        assert!(w[0].0 + w[0].1 <= w[1].0 + 0.01);
-    }
-}
-
-#[test]
-fn rotated_labels_stay_on_the_canvas() {
-    let bars: Vec<Bar> = (0..20)
-        .map(|i| Bar { label: format!("scene-{i}-variant"), segments: vec![("t".into(), 1.0)] })
+    let labels: Vec<Node> = text_nodes(&doc)
+        .into_iter()
+        .filter(|(t, _)| t.starts_with("configuration"))
+        .map(|(_, n)| n)
         .collect();
-    let nodes = check_svg(&StackedBarChart { title: "t".into(), y_label: "ms".into(), bars }.to_svg());
-    let labels: Vec<&Node> =
-        nodes.iter().filter(|n| n.name == "text" && n.text.starts_with("scene-")).collect();
-    assert_eq!(labels.len(), 20);
-    for l in labels {
-        assert!(l.attr("transform").is_some_and(|t| t.starts_with("rotate(-45 ")), "{:?}", l.attrs);
-        // Right-anchored at x and running down-left at 45°: its left end, at a generous 0.6 em
-        // per character, must be on the canvas.
-        let font: f64 = l.attr("font-size").unwrap().parse().unwrap();
-        let run = l.text.chars().count() as f64 * font * 0.6 * std::f64::consts::FRAC_1_SQRT_2;
-        assert!(num_attr(l, "x") - run >= 0.0, "{} starts off the canvas", l.text);
+    assert_eq!(labels.len(), 60, "slots of about 10 px still take a (smaller) label each");
+    let mut xs: Vec<f64> = Vec::new();
+    for l in &labels {
+        assert!(
+            l.attribute("transform").is_some_and(|t| t.starts_with("rotate(270")),
+            "long labels are rotated"
+        );
+        assert!(l.text().unwrap().trim().ends_with('…'), "long labels are cut");
+        xs.push(num(*l, "x"));
     }
+    // Rotated labels are at least a line of their font apart, and that font is readable.
+    let font = num(labels[0], "font-size");
+    assert!(font >= 7.0, "{font} px");
+    for w in xs.windows(2) {
+        assert!(w[1] - w[0] >= font, "labels at {} and {} overlap", w[0], w[1]);
+    }
+    // With more bars than 7 px labels fit, every n-th is labelled.
+    let bars: Vec<Bar> =
+        (0..200).map(|i| Bar { label: format!("run {i:03}"), segments: vec![("a".into(), 1.0)] }).collect();
+    let svg = StackedBarChart { title: "many".into(), y_label: "ms".into(), bars }.to_svg();
+    let doc = check_svg(&svg);
+    let labels: Vec<String> = texts(&doc).into_iter().filter(|t| t.starts_with("run ")).collect();
+    assert!(labels.len() > 30 && labels.len() <= 100, "{} labels", labels.len());
+    assert_eq!(labels[0], "run 000");
 }
 
 #[test]
@@ -678,9 +508,10 @@ fn short_labels_stay_horizontal() {
         .iter()
         .map(|l| Bar { label: l.to_string(), segments: vec![("t".into(), 1.0)] })
         .collect();
-    let nodes = check_svg(&StackedBarChart { title: "t".into(), y_label: String::new(), bars }.to_svg());
-    let label = nodes.iter().find(|n| n.name == "text" && n.text == "b").unwrap();
-    assert!(label.attr("transform").is_none());
+    let svg = StackedBarChart { title: "t".into(), y_label: String::new(), bars }.to_svg();
+    let doc = check_svg(&svg);
+    let (_, label) = text_nodes(&doc).into_iter().find(|(t, _)| t == "b").unwrap();
+    assert!(label.attribute("transform").is_none());
 }
 
 fn efficiency() -> GroupedBarChart {
@@ -700,39 +531,40 @@ fn efficiency() -> GroupedBarChart {
 #[test]
 fn grouped_bars_in_percent() {
     let svg = efficiency().to_svg();
-    let nodes = check_svg(&svg);
-    let shown = texts(&nodes);
+    let doc = check_svg(&svg);
     for want in ["0%", "20%", "100%", "megakernel", "wavefront", "intersect", "shade", "compact"] {
-        assert!(shown.iter().any(|t| t == want), "{want:?} not in {shown:?}");
+        assert!(shows(&doc, want), "{want:?} not in {:?}", texts(&doc));
     }
-    // y_max 1.0 with values below it: the axis ends at 100%, not at the data's 93%.
-    assert!(!shown.iter().any(|t| t == "120%"));
-    let bars = bars(&nodes);
-    assert_eq!(bars.len(), 4, "the infinite value is not drawn");
-    let get = |tip: &str| bars.iter().find(|b| b.0 == tip).unwrap_or_else(|| panic!("{tip} not in {bars:?}"));
-    let (quarter, half) = (get("megakernel — intersect: 25%"), get("wavefront — intersect: 50%"));
-    assert!((half.3 - 2.0 * quarter.3).abs() < 0.05, "heights proportional to values");
-    assert!((half.2 + half.3 - (quarter.2 + quarter.3)).abs() < 0.01, "common baseline");
-    // Each series keeps its colour in every group.
-    assert_eq!(get("megakernel — shade: 40%").1, quarter.1);
-    assert_eq!(get("wavefront — compact: 93%").1, half.1);
-    assert_ne!(quarter.1, half.1);
+    // y_max 1.0 with values below it: the axis ends at 100%, not beyond.
+    assert!(!texts(&doc)
+        .iter()
+        .any(|t| t.ends_with('%') && t.trim_end_matches('%').parse::<f64>().unwrap() > 100.0));
+    let left = legend_left(&doc, &["megakernel", "wavefront"]);
+    let (mega, wave) = (rects(&doc, 0, left), rects(&doc, 1, left));
+    assert_eq!((mega.len(), wave.len()), (2, 2), "the infinite value is not drawn");
+    assert!(shows(&doc, "1 value not drawn (not finite)"));
+    // Heights proportional to values, on a common baseline; each series keeps its side.
+    let (quarter, half) = (mega[0], wave[0]);
+    assert!((half.3 - 2.0 * quarter.3).abs() <= 1.5, "{quarter:?} {half:?}");
+    assert_eq!(half.1 + half.3, quarter.1 + quarter.3, "common baseline");
+    assert!(quarter.0 + quarter.2 <= half.0, "megakernel left of wavefront");
 }
 
 #[test]
 fn grouped_axis_extends_past_y_max_rather_than_cut_bars() {
     let mut chart = efficiency();
     chart.groups[0].1[1].1 = 1.3;
-    let nodes = check_svg(&chart.to_svg());
-    let shown = texts(&nodes);
-    // [0, 1.3] in about 5 steps: step 0.5, so the axis ends at 150%.
-    assert!(shown.iter().any(|t| t == "150%"), "{shown:?}");
-    let top = nodes
+    let svg = chart.to_svg();
+    let doc = check_svg(&svg);
+    let top_label = texts(&doc)
         .iter()
-        .filter(|n| n.attr("class") == Some("bar"))
-        .map(|b| num_attr(b, "y"))
-        .fold(f64::MAX, f64::min);
-    assert!(top >= 40.0, "bar top {top} above the plot");
+        .filter_map(|t| t.strip_suffix('%').and_then(|v| v.parse::<f64>().ok()))
+        .fold(0.0, f64::max);
+    assert!(top_label >= 120.0, "axis tops out at {top_label}%");
+    // The 130% bar fits under the title.
+    let tallest =
+        rects(&doc, 1, legend_left(&doc, &["wavefront"])).into_iter().map(|r| r.1).fold(f64::MAX, f64::min);
+    assert!(tallest >= 30.0, "bar top {tallest} in the title");
 }
 
 #[test]
@@ -742,12 +574,13 @@ fn negative_values_hang_below_zero() {
         y_label: "%".into(),
         y_max: None,
         percent: false,
-        groups: vec![("a".into(), vec![("s".into(), -2.0)]), ("b".into(), vec![("s".into(), 3.0)])],
+        groups: vec![("a".into(), vec![("".into(), -2.0)]), ("b".into(), vec![("".into(), 3.0)])],
     };
-    let nodes = check_svg(&chart.to_svg());
-    let bars = bars(&nodes);
-    let (neg, pos) = (&bars[0], &bars[1]);
+    let svg = chart.to_svg();
+    let doc = check_svg(&svg);
+    let bars = rects(&doc, 0, 721.0);
+    let (neg, pos) = (bars[0], bars[1]);
     // The negative bar starts where the positive one ends: at zero.
-    assert!((neg.2 - (pos.2 + pos.3)).abs() < 0.01, "{bars:?}");
-    assert!((neg.3 / pos.3 - 2.0 / 3.0).abs() < 0.01);
+    assert_eq!(neg.1, pos.1 + pos.3, "{bars:?}");
+    assert!((neg.3 / pos.3 - 2.0 / 3.0).abs() < 0.02, "{bars:?}");
 }
