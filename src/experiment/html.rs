@@ -65,6 +65,8 @@ pub fn page(report: &ExperimentReport, charts: &[Chart], dir: &Path) -> String {
             }
             let heading = if c.scene.is_empty() {
                 "Across scenes".to_string()
+            } else if c.width == 0 {
+                format!("{}, across job sizes", esc(&c.scene))
             } else {
                 format!("{} {}x{}", esc(&c.scene), c.width, c.height)
             };

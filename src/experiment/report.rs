@@ -271,10 +271,11 @@ pub struct ChartRecord {
     /// `charts/NAME.svg`, relative to the report's directory.
     pub file: String,
     pub title: String,
-    /// `error-vs-time`, `passes`, `queues`, `simd` or `time-by-scene`.
+    /// `error-vs-time`, `passes`, `queues`, `simd`, `time-by-scene` or `crossover`.
     pub kind: String,
     /// Empty for `time-by-scene`, which spans scenes.
     pub scene: String,
+    /// 0 for `crossover`, which spans job sizes.
     pub width: u32,
     pub height: u32,
 }
