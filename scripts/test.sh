@@ -7,4 +7,7 @@ cd "$(dirname "$0")/.."
 export WAVETRACE_PROFILE=ci
 source scripts/setup.sh
 export WAVETRACE_REQUIRE_GPU=1
+# In-process GPU tests open Vulkan without the binary's main(), which is what turns Mesa's
+# device-selection layer off on headless machines (src/gpu/headless.rs): do it for them.
+if [ -z "${XDG_RUNTIME_DIR:-}" ]; then export NODEVICE_SELECT=${NODEVICE_SELECT:-1}; fi
 cargo test --profile ci --locked "$@"
