@@ -5,7 +5,7 @@ use crate::cpu;
 use crate::film::Film;
 use crate::gpu::instrument::SimdEfficiency;
 use crate::gpu::megakernel::{self, MegakernelOptions};
-use crate::gpu::timing::Timings;
+use crate::gpu::timing::{Timing, Timings};
 use crate::gpu::wavefront::{self, QueueHistogram, ScheduleStats, WavefrontOptions};
 use crate::gpu::GpuContext;
 use crate::gpu::GpuRender;
@@ -51,6 +51,8 @@ pub struct MethodOptions {
     pub wavefront: WavefrontOptions,
     /// Count SIMD efficiency with subgroup operations (GPU methods; not for timing runs).
     pub instrument: bool,
+    /// GPU methods: timestamps around every pass, or one host-clock time per submission.
+    pub timing: Timing,
 }
 
 /// A finished render: the film and how long it took.
@@ -143,6 +145,7 @@ pub fn render(
                 settings,
                 &options.megakernel,
                 options.instrument,
+                options.timing,
                 on_progress,
             )?;
             Ok(RenderOutput::from_gpu(r))
@@ -156,6 +159,7 @@ pub fn render(
                 settings,
                 &options.wavefront,
                 options.instrument,
+                options.timing,
                 on_progress,
             )?;
             Ok(RenderOutput {

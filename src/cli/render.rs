@@ -1,7 +1,7 @@
 //! `wavetrace render`: one scene, one method, to EXR (+ PNG preview, + JSON report).
 
 use crate::gpu::megakernel::MegakernelOptions;
-use crate::gpu::timing::{TimeSource, Timings};
+use crate::gpu::timing::{TimeSource, Timing, Timings};
 use crate::gpu::wavefront::{Compaction, Schedule, ShadePasses, Tail, WavefrontOptions};
 use crate::gpu::GpuContext;
 use crate::image_io::{self, RgbImage};
@@ -103,6 +103,10 @@ pub struct RenderArgs {
     /// separate runs for timing).
     #[arg(long)]
     pub instrument: bool,
+    /// GPU methods: timestamps around every pass (time per pass), or the host clock per
+    /// submission only (`frame`: what the per-pass instrument costs shows as the difference).
+    #[arg(long, value_enum, default_value_t = Timing::Passes)]
+    pub timing: Timing,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -153,6 +157,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             tail_threshold: a.tail_threshold,
         },
         instrument: a.instrument,
+        timing: a.timing,
     };
     let gpu = if a.method.needs_gpu() { Some(GpuContext::new(a.adapter.as_deref())?) } else { None };
 

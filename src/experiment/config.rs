@@ -37,6 +37,7 @@ use std::path::{Path, PathBuf};
 use serde_json::{Map, Value};
 
 use crate::gpu::megakernel::MegakernelOptions;
+use crate::gpu::timing::Timing;
 use crate::gpu::wavefront::{Compaction, Schedule, ShadePasses, Tail, WavefrontOptions};
 use crate::input_error::InputError;
 use crate::method::{Method, MethodOptions};
@@ -70,6 +71,7 @@ const COMPACTIONS: &[&str] = &["atomic", "scan", "off"];
 const SHADES: &[&str] = &["per-material", "single"];
 const SCHEDULES: &[&str] = &["waves", "regenerate"];
 const TAILS: &[&str] = &["off", "megakernel"];
+const TIMINGS: &[&str] = &["passes", "frame"];
 /// Repetitions and warm-ups above this are almost certainly typos (and would take forever).
 const MAX_REPETITIONS: u32 = 1000;
 
@@ -379,7 +381,7 @@ impl Cx {
         let method = self.method(self.field(o, path, "method")?, &mpath)?;
         let knobs: &[&str] = match method {
             Method::Cpu | Method::CpuF64 => &[],
-            Method::Megakernel => &["workgroup_size", "samples_per_dispatch"],
+            Method::Megakernel => &["workgroup_size", "samples_per_dispatch", "timing"],
             Method::Wavefront => &[
                 "workgroup_size",
                 "pool_size",
@@ -389,6 +391,7 @@ impl Cx {
                 "sync_every",
                 "tail",
                 "tail_threshold",
+                "timing",
             ],
         };
         let mut allowed = vec!["method", "label"];
@@ -404,6 +407,7 @@ impl Cx {
                 "sync_every",
                 "tail",
                 "tail_threshold",
+                "timing",
             ];
             let reason = if all.contains(&k.as_str()) {
                 format!(
@@ -466,6 +470,9 @@ impl Cx {
                 Some(t) if t > 0.0 && t <= 1.0 => Ok(t),
                 _ => self.err(p, format!("must be a fraction of the pool in (0, 1], got {}", describe(v))),
             })?;
+        let timing = self.knob(o, &opt_path("timing"), "timing", |v, p| {
+            Ok(if self.choice(v, p, TIMINGS)? == "frame" { Timing::Frame } else { Timing::Passes })
+        })?;
         if tail.values.contains(&Tail::Megakernel) && !schedule.values.contains(&Schedule::Regenerate) {
             return self.err(
                 &opt_path("tail"),
@@ -477,7 +484,7 @@ impl Cx {
         // apart: swept ones, and (without a label) ones set away from their defaults.
         let mk = MegakernelOptions::default();
         let wf = WavefrontOptions::default();
-        let defaults = MethodOptions { megakernel: mk, wavefront: wf, instrument: false };
+        let defaults = MethodOptions::default();
         let mut variants = vec![(defaults, vec![label.clone().unwrap_or_else(|| method.name().to_owned())])];
         let labelled = label.is_some();
         expand(&mut variants, &wg, mk.workgroup_size, labelled, |o, &w| {
@@ -516,6 +523,10 @@ impl Cx {
         expand(&mut variants, &tail_threshold, wf.tail_threshold, labelled, |o, &t| {
             o.wavefront.tail_threshold = t;
             format!("tail-threshold={t}")
+        });
+        expand(&mut variants, &timing, Timing::Passes, labelled, |o, &t| {
+            o.timing = t;
+            format!("timing={}", kebab(&t))
         });
         // A tail only means something when regenerating: a product that pairs it with waves
         // would not run.

@@ -239,6 +239,7 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
         Megakernel => serde_json::json!({
             "workgroup_size": o.megakernel.workgroup_size,
             "samples_per_dispatch": o.megakernel.samples_per_dispatch,
+            "timing": o.timing,
         }),
         Wavefront => serde_json::json!({
             "workgroup_size": o.wavefront.workgroup_size,
@@ -249,6 +250,7 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
             "sync_every": o.wavefront.sync_every,
             "tail": o.wavefront.tail,
             "tail_threshold": o.wavefront.tail_threshold,
+            "timing": o.timing,
         }),
     }
 }

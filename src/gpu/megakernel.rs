@@ -14,7 +14,7 @@ use super::instrument::SimdCounters;
 use super::loop_limit::check_loop_limit;
 use super::scene_buffers::SceneBuffers;
 use super::stage::{Stage, Workgroups};
-use super::timing::{GpuTimer, MAX_PASSES_PER_BATCH};
+use super::timing::{GpuTimer, Timing, MAX_PASSES_PER_BATCH};
 use super::{label, shaders};
 use crate::camera::CameraFrame;
 use crate::film::Film;
@@ -47,6 +47,7 @@ pub fn render(
     settings: &RenderSettings,
     opts: &MegakernelOptions,
     instrument: bool,
+    timing: Timing,
     on_progress: &dyn Fn(u64),
 ) -> Result<GpuRender> {
     settings.validate().map_err(anyhow::Error::msg)?;
@@ -90,7 +91,7 @@ pub fn render(
         &scene_buffers.constants(&[("WORKGROUP_SIZE", opts.workgroup_size as f64)]),
     )?;
 
-    let mut timer = GpuTimer::new(ctx);
+    let mut timer = GpuTimer::new(ctx, timing);
     // Two passes (trace, accumulate) per dispatch.
     let per_submit = opts.dispatches_per_submit.clamp(1, MAX_PASSES_PER_BATCH / 2) as usize;
     let mut done = 0u64;

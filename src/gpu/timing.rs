@@ -20,6 +20,23 @@ pub enum TimeSource {
     WallClock,
 }
 
+/// How a GPU render is timed (`--timing`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Timing {
+    /// A timestamp pair around every pass (where the adapter has timestamps): time per label,
+    /// at the cost of a host wait whenever the query set fills (every 2048 passes).
+    #[default]
+    Passes,
+    /// No timestamps: the host clock from each submission to its completion, under the label
+    /// `frame`, and no waits beyond the method's own. Passes are still counted per label. The
+    /// difference from `passes` is what the per-pass instrument costs.
+    Frame,
+}
+
+/// The label that carries the whole time of a `--timing frame` render.
+pub const FRAME_LABEL: &str = "frame";
+
 /// Total GPU time and pass count of one label.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct PassTime {
@@ -45,6 +62,7 @@ impl Timings {
 pub const MAX_PASSES_PER_BATCH: u32 = 2048;
 
 pub struct GpuTimer {
+    timing: Timing,
     queries: Option<(wgpu::QuerySet, wgpu::Buffer)>,
     labels: Vec<(&'static str, Option<u32>)>,
     timings: Timings,
@@ -52,8 +70,8 @@ pub struct GpuTimer {
 }
 
 impl GpuTimer {
-    pub fn new(ctx: &GpuContext) -> Self {
-        let queries = ctx.summary.timestamps.then(|| {
+    pub fn new(ctx: &GpuContext, timing: Timing) -> Self {
+        let queries = (ctx.summary.timestamps && timing == Timing::Passes).then(|| {
             let count = 2 * MAX_PASSES_PER_BATCH;
             let set = ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("pass timestamps"),
@@ -70,6 +88,7 @@ impl GpuTimer {
         });
         let source = if queries.is_some() { TimeSource::Timestamps } else { TimeSource::WallClock };
         Self {
+            timing,
             queries,
             labels: Vec::new(),
             timings: Timings { source, passes: BTreeMap::new(), per_bounce: BTreeMap::new() },
@@ -104,8 +123,11 @@ impl GpuTimer {
         self.remaining() == 0
     }
 
-    /// Passes that can still be recorded in this batch.
+    /// Passes that can still be recorded in this batch (no limit without timestamp queries).
     pub fn remaining(&self) -> usize {
+        if self.queries.is_none() {
+            return usize::MAX;
+        }
         MAX_PASSES_PER_BATCH as usize - self.labels.len()
     }
 
@@ -134,6 +156,14 @@ impl GpuTimer {
                     let dt = ticks[2 * i + 1].saturating_sub(ticks[2 * i]) as f64 * ns_per_tick * 1e-9;
                     self.add(label, bounce, dt);
                 }
+            }
+            _ if self.timing == Timing::Frame => {
+                // The batch's time as a whole; the passes only counted.
+                let dt = self.submitted_at.take().map_or(0.0, |t| t.elapsed().as_secs_f64());
+                for &(label, bounce) in &labels {
+                    self.add(label, bounce, 0.0);
+                }
+                self.add(FRAME_LABEL, None, dt);
             }
             _ => {
                 // Wall clock: the batch's time is split evenly over its passes.

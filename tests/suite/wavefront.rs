@@ -346,3 +346,28 @@ fn a_tail_needs_regeneration() {
         assert!(format!("{e:#}").contains("--tail-threshold"), "{t}: {e:#}");
     }
 }
+
+/// `--timing frame` drops the per-pass timestamps: the same image, every pass still counted,
+/// the whole time under `frame` from the host clock; for both GPU methods.
+#[test]
+fn frame_timing_counts_passes_and_times_the_frame() {
+    if common::gpu().is_none() {
+        return;
+    }
+    use wavetrace::gpu::timing::{TimeSource, Timing, FRAME_LABEL};
+    let s = settings(4);
+    for method in [Method::Megakernel, Method::Wavefront] {
+        let passes = run(method, "rtiow-final", &s, &MethodOptions::default());
+        let frame =
+            run(method, "rtiow-final", &s, &MethodOptions { timing: Timing::Frame, ..Default::default() });
+        assert_eq!(passes.film, frame.film, "{method:?}");
+        let (p, f) = (passes.timings.unwrap(), frame.timings.unwrap());
+        assert_eq!(f.source, TimeSource::WallClock);
+        assert!(f.passes[FRAME_LABEL].seconds > 0.0, "{method:?}");
+        for (label, t) in &p.passes {
+            assert_eq!(f.passes[label].passes, t.passes, "{method:?} {label}: same passes counted");
+            assert_eq!(f.passes[label].seconds, 0.0, "{method:?} {label}: timed only as a frame");
+        }
+        assert_eq!(frame.dispatches, passes.dispatches);
+    }
+}
