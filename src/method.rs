@@ -5,7 +5,7 @@ use crate::cpu;
 use crate::film::Film;
 use crate::gpu::instrument::SimdEfficiency;
 use crate::gpu::megakernel::{self, MegakernelOptions};
-use crate::gpu::timing::{Timing, Timings};
+use crate::gpu::timing::{Measure, Timing, Timings};
 use crate::gpu::wavefront::{self, QueueHistogram, ScheduleStats, WavefrontOptions};
 use crate::gpu::GpuContext;
 use crate::gpu::GpuRender;
@@ -144,8 +144,7 @@ pub fn render(
                 &camera,
                 settings,
                 &options.megakernel,
-                options.instrument,
-                options.timing,
+                Measure { instrument: options.instrument, timing: options.timing },
                 on_progress,
             )?;
             Ok(RenderOutput::from_gpu(r))
@@ -158,8 +157,7 @@ pub fn render(
                 &camera,
                 settings,
                 &options.wavefront,
-                options.instrument,
-                options.timing,
+                Measure { instrument: options.instrument, timing: options.timing },
                 on_progress,
             )?;
             Ok(RenderOutput {

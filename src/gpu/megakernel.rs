@@ -14,7 +14,7 @@ use super::instrument::SimdCounters;
 use super::loop_limit::check_loop_limit;
 use super::scene_buffers::SceneBuffers;
 use super::stage::{Stage, Workgroups};
-use super::timing::{GpuTimer, Timing, MAX_PASSES_PER_BATCH};
+use super::timing::{GpuTimer, Measure, MAX_PASSES_PER_BATCH};
 use super::{label, shaders};
 use crate::camera::CameraFrame;
 use crate::film::Film;
@@ -46,10 +46,10 @@ pub fn render(
     camera: &CameraFrame,
     settings: &RenderSettings,
     opts: &MegakernelOptions,
-    instrument: bool,
-    timing: Timing,
+    measure: Measure,
     on_progress: &dyn Fn(u64),
 ) -> Result<GpuRender> {
+    let instrument = measure.instrument;
     settings.validate().map_err(anyhow::Error::msg)?;
     let limits = &ctx.summary;
     ctx.check_workgroup_size(opts.workgroup_size)?;
@@ -91,7 +91,7 @@ pub fn render(
         &scene_buffers.constants(&[("WORKGROUP_SIZE", opts.workgroup_size as f64)]),
     )?;
 
-    let mut timer = GpuTimer::new(ctx, timing);
+    let mut timer = GpuTimer::new(ctx, measure.timing);
     // Two passes (trace, accumulate) per dispatch.
     let per_submit = opts.dispatches_per_submit.clamp(1, MAX_PASSES_PER_BATCH / 2) as usize;
     let mut done = 0u64;

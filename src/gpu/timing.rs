@@ -34,6 +34,14 @@ pub enum Timing {
     Frame,
 }
 
+/// What a GPU render measures besides its image: SIMD-efficiency counters (`--instrument`) and
+/// how passes are timed (`--timing`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Measure {
+    pub instrument: bool,
+    pub timing: Timing,
+}
+
 /// The label that carries the whole time of a `--timing frame` render.
 pub const FRAME_LABEL: &str = "frame";
 

@@ -46,7 +46,7 @@ use super::instrument::SimdCounters;
 use super::loop_limit::check_loop_limit;
 use super::scene_buffers::SceneBuffers;
 use super::stage::{Stage, Workgroups};
-use super::timing::{GpuTimer, Timing};
+use super::timing::{GpuTimer, Measure};
 use crate::camera::CameraFrame;
 use crate::film::Film;
 use crate::layout::{FilmPixel, WaveUniform};
@@ -283,10 +283,10 @@ pub fn render(
     camera: &CameraFrame,
     settings: &RenderSettings,
     opts: &WavefrontOptions,
-    instrument: bool,
-    timing: Timing,
+    measure: Measure,
     on_progress: &dyn Fn(u64),
 ) -> Result<WavefrontRender> {
+    let instrument = measure.instrument;
     settings.validate().map_err(anyhow::Error::msg)?;
     check_loop_limit(ctx, scene, settings)?;
     let wg = opts.workgroup_size;
@@ -350,7 +350,7 @@ pub fn render(
     let accumulate = Accumulate::new(ctx, samples, &film, &params)?;
 
     let per_iteration = stages.per_iteration();
-    let mut timer = GpuTimer::new(ctx, timing);
+    let mut timer = GpuTimer::new(ctx, measure.timing);
     let mut histogram = (opts.compaction != Compaction::Off && !regenerate).then(QueueHistogram::default);
     let mut stats = ScheduleStats::new(opts.schedule, opts.sync_every, pool);
     let mut done = 0u64;
