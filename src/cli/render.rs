@@ -2,7 +2,7 @@
 
 use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::timing::{TimeSource, Timing, Timings};
-use crate::gpu::wavefront::{Compaction, Schedule, ShadePasses, Tail, WavefrontOptions};
+use crate::gpu::wavefront::{Compaction, Scan, Schedule, ShadePasses, Tail, WavefrontOptions};
 use crate::gpu::GpuContext;
 use crate::image_io::{self, RgbImage};
 use crate::method::{self, Method, MethodOptions};
@@ -99,6 +99,10 @@ pub struct RenderArgs {
     /// tail takes over.
     #[arg(long, default_value_t = WavefrontOptions::default().tail_threshold)]
     pub tail_threshold: f64,
+    /// Wavefront, --compaction-method scan: scan workgroups with subgroup operations (where the
+    /// adapter has them: `auto`) or with the Hillis–Steele workgroup scan.
+    #[arg(long, value_enum, default_value_t = Scan::Auto)]
+    pub scan: Scan,
     /// GPU methods: count SIMD efficiency per pass with subgroup operations (adds atomics: use
     /// separate runs for timing).
     #[arg(long)]
@@ -155,6 +159,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             sync_every: a.sync_every,
             tail: a.tail,
             tail_threshold: a.tail_threshold,
+            scan: a.scan,
         },
         instrument: a.instrument,
         timing: a.timing,

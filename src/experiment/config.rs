@@ -38,7 +38,7 @@ use serde_json::{Map, Value};
 
 use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::timing::Timing;
-use crate::gpu::wavefront::{Compaction, Schedule, ShadePasses, Tail, WavefrontOptions};
+use crate::gpu::wavefront::{Compaction, Scan, Schedule, ShadePasses, Tail, WavefrontOptions};
 use crate::input_error::InputError;
 use crate::method::{Method, MethodOptions};
 use crate::scene::Scene;
@@ -72,6 +72,7 @@ const SHADES: &[&str] = &["per-material", "single"];
 const SCHEDULES: &[&str] = &["waves", "regenerate"];
 const TAILS: &[&str] = &["off", "megakernel"];
 const TIMINGS: &[&str] = &["passes", "frame"];
+const SCANS: &[&str] = &["auto", "subgroup", "workgroup"];
 /// Repetitions and warm-ups above this are almost certainly typos (and would take forever).
 const MAX_REPETITIONS: u32 = 1000;
 
@@ -392,6 +393,7 @@ impl Cx {
                 "tail",
                 "tail_threshold",
                 "timing",
+                "scan",
             ],
         };
         let mut allowed = vec!["method", "label"];
@@ -408,6 +410,7 @@ impl Cx {
                 "tail",
                 "tail_threshold",
                 "timing",
+                "scan",
             ];
             let reason = if all.contains(&k.as_str()) {
                 format!(
@@ -470,6 +473,13 @@ impl Cx {
                 Some(t) if t > 0.0 && t <= 1.0 => Ok(t),
                 _ => self.err(p, format!("must be a fraction of the pool in (0, 1], got {}", describe(v))),
             })?;
+        let scan = self.knob(o, &opt_path("scan"), "scan", |v, p| {
+            Ok(match self.choice(v, p, SCANS)? {
+                "subgroup" => Scan::Subgroup,
+                "workgroup" => Scan::Workgroup,
+                _ => Scan::Auto,
+            })
+        })?;
         let timing = self.knob(o, &opt_path("timing"), "timing", |v, p| {
             Ok(if self.choice(v, p, TIMINGS)? == "frame" { Timing::Frame } else { Timing::Passes })
         })?;
@@ -523,6 +533,10 @@ impl Cx {
         expand(&mut variants, &tail_threshold, wf.tail_threshold, labelled, |o, &t| {
             o.wavefront.tail_threshold = t;
             format!("tail-threshold={t}")
+        });
+        expand(&mut variants, &scan, wf.scan, labelled, |o, &sc| {
+            o.wavefront.scan = sc;
+            format!("scan={}", kebab(&sc))
         });
         expand(&mut variants, &timing, Timing::Passes, labelled, |o, &t| {
             o.timing = t;

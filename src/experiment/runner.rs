@@ -250,6 +250,7 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
             "sync_every": o.wavefront.sync_every,
             "tail": o.wavefront.tail,
             "tail_threshold": o.wavefront.tail_threshold,
+            "scan": o.wavefront.scan,
             "timing": o.timing,
         }),
     }

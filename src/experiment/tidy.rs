@@ -20,7 +20,7 @@ pub const PASSES_FILE: &str = "passes.csv";
 
 /// The knobs the methods have, in the order their columns take; a knob a later build adds and
 /// this list lacks still gets a column, after these, by name.
-pub const KNOBS: [&str; 10] = [
+pub const KNOBS: [&str; 11] = [
     "workgroup_size",
     "samples_per_dispatch",
     "pool_size",
@@ -30,6 +30,7 @@ pub const KNOBS: [&str; 10] = [
     "sync_every",
     "tail",
     "tail_threshold",
+    "scan",
     "timing",
 ];
 

@@ -42,3 +42,4 @@ pub const SHADOW: Variants = variants!("wavefront_shadow");
 pub const TAIL: Variants = variants!("wavefront_tail");
 pub const QUEUE_SETUP: &str = composed!("wavefront_queue_setup");
 pub const COMPACT: &str = composed!("wavefront_compact");
+pub const COMPACT_SUBGROUP: &str = composed!("wavefront_compact_subgroup");

@@ -371,3 +371,34 @@ fn frame_timing_counts_passes_and_times_the_frame() {
         assert_eq!(frame.dispatches, passes.dispatches);
     }
 }
+
+/// The subgroup scan computes the same prefix sums as the workgroup scan, so the queues it builds
+/// are the same, in the same order: the films are bit-identical (and match the megakernel as
+/// every knob does, `all_knobs` running the default, subgroups where the adapter has them).
+#[test]
+fn the_subgroup_scan_builds_the_same_queues() {
+    let Some(ctx) = common::gpu() else { return };
+    use wavetrace::gpu::wavefront::Scan;
+    let s = RenderSettings { nee: true, max_depth: 12, ..settings(8) };
+    for schedule in [Schedule::Waves, Schedule::Regenerate] {
+        let with = |scan| {
+            let wf = WavefrontOptions {
+                pool_size: Some(3000),
+                compaction: Compaction::Scan,
+                schedule,
+                scan,
+                ..Default::default()
+            };
+            let out =
+                run(Method::Wavefront, "cornell", &s, &MethodOptions { wavefront: wf, ..Default::default() });
+            (out.film, out.schedule.unwrap().subgroup_scan)
+        };
+        let (workgroup, used) = with(Scan::Workgroup);
+        assert_eq!(used, Some(false));
+        if ctx.summary.subgroups {
+            let (subgroup, used) = with(Scan::Subgroup);
+            assert_eq!(used, Some(true));
+            assert_eq!(subgroup, workgroup, "{schedule:?}");
+        }
+    }
+}

@@ -17,7 +17,37 @@ pub enum Target {
     /// After shade: the next bounce's ray queue.
     NextRayQueue,
 }
-use anyhow::Result;
+use anyhow::{bail, Result};
+
+/// How the scan compaction scans a workgroup (`--scan`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Scan {
+    /// Subgroup operations where the adapter has them, else the workgroup scan.
+    #[default]
+    Auto,
+    /// subgroupInclusiveAdd per subgroup, then the subgroup totals (3 barriers).
+    Subgroup,
+    /// Hillis–Steele over the workgroup in shared memory (16 barriers; no subgroups needed).
+    Workgroup,
+}
+
+impl Scan {
+    /// Whether this scan uses subgroups on `ctx`'s adapter; an error if asked for and missing.
+    pub fn uses_subgroups(self, ctx: &GpuContext) -> Result<bool> {
+        match self {
+            Scan::Auto => Ok(ctx.summary.subgroups),
+            Scan::Workgroup => Ok(false),
+            Scan::Subgroup if ctx.summary.subgroups => Ok(true),
+            Scan::Subgroup => {
+                bail!(
+                    "--scan subgroup needs subgroup operations, which {} lacks; use --scan auto",
+                    ctx.summary.name
+                )
+            }
+        }
+    }
+}
 
 pub struct Compact {
     /// [scan, blocks, scatter] for the material queues, then for the ray queue.
@@ -26,8 +56,9 @@ pub struct Compact {
 }
 
 impl Compact {
-    pub fn new(ctx: &GpuContext, b: &Bindings) -> Result<Self> {
-        let module = ctx.shader(label::COMPACT_SCAN, shaders::COMPACT)?;
+    pub fn new(ctx: &GpuContext, b: &Bindings, subgroups: bool) -> Result<Self> {
+        let source = if subgroups { shaders::COMPACT_SUBGROUP } else { shaders::COMPACT };
+        let module = ctx.shader(label::COMPACT_SCAN, source)?;
         let layouts = &b.layouts()[..2];
         let build = |rays: bool| -> Result<[Stage; 3]> {
             let c = [("TARGET_RAYS", rays as u32 as f64), ("REGENERATE", b.regenerate as u32 as f64)];

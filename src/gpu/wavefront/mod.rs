@@ -53,6 +53,7 @@ use crate::layout::{FilmPixel, WaveUniform};
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
+pub use compact::Scan;
 use compact::Target;
 use path_state::{
     bytes_per_path, PathState, COUNTER_STATS, LARGEST_BINDING_PER_PATH, QUEUE_COUNT, QUEUE_SHADOW,
@@ -98,6 +99,8 @@ pub struct WavefrontOptions {
     pub tail: Tail,
     /// The live fraction of the pool below which the tail takes over.
     pub tail_threshold: f64,
+    /// How the scan compaction scans a workgroup.
+    pub scan: Scan,
 }
 
 impl Default for WavefrontOptions {
@@ -111,6 +114,7 @@ impl Default for WavefrontOptions {
             sync_every: schedule::DEFAULT_SYNC_EVERY,
             tail: Tail::Off,
             tail_threshold: tail::DEFAULT_THRESHOLD,
+            scan: Scan::Auto,
         }
     }
 }
@@ -296,6 +300,7 @@ pub fn render(
     let pool = choose_pool(ctx, opts)?.min(u32::try_from(settings.sample_count()).unwrap_or(u32::MAX));
     schedule::check_sync_every(opts.sync_every)?;
     tail::check_threshold(opts.tail_threshold)?;
+    let subgroup_scan = opts.scan.uses_subgroups(ctx)?;
     let regenerate = opts.schedule == Schedule::Regenerate;
     if opts.tail == Tail::Megakernel && !regenerate {
         bail!("--tail megakernel finishes a regenerating chunk: it needs --schedule regenerate");
@@ -337,7 +342,9 @@ pub fn render(
         queue_setup: queue_setup::QueueSetup::new(ctx, &b, wg)?,
         intersect: intersect::Intersect::new(ctx, &b, wg, instrument)?,
         shade: shade::Shade::new(ctx, &b, shade_kinds, wg, instrument)?,
-        compact: (opts.compaction == Compaction::Scan).then(|| compact::Compact::new(ctx, &b)).transpose()?,
+        compact: (opts.compaction == Compaction::Scan)
+            .then(|| compact::Compact::new(ctx, &b, subgroup_scan))
+            .transpose()?,
         shadow: (settings.nee && !scene.lights.is_empty())
             .then(|| shadow::Shadow::new(ctx, &b, wg, instrument))
             .transpose()?,
@@ -353,6 +360,7 @@ pub fn render(
     let mut timer = GpuTimer::new(ctx, measure.timing);
     let mut histogram = (opts.compaction != Compaction::Off && !regenerate).then(QueueHistogram::default);
     let mut stats = ScheduleStats::new(opts.schedule, opts.sync_every, pool);
+    stats.subgroup_scan = (opts.compaction == Compaction::Scan).then_some(subgroup_scan);
     let mut done = 0u64;
     for (w, d) in shares.iter().enumerate() {
         let paths = d.pixel_count * d.sample_count;

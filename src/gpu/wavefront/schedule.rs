@@ -131,6 +131,8 @@ pub struct ScheduleStats {
     pub tail_passes: u64,
     /// Paths the tail passes finished.
     pub tail_paths: u64,
+    /// With the scan compaction: whether its workgroup scan used subgroup operations.
+    pub subgroup_scan: Option<bool>,
     #[serde(skip)]
     intersected: u64,
     #[serde(skip)]
@@ -150,6 +152,7 @@ impl ScheduleStats {
             intersect_occupancy: 0.0,
             tail_passes: 0,
             tail_paths: 0,
+            subgroup_scan: None,
             intersected: 0,
             pool,
         }

@@ -1,0 +1,85 @@
+// compact: builds dense queues by a stable prefix-sum scan (the `scan` compaction method) over
+// the queue positions the previous pass processed (COUNTER_POSITIONS, dispatched indirectly), from
+// the queue each position asked for in `next_queue`: cost follows the live paths, not the pool. Three passes: per-workgroup scan,
+// scan of the workgroup totals, scatter. Lanes of a vec4 count up to four queues at once (the
+// material queues after intersect; lane 0 = the next ray queue after shade).
+// These are the passes' bodies: the entry files (wavefront/compact.wgsl, without subgroups, and
+// wavefront/compact_subgroup.wgsl) declare SCAN_WG, `scratch`, `Lanes` and `scan_workgroup(lid,
+// lanes)`, include this, and wrap the bodies in entry points. Rust side: src/gpu/wavefront/compact.rs.
+
+// false: building the material queues (after intersect); true: the next ray queue (after shade).
+override TARGET_RAYS: bool = false;
+
+fn one_hot(q: u32) -> vec4<u32> {
+    if q == DEAD {
+        return vec4<u32>(0u);
+    }
+    return vec4<u32>(vec4<u32>(0u, 1u, 2u, 3u) == vec4<u32>(lane_of(q)));
+}
+
+fn lane_of(q: u32) -> u32 {
+    return select(q - QUEUE_MATERIAL_0, 0u, q < QUEUE_MATERIAL_0);
+}
+
+fn compact_scan_main(gid: vec3<u32>, lid: u32, wid: vec3<u32>, lanes: Lanes) {
+    let p = gid.x;
+    var q = DEAD;
+    if p < atomicLoad(&counters[COUNTER_POSITIONS]) {
+        q = next_queue[p];
+    }
+    let v = one_hot(q);
+    scratch[lid] = v;
+    scan_workgroup(lid, lanes);
+    if q != DEAD {
+        scan_offset[p] = (scratch[lid] - v)[lane_of(q)];
+    }
+    if lid == SCAN_WG - 1u {
+        block_sums[wid.x] = scratch[lid];
+    }
+}
+
+// One workgroup: exclusive scan of the block totals, in chunks; writes the queue counts.
+var<workgroup> positions: u32;
+
+fn compact_blocks_main(lid: u32, lanes: Lanes) {
+    if lid == 0u {
+        positions = atomicLoad(&counters[COUNTER_POSITIONS]);
+    }
+    let blocks = (workgroupUniformLoad(&positions) + SCAN_WG - 1u) / SCAN_WG;
+    var running = vec4<u32>(0u);
+    for (var base = 0u; base < blocks; base += SCAN_WG) {
+        let i = base + lid;
+        var v = vec4<u32>(0u);
+        if i < blocks {
+            v = block_sums[i];
+        }
+        scratch[lid] = v;
+        scan_workgroup(lid, lanes);
+        if i < blocks {
+            block_sums[i] = running + scratch[lid] - v;
+        }
+        running += scratch[SCAN_WG - 1u];
+    }
+    if lid == 0u {
+        let bounce = current_bounce();
+        if TARGET_RAYS {
+            atomicStore(&counters[QUEUE_RAY_0 + (bounce + 1u) % 2u], running.x);
+        } else {
+            for (var k = 0u; k < 4u; k++) {
+                atomicStore(&counters[QUEUE_MATERIAL_0 + k], running[k]);
+            }
+        }
+    }
+}
+
+fn compact_scatter_main(gid: vec3<u32>, wid: vec3<u32>) {
+    let p = gid.x;
+    if p >= atomicLoad(&counters[COUNTER_POSITIONS]) {
+        return;
+    }
+    let q = next_queue[p];
+    if q == DEAD {
+        return;
+    }
+    queues[q * wave.pool + block_sums[wid.x][lane_of(q)] + scan_offset[p]] = scan_slot[p];
+}
