@@ -122,10 +122,13 @@ fn environments(h: &mut String, report: &ExperimentReport) {
 fn runs_table(h: &mut String, report: &ExperimentReport) {
     h.push_str(
         "<h2>Runs</h2><p>Time: median over repetitions [min–max], GPU time (timestamps) for GPU methods, \
-         wall time for CPU methods. relMSE uses ε = 0.01 (pbrt-v4); efficiency = 1/(relMSE·time).</p>\
+         wall time for CPU methods. relMSE uses ε = 0.01 (pbrt-v4); efficiency = 1/(relMSE·time). \
+         Dispatches: compute passes per render (empty: indirect ones sized to zero workgroups); \
+         occupancy: the wavefront's mean paths per intersect pass ÷ pool.</p>\
          <table><tr><th>#</th><th class=\"l\">scene</th><th>size</th><th>spp</th><th>depth</th><th class=\"l\">method</th>\
          <th>time s</th><th>[min–max]</th><th>Msamples/s</th><th>Mrays/s</th><th>NaN/Inf</th><th>MSE</th>\
-         <th>relMSE</th><th>SMAPE</th><th>FLIP</th><th>efficiency</th><th class=\"l\">note</th></tr>\n",
+         <th>relMSE</th><th>SMAPE</th><th>FLIP</th><th>efficiency</th><th>dispatches (empty)</th>\
+         <th>occupancy</th><th class=\"l\">note</th></tr>\n",
     );
     for r in &report.runs {
         let g = |x: Option<f64>, scale: f64, prec: usize| {
@@ -143,7 +146,7 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
             h,
             "<tr{}><td>{}</td><td class=\"l\">{}</td><td>{}x{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td>\
              <td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>\
-             <td class=\"l\">{note}</td></tr>",
+             <td>{}</td><td>{}</td><td class=\"l\">{note}</td></tr>",
             if r.status == RunStatus::Failed { " class=\"failed\"" } else { "" },
             r.index,
             esc(&r.scene),
@@ -162,6 +165,12 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
             g(m.map(|m| m.smape), 1.0, 4),
             g(m.and_then(|m| m.flip), 1.0, 4),
             e(r.efficiency),
+            match (r.dispatches.filter(|&d| d > 0), r.empty_dispatches) {
+                (Some(d), Some(empty)) => format!("{d} ({empty})"),
+                (Some(d), None) => d.to_string(),
+                _ => "–".into(),
+            },
+            r.intersect_occupancy.map_or("–".into(), |o| format!("{:.1}%", o * 100.0)),
         );
     }
     h.push_str("</table>\n");

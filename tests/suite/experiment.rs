@@ -130,6 +130,14 @@ fn full_report_matches_the_schema_and_holds_every_output() {
         assert!(r.rays.unwrap() >= r.samples, "{}: at least one ray per sample", r.id);
         if r.method == "wavefront" {
             assert!(r.queue_histogram.is_some() && r.passes.contains_key("intersect"));
+            // What the schedule cost: every pass dispatched, the empty ones, the occupancy.
+            let occupancy = r.intersect_occupancy.unwrap();
+            assert!(occupancy > 0.0 && occupancy <= 1.0, "{}: {occupancy}", r.id);
+            assert!(r.empty_dispatches.unwrap() < r.dispatches.unwrap());
+            assert_eq!(r.iterations, Some(8), "{}: max depth 8, one wave", r.id);
+        }
+        if r.method == "megakernel" {
+            assert_eq!(r.empty_dispatches, Some(0));
         }
         if r.method != "cpu" {
             assert!(r.gpu_seconds.is_some() && !r.passes.is_empty());
@@ -162,6 +170,7 @@ fn full_report_matches_the_schema_and_holds_every_output() {
     for r in &report.runs {
         assert!(html.contains(&r.id));
     }
+    assert!(html.contains("dispatches (empty)") && html.contains("occupancy"));
     for c in &report.charts {
         let svg = std::fs::read_to_string(out.join(&c.file)).unwrap();
         assert!(svg.contains("<svg") && !svg.contains("NaN"));
