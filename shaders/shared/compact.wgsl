@@ -4,8 +4,18 @@
 // scan of the workgroup totals, scatter. Lanes of a vec4 count up to four queues at once (the
 // material queues after intersect; lane 0 = the next ray queue after shade).
 // These are the passes' bodies: the entry files (wavefront/compact.wgsl, without subgroups, and
-// wavefront/compact_subgroup.wgsl) declare SCAN_WG, `scratch`, `Lanes` and `scan_workgroup(lid,
-// lanes)`, include this, and wrap the bodies in entry points. Rust side: src/gpu/wavefront/compact.rs.
+// wavefront/compact_subgroup.wgsl) each define `scan_workgroup(lid, lanes)`, an inclusive scan of
+// `scratch`, include this, and wrap the bodies in entry points. Rust side: src/gpu/wavefront/compact.rs.
+
+const SCAN_WG: u32 = 256u;
+var<workgroup> scratch: array<vec4<u32>, SCAN_WG>;
+
+// Where a lane sits in its subgroup (zeros for the workgroup scan, which needs no subgroups).
+struct Lanes {
+    lane: u32,
+    size: u32,
+    id: u32,
+}
 
 // false: building the material queues (after intersect); true: the next ray queue (after shade).
 override TARGET_RAYS: bool = false;

@@ -4,17 +4,8 @@
 
 #include "shared/path_state.wgsl"
 
-const SCAN_WG: u32 = 256u;
-var<workgroup> scratch: array<vec4<u32>, SCAN_WG>;
-
-// Unused here: the subgroup scan's lane, subgroup size and subgroup index.
-struct Lanes {
-    lane: u32,
-    size: u32,
-    id: u32,
-}
-
 // Inclusive Hillis–Steele scan of `scratch` across the workgroup.
+// `lanes` is unused here.
 fn scan_workgroup(lid: u32, lanes: Lanes) {
     for (var step = 1u; step < SCAN_WG; step <<= 1u) {
         workgroupBarrier();

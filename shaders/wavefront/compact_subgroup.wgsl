@@ -5,16 +5,8 @@
 
 #include "shared/path_state.wgsl"
 
-const SCAN_WG: u32 = 256u;
-var<workgroup> scratch: array<vec4<u32>, SCAN_WG>;
 // Per subgroup: its total, then the sum of the subgroups before it.
 var<workgroup> subgroup_sums: array<vec4<u32>, SCAN_WG>;
-
-struct Lanes {
-    lane: u32,
-    size: u32,
-    id: u32,
-}
 
 // Inclusive scan of `scratch` across the workgroup. SCAN_WG is a multiple of every subgroup
 // size, so every subgroup is full and its last lane holds its total.

@@ -72,6 +72,34 @@ const SHADES: &[&str] = &["per-material", "single"];
 const SCHEDULES: &[&str] = &["waves", "regenerate"];
 const TAILS: &[&str] = &["off", "megakernel"];
 const TIMINGS: &[&str] = &["passes", "frame"];
+
+/// Every method knob a config can set, in the order runs.csv gives them columns.
+pub const KNOBS: &[&str] = &[
+    "workgroup_size",
+    "samples_per_dispatch",
+    "pool_size",
+    "compaction",
+    "shade",
+    "schedule",
+    "sync_every",
+    "tail",
+    "tail_threshold",
+    "scan",
+    "timing",
+];
+const MEGAKERNEL_KNOBS: &[&str] = &["workgroup_size", "samples_per_dispatch", "timing"];
+const WAVEFRONT_KNOBS: &[&str] = &[
+    "workgroup_size",
+    "pool_size",
+    "compaction",
+    "shade",
+    "schedule",
+    "sync_every",
+    "tail",
+    "tail_threshold",
+    "scan",
+    "timing",
+];
 const SCANS: &[&str] = &["auto", "subgroup", "workgroup"];
 /// Repetitions and warm-ups above this are almost certainly typos (and would take forever).
 const MAX_REPETITIONS: u32 = 1000;
@@ -382,37 +410,13 @@ impl Cx {
         let method = self.method(self.field(o, path, "method")?, &mpath)?;
         let knobs: &[&str] = match method {
             Method::Cpu | Method::CpuF64 => &[],
-            Method::Megakernel => &["workgroup_size", "samples_per_dispatch", "timing"],
-            Method::Wavefront => &[
-                "workgroup_size",
-                "pool_size",
-                "compaction",
-                "shade",
-                "schedule",
-                "sync_every",
-                "tail",
-                "tail_threshold",
-                "timing",
-                "scan",
-            ],
+            Method::Megakernel => MEGAKERNEL_KNOBS,
+            Method::Wavefront => WAVEFRONT_KNOBS,
         };
         let mut allowed = vec!["method", "label"];
         allowed.extend_from_slice(knobs);
         if let Some(k) = o.keys().find(|k| !allowed.contains(&k.as_str())) {
-            let all = [
-                "workgroup_size",
-                "samples_per_dispatch",
-                "pool_size",
-                "compaction",
-                "shade",
-                "schedule",
-                "sync_every",
-                "tail",
-                "tail_threshold",
-                "timing",
-                "scan",
-            ];
-            let reason = if all.contains(&k.as_str()) {
+            let reason = if KNOBS.contains(&k.as_str()) {
                 format!(
                     "{} has no knob {k:?}; its knobs are {}",
                     method.name(),

@@ -18,21 +18,9 @@ use crate::image_io::write_file_atomically;
 pub const RUNS_FILE: &str = "runs.csv";
 pub const PASSES_FILE: &str = "passes.csv";
 
-/// The knobs the methods have, in the order their columns take; a knob a later build adds and
-/// this list lacks still gets a column, after these, by name.
-pub const KNOBS: [&str; 11] = [
-    "workgroup_size",
-    "samples_per_dispatch",
-    "pool_size",
-    "compaction",
-    "shade",
-    "schedule",
-    "sync_every",
-    "tail",
-    "tail_threshold",
-    "scan",
-    "timing",
-];
+/// The knobs' columns come in config order ([`KNOBS`]); a knob a later build adds and that list
+/// lacks still gets a column, after these, by name.
+pub use super::config::KNOBS;
 
 /// `ErrorMetrics`' fields, in the order their columns take (a unit test keeps this in step).
 pub const METRICS: [&str; 10] = [
