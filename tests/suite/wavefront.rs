@@ -243,19 +243,25 @@ fn regenerate_keeps_the_pool_full() {
     assert_eq!(r.empty_dispatches, Some(rs.empty_dispatches));
 }
 
+/// Asserts that a wavefront render with `wf` is refused with a message naming `flag`.
+#[track_caller]
+fn assert_refused(wf: WavefrontOptions, flag: &str) {
+    let opts = MethodOptions { wavefront: wf, ..Default::default() };
+    let scene = builtin::by_name("furnace").unwrap();
+    let e = render(Method::Wavefront, &scene, &settings(1), &opts, common::gpu(), &|_| {}).unwrap_err();
+    assert!(format!("{e:#}").contains(flag), "{wf:?}: {e:#}");
+}
+
 #[test]
 fn bad_sync_every_is_refused() {
     if common::gpu().is_none() {
         return;
     }
     for k in [0, 1025] {
-        let opts = MethodOptions {
-            wavefront: WavefrontOptions { sync_every: k, ..regenerating(Default::default()) },
-            ..Default::default()
-        };
-        let scene = builtin::by_name("furnace").unwrap();
-        let e = render(Method::Wavefront, &scene, &settings(1), &opts, common::gpu(), &|_| {}).unwrap_err();
-        assert!(format!("{e:#}").contains("--sync-every"), "{e:#}");
+        assert_refused(
+            WavefrontOptions { sync_every: k, ..regenerating(Default::default()) },
+            "--sync-every",
+        );
     }
 }
 
@@ -326,24 +332,17 @@ fn a_tail_needs_regeneration() {
     if common::gpu().is_none() {
         return;
     }
-    let opts = MethodOptions {
-        wavefront: WavefrontOptions { tail: Tail::Megakernel, ..Default::default() },
-        ..Default::default()
-    };
-    let scene = builtin::by_name("furnace").unwrap();
-    let e = render(Method::Wavefront, &scene, &settings(1), &opts, common::gpu(), &|_| {}).unwrap_err();
-    assert!(format!("{e:#}").contains("--schedule regenerate"), "{e:#}");
+    assert_refused(
+        WavefrontOptions { tail: Tail::Megakernel, ..Default::default() },
+        "--schedule regenerate",
+    );
     for t in [0.0, -0.5, 1.5, f64::NAN] {
-        let opts = MethodOptions {
-            wavefront: WavefrontOptions {
-                tail: Tail::Megakernel,
-                tail_threshold: t,
-                ..regenerating(Default::default())
-            },
-            ..Default::default()
+        let wf = WavefrontOptions {
+            tail: Tail::Megakernel,
+            tail_threshold: t,
+            ..regenerating(Default::default())
         };
-        let e = render(Method::Wavefront, &scene, &settings(1), &opts, common::gpu(), &|_| {}).unwrap_err();
-        assert!(format!("{e:#}").contains("--tail-threshold"), "{t}: {e:#}");
+        assert_refused(wf, "--tail-threshold");
     }
 }
 
