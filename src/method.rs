@@ -5,6 +5,7 @@ use crate::cpu;
 use crate::film::Film;
 use crate::gpu::instrument::SimdEfficiency;
 use crate::gpu::megakernel::{self, MegakernelOptions};
+use crate::gpu::memory::GpuMemory;
 use crate::gpu::timing::{Measure, Timing, Timings};
 use crate::gpu::wavefront::{self, QueueHistogram, ScheduleStats, WavefrontOptions};
 use crate::gpu::GpuContext;
@@ -72,6 +73,8 @@ pub struct RenderOutput {
     pub simd: Option<BTreeMap<String, SimdEfficiency>>,
     /// GPU memory per path in flight (None for CPU methods).
     pub bytes_per_path: Option<u64>,
+    /// GPU memory the render allocated, by category (None for CPU methods).
+    pub memory: Option<GpuMemory>,
     /// Paths in flight (wavefront only).
     pub pool: Option<u32>,
     /// Paths per queue per bounce (wavefront, waves with compaction only).
@@ -90,6 +93,7 @@ impl RenderOutput {
             empty_dispatches: r.empty_dispatches,
             simd: r.simd,
             bytes_per_path: Some(r.bytes_per_path),
+            memory: Some(r.memory),
             pool: None,
             histogram: None,
             schedule: None,
@@ -131,6 +135,7 @@ pub fn render(
                 empty_dispatches: None,
                 simd: None,
                 bytes_per_path: None,
+                memory: None,
                 pool: None,
                 histogram: None,
                 schedule: None,

@@ -82,6 +82,25 @@ impl PackedScene {
         self.nodes.iter().map(|n| n.count).max().unwrap_or(0)
     }
 
+    /// Levels of the BVH from the root to its deepest leaf (1: the root is a leaf; 0: empty).
+    pub fn bvh_depth(&self) -> u32 {
+        if self.nodes.is_empty() {
+            return 0;
+        }
+        // Children of an inner node: the next node and `left_or_first` (shaders/shared/bvh.wgsl).
+        let mut deepest = 0;
+        let mut stack = vec![(0usize, 1u32)];
+        while let Some((i, depth)) = stack.pop() {
+            deepest = deepest.max(depth);
+            let n = &self.nodes[i];
+            if n.count == 0 {
+                stack.push((i + 1, depth + 1));
+                stack.push((n.left_or_first as usize, depth + 1));
+            }
+        }
+        deepest
+    }
+
     /// The per-render constants, in f32 as every f32 method sees them.
     pub fn frame_uniform(&self, camera: &CameraFrame, settings: &RenderSettings) -> FrameUniform {
         let f = |v: glam::DVec3| v.as_vec3().to_array();

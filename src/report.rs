@@ -3,6 +3,7 @@
 
 use crate::gpu::context::AdapterSummary;
 use crate::gpu::instrument::SimdEfficiency;
+use crate::gpu::memory::GpuMemory;
 use crate::gpu::timing::{PassTime, TimeSource};
 use crate::gpu::wavefront::{QueueHistogram, ScheduleStats};
 use crate::method::{Method, MethodOptions, RenderOutput};
@@ -95,6 +96,8 @@ pub struct RunReport {
     pub image_mean: f64,
     /// GPU memory per path in flight, bytes (GPU methods).
     pub bytes_per_path: Option<u64>,
+    /// GPU memory the render allocated, by category, and the peak (GPU methods).
+    pub memory: Option<GpuMemory>,
     /// Paths in flight (wavefront).
     pub pool_size: Option<u32>,
     /// Seconds per bounce of the passes that run once per bounce (wavefront).
@@ -148,6 +151,7 @@ impl RunReport {
             invalid_samples: out.film.invalid_samples(),
             image_mean: out.film.image_mean(),
             bytes_per_path: out.bytes_per_path,
+            memory: out.memory.clone(),
             pool_size: out.pool,
             passes_per_bounce: out.timings.as_ref().map(|t| t.per_bounce.clone()).unwrap_or_default(),
             queue_histogram: out.histogram.clone(),

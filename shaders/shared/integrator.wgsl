@@ -14,65 +14,72 @@ struct TracedPath {
     bsdf_pdf: f32,
 }
 
+// Traces one bounce of `path`: the ray it holds, what the hit adds, the next ray. Returns false
+// when the path has ended (escaped, hit an emitter or was absorbed); reaching max_depth is the
+// caller's test. The regenerating megakernel (megakernel_regenerate.wgsl) runs it one bounce per
+// iteration so that a lane whose path ends can start the next sample at once.
+fn trace_bounce(path: ptr<function, TracedPath>, pixel: u32, sample: u32, bounce: u32) -> bool {
+    instrument(PASS_MEGAKERNEL_BOUNCE);
+    let ray = (*path).ray;
+    let throughput = (*path).throughput;
+    (*path).rays += 1u;
+    let hit = closest_hit(ray, T_MIN);
+    if hit.prim == NO_HIT {
+        (*path).radiance += throughput * background(ray.dir);
+        return false;
+    }
+    let prim = primitives[hit.prim];
+    let material = materials[prim.material];
+    instrument(PASS_MEGAKERNEL_MATERIAL);
+    // Lanes active inside each material's branch: the divergence the wavefront removes.
+    switch material.kind {
+        case MATERIAL_LAMBERTIAN: { instrument(PASS_MEGAKERNEL_LAMBERTIAN); }
+        case MATERIAL_METAL: { instrument(PASS_MEGAKERNEL_METAL); }
+        case MATERIAL_DIELECTRIC: { instrument(PASS_MEGAKERNEL_DIELECTRIC); }
+        default: { instrument(PASS_MEGAKERNEL_EMISSIVE); }
+    }
+    let p = ray.origin + ray.dir * hit.t;
+    if material.kind == MATERIAL_EMISSIVE {
+        var w = 1.0;
+        if (*path).bsdf_pdf > 0.0 {
+            w = emission_weight(hit.prim, p, ray.dir, hit.t, (*path).bsdf_pdf);
+        }
+        (*path).radiance += throughput * material.color * w;
+        return false;
+    }
+    let outward = outward_normal(prim, p);
+    let front_face = dot(ray.dir, outward) < 0.0;
+    let normal = select(-outward, outward, front_face);
+    let u = uniform4(pixel, sample, bounce, PURPOSE_SCATTER, frame.seed);
+    let s = scatter(material, ray, p, normal, front_face, u);
+    if !s.ok {
+        return false;
+    }
+    // Direct light at diffuse hits, when the ray it stands in for is within the depth limit.
+    let lights_sampled = NEE && material.kind == MATERIAL_LAMBERTIAN && bounce + 2u <= frame.max_depth;
+    (*path).bsdf_pdf = 0.0;
+    if lights_sampled {
+        (*path).bsdf_pdf = diffuse_pdf(dot(normal, s.dir));
+        let shadow = next_event(p, normal, uniform4(pixel, sample, bounce, PURPOSE_LIGHT, frame.seed));
+        if shadow.ok {
+            instrument(PASS_MEGAKERNEL_SHADOW);
+            (*path).rays += 1u;
+            if !occluded(shadow.ray, T_MIN, shadow.t_max) {
+                (*path).radiance += throughput * s.attenuation * shadow.weight;
+            }
+        }
+    }
+    (*path).throughput = throughput * s.attenuation;
+    (*path).ray = Ray(p, s.dir);
+    return true;
+}
+
 // Traces `path` from bounce `first` until it ends: escapes, hits an emitter, is absorbed or
 // reaches max_depth rays.
 fn continue_path(path: ptr<function, TracedPath>, pixel: u32, sample: u32, first: u32) {
-    var ray = (*path).ray;
-    var throughput = (*path).throughput;
-    var radiance = (*path).radiance;
-    var rays = (*path).rays;
-    var bsdf_pdf = (*path).bsdf_pdf;
     for (var bounce = first; bounce < frame.max_depth; bounce++) {
-        instrument(PASS_MEGAKERNEL_BOUNCE);
-        rays += 1u;
-        let hit = closest_hit(ray, T_MIN);
-        if hit.prim == NO_HIT {
-            radiance += throughput * background(ray.dir);
+        if !trace_bounce(path, pixel, sample, bounce) {
             break;
         }
-        let prim = primitives[hit.prim];
-        let material = materials[prim.material];
-        instrument(PASS_MEGAKERNEL_MATERIAL);
-        // Lanes active inside each material's branch: the divergence the wavefront removes.
-        switch material.kind {
-            case MATERIAL_LAMBERTIAN: { instrument(PASS_MEGAKERNEL_LAMBERTIAN); }
-            case MATERIAL_METAL: { instrument(PASS_MEGAKERNEL_METAL); }
-            case MATERIAL_DIELECTRIC: { instrument(PASS_MEGAKERNEL_DIELECTRIC); }
-            default: { instrument(PASS_MEGAKERNEL_EMISSIVE); }
-        }
-        let p = ray.origin + ray.dir * hit.t;
-        if material.kind == MATERIAL_EMISSIVE {
-            var w = 1.0;
-            if bsdf_pdf > 0.0 {
-                w = emission_weight(hit.prim, p, ray.dir, hit.t, bsdf_pdf);
-            }
-            radiance += throughput * material.color * w;
-            break;
-        }
-        let outward = outward_normal(prim, p);
-        let front_face = dot(ray.dir, outward) < 0.0;
-        let normal = select(-outward, outward, front_face);
-        let u = uniform4(pixel, sample, bounce, PURPOSE_SCATTER, frame.seed);
-        let s = scatter(material, ray, p, normal, front_face, u);
-        if !s.ok {
-            break;
-        }
-        // Direct light at diffuse hits, when the ray it stands in for is within the depth limit.
-        let lights_sampled = NEE && material.kind == MATERIAL_LAMBERTIAN && bounce + 2u <= frame.max_depth;
-        bsdf_pdf = 0.0;
-        if lights_sampled {
-            bsdf_pdf = diffuse_pdf(dot(normal, s.dir));
-            let shadow = next_event(p, normal, uniform4(pixel, sample, bounce, PURPOSE_LIGHT, frame.seed));
-            if shadow.ok {
-                instrument(PASS_MEGAKERNEL_SHADOW);
-                rays += 1u;
-                if !occluded(shadow.ray, T_MIN, shadow.t_max) {
-                    radiance += throughput * s.attenuation * shadow.weight;
-                }
-            }
-        }
-        throughput *= s.attenuation;
-        ray = Ray(p, s.dir);
     }
-    *path = TracedPath(ray, throughput, radiance, rays, bsdf_pdf);
 }

@@ -83,10 +83,15 @@ pub struct RenderArgs {
     /// Wavefront: one shade pass per material kind, or one with a material switch.
     #[arg(long, value_enum, default_value_t = ShadePasses::PerMaterial)]
     pub shade: ShadePasses,
-    /// Wavefront: waves of paths that start together, or slots refilled with new samples as
-    /// paths end (the pool stays full).
-    #[arg(long, value_enum, default_value_t = WavefrontOptions::default().schedule)]
+    /// GPU methods: paths that start together, each thread or slot idling once its path ends
+    /// (`waves`: the wavefront's waves, the megakernel's one path per thread), or threads and
+    /// slots that take the next sample as soon as their path ends (`regenerate`).
+    #[arg(long, value_enum, default_value_t = Schedule::Waves)]
     pub schedule: Schedule,
+    /// Megakernel, --schedule regenerate: persistent threads per dispatch, rounded up to whole
+    /// workgroups [default: 65536].
+    #[arg(long)]
+    pub threads: Option<u32>,
     /// Wavefront, regenerate: iterations recorded between checks of the finished samples (the
     /// host waits for the GPU at each check; up to this many iterations idle at a chunk's end).
     #[arg(long, default_value_t = WavefrontOptions::default().sync_every)]
@@ -148,6 +153,8 @@ pub fn run(a: RenderArgs) -> Result<()> {
         megakernel: MegakernelOptions {
             workgroup_size: a.workgroup_size,
             samples_per_dispatch: a.samples_per_dispatch,
+            schedule: a.schedule,
+            threads: a.threads,
             ..Default::default()
         },
         wavefront: WavefrontOptions {

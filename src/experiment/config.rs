@@ -77,6 +77,7 @@ const TIMINGS: &[&str] = &["passes", "frame"];
 pub const KNOBS: &[&str] = &[
     "workgroup_size",
     "samples_per_dispatch",
+    "threads",
     "pool_size",
     "compaction",
     "shade",
@@ -87,7 +88,8 @@ pub const KNOBS: &[&str] = &[
     "scan",
     "timing",
 ];
-const MEGAKERNEL_KNOBS: &[&str] = &["workgroup_size", "samples_per_dispatch", "timing"];
+const MEGAKERNEL_KNOBS: &[&str] =
+    &["workgroup_size", "samples_per_dispatch", "schedule", "threads", "timing"];
 const WAVEFRONT_KNOBS: &[&str] = &[
     "workgroup_size",
     "pool_size",
@@ -440,6 +442,10 @@ impl Cx {
         let spd = self.knob(o, &opt_path("samples_per_dispatch"), "samples_per_dispatch", |v, p| {
             self.uint(v, p, 1, u64::MAX)
         })?;
+        let threads = self.knob(o, &opt_path("threads"), "threads", |v, p| match v {
+            Value::Null => Ok(None),
+            _ => self.uint32(v, p, 1, u32::MAX).map(Some),
+        })?;
         let pool = self.knob(o, &opt_path("pool_size"), "pool_size", |v, p| match v {
             Value::Null => Ok(None),
             _ => self.uint32(v, p, 1, u32::MAX).map(Some),
@@ -494,6 +500,13 @@ impl Cx {
             );
         }
 
+        if threads.values.iter().any(Option::is_some) && !schedule.values.contains(&Schedule::Regenerate) {
+            return self.err(
+                &opt_path("threads"),
+                "persistent threads belong to the regenerating megakernel: it needs \"schedule\": \"regenerate\"",
+            );
+        }
+
         // The product of every knob's values, each variant labelled by the knobs that tell it
         // apart: swept ones, and (without a label) ones set away from their defaults.
         let mk = MegakernelOptions::default();
@@ -510,6 +523,10 @@ impl Cx {
             o.megakernel.samples_per_dispatch = s;
             format!("spd={s}")
         });
+        expand(&mut variants, &threads, mk.threads, labelled, |o, &t| {
+            o.megakernel.threads = t;
+            format!("threads={}", t.map_or("auto".into(), |t| t.to_string()))
+        });
         expand(&mut variants, &pool, wf.pool_size, labelled, |o, &p| {
             o.wavefront.pool_size = p;
             format!("pool={}", p.map_or("auto".into(), |p| p.to_string()))
@@ -523,6 +540,7 @@ impl Cx {
             format!("shade={}", kebab(&sh))
         });
         expand(&mut variants, &schedule, wf.schedule, labelled, |o, &sc| {
+            o.megakernel.schedule = sc;
             o.wavefront.schedule = sc;
             format!("schedule={}", kebab(&sc))
         });
@@ -550,6 +568,9 @@ impl Cx {
         // would not run.
         variants
             .retain(|(o, _)| o.wavefront.tail == Tail::Off || o.wavefront.schedule == Schedule::Regenerate);
+        // Likewise persistent threads, which only the regenerating megakernel has.
+        variants
+            .retain(|(o, _)| o.megakernel.threads.is_none() || o.megakernel.schedule == Schedule::Regenerate);
         let out = variants
             .into_iter()
             .map(|(options, parts)| MethodVariant { label: parts.join(" "), method, options })

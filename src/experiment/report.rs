@@ -13,6 +13,7 @@ use serde_json::Value;
 
 use super::plan::Shard;
 use crate::gpu::instrument::SimdEfficiency;
+use crate::gpu::memory::GpuMemory;
 use crate::gpu::wavefront::QueueHistogram;
 use crate::metrics::ErrorMetrics;
 
@@ -225,6 +226,9 @@ pub struct RunRecord {
     /// Every repetition gave a bit-identical image (the counter-based RNG makes this expected).
     pub repeatable: Option<bool>,
     pub bytes_per_path: Option<u64>,
+    /// GPU memory the render allocated, by category, and the peak (GPU methods).
+    #[serde(default)]
+    pub memory: Option<GpuMemory>,
     pub pool_size: Option<u32>,
     pub indirect_validation: Option<bool>,
     /// SIMD efficiency per pass or point, from a separate instrumented render (`instrument`).

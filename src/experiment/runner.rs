@@ -221,6 +221,7 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         image_mean: None,
         repeatable: None,
         bytes_per_path: None,
+        memory: None,
         pool_size: None,
         indirect_validation: None,
         simd: None,
@@ -239,6 +240,8 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
         Megakernel => serde_json::json!({
             "workgroup_size": o.megakernel.workgroup_size,
             "samples_per_dispatch": o.megakernel.samples_per_dispatch,
+            "schedule": o.megakernel.schedule,
+            "threads": o.megakernel.threads,
             "timing": o.timing,
         }),
         Wavefront => serde_json::json!({
@@ -348,6 +351,7 @@ fn measure(
     rec.image_mean = Some(median_rep.image_mean);
     rec.repeatable = Some(repeatable);
     rec.bytes_per_path = median_rep.bytes_per_path;
+    rec.memory = median_rep.memory.clone();
     rec.pool_size = median_rep.pool_size;
     rec.indirect_validation = median_rep.indirect_validation;
 

@@ -2,6 +2,7 @@
 //! (one 256-byte-aligned slot per dispatch, bound with a dynamic offset).
 
 use super::context::GpuContext;
+use super::memory::{MemoryCategory, MemoryLedger};
 use crate::layout::DispatchParams;
 use wgpu::util::DeviceExt;
 
@@ -39,7 +40,7 @@ pub struct DispatchUniforms {
 }
 
 impl DispatchUniforms {
-    pub fn new(ctx: &GpuContext, plan: &[DispatchParams]) -> Self {
+    pub fn new(ctx: &GpuContext, plan: &[DispatchParams], memory: &mut MemoryLedger) -> Self {
         let stride = ctx.device.limits().min_uniform_buffer_offset_alignment.max(16);
         let mut bytes = vec![0u8; plan.len().max(1) * stride as usize];
         for (i, d) in plan.iter().enumerate() {
@@ -51,6 +52,7 @@ impl DispatchUniforms {
             contents: &bytes,
             usage: wgpu::BufferUsages::UNIFORM,
         });
+        memory.add(MemoryCategory::Parameters, buffer.size());
         Self { buffer, stride }
     }
 

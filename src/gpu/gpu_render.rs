@@ -1,6 +1,7 @@
 //! What every GPU method returns: the film and how the render went.
 
 use super::instrument::SimdEfficiency;
+use super::memory::GpuMemory;
 use super::timing::Timings;
 use crate::film::Film;
 use std::collections::BTreeMap;
@@ -19,4 +20,6 @@ pub struct GpuRender {
     pub simd: Option<BTreeMap<String, SimdEfficiency>>,
     /// GPU memory per path sample in flight.
     pub bytes_per_path: u64,
+    /// GPU memory the render allocated, by category.
+    pub memory: GpuMemory,
 }

@@ -5,6 +5,7 @@
 
 use super::buffers::{read_back, storage_entry, storage_zeroed};
 use super::context::GpuContext;
+use super::memory::{MemoryCategory, MemoryLedger};
 use anyhow::{bail, Result};
 use std::collections::BTreeMap;
 
@@ -42,7 +43,7 @@ pub struct SimdCounters {
 }
 
 impl SimdCounters {
-    pub fn new(ctx: &GpuContext) -> Result<Self> {
+    pub fn new(ctx: &GpuContext, memory: &mut MemoryLedger) -> Result<Self> {
         if !ctx.summary.subgroups {
             bail!(
                 "--instrument counts lanes with subgroup operations, which {} does not offer",
@@ -58,8 +59,10 @@ impl SimdCounters {
                 ctx.summary.subgroup_max_size
             );
         }
-        let buffer =
-            storage_zeroed(ctx, "simd counters", SLOTS.len() as u64 * 8, wgpu::BufferUsages::COPY_SRC)?;
+        let buffer = memory.track(
+            MemoryCategory::Instrumentation,
+            storage_zeroed(ctx, "simd counters", SLOTS.len() as u64 * 8, wgpu::BufferUsages::COPY_SRC)?,
+        );
         let layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("simd counters"),
             entries: &[storage_entry(0, false)],

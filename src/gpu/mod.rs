@@ -9,7 +9,9 @@ pub mod headless;
 pub mod instrument;
 pub mod loop_limit;
 pub mod megakernel;
+pub mod memory;
 pub mod scene_buffers;
+pub mod schedule;
 pub mod shaders;
 pub mod stage;
 pub mod timing;
@@ -19,6 +21,8 @@ pub mod wavefront;
 /// the timestamp slot, the row of the timing table and the key in JSON reports.
 pub mod label {
     pub const MEGAKERNEL: &str = "megakernel";
+    /// `--method megakernel --schedule regenerate`: persistent threads that regenerate paths.
+    pub const MEGAKERNEL_REGENERATE: &str = "megakernel_regenerate";
     pub const ACCUMULATE: &str = "accumulate";
     pub const GENERATE: &str = "generate";
     /// `--schedule regenerate`: empties the pool at a chunk's start.

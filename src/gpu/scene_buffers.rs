@@ -6,6 +6,7 @@
 
 use super::buffers::{human_bytes, storage_entry, storage_init, uniform_entry};
 use super::context::{AdapterSummary, GpuContext};
+use super::memory::{MemoryCategory, MemoryLedger};
 use crate::layout::FrameUniform;
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
@@ -45,6 +46,7 @@ impl SceneBuffers {
         scene: &PackedScene,
         frame: &FrameUniform,
         settings: &RenderSettings,
+        memory: &mut MemoryLedger,
     ) -> Result<Self> {
         check_fits(scene, &ctx.summary)?;
         let none = wgpu::BufferUsages::empty();
@@ -60,6 +62,7 @@ impl SceneBuffers {
         let nodes = storage_init(ctx, "BVH nodes", &scene.nodes, none)?;
         let lights = storage_init(ctx, "lights", &scene.lights, none)?;
         let bytes = [&primitives, &materials, &nodes, &lights].iter().map(|b| b.size()).sum();
+        memory.add(MemoryCategory::Scene, bytes + frame_buf.size());
         let layout = Self::layout(ctx);
         let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("scene"),

@@ -33,6 +33,8 @@ macro_rules! variants {
 }
 
 pub const MEGAKERNEL: Variants = variants!("megakernel");
+pub const MEGAKERNEL_REGENERATE: Variants = variants!("megakernel_regenerate");
+pub const MEGAKERNEL_REGENERATE_SUBGROUP: Variants = variants!("megakernel_regenerate_subgroup");
 pub const ACCUMULATE: &str = composed!("accumulate");
 pub const RNG_PROBE: &str = composed!("tests_rng_probe");
 pub const GENERATE: Variants = variants!("wavefront_generate");

@@ -6,6 +6,7 @@
 
 use super::buffers::read_back;
 use super::context::GpuContext;
+use super::memory::{MemoryCategory, MemoryLedger};
 use anyhow::Result;
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -78,7 +79,7 @@ pub struct GpuTimer {
 }
 
 impl GpuTimer {
-    pub fn new(ctx: &GpuContext, timing: Timing) -> Self {
+    pub fn new(ctx: &GpuContext, timing: Timing, memory: &mut MemoryLedger) -> Self {
         let queries = (ctx.summary.timestamps && timing == Timing::Passes).then(|| {
             let count = 2 * MAX_PASSES_PER_BATCH;
             let set = ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
@@ -92,6 +93,8 @@ impl GpuTimer {
                 usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             });
+            // The query set holds one 8-byte timestamp per query, as the resolve buffer.
+            memory.add(MemoryCategory::Instrumentation, 2 * resolve.size());
             (set, resolve)
         });
         let source = if queries.is_some() { TimeSource::Timestamps } else { TimeSource::WallClock };

@@ -13,6 +13,7 @@ mod gpu_rng;
 mod image_io;
 mod layout;
 mod lights;
+mod megakernel;
 mod metrics;
 mod resume;
 mod sampling;

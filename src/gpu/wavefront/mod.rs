@@ -44,6 +44,7 @@ use super::dispatch_plan::{self, DispatchUniforms};
 use super::gpu_render::GpuRender;
 use super::instrument::SimdCounters;
 use super::loop_limit::check_loop_limit;
+use super::memory::{MemoryCategory, MemoryLedger};
 use super::scene_buffers::SceneBuffers;
 use super::stage::{Stage, Workgroups};
 use super::timing::{GpuTimer, Measure};
@@ -314,7 +315,8 @@ pub fn render(
             dispatch_plan::plan(pixels, settings.spp, schedule::chunk_budget(ctx, pool), u32::MAX)
         }
     };
-    let params = DispatchUniforms::new(ctx, &shares);
+    let mut memory = MemoryLedger::default();
+    let params = DispatchUniforms::new(ctx, &shares, &mut memory);
     let kinds = scene.material_kinds_used();
     let per_material = opts.shade == ShadePasses::PerMaterial;
     let wave = WaveUniform {
@@ -328,13 +330,22 @@ pub fn render(
         shares.iter().map(|d| d.pixel_count as u64 * d.sample_count as u64).max().unwrap_or(1);
     let frame = scene.frame_uniform(camera, settings);
     let b = Bindings {
-        scene: SceneBuffers::new(ctx, scene, &frame, settings)?,
-        state: PathState::new(ctx, pool, wave, &params, stats_bounces, regenerate.then_some(largest_share))?,
-        simd: instrument.then(|| SimdCounters::new(ctx)).transpose()?,
+        scene: SceneBuffers::new(ctx, scene, &frame, settings, &mut memory)?,
+        state: PathState::new(
+            ctx,
+            pool,
+            wave,
+            &params,
+            stats_bounces,
+            regenerate.then_some(largest_share),
+            &mut memory,
+        )?,
+        simd: instrument.then(|| SimdCounters::new(ctx, &mut memory)).transpose()?,
         regenerate,
     };
     let film_bytes = pixels as u64 * std::mem::size_of::<FilmPixel>() as u64;
-    let film = storage_zeroed(ctx, "film", film_bytes, wgpu::BufferUsages::COPY_SRC)?;
+    let film = memory
+        .track(MemoryCategory::Film, storage_zeroed(ctx, "film", film_bytes, wgpu::BufferUsages::COPY_SRC)?);
 
     let shade_kinds = per_material.then_some(kinds.as_slice());
     let stages = Stages {
@@ -357,7 +368,7 @@ pub fn render(
     let accumulate = Accumulate::new(ctx, samples, &film, &params)?;
 
     let per_iteration = stages.per_iteration();
-    let mut timer = GpuTimer::new(ctx, measure.timing);
+    let mut timer = GpuTimer::new(ctx, measure.timing, &mut memory);
     let mut histogram = (opts.compaction != Compaction::Off && !regenerate).then(QueueHistogram::default);
     let mut stats = ScheduleStats::new(opts.schedule, opts.sync_every, pool);
     stats.subgroup_scan = (opts.compaction == Compaction::Scan).then_some(subgroup_scan);
@@ -435,6 +446,7 @@ pub fn render(
     if let Some(h) = &mut histogram {
         h.trim();
     }
+    memory.transient(film_bytes);
     let data: Vec<FilmPixel> = read_back(ctx, &film, film_bytes)?;
     let film = Film::from_gpu(settings.width, settings.height, settings.spp, &data);
     let simd = b.simd.as_ref().map(|s| s.read(ctx)).transpose()?;
@@ -447,6 +459,7 @@ pub fn render(
             wall_seconds: start.elapsed().as_secs_f64(),
             simd,
             bytes_per_path: bytes_per_path(regenerate),
+            memory: memory.summary(),
         },
         pool,
         histogram,

@@ -4,6 +4,7 @@
 use super::super::buffers::{check_size, storage_entry, storage_zeroed, uniform_entry};
 use super::super::context::GpuContext;
 use super::super::dispatch_plan::DispatchUniforms;
+use super::super::memory::{MemoryCategory as Mem, MemoryLedger};
 use crate::layout::WaveUniform;
 use anyhow::Result;
 use wgpu::util::DeviceExt;
@@ -76,41 +77,44 @@ impl PathState {
         params: &DispatchUniforms,
         stats_bounces: u32,
         chunk_samples: Option<u64>,
+        memory: &mut MemoryLedger,
     ) -> Result<Self> {
         let pool64 = pool as u64;
         let none = wgpu::BufferUsages::empty();
         check_size(ctx, "path queues", pool64 * LARGEST_BINDING_PER_PATH)?;
-        let vec4s = |label| storage_zeroed(ctx, label, pool64 * 16, none);
-        let origin = vec4s("path origin")?;
-        let dir = vec4s("path direction")?;
-        let throughput = vec4s("path throughput")?;
-        let radiance = vec4s("path radiance")?;
-        let queues = storage_zeroed(ctx, "path queues", pool64 * QUEUE_COUNT * 4, none)?;
+        let mut buffer = |category, label, size, extra| -> Result<wgpu::Buffer> {
+            Ok(memory.track(category, storage_zeroed(ctx, label, size, extra)?))
+        };
+        let origin = buffer(Mem::PathState, "path origin", pool64 * 16, none)?;
+        let dir = buffer(Mem::PathState, "path direction", pool64 * 16, none)?;
+        let throughput = buffer(Mem::PathState, "path throughput", pool64 * 16, none)?;
+        let radiance = buffer(Mem::PathState, "path radiance", pool64 * 16, none)?;
+        let queues = buffer(Mem::Queues, "path queues", pool64 * QUEUE_COUNT * 4, none)?;
         assert!(stats_bounces as u64 <= MAX_STATS_BOUNCES);
-        let counters_len = COUNTER_WORDS;
-        let counters = storage_zeroed(
-            ctx,
+        let counters = buffer(
+            Mem::Counters,
             "queue counters",
-            counters_len * 4,
+            COUNTER_WORDS * 4,
             wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
         )?;
-        let indirect = storage_zeroed(ctx, "indirect args", ARGS_SLOTS * 12, wgpu::BufferUsages::INDIRECT)?;
-        let next_queue = storage_zeroed(ctx, "scan targets", pool64 * 4, none)?;
-        let scan_offset = storage_zeroed(ctx, "scan offsets", pool64 * 4, none)?;
-        let block_sums = storage_zeroed(ctx, "scan block sums", pool64.div_ceil(SCAN_WG) * 16, none)?;
-        let scan_slot = storage_zeroed(ctx, "scan slots", pool64 * 4, none)?;
-        let shadow_ray = vec4s("shadow ray")?;
-        let shadow_weight = vec4s("shadow weight")?;
+        let indirect = buffer(Mem::Queues, "indirect args", ARGS_SLOTS * 12, wgpu::BufferUsages::INDIRECT)?;
+        let next_queue = buffer(Mem::Queues, "scan targets", pool64 * 4, none)?;
+        let scan_offset = buffer(Mem::Queues, "scan offsets", pool64 * 4, none)?;
+        let block_sums = buffer(Mem::Queues, "scan block sums", pool64.div_ceil(SCAN_WG) * 16, none)?;
+        let scan_slot = buffer(Mem::Queues, "scan slots", pool64 * 4, none)?;
+        let shadow_ray = buffer(Mem::ShadowQueue, "shadow ray", pool64 * 16, none)?;
+        let shadow_weight = buffer(Mem::ShadowQueue, "shadow weight", pool64 * 16, none)?;
         // Regenerating: each slot's sample and bounce, and the chunk's finished samples. In
         // waves neither is read (slot = sample, bounce = iteration): minimal buffers.
         let path_sample =
-            storage_zeroed(ctx, "path samples", chunk_samples.map_or(16, |_| pool64 * 8), none)?;
-        let samples = storage_zeroed(ctx, "chunk samples", chunk_samples.map_or(16, |c| c * 16), none)?;
+            buffer(Mem::PathState, "path samples", chunk_samples.map_or(16, |_| pool64 * 8), none)?;
+        let samples = buffer(Mem::Samples, "chunk samples", chunk_samples.map_or(16, |c| c * 16), none)?;
         let wave_buf = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("wave"),
             contents: bytemuck::bytes_of(&wave),
             usage: wgpu::BufferUsages::UNIFORM,
         });
+        memory.add(Mem::Parameters, wave_buf.size());
         let mut entries = vec![uniform_entry(0, true), uniform_entry(1, false)];
         entries.extend((2..=15).map(|b| storage_entry(b, false)));
         let layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

@@ -7,16 +7,7 @@ use super::super::context::GpuContext;
 use super::path_state::{schedule_word as word, PathState, COUNTER_SCHEDULE};
 use anyhow::{bail, Result};
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Schedule {
-    /// Waves of at most `pool` paths that start together and run `max_depth` bounces each,
-    /// whatever is left of them.
-    Waves,
-    /// Slots whose paths ended take the next samples every iteration, so the pool stays full
-    /// until a chunk's last samples (path regeneration).
-    Regenerate,
-}
+pub use super::super::schedule::Schedule;
 
 /// Iterations between read-backs when regenerating: a read-back makes the host wait for the
 /// GPU; each iteration recorded after the work ran out costs its (empty) dispatches.

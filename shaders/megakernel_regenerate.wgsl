@@ -1,0 +1,11 @@
+// The regenerating megakernel on adapters without subgroups: each lane that needs a sample
+// takes it with its own atomic. The loop is in shared/regenerate.wgsl.
+
+#include "shared/regenerate.wgsl"
+
+fn take_sample(wants: bool) -> u32 {
+    if !wants {
+        return NO_SAMPLE;
+    }
+    return atomicAdd(&work[WORK_NEXT], 1u);
+}

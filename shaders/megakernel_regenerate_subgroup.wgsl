@@ -1,0 +1,21 @@
+// The regenerating megakernel with subgroups (Aila & Laine 2009): the lanes that need a sample
+// take consecutive ones with one atomic per subgroup, broadcast to them, so neighbouring lanes
+// start neighbouring pixels. The loop is in shared/regenerate.wgsl.
+
+#include "shared/regenerate.wgsl"
+
+fn take_sample(wants: bool) -> u32 {
+    let asks = select(0u, 1u, wants);
+    let count = subgroupAdd(asks);
+    let rank = subgroupExclusiveAdd(asks);
+    var base = 0u;
+    // The first active lane (no active lane before it) asks for the whole subgroup.
+    if subgroupExclusiveAdd(1u) == 0u && count > 0u {
+        base = atomicAdd(&work[WORK_NEXT], count);
+    }
+    base = subgroupBroadcastFirst(base);
+    if !wants {
+        return NO_SAMPLE;
+    }
+    return base + rank;
+}

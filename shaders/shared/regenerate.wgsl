@@ -1,0 +1,81 @@
+// The regenerating megakernel's thread loop (Novák et al. 2010, on Aila & Laine's persistent
+// threads): a fixed number of threads loop one bounce per iteration, and a lane whose path has
+// ended takes the next (pixel, sample) of the dispatch at once, so lanes stop idling while their
+// subgroup's longest path finishes. The includer defines `take_sample(wants: bool) -> u32`: per
+// thread (megakernel_regenerate.wgsl) or per subgroup (megakernel_regenerate_subgroup.wgsl).
+// Rust side: src/gpu/megakernel.rs.
+//
+// Each sample keeps its counter-based random stream and lands in `samples` at its index in the
+// dispatch, so the accumulate pass adds the same values in the same order as after the naive
+// megakernel: the film is the same.
+
+#include "shared/rng.wgsl"
+#include "shared/scene.wgsl"
+#include "shared/dispatch.wgsl"
+#include "shared/instrument.wgsl"
+#include "shared/integrator.wgsl"
+
+@group(1) @binding(0) var<storage, read_write> samples: array<vec4<f32>>;
+@group(1) @binding(1) var<uniform> dispatch: Dispatch;
+// [WORK_NEXT]: the dispatch's next sample index, zeroed before each dispatch; [WORK_FINISHED]:
+// samples written over the render, which the host checks against the samples asked for;
+// [WORK_CUT]: threads whose loop ended without running out of work, which only a driver's loop
+// cap does (llvmpipe ends an invocation's loops after 65535 trips and says nothing).
+@group(1) @binding(2) var<storage, read_write> work: array<atomic<u32>, 3>;
+
+const WORK_NEXT: u32 = 0u;
+const WORK_FINISHED: u32 = 1u;
+const WORK_CUT: u32 = 2u;
+const NO_SAMPLE: u32 = 0xffffffffu;
+
+override WORKGROUP_SIZE: u32 = 64u;
+// Most paths one thread starts in one dispatch: llvmpipe ends a subgroup's loops after 65535
+// iterations in total, so there the host bounds each thread's share (src/gpu/megakernel.rs).
+override PATHS_PER_THREAD: u32 = 0xffffffffu;
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn megakernel_regenerate() {
+    let n = dispatch.pixel_count * dispatch.sample_count;
+    var path = TracedPath(Ray(vec3<f32>(0.0), vec3<f32>(0.0)), vec3<f32>(0.0), vec3<f32>(0.0), 0u, 0.0);
+    var index = NO_SAMPLE;
+    var pixel = 0u;
+    var sample = 0u;
+    var bounce = 0u;
+    var live = false;
+    var taken = 0u;
+    var finished = 0u;
+    var out_of_work = false;
+    loop {
+        if !live {
+            index = take_sample(taken < PATHS_PER_THREAD);
+            if index >= n {
+                out_of_work = true;
+                break;
+            }
+            taken += 1u;
+            // As the naive megakernel: neighbouring indices are neighbouring pixels of a sample.
+            pixel = dispatch.pixel_offset + index % dispatch.pixel_count;
+            sample = dispatch.sample_start + index / dispatch.pixel_count;
+            let x = pixel % frame.width;
+            let y = pixel / frame.width;
+            let ray = camera_ray(x, y, uniform4(pixel, sample, 0u, PURPOSE_CAMERA, frame.seed));
+            path = TracedPath(ray, vec3<f32>(1.0), vec3<f32>(0.0), 0u, 0.0);
+            bounce = 0u;
+        }
+        live = trace_bounce(&path, pixel, sample, bounce);
+        bounce += 1u;
+        if bounce >= frame.max_depth {
+            live = false;
+        }
+        if !live {
+            samples[index] = vec4<f32>(path.radiance, f32(path.rays));
+            finished += 1u;
+        }
+    }
+    if finished > 0u {
+        atomicAdd(&work[WORK_FINISHED], finished);
+    }
+    if !out_of_work {
+        atomicAdd(&work[WORK_CUT], 1u);
+    }
+}

@@ -1,0 +1,186 @@
+//! The megakernel's two schedules: one path per thread (`waves`, the seeds' form) and
+//! persistent threads that regenerate paths (`regenerate`). Regeneration changes which thread
+//! traces which sample and when, never a sample's random numbers nor the order the film adds a
+//! pixel's samples, so both give the same film; and each render reports the GPU memory it took.
+
+use crate::common;
+
+use glam::Vec3;
+use wavetrace::gpu::megakernel::MegakernelOptions;
+use wavetrace::gpu::schedule::Schedule;
+use wavetrace::method::{render, Method, MethodOptions, RenderOutput};
+use wavetrace::scene::{builtin, Mesh, Scene};
+use wavetrace::settings::{Accel, RenderSettings};
+
+fn settings(width: u32, height: u32, spp: u32, nee: bool) -> RenderSettings {
+    RenderSettings { width, height, spp, max_depth: 16, seed: 3, accel: Accel::Bvh, nee }
+}
+
+fn run(method: Method, scene: &Scene, s: &RenderSettings, mk: MegakernelOptions) -> RenderOutput {
+    let opts = MethodOptions { megakernel: mk, ..Default::default() };
+    render(method, scene, s, &opts, common::gpu(), &|_| {}).unwrap()
+}
+
+fn regenerate(threads: Option<u32>) -> MegakernelOptions {
+    MegakernelOptions { schedule: Schedule::Regenerate, threads, ..Default::default() }
+}
+
+/// `cornell` (quads, an emitting quad) with a triangle prism standing on its floor: every
+/// primitive kind, and lights for next-event estimation.
+fn every_kind() -> Scene {
+    let mut scene = builtin::by_name("cornell").unwrap();
+    let (a, b, c) =
+        (Vec3::new(150.0, 0.1, 300.0), Vec3::new(300.0, 0.1, 300.0), Vec3::new(225.0, 250.0, 350.0));
+    scene.meshes.push(Mesh { file: "inline.obj".into(), triangles: vec![[a, b, c]], material: 0 });
+    scene.spheres.push(wavetrace::scene::Sphere {
+        center: Vec3::new(400.0, 90.0, 200.0),
+        radius: 90.0,
+        material: 0,
+    });
+    scene
+}
+
+fn cases() -> Vec<(Scene, RenderSettings)> {
+    let final_scene = builtin::by_name("rtiow-final").unwrap();
+    vec![
+        (final_scene, settings(24, 16, 8, false)),
+        (every_kind(), settings(16, 16, 8, false)),
+        (every_kind(), settings(16, 16, 8, true)),
+    ]
+}
+
+/// The claim, on this driver bit for bit: the regenerating megakernel's film is the
+/// naive one's, with and without next-event estimation, on spheres, quads and triangles, for
+/// the default threads, for fewer threads than samples (each takes many paths) and for a thread
+/// count that is not a whole number of workgroups; and over several dispatches.
+#[test]
+fn regenerate_gives_the_naive_film_bit_for_bit() {
+    if common::gpu().is_none() {
+        return;
+    }
+    for (scene, s) in cases() {
+        let naive = run(Method::Megakernel, &scene, &s, MegakernelOptions::default());
+        for threads in [None, Some(64), Some(100)] {
+            for samples_per_dispatch in [1 << 21, 1000] {
+                let mk = MegakernelOptions { samples_per_dispatch, ..regenerate(threads) };
+                let r = run(Method::Megakernel, &scene, &s, mk);
+                assert_eq!(naive.film, r.film, "{} nee={} {mk:?}", scene.name, s.nee);
+            }
+        }
+    }
+}
+
+/// Against the CPU reference (the ground truth), by the per-pixel z-test of DESIGN.md §4.
+#[test]
+fn regenerate_agrees_with_the_cpu_reference() {
+    if common::gpu().is_none() {
+        return;
+    }
+    for (scene, s) in cases() {
+        let s = RenderSettings { spp: 32, ..s };
+        let cpu = run(Method::Cpu, &scene, &s, MegakernelOptions::default());
+        let r = run(Method::Megakernel, &scene, &s, regenerate(Some(256)));
+        common::assert_agree_rays(&format!("{} nee={}", scene.name, s.nee), &cpu.film, &r.film, 1e-3);
+    }
+}
+
+#[test]
+fn regenerate_repeats_bit_identically() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let scene = builtin::by_name("rtiow-final").unwrap();
+    let s = settings(32, 18, 4, false);
+    let a = run(Method::Megakernel, &scene, &s, regenerate(Some(96)));
+    let b = run(Method::Megakernel, &scene, &s, regenerate(Some(96)));
+    assert_eq!(a.film, b.film);
+}
+
+/// What the schedule is for: lanes stop idling while their subgroup's longest path finishes.
+/// Counted with `--instrument` at the top of every bounce, on the scene the seeds measured.
+#[test]
+fn regenerate_keeps_more_lanes_busy() {
+    let Some(ctx) = common::gpu() else {
+        return;
+    };
+    if !ctx.summary.subgroups {
+        return;
+    }
+    let scene = builtin::by_name("rtiow-final").unwrap();
+    let s = RenderSettings { max_depth: 50, ..settings(64, 36, 8, false) };
+    let efficiency = |mk: MegakernelOptions| {
+        let opts = MethodOptions { megakernel: mk, instrument: true, ..Default::default() };
+        let out = render(Method::Megakernel, &scene, &s, &opts, Some(ctx), &|_| {}).unwrap();
+        out.simd.unwrap()["megakernel_bounce"].efficiency
+    };
+    let naive = efficiency(MegakernelOptions::default());
+    let regen = efficiency(regenerate(Some(256)));
+    eprintln!("bounce SIMD efficiency: naive {naive:.3}, regenerating {regen:.3}");
+    assert!(regen > naive + 0.1, "regenerating {regen:.3} vs naive {naive:.3}");
+}
+
+#[test]
+fn bad_thread_counts_are_refused() {
+    let Some(ctx) = common::gpu() else {
+        return;
+    };
+    let scene = builtin::by_name("three-spheres").unwrap();
+    let s = settings(8, 8, 1, false);
+    let too_many = ctx.summary.max_compute_workgroups_per_dimension as u64 * 64 + 1;
+    let cases = [
+        (regenerate(Some(0)), "at least 1"),
+        (regenerate(Some(u32::try_from(too_many).unwrap_or(u32::MAX))), "can launch"),
+        (MegakernelOptions { threads: Some(64), ..Default::default() }, "--schedule regenerate"),
+    ];
+    for (mk, expected) in cases {
+        let opts = MethodOptions { megakernel: mk, ..Default::default() };
+        let err = render(Method::Megakernel, &scene, &s, &opts, Some(ctx), &|_| {}).unwrap_err();
+        let msg = format!("{err:#}");
+        assert!(msg.contains(expected), "{mk:?}: {msg}");
+    }
+}
+
+/// Every GPU render accounts for its memory by category; the categories add up to the total,
+/// and the figures follow from the job: the film holds 32 bytes a pixel, the naive megakernel's
+/// sample buffer 16 bytes a sample of its largest dispatch.
+#[test]
+fn memory_is_accounted_by_category() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let scene = every_kind();
+    let s = settings(20, 10, 4, true);
+    let naive = run(Method::Megakernel, &scene, &s, MegakernelOptions::default());
+    let regen = run(Method::Megakernel, &scene, &s, regenerate(Some(64)));
+    let wave =
+        render(Method::Wavefront, &scene, &s, &MethodOptions::default(), common::gpu(), &|_| {}).unwrap();
+    let cpu = run(Method::Cpu, &scene, &s, MegakernelOptions::default());
+    assert!(cpu.memory.is_none());
+    for (name, out) in [("naive", &naive), ("regenerate", &regen), ("wavefront", &wave)] {
+        let m = out.memory.as_ref().unwrap();
+        assert_eq!(m.total, m.by_category.values().sum::<u64>(), "{name}: {m:?}");
+        assert!(m.peak >= m.total + m.by_category["film"], "{name}: the film's read-back copy");
+        assert_eq!(m.by_category["film"], 20 * 10 * 32, "{name}");
+        assert!(m.by_category["scene"] > 0, "{name}");
+    }
+    let (n, r, w) = (naive.memory.unwrap(), regen.memory.unwrap(), wave.memory.unwrap());
+    assert_eq!(n.by_category["samples"], 20 * 10 * 4 * 16);
+    assert!(!n.by_category.contains_key("counters"), "the naive megakernel has no counters");
+    assert!(r.by_category["counters"] > 0, "the regenerating megakernel's work counters");
+    for key in ["path_state", "queues", "shadow_queue", "counters"] {
+        assert!(w.by_category[key] > 0, "wavefront {key}: {w:?}");
+        assert!(!n.by_category.contains_key(key), "megakernel {key}");
+    }
+    // A bigger pool holds more path state.
+    let opts = |pool| MethodOptions {
+        wavefront: wavetrace::gpu::wavefront::WavefrontOptions {
+            pool_size: Some(pool),
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let small = render(Method::Wavefront, &scene, &s, &opts(64), common::gpu(), &|_| {}).unwrap();
+    let big = render(Method::Wavefront, &scene, &s, &opts(512), common::gpu(), &|_| {}).unwrap();
+    let state = |o: &RenderOutput| o.memory.as_ref().unwrap().by_category["path_state"];
+    assert!(state(&big) > 7 * state(&small), "{} vs {}", state(&big), state(&small));
+}
