@@ -2,6 +2,8 @@
 //! false-colour error map. Self-contained (charts inline as SVG, images as `data:` URIs of small
 //! previews), so it opens from disk in a browser with no server and survives being mailed.
 
+use crate::gpu::buffers::human_bytes;
+use crate::gpu::memory::MemoryCategory;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -52,6 +54,7 @@ pub fn page(report: &ExperimentReport, charts: &[Chart], dir: &Path) -> String {
     }
     environments(&mut h, report);
     runs_table(&mut h, report);
+    memory_table(&mut h, report);
     h.push_str("<h2>Charts</h2>\n");
     if charts.is_empty() {
         h.push_str("<p>No chart: no run succeeded with data to chart.</p>\n");
@@ -171,6 +174,52 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
                 _ => "–".into(),
             },
             r.intersect_occupancy.map_or("–".into(), |o| format!("{:.1}%", o * 100.0)),
+        );
+    }
+    h.push_str("</table>\n");
+}
+
+/// GPU memory per GPU run, by category: what each method pays in memory for its speed.
+fn memory_table(h: &mut String, report: &ExperimentReport) {
+    let runs: Vec<_> = report.runs.iter().filter_map(|r| Some((r, r.memory.as_ref()?))).collect();
+    if runs.is_empty() {
+        return;
+    }
+    let used: Vec<MemoryCategory> = MemoryCategory::ALL
+        .into_iter()
+        .filter(|c| runs.iter().any(|(_, m)| m.by_category.contains_key(c.key())))
+        .collect();
+    h.push_str(
+        "<h2>GPU memory</h2><p>Bytes each GPU run asked wgpu for, by category (the driver may reserve \
+         more); peak: everything held at once, the film's read-back copy included. Per path: the \
+         method's per-path buffers over the paths in flight.</p><table><tr><th>#</th>\
+         <th class=\"l\">scene</th><th>size</th><th>spp</th><th class=\"l\">method</th>",
+    );
+    for c in &used {
+        let _ = write!(h, "<th>{}</th>", c.key().replace('_', " "));
+    }
+    h.push_str("<th>total</th><th>peak</th><th>per path</th></tr>\n");
+    for (r, m) in runs {
+        let _ = write!(
+            h,
+            "<tr><td>{}</td><td class=\"l\">{}</td><td>{}x{}</td><td>{}</td><td class=\"l\">{}</td>",
+            r.index,
+            esc(&r.scene),
+            r.width,
+            r.height,
+            r.spp,
+            esc(&r.label)
+        );
+        for c in &used {
+            let cell = m.by_category.get(c.key()).map_or("–".into(), |&b| human_bytes(b));
+            let _ = write!(h, "<td>{cell}</td>");
+        }
+        let per_path = r.bytes_per_path.map_or("–".into(), |b| format!("{b} B"));
+        let _ = writeln!(
+            h,
+            "<td>{}</td><td>{}</td><td>{per_path}</td></tr>",
+            human_bytes(m.total),
+            human_bytes(m.peak)
         );
     }
     h.push_str("</table>\n");

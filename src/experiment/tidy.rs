@@ -6,6 +6,7 @@
 //! Missing values are empty cells; numbers are written as Rust prints them (shortest text that
 //! reads back to the same f64, `.` as decimal point whatever the locale, `1e-7` for small ones).
 
+use crate::gpu::memory::MemoryCategory;
 use std::collections::BTreeSet;
 use std::path::Path;
 
@@ -164,6 +165,16 @@ fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
         rcol("bytes_per_path", |r| r.bytes_per_path.and_then(int)),
         // The record's `pool_size` is the pool used; the knob column `pool_size` is the setting.
         rcol("pool_size_used", |r| r.pool_size.and_then(int)),
+    ]);
+    // GPU memory: one column per category (empty where a method has none), the total and peak.
+    for category in MemoryCategory::ALL {
+        cols.push(rcol(&format!("memory_{}", category.key()), move |r| {
+            r.memory.as_ref().and_then(|m| m.by_category.get(category.key())).and_then(int)
+        }));
+    }
+    cols.extend([
+        rcol("memory_total", |r| r.memory.as_ref().and_then(|m| int(m.total))),
+        rcol("memory_peak", |r| r.memory.as_ref().and_then(|m| int(m.peak))),
         rcol("indirect_validation", |r| r.indirect_validation.and_then(flag)),
         rcol("reference", |r| r.reference.clone()),
     ]);
