@@ -30,7 +30,7 @@ say() { echo "== $*" | tee -a "$log"; }
 
 # The suite, as shipped; at tiny scale every size, sample count and repetition is shrunk (the
 # questions stay, the figures mean nothing) so the whole script runs in minutes on llvmpipe.
-read -r -a configs <<< "${WAVETRACE_FIGURES_CONFIGS:-quick megakernel_vs_wavefront regeneration material_cost nee workgroup_size}"
+read -r -a configs <<< "${WAVETRACE_FIGURES_CONFIGS:-quick megakernel_vs_wavefront regeneration baselines pool_memory material_cost nee workgroup_size}"
 for name in "${configs[@]}"; do
   src="experiments/$name.json"
   cfg="$out/configs/$name.json"
@@ -53,7 +53,7 @@ done
 # The seeds' headline case: rtiow-final at 1920x1080, 500 spp, depth 50, each GPU method.
 if [ "$scale" = tiny ]; then size=(--width 32 --height 18 --spp 4); else size=(--width 1920 --height 1080 --spp 500); fi
 mkdir -p "$out/rtiow_final_1080p"
-for run in "megakernel" "wavefront" "wavefront --schedule regenerate" "wavefront --schedule regenerate --tail megakernel"; do
+for run in "megakernel" "megakernel --schedule regenerate" "wavefront" "wavefront --schedule regenerate" "wavefront --schedule regenerate --tail megakernel"; do
   read -r -a args <<< "$run"
   tag=$(echo "$run" | sed -E 's/ --schedule /-/; s/ --tail /-tail-/')
   say "render rtiow-final $tag ${size[*]}"

@@ -46,6 +46,9 @@ pub fn charts(report: &ExperimentReport) -> Vec<Chart> {
         if let Some(c) = simd(&runs, &group) {
             push("simd", c.title.clone(), c.to_svg());
         }
+        if let Some(c) = speed_vs_memory(&runs, &group) {
+            push("speed-vs-memory", c.title.clone(), c.to_svg());
+        }
     }
     out.extend(time_by_scene(report));
     out.extend(crossover(report));
@@ -54,7 +57,9 @@ pub fn charts(report: &ExperimentReport) -> Vec<Chart> {
 
 /// The crossover chart, per scene (and depth and NEE where they vary): each GPU method variant's
 /// speed-up over the fastest megakernel variant at the same job, against the job's size in
-/// samples per frame; drawn where a scene has two or more job sizes with a megakernel run.
+/// samples per frame; drawn where a scene has two or more job sizes with a megakernel run. With
+/// several megakernel variants (naive and regenerating), each gets its line too: the slower one
+/// below 1.
 fn crossover(report: &ExperimentReport) -> Vec<Chart> {
     type Job = (u32, u32, u32); // width, height, spp
     let ok: Vec<&RunRecord> =
@@ -75,9 +80,14 @@ fn crossover(report: &ExperimentReport) -> Vec<Chart> {
         }
         // Series in the order their labels first appear (config order).
         let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
-        for r in
-            runs.iter().filter(|r| r.method != "megakernel" && r.method != "cpu" && r.method != "cpu-f64")
-        {
+        let megakernels: std::collections::BTreeSet<&str> =
+            runs.iter().filter(|r| r.method == "megakernel").map(|r| r.label.as_str()).collect();
+        let plotted = |r: &&&RunRecord| match r.method.as_str() {
+            "cpu" | "cpu-f64" => false,
+            "megakernel" => megakernels.len() > 1,
+            _ => true,
+        };
+        for r in runs.iter().filter(plotted) {
             if let Some(mk) = fastest_mk.get(&(r.width, r.height, r.spp)) {
                 let samples = r.width as f64 * r.height as f64 * r.spp as f64;
                 let point = (samples, mk / r.seconds.unwrap());
@@ -210,6 +220,43 @@ fn series_name(r: &RunRecord, varying: Varying) -> String {
 
 fn several_spps(runs: &[&RunRecord]) -> bool {
     runs.iter().any(|r| r.spp != runs[0].spp)
+}
+
+/// Speed against GPU memory (peak), log–log: one line per method variant through the values of
+/// the knob that sizes its memory (the wavefront's `pool_size`, the megakernel's `threads`), at
+/// the group's largest spp; drawn where the group's peaks differ.
+fn speed_vs_memory(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
+    let max_spp = runs.iter().map(|r| r.spp).max()?;
+    let varying = Varying::of(runs);
+    let mut series: Vec<Series> = Vec::new();
+    let mut peaks = std::collections::BTreeSet::new();
+    for r in runs.iter().filter(|r| r.spp == max_spp) {
+        let (Some(m), Some(speed)) = (&r.memory, r.samples_per_second) else { continue };
+        peaks.insert(m.peak);
+        // The sweep's own knob is what the line runs through, so it leaves the name.
+        let label: Vec<&str> =
+            r.label.split(' ').filter(|p| !p.starts_with("pool=") && !p.starts_with("threads=")).collect();
+        let name = format!("{}{}", label.join(" "), varying.suffix(r));
+        let point = (m.peak as f64 / (1u64 << 20) as f64, speed * 1e-6);
+        match series.iter_mut().find(|s| s.name == name) {
+            Some(s) => s.points.push(point),
+            None => series.push(Series { name, points: vec![point] }),
+        }
+    }
+    if peaks.len() < 2 {
+        return None;
+    }
+    for s in &mut series {
+        s.points.sort_by(|a, b| a.0.total_cmp(&b.0));
+    }
+    Some(LineChart {
+        title: format!("Speed against GPU memory: {group}, {max_spp} spp"),
+        x_label: "peak GPU memory, MiB".into(),
+        y_label: "Msamples/s".into(),
+        x_log: true,
+        y_log: true,
+        series,
+    })
 }
 
 /// relMSE against time, log–log, one line per method variant through its spp values.
