@@ -334,7 +334,7 @@ fn gpu_runs_are_quiet_without_a_runtime_dir() {
 
 /// `scripts/device_figures.sh` (the GPU suite for a machine without a toolchain) runs end to end
 /// on the software driver at its tiny scale: reports, the 1080p renders' reports, the adapter
-/// and one archive. One config here, to stay within CI's time; the others are checked by
+/// and one archive. Two configs here, to stay within CI's time; the others are checked by
 /// `every_shipped_config_is_valid_and_says_what_it_asks`.
 #[test]
 fn device_figures_script_runs_at_tiny_scale() {
@@ -349,7 +349,7 @@ fn device_figures_script_runs_at_tiny_scale() {
         .arg(&out)
         .env("WAVETRACE_BIN", env!("CARGO_BIN_EXE_wavetrace"))
         .env("WAVETRACE_FIGURES_SCALE", "tiny")
-        .env("WAVETRACE_FIGURES_CONFIGS", "regeneration")
+        .env("WAVETRACE_FIGURES_CONFIGS", "regeneration pool_memory")
         .output()
         .expect("run device_figures.sh");
     let log = std::fs::read_to_string(out.join("log.txt")).unwrap_or_default();
@@ -359,8 +359,20 @@ fn device_figures_script_runs_at_tiny_scale() {
             .unwrap();
     assert_eq!(report["status"], "complete");
     assert_eq!(report["runs"].as_array().unwrap().len(), 32, "4 scenes × 2 spp × 4 methods");
+    // The pool sweep's chart: speed against GPU memory, from the runs' memory records.
+    let pool: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("pool_memory/report.json")).unwrap()).unwrap();
+    assert_eq!(pool["runs"].as_array().unwrap().len(), 24, "2 spp × 12 variants");
+    assert!(pool["runs"].as_array().unwrap().iter().all(|r| r["memory"]["peak"].as_u64().unwrap() > 0));
+    assert!(out.join("pool_memory/charts/speed-vs-memory-rtiow-final-32x18.svg").exists());
     assert!(std::fs::read_to_string(out.join("info.txt")).unwrap().contains("chosen"));
-    for tag in ["megakernel", "wavefront", "wavefront-regenerate", "wavefront-regenerate-tail-megakernel"] {
+    for tag in [
+        "megakernel",
+        "megakernel-regenerate",
+        "wavefront",
+        "wavefront-regenerate",
+        "wavefront-regenerate-tail-megakernel",
+    ] {
         let r: serde_json::Value = serde_json::from_str(
             &std::fs::read_to_string(out.join(format!("rtiow_final_1080p/{tag}.json"))).unwrap(),
         )

@@ -490,10 +490,12 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
     assert_eq!(
         names,
         [
+            "baselines.json",
             "cpu_vs_gpu.json",
             "material_cost.json",
             "megakernel_vs_wavefront.json",
             "nee.json",
+            "pool_memory.json",
             "quick.json",
             "regeneration.json",
             "scene_scale.json",
