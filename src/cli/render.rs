@@ -1,6 +1,8 @@
 //! `wavetrace render`: one scene, one method, to EXR (+ PNG preview, + JSON report).
 
+use crate::gpu::buffers::human_bytes;
 use crate::gpu::megakernel::MegakernelOptions;
+use crate::gpu::memory::{GpuMemory, MemoryCategory};
 use crate::gpu::timing::{TimeSource, Timing, Timings};
 use crate::gpu::wavefront::{Compaction, Scan, Schedule, ShadePasses, Tail, WavefrontOptions};
 use crate::gpu::GpuContext;
@@ -20,7 +22,9 @@ Examples:
   wavetrace render --scene three-spheres --method cpu-f64 --spp 256 --out truth.exr
   wavetrace render --scene furnace --method megakernel --accel none --out f.exr --report f.json
   wavetrace render --scene cornell --method wavefront --nee on --width 300 --height 300 --spp 64 \
-      --out cornell.exr --png cornell.png";
+      --out cornell.exr --png cornell.png
+  wavetrace render --scene rtiow-final --method megakernel --schedule regenerate --instrument \
+      --out regen.exr --report regen.json   # persistent threads: SIMD efficiency, memory";
 
 #[derive(clap::Args, Debug)]
 #[command(after_help = EXAMPLES)]
@@ -191,6 +195,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
 
     print_summary(&report, &a.out);
+    if let Some(m) = &report.memory {
+        print_memory(m);
+    }
     if let Some(t) = &out.timings {
         print_pass_table(t, &report);
     }
@@ -217,6 +224,22 @@ fn print_summary(r: &RunReport, out: &std::path::Path) {
         r.rays_per_second / 1e6,
         r.invalid_samples,
         out.display()
+    );
+}
+
+/// One line: the GPU memory the render took, peak first, then by category.
+fn print_memory(m: &GpuMemory) {
+    let parts: Vec<String> = MemoryCategory::ALL
+        .iter()
+        .filter_map(|c| {
+            Some(format!("{} {}", c.key().replace('_', " "), human_bytes(*m.by_category.get(c.key())?)))
+        })
+        .collect();
+    println!(
+        "GPU memory: {} peak, {} held ({})",
+        human_bytes(m.peak),
+        human_bytes(m.total),
+        parts.join(", ")
     );
 }
 
