@@ -34,10 +34,11 @@ use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
 use std::time::Instant;
 
-/// Persistent threads of the regenerating megakernel when `--threads` is not given: 2^16 keeps
-/// a data-centre GPU's cores busy (an H100 holds 132 × 2048 threads; measured on llvmpipe, the
-/// speed is flat from 2^12 to 2^18: see the README) while the tail, where threads run out of
-/// samples, stays short against dispatches of 2^21 samples.
+/// Persistent threads of the regenerating megakernel when `--threads` is not given. wgpu does
+/// not say how many threads an adapter holds; 2^16 is a fixed number near a data-centre GPU's
+/// (an H100 holds 132 × 2048) that keeps the tail, where threads run out of samples, short
+/// against dispatches of 2^21 samples. On llvmpipe it was the fastest of 2^10–2^16
+/// (`pool_memory.json`, README).
 pub const DEFAULT_THREADS: u32 = 1 << 16;
 
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
