@@ -103,6 +103,24 @@ pub struct FrameUniform {
     /// Emitting primitives in the scene's light list (0: nothing to sample). Whether to sample
     /// them is the `NEE` pipeline constant (`PackedScene::pipeline_constants`).
     pub light_count: u32,
+    /// Σ over the lights of mean radiance × area: the denominator of a light's probability
+    /// under power-proportional choice (`light_table.rs`).
+    pub light_power: f32,
+    pub _pad: [u32; 3],
+}
+
+/// WGSL: `LightEntry` in `shaders/shared/light.wgsl`: one column of the alias table of lights
+/// (`light_table.rs`), in the order of `PackedScene::lights`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct LightEntry {
+    /// The light's primitive slot.
+    pub slot: u32,
+    /// The column whose light is taken when this one's is not kept (its alias; `alias` is a
+    /// WGSL keyword).
+    pub other: u32,
+    /// This column keeps its own light when the second uniform is below this.
+    pub threshold: f32,
 }
 
 /// WGSL: `Dispatch` in `shaders/megakernel.wgsl`: one dispatch's share of the render.

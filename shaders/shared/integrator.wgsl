@@ -44,7 +44,7 @@ fn continue_path(path: ptr<function, TracedPath>, pixel: u32, sample: u32, first
         if material.kind == MATERIAL_EMISSIVE {
             var w = 1.0;
             if bsdf_pdf > 0.0 {
-                w = emission_weight(hit.prim, p, ray.dir, hit.t, bsdf_pdf);
+                w = emission_weight(hit.prim, ray.origin, p, ray.dir, hit.t, bsdf_pdf);
             }
             radiance += throughput * material.color * w;
             break;
@@ -66,7 +66,7 @@ fn continue_path(path: ptr<function, TracedPath>, pixel: u32, sample: u32, first
             if shadow.ok {
                 instrument(PASS_MEGAKERNEL_SHADOW);
                 rays += 1u;
-                if !occluded(shadow.ray, T_MIN, shadow.t_max) {
+                if !occluded(shadow.ray, T_MIN, shadow.t_max, shadow.light) {
                     radiance += throughput * s.attenuation * shadow.weight;
                 }
             }

@@ -65,7 +65,8 @@ fn frame() {
             defocus_disk_v,
             background_kind,
             background_color,
-            light_count
+            light_count,
+            light_power
         ]
     );
 }
@@ -78,6 +79,11 @@ fn dispatch() {
 #[test]
 fn film_pixel() {
     check!(FilmPixel, "FilmPixel", shaders::ACCUMULATE, [sum, sum_sq]);
+}
+
+#[test]
+fn light_entry() {
+    check!(LightEntry, "LightEntry", [slot, other, threshold]);
 }
 
 #[test]
