@@ -78,7 +78,12 @@ fn dispatch() {
 
 #[test]
 fn film_pixel() {
-    check!(FilmPixel, "FilmPixel", shaders::ACCUMULATE, [sum, sum_sq]);
+    check!(
+        FilmPixel,
+        "FilmPixel",
+        shaders::ACCUMULATE,
+        [sum_hi, invalid, sum_lo, rays_lo, sum_sq_hi, rays_hi, sum_sq_lo, zero]
+    );
 }
 
 #[test]
