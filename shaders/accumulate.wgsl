@@ -15,17 +15,25 @@ fn accumulate(@builtin(global_invocation_id) gid: vec3<u32>) {
     if p >= dispatch.pixel_count {
         return;
     }
-    var acc = film[dispatch.pixel_offset + p];
+    let px = film[dispatch.pixel_offset + p];
+    var sum = array<vec3<f32>, 2>(px.sum_hi, px.sum_lo);
+    var sum_sq = array<vec3<f32>, 2>(px.sum_sq_hi, px.sum_sq_lo);
+    var invalid = px.invalid;
+    var rays = vec2<u32>(px.rays_lo, px.rays_hi);
     for (var s = 0u; s < dispatch.sample_count; s++) {
         let sample = samples[s * dispatch.pixel_count + p];
         let c = sample.rgb;
-        acc.sum_sq.w += sample.w; // rays traced, counted valid or not
+        // Rays traced, counted valid or not, in 64 bits.
+        let added = rays.x + u32(sample.w);
+        rays = vec2<u32>(added, rays.y + select(0u, 1u, added < rays.x));
         if is_non_finite(c) {
-            acc.sum.w += 1.0;
+            invalid += 1u;
         } else {
-            acc.sum += vec4<f32>(c, 0.0);
-            acc.sum_sq += vec4<f32>(c * c, 0.0);
+            add_compensated(&sum, c, px.zero);
+            let scaled = c * FILM_SQ_ROOT_SCALE;
+            add_compensated(&sum_sq, scaled * scaled, px.zero);
         }
     }
-    film[dispatch.pixel_offset + p] = acc;
+    film[dispatch.pixel_offset + p] =
+        FilmPixel(sum[0], invalid, sum[1], rays.x, sum_sq[0], rays.y, sum_sq[1], px.zero);
 }

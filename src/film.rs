@@ -1,7 +1,9 @@
 //! Per-pixel sample statistics: the sum and sum of squares of every finite sample, and a count of
-//! the NaN/infinite samples that were dropped instead of accumulated.
+//! the NaN/infinite samples that were dropped instead of accumulated. Sums are f64 on the host
+//! (the CPU methods add every sample in f64); the GPU film keeps double-float sums
+//! (`layout::FilmPixel`), read back here into f64.
 
-use crate::layout::FilmPixel;
+use crate::layout::{FilmPixel, FILM_SQ_SCALE};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PixelStats {
@@ -62,18 +64,20 @@ impl Film {
         Self { width, height, spp, pixels: vec![PixelStats::default(); (width * height) as usize] }
     }
 
-    /// Reads back the GPU film (f32 sums; `sum[3]` counts dropped samples, `sum_sq[3]` rays).
+    /// Reads back the GPU film: each double-float sum as hi + lo in f64 (exact), the squares
+    /// unscaled by [`FILM_SQ_SCALE`] (a power of two: exact).
     pub fn from_gpu(width: u32, height: u32, spp: u32, gpu: &[FilmPixel]) -> Self {
         let pixels = gpu
             .iter()
             .map(|p| {
-                let invalid = p.sum[3] as u32;
+                let join = |hi: [f32; 3], lo: [f32; 3]| std::array::from_fn(|i| hi[i] as f64 + lo[i] as f64);
+                let sum_sq: [f64; 3] = join(p.sum_sq_hi, p.sum_sq_lo);
                 PixelStats {
-                    sum: [p.sum[0], p.sum[1], p.sum[2]].map(f64::from),
-                    sum_sq: [p.sum_sq[0], p.sum_sq[1], p.sum_sq[2]].map(f64::from),
-                    count: spp - invalid,
-                    invalid,
-                    rays: p.sum_sq[3] as u64,
+                    sum: join(p.sum_hi, p.sum_lo),
+                    sum_sq: sum_sq.map(|s| s / FILM_SQ_SCALE),
+                    count: spp - p.invalid,
+                    invalid: p.invalid,
+                    rays: (p.rays_hi as u64) << 32 | p.rays_lo as u64,
                 }
             })
             .collect();

@@ -103,6 +103,24 @@ pub struct FrameUniform {
     /// Emitting primitives in the scene's light list (0: nothing to sample). Whether to sample
     /// them is the `NEE` pipeline constant (`PackedScene::pipeline_constants`).
     pub light_count: u32,
+    /// Σ over the lights of mean radiance × area: the denominator of a light's probability
+    /// under power-proportional choice (`light_table.rs`).
+    pub light_power: f32,
+    pub _pad: [u32; 3],
+}
+
+/// WGSL: `LightEntry` in `shaders/shared/light.wgsl`: one column of the alias table of lights
+/// (`light_table.rs`), in the order of `PackedScene::lights`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct LightEntry {
+    /// The light's primitive slot.
+    pub slot: u32,
+    /// The column whose light is taken when this one's is not kept (its alias; `alias` is a
+    /// WGSL keyword).
+    pub other: u32,
+    /// This column keeps its own light when the second uniform is below this.
+    pub threshold: f32,
 }
 
 /// WGSL: `Dispatch` in `shaders/megakernel.wgsl`: one dispatch's share of the render.
@@ -115,15 +133,30 @@ pub struct DispatchParams {
     pub sample_count: u32,
 }
 
-/// WGSL: `FilmPixel` in `shaders/shared/film.wgsl`: running sums for one pixel. `sum.w` counts
-/// the samples dropped for being NaN or infinite and `sum_sq.w` the rays the pixel's paths traced
-/// (each exact as f32 up to 2^24: 335k samples per pixel at depth 50).
+/// WGSL: `FilmPixel` in `shaders/shared/film.wgsl`: running sums for one pixel, each a
+/// double-float (high part + low part: the rounding error of every addition is kept, so a sum
+/// has about 48 bits however many samples it holds). The squares are summed scaled by
+/// [`FILM_SQ_SCALE`], so they overflow only past samples of about 1.2e24 instead of 1.8e19.
+/// Counters are integers: samples dropped for being NaN or infinite, and rays traced (64 bits).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct FilmPixel {
-    pub sum: [f32; 4],
-    pub sum_sq: [f32; 4],
+    pub sum_hi: [f32; 3],
+    pub invalid: u32,
+    pub sum_lo: [f32; 3],
+    pub rays_lo: u32,
+    pub sum_sq_hi: [f32; 3],
+    pub rays_hi: u32,
+    pub sum_sq_lo: [f32; 3],
+    /// Always 0: the accumulate pass hides its compensated sums' intermediate values behind it
+    /// (`opaque` in film.wgsl), so that the shader compiler cannot simplify them away.
+    pub zero: u32,
 }
+
+/// The film sums each sample's square times this (2^-32; `FILM_SQ_SCALE` in film.wgsl): an exact
+/// power of two, so nothing is rounded, and squares of samples below about 7e-15 become
+/// subnormal while those up to about 1.2e24 stay finite.
+pub const FILM_SQ_SCALE: f64 = 1.0 / 4294967296.0;
 
 /// WGSL: `Wave` in `shaders/shared/path_state.wgsl`: the wavefront's knobs for a render.
 #[repr(C)]

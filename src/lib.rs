@@ -14,6 +14,8 @@ pub mod gpu;
 pub mod image_io;
 pub mod input_error;
 pub mod layout;
+pub mod light_options;
+pub mod light_table;
 pub mod method;
 pub mod metrics;
 pub mod packed_scene;

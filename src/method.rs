@@ -10,6 +10,7 @@ use crate::gpu::timing::{Measure, Timing, Timings};
 use crate::gpu::wavefront::{self, QueueHistogram, ScheduleStats, WavefrontOptions};
 use crate::gpu::GpuContext;
 use crate::gpu::GpuRender;
+use crate::light_options::LightOptions;
 use crate::packed_scene::PackedScene;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
@@ -48,6 +49,10 @@ impl Method {
 /// Per-method knobs; methods ignore the ones that are not theirs.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct MethodOptions {
+    /// How next-event estimation samples the lights: every method's knobs, with the same meaning
+    /// on each.
+    #[serde(flatten)]
+    pub lights: LightOptions,
     pub megakernel: MegakernelOptions,
     pub wavefront: WavefrontOptions,
     /// Count SIMD efficiency with subgroup operations (GPU methods; not for timing runs).
@@ -111,7 +116,7 @@ pub fn render(
     on_progress: &(dyn Fn(u64) + Sync),
 ) -> Result<RenderOutput> {
     settings.validate().map_err(anyhow::Error::msg)?;
-    let packed = PackedScene::new(scene, settings.accel);
+    let packed = PackedScene::new(scene, settings.accel).with_light_options(options.lights);
     let camera = CameraFrame::new(&scene.camera, settings.width, settings.height);
     let start = Instant::now();
     match method {

@@ -1,13 +1,16 @@
 //! A scene flattened for rendering: primitives (spheres, quads, triangles) in BVH order, material
 //! records, BVH nodes and the list of lights. Every method (CPU reference, megakernel, wavefront)
-//! renders from one `PackedScene`, so they traverse identical data.
+//! renders from one `PackedScene`, so they traverse identical data, and samples its lights the
+//! same way (`light_options`, the alias table `light_table`).
 
 use crate::bvh::{Aabb, Bvh};
 use crate::camera::CameraFrame;
 use crate::layout::{
-    background_kind, material_kind, primitive_kind, texture_kind, BvhNode, FrameUniform, MaterialRecord,
-    PrimitiveRecord,
+    background_kind, material_kind, primitive_kind, texture_kind, BvhNode, FrameUniform, LightEntry,
+    MaterialRecord, PrimitiveRecord,
 };
+use crate::light_options::{LightOptions, LightSampling, LightSelect};
+use crate::light_table;
 use crate::scene::{Background, Material, Scene, Texture};
 use crate::settings::{Accel, RenderSettings};
 use glam::Vec3;
@@ -19,8 +22,17 @@ pub struct PackedScene {
     pub materials: Vec<MaterialRecord>,
     pub nodes: Vec<BvhNode>,
     /// Slots in `primitives` of the emitters with non-zero radiance, ascending: what next-event
-    /// estimation picks from (uniformly).
+    /// estimation picks from.
     pub lights: Vec<u32>,
+    /// The alias table over `lights` (same order) for power-proportional choice, or the uniform
+    /// table where the lights' power does not add up to a positive finite f32 (then the choice
+    /// is uniform whatever `light_options` says: see [`PackedScene::light_select`]).
+    pub light_table: Vec<LightEntry>,
+    /// Σ mean radiance × area over `lights`, rounded to f32 as every method reads it (0 with the
+    /// uniform table).
+    pub light_power: f32,
+    /// How next-event estimation samples the lights (`--light-sampling`, `--light-select`).
+    pub light_options: LightOptions,
     pub background: Background,
 }
 
@@ -40,8 +52,33 @@ impl PackedScene {
                 let m = &materials[primitives[i as usize].material as usize];
                 m.kind == material_kind::EMISSIVE && m.color.iter().any(|&c| c > 0.0)
             })
-            .collect();
-        PackedScene { primitives, materials, nodes: bvh.nodes, lights, background: scene.background.clone() }
+            .collect::<Vec<u32>>();
+        let (light_table, light_power) = light_distribution(&primitives, &materials, &lights);
+        PackedScene {
+            primitives,
+            materials,
+            nodes: bvh.nodes,
+            lights,
+            light_table,
+            light_power,
+            light_options: LightOptions::default(),
+            background: scene.background.clone(),
+        }
+    }
+
+    /// The scene with next-event estimation sampling its lights as `options` says.
+    pub fn with_light_options(mut self, options: LightOptions) -> Self {
+        self.light_options = options;
+        self
+    }
+
+    /// The light choice in force: power-proportional only where the scene's lights have a
+    /// positive finite total power (otherwise no such choice exists), uniform otherwise.
+    pub fn light_select(&self) -> LightSelect {
+        match self.light_options.select {
+            LightSelect::Power if self.light_power > 0.0 => LightSelect::Power,
+            _ => LightSelect::Uniform,
+        }
     }
 
     /// The material of the primitive in `slot`.
@@ -65,16 +102,25 @@ impl PackedScene {
     }
 
     /// The pipeline constants every pass that binds the scene takes, besides its own:
-    /// `PRIM_KINDS`, and `NEE` (next-event estimation on, in a scene with lights). As
-    /// constants rather than uniforms so that the compiler drops the code a render does not use.
-    pub fn pipeline_constants(&self, settings: &RenderSettings) -> [(&'static str, f64); 2] {
+    /// `PRIM_KINDS`, `NEE` (next-event estimation on, in a scene with lights), and how NEE
+    /// samples: `LIGHT_SOLID_ANGLE` (spheres by the cone they subtend) and `LIGHT_POWER`
+    /// (choice by power). As constants rather than uniforms so that the compiler drops the code
+    /// a render does not use.
+    pub fn pipeline_constants(&self, settings: &RenderSettings) -> [(&'static str, f64); 4] {
         // An empty scene still needs a valid mask; any kind will do.
         let kinds = match self.primitive_kinds() {
             0 => 1,
             k => k,
         };
         let nee = settings.nee && !self.lights.is_empty();
-        [("PRIM_KINDS", kinds as f64), ("NEE", nee as u32 as f64)]
+        let solid_angle = self.light_options.sampling == LightSampling::SolidAngle;
+        let power = self.light_select() == LightSelect::Power;
+        [
+            ("PRIM_KINDS", kinds as f64),
+            ("NEE", nee as u32 as f64),
+            ("LIGHT_SOLID_ANGLE", solid_angle as u32 as f64),
+            ("LIGHT_POWER", power as u32 as f64),
+        ]
     }
 
     /// Primitives in the largest BVH leaf (all of them with `--accel none`).
@@ -123,7 +169,30 @@ impl PackedScene {
             background_kind,
             background_color,
             light_count: self.lights.len() as u32,
+            light_power: self.light_power,
+            _pad: [0; 3],
         }
+    }
+}
+
+/// The alias table over `lights` by emitted power, and the total power as f32; the uniform
+/// table and 0 where the total is not a positive finite f32.
+fn light_distribution(
+    primitives: &[PrimitiveRecord],
+    materials: &[MaterialRecord],
+    lights: &[u32],
+) -> (Vec<LightEntry>, f32) {
+    let weights: Vec<f64> = lights
+        .iter()
+        .map(|&slot| {
+            let p = &primitives[slot as usize];
+            light_table::power(materials[p.material as usize].color, crate::cpu::primitive::area::<f64>(p))
+        })
+        .collect();
+    let total = weights.iter().sum::<f64>() as f32;
+    match light_table::alias_table(lights, &weights) {
+        Some(table) if total > 0.0 && total.is_finite() => (table, total),
+        _ => (light_table::uniform_table(lights), 0.0),
     }
 }
 

@@ -170,6 +170,8 @@ impl RunReport {
             ("max_depth", s.max_depth.to_string()),
             ("seed", s.seed.to_string()),
             ("nee", if s.nee { "on" } else { "off" }.to_string()),
+            ("light_sampling", self.options.lights.sampling.name().to_string()),
+            ("light_select", self.options.lights.select.name().to_string()),
             ("render_time_s", format!("{:.6}", self.wall_seconds)),
             ("git_commit", self.build.git_commit.to_string()),
         ]

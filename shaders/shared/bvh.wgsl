@@ -41,17 +41,19 @@ fn hit_box(n: BvhNode, o: vec3<f32>, inv: vec3<f32>, t_min: f32, t_max: f32) -> 
 
 // The nearest hit in (t_min, ∞).
 fn closest_hit(ray: Ray, t_min: f32) -> Hit {
-    return traverse(ray, t_min, 3.4028235e38, false);
+    return traverse(ray, t_min, 3.4028235e38, false, NO_HIT);
 }
 
-// Whether anything lies on the ray in (t_min, t_max): the shadow-ray query.
-fn occluded(ray: Ray, t_min: f32, t_max: f32) -> bool {
-    return traverse(ray, t_min, t_max, true).prim != NO_HIT;
+// Whether any primitive but the one in slot `skip` (the light a shadow ray aims at) lies on the
+// ray in (t_min, t_max): the shadow-ray query.
+fn occluded(ray: Ray, t_min: f32, t_max: f32, skip: u32) -> bool {
+    return traverse(ray, t_min, t_max, true, skip).prim != NO_HIT;
 }
 
 // The one traversal loop: nearer child first, the farther on the stack. `any_hit` returns the
-// first hit found in (t_min, t_max) instead of the nearest.
-fn traverse(ray: Ray, t_min: f32, t_max: f32, any_hit: bool) -> Hit {
+// first hit found in (t_min, t_max) instead of the nearest; the primitive in slot `skip` is not
+// tested.
+fn traverse(ray: Ray, t_min: f32, t_max: f32, any_hit: bool, skip: u32) -> Hit {
     let inv = safe_inverse(ray.dir);
     var closest = t_max;
     var hit = Hit(0.0, NO_HIT);
@@ -65,6 +67,9 @@ fn traverse(ray: Ray, t_min: f32, t_max: f32, any_hit: bool) -> Hit {
         let n = nodes[current];
         if n.count > 0u {
             for (var slot = n.left_or_first; slot < n.left_or_first + n.count; slot++) {
+                if slot == skip {
+                    continue;
+                }
                 let t = hit_primitive(slot, ray, t_min, closest);
                 if t >= 0.0 {
                     closest = t;

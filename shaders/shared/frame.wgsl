@@ -19,4 +19,6 @@ struct Frame {
     background_color: vec3<f32>,
     // Emitting primitives in `lights`.
     light_count: u32,
+    // Σ mean radiance × area over the lights (power-proportional choice).
+    light_power: f32,
 }

@@ -42,7 +42,7 @@ fn trace_bounce(path: ptr<function, TracedPath>, pixel: u32, sample: u32, bounce
     if material.kind == MATERIAL_EMISSIVE {
         var w = 1.0;
         if (*path).bsdf_pdf > 0.0 {
-            w = emission_weight(hit.prim, p, ray.dir, hit.t, (*path).bsdf_pdf);
+            w = emission_weight(hit.prim, ray.origin, p, ray.dir, hit.t, (*path).bsdf_pdf);
         }
         (*path).radiance += throughput * material.color * w;
         return false;
@@ -64,7 +64,7 @@ fn trace_bounce(path: ptr<function, TracedPath>, pixel: u32, sample: u32, bounce
         if shadow.ok {
             instrument(PASS_MEGAKERNEL_SHADOW);
             (*path).rays += 1u;
-            if !occluded(shadow.ray, T_MIN, shadow.t_max) {
+            if !occluded(shadow.ray, T_MIN, shadow.t_max, shadow.light) {
                 (*path).radiance += throughput * s.attenuation * shadow.weight;
             }
         }

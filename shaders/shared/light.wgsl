@@ -1,18 +1,36 @@
 // Next-event estimation: a point sampled on an emitter and the shadow ray to it; twin of
-// src/cpu/light.rs. A light is picked uniformly from `lights`, a point on it uniformly by area;
-// emitters shine from both sides. The shadow ray and the diffuse bounce that may find the same
-// light are combined by MIS (power heuristic). Needs the scene bindings (shared/scene.wgsl).
+// src/cpu/light.rs. A light is chosen from the alias table `lights` (uniformly, or by power), a
+// point on it by area, or on a sphere seen from outside by the cone it subtends; emitters shine
+// from both sides. Densities are per unit solid angle at the shading point, light choice
+// included. The shadow ray and the diffuse bounce that may find the same light are combined by
+// MIS (power heuristic). Needs the scene bindings (shared/scene.wgsl).
 
 // Next-event estimation on, in a scene with lights (set per pipeline: off, its code is dropped).
 override NEE: bool = false;
+// --light-sampling solid-angle: spheres seen from outside sampled by the cone they subtend.
+override LIGHT_SOLID_ANGLE: bool = true;
+// --light-select power, in a scene whose lights have a positive total power.
+override LIGHT_POWER: bool = true;
 
-// A shadow ray stops this fraction of the distance short of the light (SHADOW_SHORTEN in Rust).
-const SHADOW_SHORTEN: f32 = 1e-4;
+// One column of the alias table (LightEntry in src/layout.rs; src/light_table.rs builds it).
+struct LightEntry {
+    slot: u32,
+    other: u32,
+    threshold: f32,
+}
+
+struct LightSample {
+    point: vec3<f32>,
+    normal: vec3<f32>,
+    pdf: f32,
+    slot: u32,
+}
 
 struct ShadowRay {
     ray: Ray,
-    // Unblocked when nothing is hit in (T_MIN, t_max).
+    // The light point's distance: unblocked when no primitive but `light` lies in (T_MIN, t_max).
     t_max: f32,
+    light: u32,
     // Light radiance × cos at the surface / π / solid-angle density × MIS weight: times
     // throughput and albedo it is the diffuse direct-light estimate.
     weight: vec3<f32>,
@@ -20,12 +38,59 @@ struct ShadowRay {
     ok: bool,
 }
 
-// The area density of a point sampled on `light`: uniform light choice, then uniform by area.
-fn light_pdf_area(light: Primitive) -> f32 {
-    return 1.0 / (f32(frame.light_count) * primitive_area(light));
+// The slot of the light chosen by u0 (column) and u3 (keep its light or take its alias).
+fn choose_light(u0: f32, u3: f32) -> u32 {
+    let n = frame.light_count;
+    var i = min(u32(u0 * f32(n)), n - 1u);
+    if LIGHT_POWER && u3 >= lights[i].threshold {
+        i = lights[i].other;
+    }
+    return lights[i].slot;
 }
 
-// Power-heuristic weight of density `a` against `b` (both times the same positive factor).
+// Probability that choose_light picks `light`: 1/n, or its share of the scene's power.
+fn light_pmf(light: Primitive) -> f32 {
+    if LIGHT_POWER {
+        let c = materials[light.material].color;
+        let mean = (c.x + c.y + c.z) / 3.0;
+        return mean * primitive_area(light) / frame.light_power;
+    }
+    return 1.0 / f32(frame.light_count);
+}
+
+// Solid-angle density at `x` of direction `dir` to `point` on `light` at squared distance
+// `dist2`, as sample_light samples it.
+fn light_pdf(light: Primitive, x: vec3<f32>, point: vec3<f32>, dir: vec3<f32>, dist2: f32) -> f32 {
+    let pmf = light_pmf(light);
+    if LIGHT_SOLID_ANGLE && light.kind == PRIM_SPHERE {
+        let c = sphere_cone(light, x);
+        if c.ok {
+            return pmf / cone_solid_angle(c);
+        }
+    }
+    let cos_light = abs(dot(outward_normal(light, point), dir));
+    return pmf / primitive_area(light) * dist2 / cos_light;
+}
+
+// A light (u.x, u.w) and a point on it (u.y, u.z) for the shading point `x`; needs lights.
+fn sample_light(x: vec3<f32>, u: vec4<f32>) -> LightSample {
+    let slot = choose_light(u.x, u.w);
+    let light = primitives[slot];
+    if LIGHT_SOLID_ANGLE && light.kind == PRIM_SPHERE {
+        let c = sphere_cone(light, x);
+        if c.ok {
+            let s = sample_cone(light, c, u.y, u.z);
+            return LightSample(s[0], s[1], light_pmf(light) / cone_solid_angle(c), slot);
+        }
+    }
+    let point = sample_point(light, u.y, u.z);
+    let to = point - x;
+    let dist2 = dot(to, to);
+    let pdf = light_pdf(light, x, point, to / sqrt(dist2), dist2);
+    return LightSample(point, outward_normal(light, point), pdf, slot);
+}
+
+// Power-heuristic weight of density `a` against `b`.
 fn power_heuristic(a: f32, b: f32) -> f32 {
     let a2 = a * a;
     let b2 = b * b;
@@ -40,26 +105,19 @@ fn diffuse_pdf(cos: f32) -> f32 {
     return max(cos, 0.0) / PI;
 }
 
-// MIS weight of emission from the light in `slot`, found at distance `dist` along unit `dir` by
-// a diffuse bounce whose density for `dir` was `bsdf_pdf`.
-fn emission_weight(slot: u32, point: vec3<f32>, dir: vec3<f32>, dist: f32, bsdf_pdf: f32) -> f32 {
-    let light = primitives[slot];
-    let cos_light = abs(dot(outward_normal(light, point), dir));
-    return power_heuristic(bsdf_pdf * cos_light, light_pdf_area(light) * dist * dist);
+// MIS weight of emission from the light in `slot`, found from `origin` at distance `dist` along
+// unit `dir` (at `point`) by a diffuse bounce whose density for `dir` was `bsdf_pdf`.
+fn emission_weight(slot: u32, origin: vec3<f32>, point: vec3<f32>, dir: vec3<f32>, dist: f32, bsdf_pdf: f32) -> f32 {
+    return power_heuristic(bsdf_pdf, light_pdf(primitives[slot], origin, point, dir, dist * dist));
 }
 
 fn next_event(p: vec3<f32>, normal: vec3<f32>, u: vec4<f32>) -> ShadowRay {
-    let none = ShadowRay(Ray(p, normal), 0.0, vec3<f32>(0.0), false);
-    let n = frame.light_count;
-    if n == 0u {
+    let none = ShadowRay(Ray(p, normal), 0.0, NO_HIT, vec3<f32>(0.0), false);
+    if frame.light_count == 0u {
         return none;
     }
-    let slot = lights[min(u32(u.x * f32(n)), n - 1u)];
-    let light = primitives[slot];
-    let point = sample_point(light, u.y, u.z);
-    let light_normal = outward_normal(light, point);
-    let pdf_area = light_pdf_area(light);
-    let to = point - p;
+    let l = sample_light(p, u);
+    let to = l.point - p;
     let dist2 = dot(to, to);
     let dist = sqrt(dist2);
     if !(dist > 0.0) {
@@ -67,12 +125,18 @@ fn next_event(p: vec3<f32>, normal: vec3<f32>, u: vec4<f32>) -> ShadowRay {
     }
     let dir = to / dist;
     let cos_surface = dot(normal, dir);
-    let cos_light = abs(dot(light_normal, dir));
-    if !(cos_surface > 0.0 && cos_light > 0.0) {
+    let facing = dot(l.normal, dir);
+    if !(cos_surface > 0.0 && abs(facing) > 0.0 && l.pdf > 0.0 && l.pdf <= 3.4028235e38) {
+        return none;
+    }
+    // The light's own surface, decided as closest_hit decides it: from outside a sphere the ray
+    // meets the near side first, so a point facing away is hidden by the sphere.
+    let light = primitives[l.slot];
+    if light.kind == PRIM_SPHERE && facing > 0.0 && sphere_cone(light, p).ok {
         return none;
     }
     let radiance = materials[light.material].color;
-    let mis = power_heuristic(pdf_area * dist2, diffuse_pdf(cos_surface) * cos_light);
-    let weight = radiance * (mis * cos_surface * cos_light / (dist2 * pdf_area * PI));
-    return ShadowRay(Ray(p, dir), dist * (1.0 - SHADOW_SHORTEN), weight, true);
+    let mis = power_heuristic(l.pdf, diffuse_pdf(cos_surface));
+    let weight = radiance * (mis * cos_surface / (l.pdf * PI));
+    return ShadowRay(Ray(p, dir), dist, l.slot, weight, true);
 }

@@ -74,7 +74,8 @@ struct Wave {
 @group(1) @binding(11) var<storage, read_write> scan_slot: array<u32>;
 // The pending shadow ray (--nee on), from path_origin.xyz: xyz direction, w its t_max.
 @group(1) @binding(12) var<storage, read_write> shadow_ray: array<vec4<f32>>;
-// rgb: what it adds to the radiance if unblocked; w: 1 while it is pending.
+// rgb: what it adds to the radiance if unblocked; w: the bits of its light's slot + 1 while it
+// is pending (which the shadow ray skips), 0 otherwise.
 @group(1) @binding(13) var<storage, read_write> shadow_weight: array<vec4<f32>>;
 // (regenerate) x: the sample the slot traces (index l in the chunk); y: its bounce.
 @group(1) @binding(14) var<storage, read_write> path_sample: array<vec2<u32>>;

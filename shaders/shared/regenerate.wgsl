@@ -18,24 +18,24 @@
 @group(1) @binding(0) var<storage, read_write> samples: array<vec4<f32>>;
 @group(1) @binding(1) var<uniform> dispatch: Dispatch;
 // [WORK_NEXT]: the dispatch's next sample index, zeroed before each dispatch; [WORK_FINISHED]:
-// samples written over the render, which the host checks against the samples asked for;
-// [WORK_CUT]: threads whose loop ended without running out of work, which only a driver's loop
-// cap does (llvmpipe ends an invocation's loops after 65535 trips and says nothing).
-@group(1) @binding(2) var<storage, read_write> work: array<atomic<u32>, 3>;
+// samples written, which the host checks against the samples asked for; [WORK_CUT]: threads
+// whose loop ended without running out of work, which only a driver's loop cap does (llvmpipe
+// ends an invocation's loops after 65535 trips and says nothing); [WORK_PATHS_PER_THREAD]: most
+// paths one thread starts per launch, set by the host (no limit but where loops are capped).
+@group(1) @binding(2) var<storage, read_write> work: array<atomic<u32>, 4>;
 
 const WORK_NEXT: u32 = 0u;
 const WORK_FINISHED: u32 = 1u;
 const WORK_CUT: u32 = 2u;
+const WORK_PATHS_PER_THREAD: u32 = 3u;
 const NO_SAMPLE: u32 = 0xffffffffu;
 
 override WORKGROUP_SIZE: u32 = 64u;
-// Most paths one thread starts in one dispatch: llvmpipe ends a subgroup's loops after 65535
-// iterations in total, so there the host bounds each thread's share (src/gpu/megakernel.rs).
-override PATHS_PER_THREAD: u32 = 0xffffffffu;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn megakernel_regenerate() {
     let n = dispatch.pixel_count * dispatch.sample_count;
+    let paths_per_thread = atomicLoad(&work[WORK_PATHS_PER_THREAD]);
     var path = TracedPath(Ray(vec3<f32>(0.0), vec3<f32>(0.0)), vec3<f32>(0.0), vec3<f32>(0.0), 0u, 0.0);
     var index = NO_SAMPLE;
     var pixel = 0u;
@@ -47,7 +47,7 @@ fn megakernel_regenerate() {
     var out_of_work = false;
     loop {
         if !live {
-            index = take_sample(taken < PATHS_PER_THREAD);
+            index = take_sample(taken < paths_per_thread);
             if index >= n {
                 out_of_work = true;
                 break;

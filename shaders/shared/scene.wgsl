@@ -10,8 +10,9 @@
 @group(0) @binding(1) var<storage, read> primitives: array<Primitive>;
 @group(0) @binding(2) var<storage, read> materials: array<Material>;
 @group(0) @binding(3) var<storage, read> nodes: array<BvhNode>;
-// Slots of the emitting primitives (one unused entry when there are none: frame.light_count).
-@group(0) @binding(4) var<storage, read> lights: array<u32>;
+// The alias table of the emitting primitives (one unused entry when there are none:
+// frame.light_count); shared/light.wgsl.
+@group(0) @binding(4) var<storage, read> lights: array<LightEntry>;
 
 #include "shared/bvh.wgsl"
 #include "shared/light.wgsl"

@@ -45,7 +45,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         // MIS-weighted when the previous hit sampled the lights (state.w: its bounce density).
         var w = 1.0;
         if state.w > 0.0 {
-            w = emission_weight(prim_slot, p, ray.dir, o.w, state.w);
+            w = emission_weight(prim_slot, ray.origin, p, ray.dir, o.w, state.w);
         }
         radiance[slot] += vec4<f32>(throughput * material.color * w, 0.0);
         path_dir[slot].w = bitcast<f32>(DEAD);
@@ -76,7 +76,8 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         let shadow = next_event(p, normal, u_light);
         if shadow.ok {
             shadow_ray[slot] = vec4<f32>(shadow.ray.dir, shadow.t_max);
-            shadow_weight[slot] = vec4<f32>(throughput * s.attenuation * shadow.weight, 1.0);
+            // w: the light's slot + 1 (0: no shadow ray pending), as bits.
+            shadow_weight[slot] = vec4<f32>(throughput * s.attenuation * shadow.weight, bitcast<f32>(shadow.light + 1u));
             enqueue_shadow(slot);
         }
     }

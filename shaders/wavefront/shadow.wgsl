@@ -17,13 +17,15 @@ fn shadow(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let w = shadow_weight[slot];
-    if w.w == 0.0 {
+    // w holds the bits of the light's slot + 1 (compared as bits: as a float it is subnormal).
+    let light = bitcast<u32>(w.w);
+    if light == 0u {
         return; // only without compaction: no shadow ray pending at this slot
     }
     instrument(PASS_SHADOW);
     let r = shadow_ray[slot];
     var add = vec4<f32>(0.0, 0.0, 0.0, 1.0); // one more ray traced
-    if !occluded(Ray(path_origin[slot].xyz, r.xyz), T_MIN, r.w) {
+    if !occluded(Ray(path_origin[slot].xyz, r.xyz), T_MIN, r.w, light - 1u) {
         add += vec4<f32>(w.xyz, 0.0);
     }
     radiance[slot] += add;

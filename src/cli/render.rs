@@ -7,6 +7,7 @@ use crate::gpu::timing::{TimeSource, Timing, Timings};
 use crate::gpu::wavefront::{Compaction, Scan, Schedule, ShadePasses, Tail, WavefrontOptions};
 use crate::gpu::GpuContext;
 use crate::image_io::{self, RgbImage};
+use crate::light_options::{LightOptions, LightSampling, LightSelect};
 use crate::method::{self, Method, MethodOptions};
 use crate::progress::Progress;
 use crate::report::RunReport;
@@ -23,6 +24,7 @@ Examples:
   wavetrace render --scene furnace --method megakernel --accel none --out f.exr --report f.json
   wavetrace render --scene cornell --method wavefront --nee on --width 300 --height 300 --spp 64 \
       --out cornell.exr --png cornell.png
+  wavetrace render --scene two-lights --method cpu --nee on --light-select uniform --out before.exr
   wavetrace render --scene rtiow-final --method megakernel --schedule regenerate --instrument \
       --out regen.exr --report regen.json   # persistent threads: SIMD efficiency, memory";
 
@@ -55,6 +57,16 @@ pub struct RenderArgs {
     /// to the same image.
     #[arg(long, value_enum, default_value_t = OnOff::Off)]
     pub nee: OnOff,
+    /// With --nee on: how a point is sampled on the chosen light. `solid-angle` samples a sphere
+    /// seen from outside uniformly over the cone it subtends (none of its samples land on the
+    /// hidden far side); `area`, uniformly by area (the earlier behaviour). Quads and triangles
+    /// are sampled by area either way.
+    #[arg(long, value_enum, default_value_t = LightSampling::SolidAngle)]
+    pub light_sampling: LightSampling,
+    /// With --nee on: how the light is chosen: in proportion to its emitted power (mean radiance
+    /// × area), or `uniform`ly per emitting primitive (the earlier behaviour).
+    #[arg(long, value_enum, default_value_t = LightSelect::Power)]
+    pub light_select: LightSelect,
     /// Output EXR (linear RGB, f32).
     #[arg(long)]
     pub out: PathBuf,
@@ -154,6 +166,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         (OnOff::On, CompactionMethod::Scan) => Compaction::Scan,
     };
     let options = MethodOptions {
+        lights: LightOptions { sampling: a.light_sampling, select: a.light_select },
         megakernel: MegakernelOptions {
             workgroup_size: a.workgroup_size,
             samples_per_dispatch: a.samples_per_dispatch,

@@ -49,10 +49,14 @@ pub fn closest_hit<T: Real>(
     ray: &Ray<T>,
     t_min: T,
 ) -> Option<Hit<T>> {
-    traverse(nodes, prims, ray, t_min, T::infinity(), false)
+    traverse(nodes, prims, ray, t_min, T::infinity(), false, NO_SKIP)
 }
 
-/// Whether anything lies on the ray in (t_min, t_max): the shadow-ray query.
+/// No primitive skipped (`traverse`'s `skip`).
+const NO_SKIP: u32 = u32::MAX;
+
+/// Whether any primitive but the one in slot `skip` (the light a shadow ray aims at) lies on the
+/// ray in (t_min, t_max): the shadow-ray query.
 #[inline(always)]
 pub fn occluded<T: Real>(
     nodes: &[BvhNode],
@@ -60,12 +64,14 @@ pub fn occluded<T: Real>(
     ray: &Ray<T>,
     t_min: T,
     t_max: T,
+    skip: u32,
 ) -> bool {
-    traverse(nodes, prims, ray, t_min, t_max, true).is_some()
+    traverse(nodes, prims, ray, t_min, t_max, true, skip).is_some()
 }
 
 /// The one traversal loop: nearer child first, the farther on the stack. `any_hit` returns the
-/// first hit found in (t_min, t_max) instead of the nearest.
+/// first hit found in (t_min, t_max) instead of the nearest; the primitive in slot `skip` is not
+/// tested.
 #[inline(always)]
 fn traverse<T: Real>(
     nodes: &[BvhNode],
@@ -74,6 +80,7 @@ fn traverse<T: Real>(
     t_min: T,
     t_max: T,
     any_hit: bool,
+    skip: u32,
 ) -> Option<Hit<T>> {
     let inv = safe_inverse(ray.dir);
     let mut closest = t_max;
@@ -86,6 +93,9 @@ fn traverse<T: Real>(
         let n = &nodes[current as usize];
         if n.count > 0 {
             for slot in n.left_or_first..n.left_or_first + n.count {
+                if slot == skip {
+                    continue;
+                }
                 if let Some(t) = hit_primitive(&prims[slot as usize], ray, t_min, closest) {
                     closest = t;
                     hit = Some(Hit { t, prim: slot });
@@ -170,10 +180,15 @@ mod tests {
             let b = closest_hit(&linear.nodes, &linear.primitives, &ray, 1e-3f32);
             if let Some(a) = a {
                 // Any-hit agrees: something before the closest hit's far side, nothing before it.
-                assert!(occluded(&bvh.nodes, &bvh.primitives, &ray, 1e-3, a.t * 1.001), "ray {i}");
-                assert!(!occluded(&bvh.nodes, &bvh.primitives, &ray, 1e-3, a.t * 0.999), "ray {i}");
+                assert!(occluded(&bvh.nodes, &bvh.primitives, &ray, 1e-3, a.t * 1.001, u32::MAX), "ray {i}");
+                assert!(!occluded(&bvh.nodes, &bvh.primitives, &ray, 1e-3, a.t * 0.999, u32::MAX), "ray {i}");
+                // Skipping the primitive hit, nothing lies before it.
+                assert!(!occluded(&bvh.nodes, &bvh.primitives, &ray, 1e-3, a.t, a.prim), "ray {i}");
             } else {
-                assert!(!occluded(&bvh.nodes, &bvh.primitives, &ray, 1e-3, f32::INFINITY), "ray {i}");
+                assert!(
+                    !occluded(&bvh.nodes, &bvh.primitives, &ray, 1e-3, f32::INFINITY, u32::MAX),
+                    "ray {i}"
+                );
             }
             match (a, b) {
                 (Some(a), Some(b)) => {

@@ -47,7 +47,8 @@ pub fn trace_path<T: Real>(
         let material = &scene.materials[prim.material as usize];
         let p = ray.at(hit.t);
         if material.kind == material_kind::EMISSIVE {
-            let w = bsdf_pdf.map_or(T::one(), |pdf| emission_weight(scene, hit.prim, p, ray.dir, hit.t, pdf));
+            let w = bsdf_pdf
+                .map_or(T::one(), |pdf| emission_weight(scene, hit.prim, ray.origin, p, ray.dir, hit.t, pdf));
             radiance = radiance + throughput.mul_elem(V3::of(material.color)) * w;
             return PathSample { radiance, rays };
         }
@@ -69,7 +70,8 @@ pub fn trace_path<T: Real>(
             if let Some(shadow) = next_event(scene, p, normal, u) {
                 rays += 1;
                 let t_min = T::of(T_MIN);
-                if !occluded(&scene.nodes, &scene.primitives, &shadow.ray, t_min, shadow.t_max) {
+                if !occluded(&scene.nodes, &scene.primitives, &shadow.ray, t_min, shadow.t_max, shadow.light)
+                {
                     radiance = radiance + throughput.mul_elem(s.attenuation).mul_elem(shadow.weight);
                 }
             }

@@ -19,3 +19,13 @@ pub fn in_unit_disk<T: Real>(u1: f32, u2: f32) -> (T, T) {
     let phi = T::of(2.0) * T::PI() * T::of(u2);
     (r * phi.cos(), r * phi.sin())
 }
+
+/// Two unit vectors completing the unit vector `n` to an orthonormal frame, without branches on
+/// the angle (Duff et al., "Building an Orthonormal Basis, Revisited", JCGT 2017).
+#[inline(always)]
+pub fn orthonormal_basis<T: Real>(n: V3<T>) -> (V3<T>, V3<T>) {
+    let sign = if n.z >= T::zero() { T::one() } else { -T::one() };
+    let a = -T::one() / (sign + n.z);
+    let b = n.x * n.y * a;
+    (V3::new(T::one() + sign * n.x * n.x * a, sign * b, -sign * n.x), V3::new(b, sign + n.y * n.y * a, -n.y))
+}

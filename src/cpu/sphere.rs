@@ -1,9 +1,11 @@
-//! Ray–sphere intersection; twin of `shaders/shared/sphere.wgsl`.
+//! Ray–sphere intersection, and sampling a sphere by the cone it subtends; twin of
+//! `shaders/shared/sphere.wgsl`.
 //!
 //! The discriminant is computed as r² − |f − (f·d)d|² (Ray Tracing Gems ch. 7, "Precision
 //! Improvements for Ray/Sphere Intersection") and the near root as c/q, which keeps f32 hits on
 //! the book's radius-1000 ground sphere accurate where the textbook b² − 4ac form loses them.
 
+use super::sampling::orthonormal_basis;
 use super::{ray::Ray, real::Real, vec3::V3};
 use crate::layout::PrimitiveRecord;
 
@@ -40,6 +42,61 @@ pub fn hit_sphere<T: Real>(s: &PrimitiveRecord, ray: &Ray<T>, t_min: T, t_max: T
 #[inline(always)]
 pub fn outward_normal<T: Real>(s: &PrimitiveRecord, p: V3<T>) -> V3<T> {
     (p - V3::of(s.a)) / T::of(s.radius)
+}
+
+/// The cone of directions a sphere subtends from a point outside it.
+#[derive(Clone, Copy, Debug)]
+pub struct Cone<T> {
+    /// Unit direction from the point to the centre.
+    pub axis: V3<T>,
+    /// sin² of the half-angle: (radius / distance to the centre)².
+    pub sin2_max: T,
+    /// 1 − cos of the half-angle, as sin²/(1 + cos) (no cancellation for small cones).
+    pub one_minus_cos_max: T,
+}
+
+impl<T: Real> Cone<T> {
+    /// Its solid angle, 2π(1 − cos θmax).
+    #[inline(always)]
+    pub fn solid_angle(&self) -> T {
+        T::of(2.0) * T::PI() * self.one_minus_cos_max
+    }
+}
+
+/// The cone sphere `s` subtends from `x`; `None` when `x` is not outside it.
+#[inline(always)]
+pub fn cone<T: Real>(s: &PrimitiveRecord, x: V3<T>) -> Option<Cone<T>> {
+    let to = V3::of(s.a) - x;
+    let dist2 = to.length_squared();
+    let r = T::of(s.radius);
+    let r2 = r * r;
+    // (Also refuses a NaN distance.)
+    if dist2.partial_cmp(&r2) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
+    let sin2_max = r2 / dist2;
+    let cos_max = (T::one() - sin2_max).max(T::zero()).sqrt();
+    Some(Cone { axis: to / dist2.sqrt(), sin2_max, one_minus_cos_max: sin2_max / (T::one() + cos_max) })
+}
+
+/// The point of sphere `s` (and its outward normal) seen along a direction uniform in the cone
+/// `c` it subtends from the shading point: the first point a ray in that direction meets
+/// (pbrt-v4's `Sphere::Sample`: θ uniform in cos over the cone, then the angle α at the centre
+/// between the shading point and the hit, in closed form).
+#[inline(always)]
+pub fn sample_cone<T: Real>(s: &PrimitiveRecord, c: &Cone<T>, u1: f32, u2: f32) -> (V3<T>, V3<T>) {
+    let (one, two) = (T::one(), T::of(2.0));
+    let one_minus_cos = T::of(u1) * c.one_minus_cos_max;
+    let cos_theta = one - one_minus_cos;
+    let sin2_theta = one_minus_cos * (two - one_minus_cos);
+    let cos_alpha =
+        sin2_theta / c.sin2_max.sqrt() + cos_theta * (one - sin2_theta / c.sin2_max).max(T::zero()).sqrt();
+    let sin_alpha = (one - cos_alpha * cos_alpha).max(T::zero()).sqrt();
+    let phi = two * T::PI() * T::of(u2);
+    let (t, b) = orthonormal_basis(c.axis);
+    // From the centre back towards the shading point, tilted by α.
+    let normal = -(t * (sin_alpha * phi.cos()) + b * (sin_alpha * phi.sin()) + c.axis * cos_alpha);
+    (V3::of(s.a) + normal * T::of(s.radius), normal)
 }
 
 #[cfg(test)]

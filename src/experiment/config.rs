@@ -18,7 +18,7 @@
 //!   "warmup": 1,
 //!   "instrument": false,
 //!   "methods": [
-//!     {"method": "cpu"},
+//!     {"method": "cpu", "light_sampling": ["area", "solid-angle"]},
 //!     {"method": "megakernel", "workgroup_size": [32, 64, 128]},
 //!     {"method": "wavefront", "label": "wf", "compaction": ["atomic", "scan"], "shade": "single"}
 //!   ],
@@ -40,6 +40,7 @@ use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::timing::Timing;
 use crate::gpu::wavefront::{Compaction, Scan, Schedule, ShadePasses, Tail, WavefrontOptions};
 use crate::input_error::InputError;
+use crate::light_options::{LightOptions, LightSampling, LightSelect};
 use crate::method::{Method, MethodOptions};
 use crate::scene::Scene;
 use crate::settings::{Accel, RenderSettings};
@@ -75,6 +76,8 @@ const TIMINGS: &[&str] = &["passes", "frame"];
 
 /// Every method knob a config can set, in the order runs.csv gives them columns.
 pub const KNOBS: &[&str] = &[
+    "light_sampling",
+    "light_select",
     "workgroup_size",
     "samples_per_dispatch",
     "threads",
@@ -88,9 +91,20 @@ pub const KNOBS: &[&str] = &[
     "scan",
     "timing",
 ];
-const MEGAKERNEL_KNOBS: &[&str] =
-    &["workgroup_size", "samples_per_dispatch", "schedule", "threads", "timing"];
+/// Knobs of how next-event estimation samples lights: every method has them.
+const CPU_KNOBS: &[&str] = &["light_sampling", "light_select"];
+const MEGAKERNEL_KNOBS: &[&str] = &[
+    "light_sampling",
+    "light_select",
+    "workgroup_size",
+    "samples_per_dispatch",
+    "schedule",
+    "threads",
+    "timing",
+];
 const WAVEFRONT_KNOBS: &[&str] = &[
+    "light_sampling",
+    "light_select",
     "workgroup_size",
     "pool_size",
     "compaction",
@@ -103,6 +117,8 @@ const WAVEFRONT_KNOBS: &[&str] = &[
     "timing",
 ];
 const SCANS: &[&str] = &["auto", "subgroup", "workgroup"];
+const LIGHT_SAMPLINGS: &[&str] = &["area", "solid-angle"];
+const LIGHT_SELECTS: &[&str] = &["uniform", "power"];
 /// Repetitions and warm-ups above this are almost certainly typos (and would take forever).
 const MAX_REPETITIONS: u32 = 1000;
 
@@ -411,7 +427,7 @@ impl Cx {
         let mpath = join(path, "method");
         let method = self.method(self.field(o, path, "method")?, &mpath)?;
         let knobs: &[&str] = match method {
-            Method::Cpu | Method::CpuF64 => &[],
+            Method::Cpu | Method::CpuF64 => CPU_KNOBS,
             Method::Megakernel => MEGAKERNEL_KNOBS,
             Method::Wavefront => WAVEFRONT_KNOBS,
         };
@@ -437,6 +453,20 @@ impl Cx {
 
         // Each knob: its values (one unless swept), and whether it was swept.
         let opt_path = |k: &str| join(path, k);
+        let light_sampling = self.knob(o, &opt_path("light_sampling"), "light_sampling", |v, p| {
+            Ok(if self.choice(v, p, LIGHT_SAMPLINGS)? == "area" {
+                LightSampling::Area
+            } else {
+                LightSampling::SolidAngle
+            })
+        })?;
+        let light_select = self.knob(o, &opt_path("light_select"), "light_select", |v, p| {
+            Ok(if self.choice(v, p, LIGHT_SELECTS)? == "uniform" {
+                LightSelect::Uniform
+            } else {
+                LightSelect::Power
+            })
+        })?;
         let wg =
             self.knob(o, &opt_path("workgroup_size"), "workgroup_size", |v, p| self.uint32(v, p, 1, 1024))?;
         let spd = self.knob(o, &opt_path("samples_per_dispatch"), "samples_per_dispatch", |v, p| {
@@ -514,6 +544,15 @@ impl Cx {
         let defaults = MethodOptions::default();
         let mut variants = vec![(defaults, vec![label.clone().unwrap_or_else(|| method.name().to_owned())])];
         let labelled = label.is_some();
+        let lights = LightOptions::default();
+        expand(&mut variants, &light_sampling, lights.sampling, labelled, |o, &l| {
+            o.lights.sampling = l;
+            format!("light-sampling={}", l.name())
+        });
+        expand(&mut variants, &light_select, lights.select, labelled, |o, &l| {
+            o.lights.select = l;
+            format!("light-select={}", l.name())
+        });
         expand(&mut variants, &wg, mk.workgroup_size, labelled, |o, &w| {
             o.megakernel.workgroup_size = w;
             o.wavefront.workgroup_size = w;

@@ -236,8 +236,13 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
 fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json::Value {
     use method::Method::*;
     match method {
-        Cpu | CpuF64 => serde_json::json!({}),
+        Cpu | CpuF64 => serde_json::json!({
+            "light_sampling": o.lights.sampling,
+            "light_select": o.lights.select,
+        }),
         Megakernel => serde_json::json!({
+            "light_sampling": o.lights.sampling,
+            "light_select": o.lights.select,
             "workgroup_size": o.megakernel.workgroup_size,
             "samples_per_dispatch": o.megakernel.samples_per_dispatch,
             "schedule": o.megakernel.schedule,
@@ -245,6 +250,8 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
             "timing": o.timing,
         }),
         Wavefront => serde_json::json!({
+            "light_sampling": o.lights.sampling,
+            "light_select": o.lights.select,
             "workgroup_size": o.wavefront.workgroup_size,
             "pool_size": o.wavefront.pool_size,
             "compaction": o.wavefront.compaction,

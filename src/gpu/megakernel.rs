@@ -28,7 +28,7 @@ use super::timing::{GpuTimer, Measure, MAX_PASSES_PER_BATCH};
 use super::{label, shaders};
 use crate::camera::CameraFrame;
 use crate::film::Film;
-use crate::layout::FilmPixel;
+use crate::layout::{DispatchParams, FilmPixel};
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
@@ -53,6 +53,9 @@ pub struct MegakernelOptions {
     pub schedule: Schedule,
     /// `regenerate`: persistent threads per dispatch (None: [`DEFAULT_THREADS`]).
     pub threads: Option<u32>,
+    /// `regenerate` where the driver caps loops (llvmpipe): the paths a thread starts per launch
+    /// at first (None: estimated from the scene, [`paths_per_thread`]); lowered on a cut.
+    pub paths_per_thread: Option<u32>,
 }
 
 impl Default for MegakernelOptions {
@@ -63,6 +66,7 @@ impl Default for MegakernelOptions {
             dispatches_per_submit: 16,
             schedule: Schedule::Waves,
             threads: None,
+            paths_per_thread: None,
         }
     }
 }
@@ -108,7 +112,9 @@ pub fn render(
     let threads =
         regenerate.then(|| persistent_threads(ctx, opts.threads, opts.workgroup_size)).transpose()?;
     // Where the driver caps loops: most paths a persistent thread starts per dispatch.
-    let cap = regenerate.then(|| paths_per_thread(ctx, scene, settings)).flatten();
+    let cap = regenerate
+        .then(|| paths_per_thread(ctx, scene, settings).map(|p| opts.paths_per_thread.unwrap_or(p).max(1)))
+        .flatten();
     let start = Instant::now();
     let mut memory = MemoryLedger::default();
     let frame = scene.frame_uniform(camera, settings);
@@ -143,7 +149,7 @@ pub fn render(
             storage_zeroed(
                 ctx,
                 "work counters",
-                12,
+                16,
                 wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
             )
         })
@@ -178,48 +184,42 @@ pub fn render(
         }
     };
     let module = ctx.shader(pass_label, source)?;
-    let mut constants = vec![("WORKGROUP_SIZE", opts.workgroup_size as f64)];
-    if let Some(cap) = cap {
-        constants.push(("PATHS_PER_THREAD", cap as f64));
-    }
+    let constants = [("WORKGROUP_SIZE", opts.workgroup_size as f64)];
     let stage = Stage::new(ctx, pass_label, &module, &layouts, &scene_buffers.constants(&constants))?;
+    let trace = Trace { stage, scene: &scene_buffers.bind_group, group: &group, simd: simd.as_ref() };
 
     let mut timer = GpuTimer::new(ctx, measure.timing, &mut memory);
-    // Two passes (trace, accumulate) per dispatch.
-    let per_submit = opts.dispatches_per_submit.clamp(1, MAX_PASSES_PER_BATCH / 2) as usize;
-    let mut done = 0u64;
-    for (batch_index, batch) in plan.chunks(per_submit).enumerate() {
-        let mut enc =
-            ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(pass_label) });
-        for (i, d) in batch.iter().enumerate() {
-            let offset = params.offset(batch_index * per_submit + i);
-            let samples = d.pixel_count * d.sample_count;
-            let launched = match threads {
-                None => samples,
-                Some(threads) => {
-                    // The dispatch's next sample starts at 0 (the first word only).
-                    enc.clear_buffer(work.as_ref().expect("regenerating"), 0, Some(4));
-                    threads.min(samples.next_multiple_of(opts.workgroup_size))
-                }
+    let dispatches = match (threads, &work) {
+        (Some(threads), Some(work)) if cap.is_some() => {
+            let mut run = Checked {
+                ctx,
+                trace: &trace,
+                accumulate: &accumulate,
+                work,
+                threads,
+                wg: opts.workgroup_size,
             };
-            let mut groups = vec![(&scene_buffers.bind_group, vec![]), (&group, vec![offset])];
-            groups.extend(simd.as_ref().map(|s| (&s.bind_group, vec![])));
-            stage.record(
-                &mut enc,
-                &mut timer,
-                None,
-                &groups,
-                Workgroups::Direct(launched.div_ceil(opts.workgroup_size)),
-            );
-            accumulate.record(&mut enc, &mut timer, offset, d.pixel_count);
+            run.render(&plan, &params, cap.expect("capped"), &mut timer, on_progress)?
         }
-        timer.submit_batch(ctx, enc)?;
-        done += batch.iter().map(|d| d.pixel_count as u64 * d.sample_count as u64).sum::<u64>();
-        on_progress(done);
-    }
-    if let Some(work) = &work {
-        check_all_finished(ctx, work, settings.sample_count())?;
-    }
+        _ => {
+            if let Some(work) = &work {
+                ctx.queue.write_buffer(work, 4 * WORK_PATHS_PER_THREAD, bytemuck::bytes_of(&u32::MAX));
+            }
+            let batched = Batched {
+                trace: &trace,
+                accumulate: &accumulate,
+                work: work.as_ref(),
+                threads,
+                wg: opts.workgroup_size,
+            };
+            let n =
+                batched.render(ctx, &plan, &params, opts.dispatches_per_submit, &mut timer, on_progress)?;
+            if let Some(work) = &work {
+                check_finished(ctx, work, settings.sample_count())?;
+            }
+            n
+        }
+    };
     memory.transient(film_bytes);
     let data: Vec<FilmPixel> = read_back(ctx, &film, film_bytes)?;
     let film = Film::from_gpu(settings.width, settings.height, settings.spp, &data);
@@ -227,8 +227,8 @@ pub fn render(
     Ok(GpuRender {
         film,
         timings: timer.into_timings(),
-        // A trace and an accumulate pass per dispatch of the plan, none of them empty.
-        dispatches: 2 * plan.len() as u64,
+        // Trace and accumulate passes, none of them empty.
+        dispatches,
         empty_dispatches: Some(0),
         wall_seconds: start.elapsed().as_secs_f64(),
         simd: simd.as_ref().map(|s| s.read(ctx)).transpose()?,
@@ -239,18 +239,165 @@ pub fn render(
     })
 }
 
+/// Words of the regenerating megakernel's `work` buffer (`shaders/shared/regenerate.wgsl`).
+const WORK_FINISHED: usize = 1;
+const WORK_CUT: usize = 2;
+const WORK_PATHS_PER_THREAD: u64 = 3;
+
+/// The trace pass and what it binds.
+struct Trace<'a> {
+    stage: Stage,
+    scene: &'a wgpu::BindGroup,
+    group: &'a wgpu::BindGroup,
+    simd: Option<&'a SimdCounters>,
+}
+
+impl Trace<'_> {
+    fn record(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        timer: &mut GpuTimer,
+        offset: u32,
+        threads: u32,
+        wg: u32,
+    ) {
+        let mut groups = vec![(self.scene, vec![]), (self.group, vec![offset])];
+        groups.extend(self.simd.map(|s| (&s.bind_group, vec![])));
+        self.stage.record(enc, timer, None, &groups, Workgroups::Direct(threads.div_ceil(wg)));
+    }
+}
+
+/// Dispatches recorded in batches, the host waiting only between batches: the naive megakernel
+/// (one thread per sample), and the regenerating one where the driver does not cap loops.
+struct Batched<'a> {
+    trace: &'a Trace<'a>,
+    accumulate: &'a Accumulate,
+    work: Option<&'a wgpu::Buffer>,
+    threads: Option<u32>,
+    wg: u32,
+}
+
+impl Batched<'_> {
+    /// Records and runs the plan; returns the passes dispatched.
+    fn render(
+        &self,
+        ctx: &GpuContext,
+        plan: &[DispatchParams],
+        params: &DispatchUniforms,
+        dispatches_per_submit: u32,
+        timer: &mut GpuTimer,
+        on_progress: &dyn Fn(u64),
+    ) -> Result<u64> {
+        // Two passes (trace, accumulate) per dispatch.
+        let per_submit = dispatches_per_submit.clamp(1, MAX_PASSES_PER_BATCH / 2) as usize;
+        let mut done = 0u64;
+        for (batch_index, batch) in plan.chunks(per_submit).enumerate() {
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            for (i, d) in batch.iter().enumerate() {
+                let offset = params.offset(batch_index * per_submit + i);
+                let samples = d.pixel_count * d.sample_count;
+                let launched = match (self.threads, self.work) {
+                    (Some(threads), Some(work)) => {
+                        // The dispatch's next sample starts at 0 (the first word only).
+                        enc.clear_buffer(work, 0, Some(4));
+                        threads.min(samples.next_multiple_of(self.wg))
+                    }
+                    _ => samples,
+                };
+                self.trace.record(&mut enc, timer, offset, launched, self.wg);
+                self.accumulate.record(&mut enc, timer, offset, d.pixel_count);
+            }
+            timer.submit_batch(ctx, enc)?;
+            done += batch.iter().map(|d| d.pixel_count as u64 * d.sample_count as u64).sum::<u64>();
+            on_progress(done);
+        }
+        Ok(2 * plan.len() as u64)
+    }
+}
+
+/// The regenerating megakernel where the driver caps loops (llvmpipe): each dispatch runs on its
+/// own and is checked before its samples are accumulated. A persistent thread adds up many
+/// paths' loops, and the paths-per-thread estimate can fall short on a scene whose rays visit
+/// many BVH nodes; a dispatch whose threads the driver cut is traced again with a quarter of
+/// the paths per thread (and more launches), so the render still completes, slower.
+struct Checked<'a> {
+    ctx: &'a GpuContext,
+    trace: &'a Trace<'a>,
+    accumulate: &'a Accumulate,
+    work: &'a wgpu::Buffer,
+    threads: u32,
+    wg: u32,
+}
+
+impl Checked<'_> {
+    fn render(
+        &mut self,
+        plan: &[DispatchParams],
+        params: &DispatchUniforms,
+        mut per_thread: u32,
+        timer: &mut GpuTimer,
+        on_progress: &dyn Fn(u64),
+    ) -> Result<u64> {
+        let ctx = self.ctx;
+        let mut dispatches = 0;
+        let mut done = 0u64;
+        for (i, d) in plan.iter().enumerate() {
+            let offset = params.offset(i);
+            let samples = d.pixel_count * d.sample_count;
+            let threads = self.threads.min(samples.next_multiple_of(self.wg));
+            loop {
+                ctx.queue.write_buffer(self.work, 4 * WORK_PATHS_PER_THREAD, bytemuck::bytes_of(&per_thread));
+                let mut enc = ctx.device.create_command_encoder(&Default::default());
+                enc.clear_buffer(self.work, 0, Some(12));
+                // Each launch takes up to threads × per_thread samples from where the last stopped.
+                let launches = (samples as u64).div_ceil(threads as u64 * per_thread as u64);
+                for _ in 0..launches {
+                    self.trace.record(&mut enc, timer, offset, threads, self.wg);
+                }
+                dispatches += launches;
+                timer.submit_batch(ctx, enc)?;
+                let words: Vec<u32> = read_back(ctx, self.work, 12)?;
+                if words[WORK_CUT] == 0 && words[WORK_FINISHED] == samples {
+                    break;
+                }
+                if per_thread == 1 {
+                    bail!(
+                        "the regenerating megakernel's threads were cut short by {}'s loop limit \
+                         even at one path per thread: this scene's paths take too many loop \
+                         iterations; use --schedule waves",
+                        ctx.summary.name
+                    );
+                }
+                let fewer = (per_thread / 4).max(1);
+                log::warn!(
+                    "{} cut {} regenerating threads short (loop limit): tracing dispatch {i} again \
+                     with {fewer} paths per thread instead of {per_thread}",
+                    ctx.summary.name,
+                    words[WORK_CUT]
+                );
+                per_thread = fewer;
+            }
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            self.accumulate.record(&mut enc, timer, offset, d.pixel_count);
+            dispatches += 1;
+            timer.submit_batch(ctx, enc)?;
+            done += samples as u64;
+            on_progress(done);
+        }
+        Ok(dispatches)
+    }
+}
+
 /// Errors out unless the regenerating megakernel wrote every sample and no thread's loop was
-/// cut short: a driver's loop cap ends a thread's loop mid-path, silently, and the image would
-/// hold stale or truncated samples.
-fn check_all_finished(ctx: &GpuContext, work: &wgpu::Buffer, asked: u64) -> Result<()> {
+/// cut short (checked once per render where no driver caps loops: a cut there would be a bug).
+fn check_finished(ctx: &GpuContext, work: &wgpu::Buffer, asked: u64) -> Result<()> {
     let words: Vec<u32> = read_back(ctx, work, 12)?;
     // The counter is a u32 on the GPU: compare modulo 2^32.
-    let (finished, cut) = (words[1], words[2]);
+    let (finished, cut) = (words[WORK_FINISHED], words[WORK_CUT]);
     if cut > 0 || finished != asked as u32 {
         bail!(
-            "the regenerating megakernel had {cut} threads cut short by {}'s loop limit and \
-             finished {finished} of {asked} samples (mod 2^32): this scene's paths take more loop \
-             iterations than estimated; use --schedule waves",
+            "the regenerating megakernel had {cut} threads cut short and finished {finished} of \
+             {asked} samples (mod 2^32) on {}; use --schedule waves",
             ctx.summary.name
         );
     }

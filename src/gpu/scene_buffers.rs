@@ -19,7 +19,7 @@ pub struct SceneBuffers {
     /// Bytes of scene data uploaded (for reports).
     pub bytes: u64,
     /// Pipeline constants of the scene's shaders (`PackedScene::pipeline_constants`).
-    scene_constants: [(&'static str, f64); 2],
+    scene_constants: [(&'static str, f64); 4],
 }
 
 impl SceneBuffers {
@@ -60,7 +60,7 @@ impl SceneBuffers {
         let primitives = storage_init(ctx, "primitives", &scene.primitives, none)?;
         let materials = storage_init(ctx, "materials", &scene.materials, none)?;
         let nodes = storage_init(ctx, "BVH nodes", &scene.nodes, none)?;
-        let lights = storage_init(ctx, "lights", &scene.lights, none)?;
+        let lights = storage_init(ctx, "lights", &scene.light_table, none)?;
         let bytes = [&primitives, &materials, &nodes, &lights].iter().map(|b| b.size()).sum();
         memory.add(MemoryCategory::Scene, bytes + frame_buf.size());
         let layout = Self::layout(ctx);
@@ -87,7 +87,7 @@ pub fn buffer_sizes(scene: &PackedScene) -> [(&'static str, u64); 4] {
         ("primitives", size_of_val(scene.primitives.as_slice()) as u64),
         ("materials", size_of_val(scene.materials.as_slice()) as u64),
         ("BVH nodes", size_of_val(scene.nodes.as_slice()) as u64),
-        ("lights", size_of_val(scene.lights.as_slice()) as u64),
+        ("lights", size_of_val(scene.light_table.as_slice()) as u64),
     ]
 }
 

@@ -110,6 +110,12 @@ pub const BUILTINS: &[Builtin] = &[
         build: super::enclosure::enclosure,
     },
     Builtin {
+        name: "two-lights",
+        description: "A room lit by a small bright sphere light and a large dim quad light: where \
+                      --light-select and --light-sampling show",
+        build: super::two_lights::two_lights,
+    },
+    Builtin {
         name: "spheres-1000",
         description: "spheres-N, any N in 1..=1000000 (here 1000): N small spheres (80% diffuse, \
                       15% metal, 5% glass) in a seeded square grid on the ground, whole grid in view",
@@ -117,8 +123,16 @@ pub const BUILTINS: &[Builtin] = &[
     },
 ];
 
-const NAMES: &[&str] =
-    &["rtiow-final", "rtiow-heavy", "three-spheres", "furnace", "cornell", "enclosure", "spheres-1000"];
+const NAMES: &[&str] = &[
+    "rtiow-final",
+    "rtiow-heavy",
+    "three-spheres",
+    "furnace",
+    "cornell",
+    "enclosure",
+    "two-lights",
+    "spheres-1000",
+];
 
 /// The names of the built-in scenes, in [`BUILTINS`] order.
 pub fn names() -> &'static [&'static str] {

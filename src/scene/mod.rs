@@ -11,6 +11,7 @@ pub mod heavy;
 pub mod load;
 pub mod obj;
 pub mod texture;
+pub mod two_lights;
 
 use glam::Vec3;
 

@@ -382,3 +382,45 @@ fn device_figures_script_runs_at_tiny_scale() {
     let archive = out.with_extension("tar.gz");
     assert!(std::fs::metadata(&archive).unwrap().len() > 0);
 }
+
+/// `--light-sampling` and `--light-select` reach the run record and the EXR's attributes; a value
+/// that is neither is refused naming the choices.
+#[test]
+fn light_knobs_reach_the_report_and_the_exr() {
+    let (exr, json) = (scratch("lights.exr"), scratch("lights.json"));
+    let out = wavetrace(&[
+        "render",
+        "--scene",
+        "two-lights",
+        "--method",
+        "cpu",
+        "--nee",
+        "on",
+        "--light-sampling",
+        "area",
+        "--light-select",
+        "uniform",
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "--spp",
+        "2",
+        "--out",
+        exr.to_str().unwrap(),
+        "--report",
+        json.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let report: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(report["options"]["light_sampling"], "area");
+    assert_eq!(report["options"]["light_select"], "uniform");
+    let (_, attrs) = wavetrace::image_io::read_exr(&exr).unwrap();
+    let attr = |k: &str| attrs.iter().find(|(n, _)| n == k).map(|(_, v)| v.clone());
+    assert_eq!(attr("wavetrace.light_sampling").as_deref(), Some("area"));
+    assert_eq!(attr("wavetrace.light_select").as_deref(), Some("uniform"));
+    fails_with(
+        &["render", "--scene", "two-lights", "--light-sampling", "cone", "--out", "x.exr"],
+        &["cone", "area", "solid-angle"],
+    );
+}

@@ -427,6 +427,18 @@ fn bad_configs_name_the_file_the_field_and_the_reason() {
             "\"atomic\", \"scan\" or \"off\"",
         ),
         (
+            "bad-light-knob",
+            Box::new(|c| c["methods"][0]["light_sampling"] = serde_json::json!(["area", "cone"])),
+            "methods[0].light_sampling[1]",
+            "\"area\" or \"solid-angle\"",
+        ),
+        (
+            "bad-light-select",
+            Box::new(|c| c["methods"][1]["light_select"] = "powr".into()),
+            "methods[1].light_select",
+            "did you mean \"power\"",
+        ),
+        (
             "same-label",
             Box::new(|c| c["methods"][1] = serde_json::json!({"method": "cpu"})),
             "methods[1]",
@@ -492,6 +504,7 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
         [
             "baselines.json",
             "cpu_vs_gpu.json",
+            "light_sampling.json",
             "material_cost.json",
             "megakernel_vs_wavefront.json",
             "nee.json",
@@ -555,4 +568,53 @@ fn shard_arguments_are_checked() {
     assert!("5/5".parse::<Shard>().unwrap_err().contains("0 <= I < N"));
     assert!("1/0".parse::<Shard>().is_err());
     assert!("x".parse::<Shard>().unwrap_err().contains("I/N"));
+}
+
+/// The light-sampling knobs are every method's: swept on the CPU and set on a GPU method, they
+/// make variants labelled by value, reach each run's options (and so runs.csv's columns), and the
+/// report still validates.
+#[test]
+fn light_knobs_sweep_on_every_method_and_reach_the_records() {
+    let dir = scratch("light-knobs");
+    let mut config = small_config(serde_json::json!([
+        {"method": "cpu", "light_sampling": ["area", "solid-angle"]},
+        {"method": "cpu-f64", "light_select": "uniform"},
+    ]));
+    config["scenes"] = serde_json::json!(["two-lights"]);
+    config["nee"] = serde_json::json!([true]);
+    config["spp"] = serde_json::json!([2]);
+    config["repetitions"] = 1.into();
+    config["warmup"] = 0.into();
+    let config = ExperimentConfig::from_file(&write_config(&dir, "light-knobs", &config)).unwrap();
+    let labels: Vec<&str> = config.methods.iter().map(|m| m.label.as_str()).collect();
+    assert_eq!(
+        labels,
+        ["cpu light-sampling=area", "cpu light-sampling=solid-angle", "cpu-f64 light-select=uniform"]
+    );
+    let opts = RunnerOptions {
+        out_dir: dir.join("out"),
+        shard: None,
+        cache_dir: dir.join("cache"),
+        resume: Resume::Off,
+    };
+    let report = runner::run(&config, &opts).unwrap();
+    assert_valid(&dir.join("out"));
+    let options: Vec<(String, String)> = report
+        .runs
+        .iter()
+        .map(|r| {
+            (
+                r.options["light_sampling"].as_str().unwrap().into(),
+                r.options["light_select"].as_str().unwrap().into(),
+            )
+        })
+        .collect();
+    let want = [("area", "power"), ("solid-angle", "power"), ("solid-angle", "uniform")];
+    assert_eq!(options, want.map(|(a, b)| (a.to_string(), b.to_string())));
+    let csv = std::fs::read_to_string(dir.join("out").join("runs.csv")).unwrap();
+    let header = csv.lines().next().unwrap();
+    assert!(header.contains(",light_sampling,light_select,"), "{header}");
+    // Different estimators, same image: the variants agree within their noise and the reference.
+    let relmse: Vec<f64> = report.runs.iter().map(|r| r.error_metrics.as_ref().unwrap().relmse).collect();
+    assert!(relmse.iter().all(|e| e.is_finite() && *e > 0.0), "{relmse:?}");
 }

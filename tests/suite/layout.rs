@@ -65,7 +65,8 @@ fn frame() {
             defocus_disk_v,
             background_kind,
             background_color,
-            light_count
+            light_count,
+            light_power
         ]
     );
 }
@@ -77,7 +78,17 @@ fn dispatch() {
 
 #[test]
 fn film_pixel() {
-    check!(FilmPixel, "FilmPixel", shaders::ACCUMULATE, [sum, sum_sq]);
+    check!(
+        FilmPixel,
+        "FilmPixel",
+        shaders::ACCUMULATE,
+        [sum_hi, invalid, sum_lo, rays_lo, sum_sq_hi, rays_hi, sum_sq_lo, zero]
+    );
+}
+
+#[test]
+fn light_entry() {
+    check!(LightEntry, "LightEntry", [slot, other, threshold]);
 }
 
 #[test]

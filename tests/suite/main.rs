@@ -9,6 +9,7 @@ mod chart;
 mod cli;
 mod edge_cases;
 mod experiment;
+mod film;
 mod gpu_rng;
 mod image_io;
 mod layout;
