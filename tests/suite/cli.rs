@@ -358,7 +358,7 @@ fn device_figures_script_runs_at_tiny_scale() {
         serde_json::from_str(&std::fs::read_to_string(out.join("regeneration/report.json")).unwrap())
             .unwrap();
     assert_eq!(report["status"], "complete");
-    assert_eq!(report["runs"].as_array().unwrap().len(), 32, "4 scenes × 2 spp × 4 methods");
+    assert_eq!(report["runs"].as_array().unwrap().len(), 40, "4 scenes × 2 spp × 5 methods");
     // The pool sweep's chart: speed against GPU memory, from the runs' memory records.
     let pool: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("pool_memory/report.json")).unwrap()).unwrap();
