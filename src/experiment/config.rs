@@ -75,12 +75,10 @@ const TAILS: &[&str] = &["off", "megakernel"];
 const TIMINGS: &[&str] = &["passes", "frame"];
 
 /// Every method knob a config can set, in the order runs.csv gives them columns.
+/// Knobs a later build adds go at the end, so existing columns keep their places.
 pub const KNOBS: &[&str] = &[
-    "light_sampling",
-    "light_select",
     "workgroup_size",
     "samples_per_dispatch",
-    "threads",
     "pool_size",
     "compaction",
     "shade",
@@ -90,6 +88,9 @@ pub const KNOBS: &[&str] = &[
     "tail_threshold",
     "scan",
     "timing",
+    "light_sampling",
+    "light_select",
+    "threads",
 ];
 /// Knobs of how next-event estimation samples lights: every method has them.
 const CPU_KNOBS: &[&str] = &["light_sampling", "light_select"];
