@@ -30,7 +30,7 @@ say() { echo "== $*" | tee -a "$log"; }
 
 # The suite, as shipped; at tiny scale every size, sample count and repetition is shrunk (the
 # questions stay, the figures mean nothing) so the whole script runs in minutes on llvmpipe.
-read -r -a configs <<< "${WAVETRACE_FIGURES_CONFIGS:-quick megakernel_vs_wavefront regeneration baselines pool_memory material_cost nee workgroup_size}"
+read -r -a configs <<< "${WAVETRACE_FIGURES_CONFIGS:-quick megakernel_vs_wavefront regeneration baselines pool_memory material_cost nee light_sampling workgroup_size}"
 for name in "${configs[@]}"; do
   src="experiments/$name.json"
   cfg="$out/configs/$name.json"

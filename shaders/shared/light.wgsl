@@ -38,6 +38,11 @@ struct ShadowRay {
     ok: bool,
 }
 
+// A sphere, in a scene that has spheres (PRIM_KINDS): without them the sphere code is dropped.
+fn is_sphere(p: Primitive) -> bool {
+    return (PRIM_KINDS & (1u << PRIM_SPHERE)) != 0u && p.kind == PRIM_SPHERE;
+}
+
 // The slot of the light chosen by u0 (column) and u3 (keep its light or take its alias).
 fn choose_light(u0: f32, u3: f32) -> u32 {
     let n = frame.light_count;
@@ -62,7 +67,7 @@ fn light_pmf(light: Primitive) -> f32 {
 // `dist2`, as sample_light samples it.
 fn light_pdf(light: Primitive, x: vec3<f32>, point: vec3<f32>, dir: vec3<f32>, dist2: f32) -> f32 {
     let pmf = light_pmf(light);
-    if LIGHT_SOLID_ANGLE && light.kind == PRIM_SPHERE {
+    if LIGHT_SOLID_ANGLE && is_sphere(light) {
         let c = sphere_cone(light, x);
         if c.ok {
             return pmf / cone_solid_angle(c);
@@ -76,7 +81,7 @@ fn light_pdf(light: Primitive, x: vec3<f32>, point: vec3<f32>, dir: vec3<f32>, d
 fn sample_light(x: vec3<f32>, u: vec4<f32>) -> LightSample {
     let slot = choose_light(u.x, u.w);
     let light = primitives[slot];
-    if LIGHT_SOLID_ANGLE && light.kind == PRIM_SPHERE {
+    if LIGHT_SOLID_ANGLE && is_sphere(light) {
         let c = sphere_cone(light, x);
         if c.ok {
             let s = sample_cone(light, c, u.y, u.z);
@@ -132,7 +137,7 @@ fn next_event(p: vec3<f32>, normal: vec3<f32>, u: vec4<f32>) -> ShadowRay {
     // The light's own surface, decided as closest_hit decides it: from outside a sphere the ray
     // meets the near side first, so a point facing away is hidden by the sphere.
     let light = primitives[l.slot];
-    if light.kind == PRIM_SPHERE && facing > 0.0 && sphere_cone(light, p).ok {
+    if is_sphere(light) && facing > 0.0 && sphere_cone(light, p).ok {
         return none;
     }
     let radiance = materials[light.material].color;
