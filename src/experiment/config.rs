@@ -473,14 +473,13 @@ impl Cx {
         let spd = self.knob(o, &opt_path("samples_per_dispatch"), "samples_per_dispatch", |v, p| {
             self.uint(v, p, 1, u64::MAX)
         })?;
-        let threads = self.knob(o, &opt_path("threads"), "threads", |v, p| match v {
+        // A count, or null for the method's default.
+        let count_or_default = |v: &Value, p: &str| match v {
             Value::Null => Ok(None),
             _ => self.uint32(v, p, 1, u32::MAX).map(Some),
-        })?;
-        let pool = self.knob(o, &opt_path("pool_size"), "pool_size", |v, p| match v {
-            Value::Null => Ok(None),
-            _ => self.uint32(v, p, 1, u32::MAX).map(Some),
-        })?;
+        };
+        let threads = self.knob(o, &opt_path("threads"), "threads", count_or_default)?;
+        let pool = self.knob(o, &opt_path("pool_size"), "pool_size", count_or_default)?;
         let compaction = self.knob(o, &opt_path("compaction"), "compaction", |v, p| {
             Ok(match self.choice(v, p, COMPACTIONS)? {
                 "atomic" => Compaction::Atomic,
