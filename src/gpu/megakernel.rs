@@ -189,8 +189,8 @@ pub fn render(
     let trace = Trace { stage, scene: &scene_buffers.bind_group, group: &group, simd: simd.as_ref() };
 
     let mut timer = GpuTimer::new(ctx, measure.timing, &mut memory);
-    let dispatches = match (threads, &work) {
-        (Some(threads), Some(work)) if cap.is_some() => {
+    let dispatches = match (threads, &work, cap) {
+        (Some(threads), Some(work), Some(cap)) => {
             let mut run = Checked {
                 ctx,
                 trace: &trace,
@@ -199,7 +199,7 @@ pub fn render(
                 threads,
                 wg: opts.workgroup_size,
             };
-            run.render(&plan, &params, cap.expect("capped"), &mut timer, on_progress)?
+            run.render(&plan, &params, cap, &mut timer, on_progress)?
         }
         _ => {
             if let Some(work) = &work {
