@@ -66,12 +66,13 @@ pub fn paths_per_thread(ctx: &GpuContext, scene: &PackedScene, settings: &Render
         return None;
     }
     let traversals = if settings.nee && !scene.lights.is_empty() { 2 } else { 1 };
-    let traversal = 2 * scene.bvh_depth() as u64 + scene.largest_leaf() as u64;
+    let depth = scene.bvh_depth();
+    let traversal = 2 * depth as u64 + scene.largest_leaf() as u64;
     let per_bounce = traversals * traversal + texture_loops(scene);
     let paths = paths_within(LLVMPIPE_LOOP_LIMIT, settings.max_depth, per_bounce);
     log::info!(
         "llvmpipe loop cap: BVH depth {}, largest leaf {}, {per_bounce} loop trips a bounce at most: {paths} paths per thread per dispatch",
-        scene.bvh_depth(),
+        depth,
         scene.largest_leaf()
     );
     Some(paths)
