@@ -18,6 +18,7 @@ pub mod light_options;
 pub mod light_table;
 pub mod method;
 pub mod metrics;
+pub mod numerics;
 pub mod packed_scene;
 pub mod progress;
 pub mod report;

@@ -11,7 +11,9 @@ use crate::gpu::wavefront::{self, QueueHistogram, ScheduleStats, WavefrontOption
 use crate::gpu::GpuContext;
 use crate::gpu::GpuRender;
 use crate::light_options::LightOptions;
+use crate::numerics::{Failures, NumericOptions};
 use crate::packed_scene::PackedScene;
+use crate::scene::stress::StressTransform;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 use anyhow::{anyhow, Result};
@@ -53,6 +55,14 @@ pub struct MethodOptions {
     /// on each.
     #[serde(flatten)]
     pub lights: LightOptions,
+    /// How rays leave surfaces, meet spheres and split at glass (`--ray-offset`, `--sphere-hit`,
+    /// `--fresnel`): every method's knobs, with the same meaning on each.
+    #[serde(flatten)]
+    pub numerics: NumericOptions,
+    /// The scene scaled and moved before rendering (`--scale`, `--translate`): the same image in
+    /// exact arithmetic, so what changes is numerical error.
+    #[serde(flatten)]
+    pub stress: StressTransform,
     pub megakernel: MegakernelOptions,
     pub wavefront: WavefrontOptions,
     /// Count SIMD efficiency with subgroup operations (GPU methods; not for timing runs).
@@ -86,6 +96,8 @@ pub struct RenderOutput {
     pub histogram: Option<QueueHistogram>,
     /// The wavefront's schedule and what it cost (wavefront only).
     pub schedule: Option<ScheduleStats>,
+    /// Self-hits and paths cut by the depth limit (NaN/Inf samples: `film.invalid_samples()`).
+    pub failures: Failures,
 }
 
 impl RenderOutput {
@@ -102,6 +114,7 @@ impl RenderOutput {
             pool: None,
             histogram: None,
             schedule: None,
+            failures: r.failures,
         }
     }
 }
@@ -116,6 +129,7 @@ pub fn render(
     on_progress: &(dyn Fn(u64) + Sync),
 ) -> Result<RenderOutput> {
     settings.validate().map_err(anyhow::Error::msg)?;
+    let scene = &options.stress.apply(scene).map_err(anyhow::Error::msg)?;
     let packed = PackedScene::new(scene, settings.accel).with_light_options(options.lights);
     let camera = CameraFrame::new(&scene.camera, settings.width, settings.height);
     let start = Instant::now();
@@ -144,6 +158,7 @@ pub fn render(
                 pool: None,
                 histogram: None,
                 schedule: None,
+                failures: Failures::default(),
             })
         }
         Method::Megakernel => {

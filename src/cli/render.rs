@@ -9,8 +9,10 @@ use crate::gpu::GpuContext;
 use crate::image_io::{self, RgbImage};
 use crate::light_options::{LightOptions, LightSampling, LightSelect};
 use crate::method::{self, Method, MethodOptions};
+use crate::numerics::{Fresnel, NumericOptions, RayOffset, SphereHit};
 use crate::progress::Progress;
 use crate::report::RunReport;
+use crate::scene::stress::StressTransform;
 use crate::scene::Scene;
 use crate::settings::{Accel, RenderSettings};
 use anyhow::{Context, Result};
@@ -26,7 +28,11 @@ Examples:
       --out cornell.exr --png cornell.png
   wavetrace render --scene two-lights --method cpu --nee on --light-select uniform --out before.exr
   wavetrace render --scene rtiow-final --method megakernel --schedule regenerate --instrument \
-      --out regen.exr --report regen.json   # persistent threads: SIMD efficiency, memory";
+      --out regen.exr --report regen.json   # persistent threads: SIMD efficiency, memory
+  wavetrace render --scene three-spheres --method cpu --scale 1e-4 --ray-offset robust \
+      --out small.exr --report small.json   # the same image at 1/10000 the size: self-hits?
+  wavetrace render --scene cornell --method megakernel --translate 1e5 --sphere-hit book \
+      --fresnel exact --out far.exr";
 
 #[derive(clap::Args, Debug)]
 #[command(after_help = EXAMPLES)]
@@ -67,6 +73,25 @@ pub struct RenderArgs {
     /// × area), or `uniform`ly per emitting primitive (the earlier behaviour).
     #[arg(long, value_enum, default_value_t = LightSelect::Power)]
     pub light_select: LightSelect,
+    /// How secondary and shadow rays leave a surface: `tmin` ignores hits nearer than the
+    /// book's 1e-3 (`tmin=VALUE`: nearer than VALUE); `robust` moves the origin off the surface
+    /// by a bound on the hit point's rounding error (pbrt-v4) and keeps every hit at t > 0.
+    #[arg(long, default_value = "tmin", value_parser = RayOffset::parse)]
+    pub ray_offset: RayOffset,
+    /// Ray–sphere intersection: the book's quadratic, or the numerically stable form (Ray
+    /// Tracing Gems ch. 7).
+    #[arg(long, value_enum, default_value_t = SphereHit::Stable)]
+    pub sphere_hit: SphereHit,
+    /// Reflectance of glass: the book's Schlick approximation, or the exact Fresnel equations.
+    #[arg(long, value_enum, default_value_t = Fresnel::Schlick)]
+    pub fresnel: Fresnel,
+    /// Stress transform: scale the scene (geometry, camera, textures) about the origin by S > 0.
+    /// The image is the same in exact arithmetic; what changes is numerical error.
+    #[arg(long, default_value_t = 1.0, value_parser = StressTransform::parse_scale)]
+    pub scale: f64,
+    /// Stress transform: then move it by X,Y,Z (or D for D,D,D).
+    #[arg(long, default_value = "0,0,0", value_parser = StressTransform::parse_translate)]
+    pub translate: [f64; 3],
     /// Output EXR (linear RGB, f32).
     #[arg(long)]
     pub out: PathBuf,
@@ -167,6 +192,8 @@ pub fn run(a: RenderArgs) -> Result<()> {
     };
     let options = MethodOptions {
         lights: LightOptions { sampling: a.light_sampling, select: a.light_select },
+        numerics: NumericOptions { ray_offset: a.ray_offset, sphere_hit: a.sphere_hit, fresnel: a.fresnel },
+        stress: StressTransform { scale: a.scale, translate: a.translate },
         megakernel: MegakernelOptions {
             workgroup_size: a.workgroup_size,
             samples_per_dispatch: a.samples_per_dispatch,

@@ -22,4 +22,6 @@ pub struct GpuRender {
     pub bytes_per_path: u64,
     /// GPU memory the render allocated, by category.
     pub memory: GpuMemory,
+    /// Self-hits and depth-cut paths the shaders counted.
+    pub failures: crate::numerics::Failures,
 }

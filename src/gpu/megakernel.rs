@@ -236,6 +236,7 @@ pub fn render(
         // largest dispatch, or one per persistent thread.
         bytes_per_path: (samples.size() + work.as_ref().map_or(0, |w| w.size())).div_ceil(in_flight),
         memory: memory.summary(),
+        failures: Default::default(),
     })
 }
 

@@ -10,6 +10,7 @@ pub mod export;
 pub mod heavy;
 pub mod load;
 pub mod obj;
+pub mod stress;
 pub mod texture;
 pub mod two_lights;
 

@@ -460,6 +460,7 @@ pub fn render(
             simd,
             bytes_per_path: bytes_per_path(regenerate),
             memory: memory.summary(),
+            failures: Default::default(),
         },
         pool,
         histogram,
