@@ -20,7 +20,7 @@ override WORKGROUP_SIZE: u32 = 64u;
 fn trace_path(x: u32, y: u32, sample: u32) -> vec4<f32> {
     let pixel = y * frame.width + x;
     let ray = camera_ray(x, y, uniform4(pixel, sample, 0u, PURPOSE_CAMERA, frame.seed));
-    var path = TracedPath(ray, vec3<f32>(1.0), vec3<f32>(0.0), 0u, 0.0);
+    var path = TracedPath(ray, vec3<f32>(1.0), vec3<f32>(0.0), 0u, 0.0, NO_ORIGIN);
     continue_path(&path, pixel, sample, 0u);
     return vec4<f32>(path.radiance, f32(path.rays));
 }

@@ -106,7 +106,13 @@ pub struct FrameUniform {
     /// Σ over the lights of mean radiance × area: the denominator of a light's probability
     /// under power-proportional choice (`light_table.rs`).
     pub light_power: f32,
-    pub _pad: [u32; 3],
+    /// Hits nearer than this are ignored (`--ray-offset tmin=VALUE`; 0 with `robust`).
+    pub t_min: f32,
+    pub _pad: [u32; 2],
+    /// Textures are looked up at (p − texture_origin) · texture_inv_scale: the inverse of the
+    /// stress transform (`--translate`, `--scale`), so they stay on their surfaces.
+    pub texture_origin: [f32; 3],
+    pub texture_inv_scale: f32,
 }
 
 /// WGSL: `LightEntry` in `shaders/shared/light.wgsl`: one column of the alias table of lights

@@ -130,7 +130,10 @@ pub fn render(
 ) -> Result<RenderOutput> {
     settings.validate().map_err(anyhow::Error::msg)?;
     let scene = &options.stress.apply(scene).map_err(anyhow::Error::msg)?;
-    let packed = PackedScene::new(scene, settings.accel).with_light_options(options.lights);
+    let packed = PackedScene::new(scene, settings.accel)
+        .with_light_options(options.lights)
+        .with_numerics(options.numerics)
+        .with_stress(options.stress);
     let camera = CameraFrame::new(&scene.camera, settings.width, settings.height);
     let start = Instant::now();
     match method {
@@ -141,7 +144,7 @@ pub fn render(
                 let d = done.fetch_add(row_samples, std::sync::atomic::Ordering::Relaxed) + row_samples;
                 on_progress(d);
             };
-            let film = if method == Method::Cpu {
+            let (film, failures) = if method == Method::Cpu {
                 cpu::render::<f32>(&packed, &camera, settings, &on_row)
             } else {
                 cpu::render::<f64>(&packed, &camera, settings, &on_row)
@@ -158,7 +161,7 @@ pub fn render(
                 pool: None,
                 histogram: None,
                 schedule: None,
-                failures: Failures::default(),
+                failures,
             })
         }
         Method::Megakernel => {

@@ -11,6 +11,8 @@ use crate::layout::{
 };
 use crate::light_options::{LightOptions, LightSampling, LightSelect};
 use crate::light_table;
+use crate::numerics::{Fresnel, NumericOptions, RayOffset, SphereHit};
+use crate::scene::stress::StressTransform;
 use crate::scene::{Background, Material, Scene, Texture};
 use crate::settings::{Accel, RenderSettings};
 use glam::Vec3;
@@ -33,6 +35,11 @@ pub struct PackedScene {
     pub light_power: f32,
     /// How next-event estimation samples the lights (`--light-sampling`, `--light-select`).
     pub light_options: LightOptions,
+    /// How rays leave surfaces, meet spheres and split at glass (`--ray-offset`, `--sphere-hit`,
+    /// `--fresnel`).
+    pub numerics: NumericOptions,
+    /// The stress transform the scene was moved by (`--scale`, `--translate`): textures undo it.
+    pub stress: StressTransform,
     pub background: Background,
 }
 
@@ -62,6 +69,8 @@ impl PackedScene {
             light_table,
             light_power,
             light_options: LightOptions::default(),
+            numerics: NumericOptions::default(),
+            stress: StressTransform::default(),
             background: scene.background.clone(),
         }
     }
@@ -70,6 +79,35 @@ impl PackedScene {
     pub fn with_light_options(mut self, options: LightOptions) -> Self {
         self.light_options = options;
         self
+    }
+
+    /// The scene with rays leaving surfaces, meeting spheres and splitting at glass as
+    /// `options` says.
+    pub fn with_numerics(mut self, options: NumericOptions) -> Self {
+        self.numerics = options;
+        self
+    }
+
+    /// The scene, already moved by `stress`, with textures looked up where they were before.
+    pub fn with_stress(mut self, stress: StressTransform) -> Self {
+        self.stress = stress;
+        self
+    }
+
+    /// `--ray-offset robust`.
+    pub fn robust_offsets(&self) -> bool {
+        self.numerics.ray_offset == RayOffset::Robust
+    }
+
+    /// Where the texture of a surface at `p` is looked up: (p − translate) · (1/scale), with the
+    /// origin and inverse scale rounded to `T` as the GPU's frame holds them in f32.
+    #[inline(always)]
+    pub fn texture_point<T: crate::cpu::real::Real>(
+        &self,
+        p: crate::cpu::vec3::V3<T>,
+    ) -> crate::cpu::vec3::V3<T> {
+        let o = crate::cpu::vec3::V3::of64(glam::DVec3::from(self.stress.translate));
+        (p - o) * T::of64(1.0 / self.stress.scale)
     }
 
     /// The light choice in force: power-proportional only where the scene's lights have a
@@ -104,9 +142,9 @@ impl PackedScene {
     /// The pipeline constants every pass that binds the scene takes, besides its own:
     /// `PRIM_KINDS`, `NEE` (next-event estimation on, in a scene with lights), and how NEE
     /// samples: `LIGHT_SOLID_ANGLE` (spheres by the cone they subtend) and `LIGHT_POWER`
-    /// (choice by power). As constants rather than uniforms so that the compiler drops the code
-    /// a render does not use.
-    pub fn pipeline_constants(&self, settings: &RenderSettings) -> [(&'static str, f64); 4] {
+    /// (choice by power); `RAY_ROBUST`, `SPHERE_BOOK` and `FRESNEL_EXACT` (`numerics`). As
+    /// constants rather than uniforms so that the compiler drops the code a render does not use.
+    pub fn pipeline_constants(&self, settings: &RenderSettings) -> [(&'static str, f64); 7] {
         // An empty scene still needs a valid mask; any kind will do.
         let kinds = match self.primitive_kinds() {
             0 => 1,
@@ -120,6 +158,9 @@ impl PackedScene {
             ("NEE", nee as u32 as f64),
             ("LIGHT_SOLID_ANGLE", solid_angle as u32 as f64),
             ("LIGHT_POWER", power as u32 as f64),
+            ("RAY_ROBUST", self.robust_offsets() as u32 as f64),
+            ("SPHERE_BOOK", (self.numerics.sphere_hit == SphereHit::Book) as u32 as f64),
+            ("FRESNEL_EXACT", (self.numerics.fresnel == Fresnel::Exact) as u32 as f64),
         ]
     }
 
@@ -170,7 +211,10 @@ impl PackedScene {
             background_color,
             light_count: self.lights.len() as u32,
             light_power: self.light_power,
-            _pad: [0; 3],
+            t_min: self.numerics.ray_offset.t_min(),
+            _pad: [0; 2],
+            texture_origin: glam::DVec3::from(self.stress.translate).as_vec3().to_array(),
+            texture_inv_scale: (1.0 / self.stress.scale) as f32,
         }
     }
 }

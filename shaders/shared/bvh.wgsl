@@ -50,6 +50,12 @@ fn occluded(ray: Ray, t_min: f32, t_max: f32, skip: u32) -> bool {
     return traverse(ray, t_min, t_max, true, skip).prim != NO_HIT;
 }
 
+// The first primitive but `skip` the traversal finds in (t_min, t_max), NO_HIT for none: the
+// shadow-ray query when the occluder is counted (self-hits).
+fn occluder(ray: Ray, t_min: f32, t_max: f32, skip: u32) -> Hit {
+    return traverse(ray, t_min, t_max, true, skip);
+}
+
 // The one traversal loop: nearer child first, the farther on the stack. `any_hit` returns the
 // first hit found in (t_min, t_max) instead of the nearest; the primitive in slot `skip` is not
 // tested.

@@ -21,4 +21,10 @@ struct Frame {
     light_count: u32,
     // Σ mean radiance × area over the lights (power-proportional choice).
     light_power: f32,
+    // Hits nearer than this are ignored (--ray-offset tmin=VALUE; 0 with robust).
+    t_min: f32,
+    // Textures are looked up at (p − texture_origin) · texture_inv_scale: the stress transform
+    // undone (--translate, --scale).
+    texture_origin: vec3<f32>,
+    texture_inv_scale: f32,
 }

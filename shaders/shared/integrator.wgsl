@@ -12,21 +12,26 @@ struct TracedPath {
     // When the previous hit sampled the lights: this ray's density under the diffuse bounce, for
     // the MIS weight of the emission it may find (0: no light sampling, full weight).
     bsdf_pdf: f32,
+    // The primitive the ray leaves (NO_ORIGIN for a camera ray): self-hits are counted against it.
+    left: u32,
 }
 
 // Traces one bounce of `path`: the ray it holds, what the hit adds, the next ray. Returns false
 // when the path has ended (escaped, hit an emitter or was absorbed); reaching max_depth is the
-// caller's test. The regenerating megakernel (megakernel_regenerate.wgsl) runs it one bounce per
+// caller's test (a path that scatters at the last bounce is counted here as cut). The regenerating megakernel (megakernel_regenerate.wgsl) runs it one bounce per
 // iteration so that a lane whose path ends can start the next sample at once.
 fn trace_bounce(path: ptr<function, TracedPath>, pixel: u32, sample: u32, bounce: u32) -> bool {
     instrument(PASS_MEGAKERNEL_BOUNCE);
     let ray = (*path).ray;
     let throughput = (*path).throughput;
     (*path).rays += 1u;
-    let hit = closest_hit(ray, T_MIN);
+    let hit = closest_hit(ray, frame.t_min);
     if hit.prim == NO_HIT {
         (*path).radiance += throughput * background(ray.dir);
         return false;
+    }
+    if is_self_hit((*path).left, hit.prim, ray, hit.t) {
+        count_failure(FAILURE_SELF_HIT);
     }
     let prim = primitives[hit.prim];
     let material = materials[prim.material];
@@ -38,7 +43,8 @@ fn trace_bounce(path: ptr<function, TracedPath>, pixel: u32, sample: u32, bounce
         case MATERIAL_DIELECTRIC: { instrument(PASS_MEGAKERNEL_DIELECTRIC); }
         default: { instrument(PASS_MEGAKERNEL_EMISSIVE); }
     }
-    let p = ray.origin + ray.dir * hit.t;
+    let sp = surface_point(prim, ray, hit.t);
+    let p = sp.p;
     if material.kind == MATERIAL_EMISSIVE {
         var w = 1.0;
         if (*path).bsdf_pdf > 0.0 {
@@ -51,10 +57,12 @@ fn trace_bounce(path: ptr<function, TracedPath>, pixel: u32, sample: u32, bounce
     let front_face = dot(ray.dir, outward) < 0.0;
     let normal = select(-outward, outward, front_face);
     let u = uniform4(pixel, sample, bounce, PURPOSE_SCATTER, frame.seed);
-    let s = scatter(material, ray, p, normal, front_face, u);
+    let s = scatter(material, ray, texture_point(p), normal, front_face, u);
     if !s.ok {
         return false;
     }
+    // Both rays leave to the side the normal faces, so they share the origin (as on the CPU).
+    let origin = spawn_origin(sp, outward, s.dir);
     // Direct light at diffuse hits, when the ray it stands in for is within the depth limit.
     let lights_sampled = NEE && material.kind == MATERIAL_LAMBERTIAN && bounce + 2u <= frame.max_depth;
     (*path).bsdf_pdf = 0.0;
@@ -64,13 +72,21 @@ fn trace_bounce(path: ptr<function, TracedPath>, pixel: u32, sample: u32, bounce
         if shadow.ok {
             instrument(PASS_MEGAKERNEL_SHADOW);
             (*path).rays += 1u;
-            if !occluded(shadow.ray, T_MIN, shadow.t_max, shadow.light) {
+            let shadow_ray = Ray(origin, shadow.ray.dir);
+            let blocker = occluder(shadow_ray, frame.t_min, shadow.t_max, shadow.light);
+            if blocker.prim == NO_HIT {
                 (*path).radiance += throughput * s.attenuation * shadow.weight;
+            } else if is_self_hit(hit.prim, blocker.prim, shadow_ray, blocker.t) {
+                count_failure(FAILURE_SHADOW_SELF_HIT);
             }
         }
     }
     (*path).throughput = throughput * s.attenuation;
-    (*path).ray = Ray(p, s.dir);
+    (*path).ray = Ray(origin, s.dir);
+    (*path).left = hit.prim;
+    if bounce + 1u >= frame.max_depth {
+        count_failure(FAILURE_DEPTH_CUT);
+    }
     return true;
 }
 

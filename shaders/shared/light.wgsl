@@ -28,7 +28,7 @@ struct LightSample {
 
 struct ShadowRay {
     ray: Ray,
-    // The light point's distance: unblocked when no primitive but `light` lies in (T_MIN, t_max).
+    // The light point's distance: unblocked when no primitive but `light` lies in (frame.t_min, t_max).
     t_max: f32,
     light: u32,
     // Light radiance × cos at the surface / π / solid-angle density × MIS weight: times

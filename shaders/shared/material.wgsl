@@ -49,6 +49,30 @@ fn reflectance(cosine: f32, eta_ratio: f32) -> f32 {
     return r0 + (1.0 - r0) * (t2 * t2 * t);
 }
 
+// Pipeline constant: `--fresnel exact`.
+override FRESNEL_EXACT: bool = false;
+
+// The exact unpolarised Fresnel reflectance for incident cosine `cos_i` and eta_ratio =
+// n_incident / n_transmitted; 1 under total internal reflection. Twin of fresnel_exact in
+// src/cpu/material.rs.
+fn fresnel_exact(cos_i: f32, eta_ratio: f32) -> f32 {
+    let sin2_t = eta_ratio * eta_ratio * max(1.0 - cos_i * cos_i, 0.0);
+    if sin2_t >= 1.0 {
+        return 1.0;
+    }
+    let cos_t = sqrt(1.0 - sin2_t);
+    let parallel = (cos_i - eta_ratio * cos_t) / (cos_i + eta_ratio * cos_t);
+    let perpendicular = (eta_ratio * cos_i - cos_t) / (eta_ratio * cos_i + cos_t);
+    return (parallel * parallel + perpendicular * perpendicular) / 2.0;
+}
+
+fn reflect_probability(cosine: f32, eta_ratio: f32) -> f32 {
+    if FRESNEL_EXACT {
+        return fresnel_exact(cosine, eta_ratio);
+    }
+    return reflectance(cosine, eta_ratio);
+}
+
 fn scatter_lambertian(m: Material, p: vec3<f32>, normal: vec3<f32>, u: vec4<f32>) -> Scatter {
     var d = normal + unit_vector(u.x, u.y);
     // The book's near_zero guard.
@@ -74,7 +98,7 @@ fn scatter_dielectric(m: Material, ray: Ray, normal: vec3<f32>, front_face: bool
     let cos_theta = min(dot(-ray.dir, normal), 1.0);
     let sin_theta = sqrt(max(1.0 - cos_theta * cos_theta, 0.0));
     var d: vec3<f32>;
-    if ri * sin_theta > 1.0 || reflectance(cos_theta, ri) > u.z {
+    if ri * sin_theta > 1.0 || reflect_probability(cos_theta, ri) > u.z {
         d = reflect_dir(ray.dir, normal);
     } else {
         d = refract_dir(ray.dir, normal, ri);

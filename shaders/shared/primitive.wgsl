@@ -26,11 +26,11 @@ override PRIM_KINDS: u32 = 7u;
 // the fields the shape needs (a sphere, 20 of the record's 48 bytes).
 fn hit_primitive(slot: u32, ray: Ray, t_min: f32, t_max: f32) -> f32 {
     if PRIM_KINDS == (1u << PRIM_SPHERE) {
-        return hit_sphere(primitives[slot].a, primitives[slot].radius, ray, t_min, t_max);
+        return hit_sphere_by(primitives[slot].a, primitives[slot].radius, ray, t_min, t_max);
     }
     let kind = primitives[slot].kind;
     if (PRIM_KINDS & (1u << PRIM_SPHERE)) != 0u && kind == PRIM_SPHERE {
-        return hit_sphere(primitives[slot].a, primitives[slot].radius, ray, t_min, t_max);
+        return hit_sphere_by(primitives[slot].a, primitives[slot].radius, ray, t_min, t_max);
     }
     return hit_planar(kind, primitives[slot].a, primitives[slot].b, primitives[slot].c, ray, t_min, t_max);
 }

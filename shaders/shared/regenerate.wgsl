@@ -36,7 +36,7 @@ override WORKGROUP_SIZE: u32 = 64u;
 fn megakernel_regenerate() {
     let n = dispatch.pixel_count * dispatch.sample_count;
     let paths_per_thread = atomicLoad(&work[WORK_PATHS_PER_THREAD]);
-    var path = TracedPath(Ray(vec3<f32>(0.0), vec3<f32>(0.0)), vec3<f32>(0.0), vec3<f32>(0.0), 0u, 0.0);
+    var path = TracedPath(Ray(vec3<f32>(0.0), vec3<f32>(0.0)), vec3<f32>(0.0), vec3<f32>(0.0), 0u, 0.0, NO_ORIGIN);
     var index = NO_SAMPLE;
     var pixel = 0u;
     var sample = 0u;
@@ -59,7 +59,7 @@ fn megakernel_regenerate() {
             let x = pixel % frame.width;
             let y = pixel / frame.width;
             let ray = camera_ray(x, y, uniform4(pixel, sample, 0u, PURPOSE_CAMERA, frame.seed));
-            path = TracedPath(ray, vec3<f32>(1.0), vec3<f32>(0.0), 0u, 0.0);
+            path = TracedPath(ray, vec3<f32>(1.0), vec3<f32>(0.0), 0u, 0.0, NO_ORIGIN);
             bounce = 0u;
         }
         live = trace_bounce(&path, pixel, sample, bounce);

@@ -13,8 +13,17 @@
 // The alias table of the emitting primitives (one unused entry when there are none:
 // frame.light_count); shared/light.wgsl.
 @group(0) @binding(4) var<storage, read> lights: array<LightEntry>;
+// Self-hits and depth-cut paths (shared/offset.wgsl), read back once per render.
+@group(0) @binding(5) var<storage, read_write> failures: array<atomic<u32>, 6>;
+
+#include "shared/offset.wgsl"
 
 #include "shared/bvh.wgsl"
 #include "shared/light.wgsl"
 #include "shared/camera.wgsl"
 #include "shared/background.wgsl"
+
+// Where the texture of a surface at `p` is looked up: the stress transform undone.
+fn texture_point(p: vec3<f32>) -> vec3<f32> {
+    return (p - frame.texture_origin) * frame.texture_inv_scale;
+}

@@ -1,5 +1,16 @@
-// Ray–sphere intersection (Ray Tracing Gems ch. 7 discriminant), and sampling a sphere by the
-// cone it subtends; twin of src/cpu/sphere.rs.
+// Ray–sphere intersection (Ray Tracing Gems ch. 7 discriminant, or the book's quadratic with
+// --sphere-hit book), and sampling a sphere by the cone it subtends; twin of src/cpu/sphere.rs.
+
+// Pipeline constant: `--sphere-hit book`.
+override SPHERE_BOOK: bool = false;
+
+// Distance to the nearest hit in (t_min, t_max) by the formula --sphere-hit chose, or -1.
+fn hit_sphere_by(center: vec3<f32>, radius: f32, ray: Ray, t_min: f32, t_max: f32) -> f32 {
+    if SPHERE_BOOK {
+        return hit_sphere_book(center, radius, ray, t_min, t_max);
+    }
+    return hit_sphere(center, radius, ray, t_min, t_max);
+}
 // A sphere is a Primitive (shared/primitive.wgsl) with centre `a` and `radius`.
 
 // Distance to the nearest intersection in (t_min, t_max), or -1 for none.
@@ -33,6 +44,28 @@ fn hit_sphere(center: vec3<f32>, radius: f32, ray: Ray, t_min: f32, t_max: f32) 
     if near > t_min && near < t_max {
         return near;
     }
+    if far > t_min && far < t_max {
+        return far;
+    }
+    return -1.0;
+}
+
+// The book's quadratic (--sphere-hit book); twin of hit_sphere_book in src/cpu/sphere.rs.
+fn hit_sphere_book(center: vec3<f32>, radius: f32, ray: Ray, t_min: f32, t_max: f32) -> f32 {
+    let oc = center - ray.origin;
+    let a = dot(ray.dir, ray.dir);
+    let h = dot(ray.dir, oc);
+    let c = dot(oc, oc) - radius * radius;
+    let disc = h * h - a * c;
+    if disc < 0.0 {
+        return -1.0;
+    }
+    let sq = sqrt(disc);
+    let near = (h - sq) / a;
+    if near > t_min && near < t_max {
+        return near;
+    }
+    let far = (h + sq) / a;
     if far > t_min && far < t_max {
         return far;
     }

@@ -34,7 +34,8 @@ fn start_path(slot: u32, l: u32) {
     let y = pixel / frame.width;
     let ray = camera_ray(x, y, uniform4(pixel, sample_number(l), 0u, PURPOSE_CAMERA, frame.seed));
     path_origin[slot] = vec4<f32>(ray.origin, 0.0);
-    path_dir[slot] = vec4<f32>(ray.dir, 0.0);
+    // w: the primitive the ray leaves, none (intersect counts self-hits against it).
+    path_dir[slot] = vec4<f32>(ray.dir, bitcast<f32>(NO_ORIGIN));
     path_throughput[slot] = vec4<f32>(1.0, 1.0, 1.0, 0.0);
     radiance[slot] = vec4<f32>(0.0);
     if NEE {

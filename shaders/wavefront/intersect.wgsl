@@ -20,7 +20,7 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     instrument(PASS_INTERSECT);
     let ray = Ray(path_origin[slot].xyz, dir.xyz);
-    let hit = closest_hit(ray, T_MIN);
+    let hit = closest_hit(ray, frame.t_min);
     // w counts the rays traced.
     let sum = radiance[slot] + vec4<f32>(0.0, 0.0, 0.0, 1.0);
     if hit.prim == NO_HIT {
@@ -31,6 +31,10 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     radiance[slot] = sum;
+    // dir.w: the primitive the ray left (set by shade, NO_ORIGIN by generate).
+    if is_self_hit(bitcast<u32>(dir.w), hit.prim, ray, hit.t) {
+        count_failure(FAILURE_SELF_HIT);
+    }
     path_origin[slot].w = hit.t;
     path_dir[slot].w = bitcast<f32>(hit.prim);
     var q = QUEUE_MATERIAL_0;

@@ -40,7 +40,8 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     let state = path_throughput[slot];
     let throughput = state.xyz;
     let ray = Ray(o.xyz, d.xyz);
-    let p = ray.origin + ray.dir * o.w;
+    let sp = surface_point(prim, ray, o.w);
+    let p = sp.p;
     if material.kind == MATERIAL_EMISSIVE {
         // MIS-weighted when the previous hit sampled the lights (state.w: its bounce density).
         var w = 1.0;
@@ -57,9 +58,12 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     let front_face = dot(ray.dir, outward) < 0.0;
     let normal = select(-outward, outward, front_face);
     let u = uniform4(slot_pixel(slot), slot_sample(slot), bounce, PURPOSE_SCATTER, frame.seed);
-    let s = scatter(material, ray, p, normal, front_face, u);
+    let s = scatter(material, ray, texture_point(p), normal, front_face, u);
     // The book's depth limit: a path still going after max_depth rays contributes nothing.
     if !s.ok || bounce + 1u >= frame.max_depth {
+        if s.ok {
+            count_failure(FAILURE_DEPTH_CUT);
+        }
         path_dir[slot].w = bitcast<f32>(DEAD);
         retire(position);
         finish_path(slot);
@@ -81,8 +85,10 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
             enqueue_shadow(slot);
         }
     }
-    path_origin[slot] = vec4<f32>(p, 0.0);
-    path_dir[slot] = vec4<f32>(s.dir, 0.0);
+    // Both rays leave to the side the normal faces: the shadow ray starts here too.
+    path_origin[slot] = vec4<f32>(spawn_origin(sp, outward, s.dir), 0.0);
+    // w: the primitive the ray leaves, for the self-hit counters of intersect and shadow.
+    path_dir[slot] = vec4<f32>(s.dir, bitcast<f32>(prim_slot));
     path_throughput[slot] = vec4<f32>(throughput * s.attenuation, bsdf_pdf);
     if REGENERATE {
         path_sample[slot].y = bounce + 1u;

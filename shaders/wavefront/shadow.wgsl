@@ -25,8 +25,13 @@ fn shadow(@builtin(global_invocation_id) gid: vec3<u32>) {
     instrument(PASS_SHADOW);
     let r = shadow_ray[slot];
     var add = vec4<f32>(0.0, 0.0, 0.0, 1.0); // one more ray traced
-    if !occluded(Ray(path_origin[slot].xyz, r.xyz), T_MIN, r.w, light - 1u) {
+    let ray = Ray(path_origin[slot].xyz, r.xyz);
+    let blocker = occluder(ray, frame.t_min, r.w, light - 1u);
+    if blocker.prim == NO_HIT {
         add += vec4<f32>(w.xyz, 0.0);
+    } else if is_self_hit(bitcast<u32>(path_dir[slot].w), blocker.prim, ray, blocker.t) {
+        // path_dir.w: the primitive the shadow ray left (shade wrote it with the next ray).
+        count_failure(FAILURE_SHADOW_SELF_HIT);
     }
     radiance[slot] += add;
     shadow_weight[slot].w = 0.0;

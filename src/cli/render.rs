@@ -235,6 +235,19 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
 
     print_summary(&report, &a.out);
+    let f = &out.failures;
+    println!(
+        "numerics: ray offset {}, sphere hit {}, Fresnel {}, scale {:e}, translate {:?}: {} self-hits, {} shadow self-hits, {} paths cut at depth {}",
+        options.numerics.ray_offset.name(),
+        options.numerics.sphere_hit.name(),
+        options.numerics.fresnel.name(),
+        options.stress.scale,
+        options.stress.translate,
+        f.self_hits,
+        f.shadow_self_hits,
+        f.depth_cut,
+        settings.max_depth
+    );
     if let Some(m) = &report.memory {
         print_memory(m);
     }

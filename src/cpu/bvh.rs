@@ -4,6 +4,7 @@
 use super::{primitive::hit as hit_primitive, ray::Ray, real::Real, vec3::V3};
 use crate::bvh::MAX_DEPTH;
 use crate::layout::{BvhNode, PrimitiveRecord};
+use crate::numerics::SphereHit;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit<T> {
@@ -41,22 +42,36 @@ fn hit_box<T: Real>(n: &BvhNode, o: V3<T>, inv: V3<T>, t_min: T, t_max: T) -> Op
     (near <= far).then_some(near)
 }
 
-/// The nearest hit in (t_min, ∞).
+/// The nearest hit in (t_min, ∞), spheres met by the `sphere` formula.
 #[inline(always)]
 pub fn closest_hit<T: Real>(
     nodes: &[BvhNode],
     prims: &[PrimitiveRecord],
     ray: &Ray<T>,
     t_min: T,
+    sphere: SphereHit,
 ) -> Option<Hit<T>> {
-    traverse(nodes, prims, ray, t_min, T::infinity(), false, NO_SKIP)
+    traverse(nodes, prims, ray, t_min, T::infinity(), false, NO_SKIP, sphere)
 }
 
 /// No primitive skipped (`traverse`'s `skip`).
 const NO_SKIP: u32 = u32::MAX;
 
-/// Whether any primitive but the one in slot `skip` (the light a shadow ray aims at) lies on the
-/// ray in (t_min, t_max): the shadow-ray query.
+/// A primitive but the one in slot `skip` (the light a shadow ray aims at) on the ray in
+/// (t_min, t_max), the first the traversal finds, if any: the shadow-ray query.
+#[inline(always)]
+pub fn occluder<T: Real>(
+    nodes: &[BvhNode],
+    prims: &[PrimitiveRecord],
+    ray: &Ray<T>,
+    (t_min, t_max): (T, T),
+    skip: u32,
+    sphere: SphereHit,
+) -> Option<Hit<T>> {
+    traverse(nodes, prims, ray, t_min, t_max, true, skip, sphere)
+}
+
+/// Whether [`occluder`] finds anything, spheres met by the stable formula.
 #[inline(always)]
 pub fn occluded<T: Real>(
     nodes: &[BvhNode],
@@ -66,13 +81,14 @@ pub fn occluded<T: Real>(
     t_max: T,
     skip: u32,
 ) -> bool {
-    traverse(nodes, prims, ray, t_min, t_max, true, skip).is_some()
+    occluder(nodes, prims, ray, (t_min, t_max), skip, SphereHit::Stable).is_some()
 }
 
 /// The one traversal loop: nearer child first, the farther on the stack. `any_hit` returns the
 /// first hit found in (t_min, t_max) instead of the nearest; the primitive in slot `skip` is not
 /// tested.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn traverse<T: Real>(
     nodes: &[BvhNode],
     prims: &[PrimitiveRecord],
@@ -81,6 +97,7 @@ fn traverse<T: Real>(
     t_max: T,
     any_hit: bool,
     skip: u32,
+    sphere: SphereHit,
 ) -> Option<Hit<T>> {
     let inv = safe_inverse(ray.dir);
     let mut closest = t_max;
@@ -96,7 +113,7 @@ fn traverse<T: Real>(
                 if slot == skip {
                     continue;
                 }
-                if let Some(t) = hit_primitive(&prims[slot as usize], ray, t_min, closest) {
+                if let Some(t) = hit_primitive(&prims[slot as usize], ray, t_min, closest, sphere) {
                     closest = t;
                     hit = Some(Hit { t, prim: slot });
                     if any_hit {
@@ -176,8 +193,8 @@ mod tests {
             };
             let dir = V3::new(s.range(-1.0, 1.0), s.range(-1.0, 0.5), s.range(-1.0, 1.0)).normalize();
             let ray = Ray { origin, dir };
-            let a = closest_hit(&bvh.nodes, &bvh.primitives, &ray, 1e-3f32);
-            let b = closest_hit(&linear.nodes, &linear.primitives, &ray, 1e-3f32);
+            let a = closest_hit(&bvh.nodes, &bvh.primitives, &ray, 1e-3f32, SphereHit::Stable);
+            let b = closest_hit(&linear.nodes, &linear.primitives, &ray, 1e-3f32, SphereHit::Stable);
             if let Some(a) = a {
                 // Any-hit agrees: something before the closest hit's far side, nothing before it.
                 assert!(occluded(&bvh.nodes, &bvh.primitives, &ray, 1e-3, a.t * 1.001, u32::MAX), "ray {i}");
@@ -198,7 +215,13 @@ mod tests {
                     // the same one: the Cornell box's boxes stand on the floor, so their bottom
                     // quads tie with it and the first found wins.)
                     for (hit, prims) in [(a, &bvh.primitives), (b, &linear.primitives)] {
-                        let t = super::hit_primitive(&prims[hit.prim as usize], &ray, 1e-3, f32::INFINITY);
+                        let t = super::hit_primitive(
+                            &prims[hit.prim as usize],
+                            &ray,
+                            1e-3,
+                            f32::INFINITY,
+                            SphereHit::Stable,
+                        );
                         assert_eq!(t, Some(hit.t), "ray {i}");
                     }
                 }

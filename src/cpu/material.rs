@@ -2,6 +2,7 @@
 
 use super::{ray::Ray, real::Real, sampling::unit_vector, texture, vec3::V3};
 use crate::layout::{material_kind, MaterialRecord};
+use crate::numerics::Fresnel;
 
 /// Where a path goes next and how much of it survives.
 #[derive(Clone, Copy, Debug)]
@@ -31,9 +32,34 @@ pub fn reflectance<T: Real>(cosine: T, eta_ratio: T) -> T {
     r0 + (T::one() - r0) * (T::one() - cosine).powi(5)
 }
 
+/// The exact unpolarised Fresnel reflectance of a dielectric boundary for incident cosine
+/// `cos_i` and `eta_ratio` = n_incident / n_transmitted: the mean of the squared s- and
+/// p-polarised amplitude ratios (Hecht, Optics §4.6), 1 under total internal reflection.
+#[inline(always)]
+pub fn fresnel_exact<T: Real>(cos_i: T, eta_ratio: T) -> T {
+    let sin2_t = eta_ratio * eta_ratio * (T::one() - cos_i * cos_i).max(T::zero());
+    if sin2_t >= T::one() {
+        return T::one();
+    }
+    let cos_t = (T::one() - sin2_t).sqrt();
+    let parallel = (cos_i - eta_ratio * cos_t) / (cos_i + eta_ratio * cos_t);
+    let perpendicular = (eta_ratio * cos_i - cos_t) / (eta_ratio * cos_i + cos_t);
+    (parallel * parallel + perpendicular * perpendicular) / T::of(2.0)
+}
+
+/// The chance a ray at incident cosine `cos` reflects off glass, as `fresnel` computes it.
+#[inline(always)]
+pub fn reflect_probability<T: Real>(cos: T, eta_ratio: T, fresnel: Fresnel) -> T {
+    match fresnel {
+        Fresnel::Schlick => reflectance(cos, eta_ratio),
+        Fresnel::Exact => fresnel_exact(cos, eta_ratio),
+    }
+}
+
 /// Scatters `ray` at the surface point `p` (where textures are evaluated) with shading normal
 /// `normal` (facing the ray), `front_face` true when the ray arrived from outside. `u` are the
-/// bounce's three scatter numbers. `None`: the path is absorbed (or the surface only emits).
+/// bounce's three scatter numbers; glass reflects by `fresnel`. `None`: the path is absorbed
+/// (or the surface only emits).
 #[inline(always)]
 pub fn scatter<T: Real>(
     m: &MaterialRecord,
@@ -42,6 +68,7 @@ pub fn scatter<T: Real>(
     normal: V3<T>,
     front_face: bool,
     u: [f32; 4],
+    fresnel: Fresnel,
 ) -> Option<Scatter<T>> {
     match m.kind {
         material_kind::LAMBERTIAN => {
@@ -65,7 +92,7 @@ pub fn scatter<T: Real>(
             let cos_theta = (-ray.dir).dot(normal).min(T::one());
             let sin_theta = (T::one() - cos_theta * cos_theta).max(T::zero()).sqrt();
             let cannot_refract = ri * sin_theta > T::one();
-            let dir = if cannot_refract || reflectance(cos_theta, ri) > T::of(u[2]) {
+            let dir = if cannot_refract || reflect_probability(cos_theta, ri, fresnel) > T::of(u[2]) {
                 reflect(ray.dir, normal)
             } else {
                 refract(ray.dir, normal, ri)
@@ -96,7 +123,8 @@ mod tests {
         let n = V3::new(0.0, -1.0, 0.0); // facing the ray, which travels up and out
         let r = ray([60f64.to_radians().sin(), 60f64.to_radians().cos(), 0.0]);
         for u in [0.0, 0.5, 0.999] {
-            let s = scatter(&glass, &r, V3::splat(0.0), n, false, [0.3, 0.3, u, 0.0]).unwrap();
+            let s =
+                scatter(&glass, &r, V3::splat(0.0), n, false, [0.3, 0.3, u, 0.0], Fresnel::Schlick).unwrap();
             assert!(s.dir.y < 0.0, "reflected back down into the glass");
             assert!((s.dir.y + r.dir.y).abs() < 1e-12 && (s.dir.x - r.dir.x).abs() < 1e-12);
         }
@@ -108,12 +136,13 @@ mod tests {
         let n = V3::new(0.0, 1.0, 0.0);
         let r = ray([30f64.to_radians().sin(), -30f64.to_radians().cos(), 0.0]);
         // u = 0.999 > Schlick reflectance (~0.04): refracts.
-        let s = scatter(&glass, &r, V3::splat(0.0), n, true, [0.0, 0.0, 0.999, 0.0]).unwrap();
+        let s =
+            scatter(&glass, &r, V3::splat(0.0), n, true, [0.0, 0.0, 0.999, 0.0], Fresnel::Schlick).unwrap();
         let sin_out = s.dir.x / s.dir.length();
         assert!((sin_out - 0.5 / 1.5).abs() < 1e-12, "sin θt = sin θi / 1.5");
         assert!(s.dir.y < 0.0);
         // u = 0 < reflectance: reflects.
-        let s = scatter(&glass, &r, V3::splat(0.0), n, true, [0.0, 0.0, 0.0, 0.0]).unwrap();
+        let s = scatter(&glass, &r, V3::splat(0.0), n, true, [0.0, 0.0, 0.0, 0.0], Fresnel::Schlick).unwrap();
         assert!(s.dir.y > 0.0);
     }
 
@@ -130,7 +159,8 @@ mod tests {
         let mut st = crate::rng::Stream::new(5);
         for _ in 0..1000 {
             let u = [st.next_f32(), st.next_f32(), 0.0, 0.0];
-            let s = scatter(&m, &ray([0.0, 0.0, -1.0]), V3::splat(0.0), n, true, u).unwrap();
+            let s =
+                scatter(&m, &ray([0.0, 0.0, -1.0]), V3::splat(0.0), n, true, u, Fresnel::Schlick).unwrap();
             assert!(s.dir.dot(n) >= 0.0);
             assert!((s.dir.length() - 1.0).abs() < 1e-12);
             assert_eq!(s.attenuation, V3::new(0.2f32 as f64, 0.4f32 as f64, 0.6f32 as f64));
@@ -142,7 +172,8 @@ mod tests {
         let mirror = record(material_kind::METAL, [1.0; 3], 0.0);
         let n = V3::new(0.0, 1.0, 0.0);
         let r = ray([1.0, -1.0, 0.0]);
-        let s = scatter(&mirror, &r, V3::splat(0.0), n, true, [0.1, 0.2, 0.0, 0.0]).unwrap();
+        let s =
+            scatter(&mirror, &r, V3::splat(0.0), n, true, [0.1, 0.2, 0.0, 0.0], Fresnel::Schlick).unwrap();
         assert!((s.dir.x - r.dir.x).abs() < 1e-12 && (s.dir.y + r.dir.y).abs() < 1e-12);
         // A grazing ray with full fuzz: some samples end below the surface and are absorbed.
         let fuzzy = record(material_kind::METAL, [1.0; 3], 1.0);
@@ -150,11 +181,33 @@ mod tests {
         let mut st = crate::rng::Stream::new(6);
         let absorbed = (0..1000)
             .filter(|_| {
-                scatter(&fuzzy, &grazing, V3::splat(0.0), n, true, [st.next_f32(), st.next_f32(), 0.0, 0.0])
-                    .is_none()
+                scatter(
+                    &fuzzy,
+                    &grazing,
+                    V3::splat(0.0),
+                    n,
+                    true,
+                    [st.next_f32(), st.next_f32(), 0.0, 0.0],
+                    Fresnel::Schlick,
+                )
+                .is_none()
             })
             .count();
         assert!(absorbed > 100 && absorbed < 900, "{absorbed}");
+    }
+
+    #[test]
+    fn exact_fresnel_matches_the_textbook_values() {
+        // Air to glass (1.5) at normal incidence: ((1 − 1.5)/(1 + 1.5))² = 4%.
+        assert!((fresnel_exact(1.0f64, 1.0 / 1.5) - 0.04).abs() < 1e-12);
+        // Leaving glass at 40°: 24.5% exact, where Schlick (in the incident cosine) says 4.1%.
+        let c = 40f64.to_radians().cos();
+        assert!((fresnel_exact(c, 1.5) - 0.245).abs() < 5e-4, "{}", fresnel_exact(c, 1.5));
+        assert!((reflectance(c, 1.5) - 0.041).abs() < 5e-4);
+        // Beyond the critical angle (41.8°): total internal reflection.
+        assert_eq!(fresnel_exact(42f64.to_radians().cos(), 1.5), 1.0);
+        // Grazing incidence from air reflects everything; both terms agree there.
+        assert!((fresnel_exact(0.0f64, 1.0 / 1.5) - 1.0).abs() < 1e-12);
     }
 
     #[test]
@@ -166,7 +219,8 @@ mod tests {
             V3::splat(0.0),
             V3::new(0.0, 0.0, -1.0),
             true,
-            [0.5; 4]
+            [0.5; 4],
+            Fresnel::Schlick
         )
         .is_none());
     }

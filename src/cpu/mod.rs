@@ -8,6 +8,7 @@ pub mod camera;
 pub mod integrator;
 pub mod light;
 pub mod material;
+pub mod offset;
 pub mod planar;
 pub mod primitive;
 pub mod ray;
@@ -19,32 +20,40 @@ pub mod vec3;
 
 use crate::camera::CameraFrame;
 use crate::film::{Film, PixelStats};
+use crate::numerics::Failures;
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use rayon::prelude::*;
 use real::Real;
 
 /// Renders with the integrator computing in `T`; `on_row` is called once per finished row.
+/// Returns the film and what failed numerically on the way.
 pub fn render<T: Real>(
     scene: &PackedScene,
     frame: &CameraFrame,
     settings: &RenderSettings,
     on_row: &(dyn Fn() + Sync),
-) -> Film {
+) -> (Film, Failures) {
     let camera = camera::Camera::<T>::new(frame);
     let w = settings.width;
     let mut film = Film::new(w, settings.height, settings.spp);
+    let failures = std::sync::Mutex::new(Failures::default());
     film.pixels.par_chunks_mut(w as usize).enumerate().for_each(|(y, row)| {
+        let mut row_failures = Failures::default();
         for (x, px) in row.iter_mut().enumerate() {
             let mut stats = PixelStats::default();
             for s in 0..settings.spp {
                 let path = integrator::trace_path(scene, &camera, settings, x as u32, y as u32, s);
                 stats.add(path.radiance.to_f64());
                 stats.rays += path.rays as u64;
+                row_failures.self_hits += path.self_hits as u64;
+                row_failures.shadow_self_hits += path.shadow_self_hits as u64;
+                row_failures.depth_cut += path.depth_cut as u64;
             }
             *px = stats;
         }
+        failures.lock().expect("no thread panics holding it").add(&row_failures);
         on_row();
     });
-    film
+    (film, failures.into_inner().expect("no thread panicked holding it"))
 }

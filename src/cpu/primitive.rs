@@ -3,15 +3,19 @@
 
 use super::planar::{hit_planar, planar_normal};
 use super::sampling::unit_vector;
-use super::sphere::{hit_sphere, outward_normal as sphere_normal};
+use super::sphere::{hit_sphere, hit_sphere_book, outward_normal as sphere_normal};
 use super::{ray::Ray, real::Real, vec3::V3};
 use crate::layout::{primitive_kind, PrimitiveRecord};
+use crate::numerics::SphereHit;
 
-/// Distance to the nearest hit in (t_min, t_max), if any.
+/// Distance to the nearest hit in (t_min, t_max), if any; spheres by the `sphere` formula.
 #[inline(always)]
-pub fn hit<T: Real>(p: &PrimitiveRecord, ray: &Ray<T>, t_min: T, t_max: T) -> Option<T> {
+pub fn hit<T: Real>(p: &PrimitiveRecord, ray: &Ray<T>, t_min: T, t_max: T, sphere: SphereHit) -> Option<T> {
     if p.kind == primitive_kind::SPHERE {
-        hit_sphere(p, ray, t_min, t_max)
+        match sphere {
+            SphereHit::Stable => hit_sphere(p, ray, t_min, t_max),
+            SphereHit::Book => hit_sphere_book(p, ray, t_min, t_max),
+        }
     } else {
         hit_planar(p, ray, t_min, t_max)
     }

@@ -15,5 +15,6 @@ impl<T: Real> Ray<T> {
     }
 }
 
-/// Nearest intersections closer than this are ignored (the book's shadow-acne guard).
-pub const T_MIN: f32 = 1e-3;
+/// The book's shadow-acne guard: nearest intersections closer than this are ignored
+/// (`--ray-offset tmin`, the default; `numerics.rs` has the others).
+pub const T_MIN: f32 = crate::numerics::RayOffset::BOOK_T_MIN;

@@ -4,6 +4,7 @@
 //! The discriminant is computed as r² − |f − (f·d)d|² (Ray Tracing Gems ch. 7, "Precision
 //! Improvements for Ray/Sphere Intersection") and the near root as c/q, which keeps f32 hits on
 //! the book's radius-1000 ground sphere accurate where the textbook b² − 4ac form loses them.
+//! The book's form stays selectable (`--sphere-hit book`, [`hit_sphere_book`]) to measure that.
 
 use super::sampling::orthonormal_basis;
 use super::{ray::Ray, real::Real, vec3::V3};
@@ -36,6 +37,30 @@ pub fn hit_sphere<T: Real>(s: &PrimitiveRecord, ray: &Ray<T>, t_min: T, t_max: T
     } else {
         None
     }
+}
+
+/// The book's quadratic (Ray Tracing in One Weekend §6.6, with h = d·(c − o)): the discriminant
+/// h² − |d|²(|c − o|² − r²) cancels catastrophically when the sphere is far away or small
+/// against its distance, and the near root (h − √disc)/|d|² when the origin is on the surface.
+#[inline(always)]
+pub fn hit_sphere_book<T: Real>(s: &PrimitiveRecord, ray: &Ray<T>, t_min: T, t_max: T) -> Option<T> {
+    let r = T::of(s.radius);
+    let oc = V3::of(s.a) - ray.origin;
+    let a = ray.dir.length_squared();
+    let h = ray.dir.dot(oc);
+    let c = oc.length_squared() - r * r;
+    let disc = h * h - a * c;
+    if disc < T::zero() {
+        return None;
+    }
+    let sq = disc.sqrt();
+    let inside = |t: T| t > t_min && t < t_max;
+    let near = (h - sq) / a;
+    if inside(near) {
+        return Some(near);
+    }
+    let far = (h + sq) / a;
+    inside(far).then_some(far)
 }
 
 /// Outward unit normal at point `p` on the sphere.

@@ -21,7 +21,7 @@ use super::gpu_render::GpuRender;
 use super::instrument::SimdCounters;
 use super::loop_limit::{check_loop_limit, paths_per_thread};
 use super::memory::{MemoryCategory, MemoryLedger};
-use super::scene_buffers::SceneBuffers;
+use super::scene_buffers::{decode_failures, SceneBuffers, FAILURE_BYTES};
 use super::schedule::Schedule;
 use super::stage::{Stage, Workgroups};
 use super::timing::{GpuTimer, Measure, MAX_PASSES_PER_BATCH};
@@ -29,6 +29,7 @@ use super::{label, shaders};
 use crate::camera::CameraFrame;
 use crate::film::Film;
 use crate::layout::{DispatchParams, FilmPixel};
+use crate::numerics::Failures;
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
@@ -189,6 +190,8 @@ pub fn render(
     let trace = Trace { stage, scene: &scene_buffers.bind_group, group: &group, simd: simd.as_ref() };
 
     let mut timer = GpuTimer::new(ctx, measure.timing, &mut memory);
+    // Checked dispatches count failures per accepted attempt (a retried one would count twice).
+    let mut checked_failures = None;
     let dispatches = match (threads, &work, cap) {
         (Some(threads), Some(work), Some(cap)) => {
             let mut run = Checked {
@@ -196,10 +199,14 @@ pub fn render(
                 trace: &trace,
                 accumulate: &accumulate,
                 work,
+                failures: &scene_buffers.failures,
+                counted: Failures::default(),
                 threads,
                 wg: opts.workgroup_size,
             };
-            run.render(&plan, &params, cap, &mut timer, on_progress)?
+            let n = run.render(&plan, &params, cap, &mut timer, on_progress)?;
+            checked_failures = Some(run.counted);
+            n
         }
         _ => {
             if let Some(work) = &work {
@@ -223,6 +230,10 @@ pub fn render(
     memory.transient(film_bytes);
     let data: Vec<FilmPixel> = read_back(ctx, &film, film_bytes)?;
     let film = Film::from_gpu(settings.width, settings.height, settings.spp, &data);
+    let failures = match checked_failures {
+        Some(f) => f,
+        None => scene_buffers.read_failures(ctx)?,
+    };
     let in_flight = threads.map_or(most_samples, |t| (t as u64).min(most_samples)).max(1);
     Ok(GpuRender {
         film,
@@ -236,7 +247,7 @@ pub fn render(
         // largest dispatch, or one per persistent thread.
         bytes_per_path: (samples.size() + work.as_ref().map_or(0, |w| w.size())).div_ceil(in_flight),
         memory: memory.summary(),
-        failures: Default::default(),
+        failures,
     })
 }
 
@@ -326,6 +337,10 @@ struct Checked<'a> {
     trace: &'a Trace<'a>,
     accumulate: &'a Accumulate,
     work: &'a wgpu::Buffer,
+    /// The scene's failure counters, cleared before each attempt and added to `counted` after
+    /// the accepted one.
+    failures: &'a wgpu::Buffer,
+    counted: Failures,
     threads: u32,
     wg: u32,
 }
@@ -350,6 +365,7 @@ impl Checked<'_> {
                 ctx.queue.write_buffer(self.work, 4 * WORK_PATHS_PER_THREAD, bytemuck::bytes_of(&per_thread));
                 let mut enc = ctx.device.create_command_encoder(&Default::default());
                 enc.clear_buffer(self.work, 0, Some(12));
+                enc.clear_buffer(self.failures, 0, None);
                 // Each launch takes up to threads × per_thread samples from where the last stopped.
                 let launches = (samples as u64).div_ceil(threads as u64 * per_thread as u64);
                 for _ in 0..launches {
@@ -359,6 +375,8 @@ impl Checked<'_> {
                 timer.submit_batch(ctx, enc)?;
                 let words: Vec<u32> = read_back(ctx, self.work, 12)?;
                 if words[WORK_CUT] == 0 && words[WORK_FINISHED] == samples {
+                    let words: Vec<u32> = read_back(ctx, self.failures, FAILURE_BYTES)?;
+                    self.counted.add(&decode_failures(&words));
                     break;
                 }
                 if per_thread == 1 {

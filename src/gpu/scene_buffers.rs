@@ -4,10 +4,11 @@
 //! ([`check_fits`]), so a scene too big for the device is an error naming the buffer, not a
 //! wgpu validation panic or a lost device halfway through the upload.
 
-use super::buffers::{human_bytes, storage_entry, storage_init, uniform_entry};
+use super::buffers::{human_bytes, read_back, storage_entry, storage_init, storage_zeroed, uniform_entry};
 use super::context::{AdapterSummary, GpuContext};
 use super::memory::{MemoryCategory, MemoryLedger};
 use crate::layout::FrameUniform;
+use crate::numerics::Failures;
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
@@ -18,8 +19,11 @@ pub struct SceneBuffers {
     pub bind_group: wgpu::BindGroup,
     /// Bytes of scene data uploaded (for reports).
     pub bytes: u64,
+    /// The failure counters the shaders add to (`shared/offset.wgsl`): self-hits, shadow
+    /// self-hits, depth-cut paths, each a u64 as two u32 words, low first.
+    pub failures: wgpu::Buffer,
     /// Pipeline constants of the scene's shaders (`PackedScene::pipeline_constants`).
-    scene_constants: [(&'static str, f64); 4],
+    scene_constants: [(&'static str, f64); 7],
 }
 
 impl SceneBuffers {
@@ -32,6 +36,7 @@ impl SceneBuffers {
                 storage_entry(2, true),
                 storage_entry(3, true),
                 storage_entry(4, true),
+                storage_entry(5, false),
             ],
         })
     }
@@ -63,6 +68,13 @@ impl SceneBuffers {
         let lights = storage_init(ctx, "lights", &scene.light_table, none)?;
         let bytes = [&primitives, &materials, &nodes, &lights].iter().map(|b| b.size()).sum();
         memory.add(MemoryCategory::Scene, bytes + frame_buf.size());
+        let failures = storage_zeroed(
+            ctx,
+            "failure counters",
+            FAILURE_BYTES,
+            wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+        )?;
+        memory.add(MemoryCategory::Counters, FAILURE_BYTES);
         let layout = Self::layout(ctx);
         let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("scene"),
@@ -73,11 +85,26 @@ impl SceneBuffers {
                 wgpu::BindGroupEntry { binding: 2, resource: materials.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 3, resource: nodes.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 4, resource: lights.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 5, resource: failures.as_entire_binding() },
             ],
         });
         ctx.check()?;
-        Ok(Self { layout, bind_group, bytes, scene_constants: scene.pipeline_constants(settings) })
+        Ok(Self { layout, bind_group, bytes, failures, scene_constants: scene.pipeline_constants(settings) })
     }
+
+    /// The failure counters as they stand (waits for the GPU).
+    pub fn read_failures(&self, ctx: &GpuContext) -> Result<Failures> {
+        Ok(decode_failures(&read_back::<u32>(ctx, &self.failures, FAILURE_BYTES)?))
+    }
+}
+
+/// Bytes of the failure counters: three u64s.
+pub const FAILURE_BYTES: u64 = 24;
+
+/// The failure counters from their words (`shared/offset.wgsl`: low word first).
+pub fn decode_failures(words: &[u32]) -> Failures {
+    let word = |i: usize| (words[2 * i + 1] as u64) << 32 | words[2 * i] as u64;
+    Failures { self_hits: word(0), shadow_self_hits: word(1), depth_cut: word(2) }
 }
 
 /// The storage buffers a scene needs: (label, bytes), labelled as in errors and in wgpu.

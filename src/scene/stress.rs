@@ -150,8 +150,9 @@ mod tests {
 
     #[test]
     fn a_translation_that_overflows_a_scene_point_is_refused() {
-        let scene = crate::scene::builtin::by_name("three-spheres").unwrap();
-        let t = StressTransform { scale: 1e37, translate: [3e38, 0.0, 0.0] };
+        let mut scene = crate::scene::builtin::by_name("three-spheres").unwrap();
+        scene.spheres[0].center.x = 1e38;
+        let t = StressTransform { scale: 1.0, translate: [3e38, 0.0, 0.0] };
         let err = t.apply(&scene).unwrap_err();
         assert!(err.contains("overflows f32"), "{err}");
     }

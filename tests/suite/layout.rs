@@ -66,7 +66,10 @@ fn frame() {
             background_kind,
             background_color,
             light_count,
-            light_power
+            light_power,
+            t_min,
+            texture_origin,
+            texture_inv_scale
         ]
     );
 }

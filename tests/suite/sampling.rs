@@ -32,6 +32,7 @@ use wavetrace::cpu::{material::scatter, ray::Ray, ray::T_MIN, real::Real, vec3::
 use wavetrace::layout::{material_kind, primitive_kind, MaterialRecord, PrimitiveRecord};
 use wavetrace::light_options::{LightOptions, LightSampling, LightSelect};
 use wavetrace::light_table;
+use wavetrace::numerics::Fresnel;
 use wavetrace::packed_scene::PackedScene;
 use wavetrace::rng::{uniform4, Purpose};
 use wavetrace::scene::{builtin, Background, CameraSpec, Material, Mesh, NamedMaterial, Quad, Scene, Sphere};
@@ -90,7 +91,7 @@ const DIELECTRIC: [(f32, bool, f64, Precision); 9] = [
 /// they must fail).
 const N_TESTS: usize = LAMBERTIAN.len()
     + METAL.len()
-    + DIELECTRIC.len()
+    + 2 * DIELECTRIC.len()
     + LIGHT_CASES.len()
     + AREA_CASES.len()
     + 2 * NEE_CASES.len()
@@ -158,17 +159,17 @@ fn reflect(d: DVec3, n: DVec3) -> DVec3 {
 /// The uniforms are the renderer's: `uniform4(sample, case, 0, Scatter, SEED)`.
 fn scatter_each<T: Real>(
     m: &MaterialRecord,
-    d: DVec3,
-    n: DVec3,
+    (d, n): (DVec3, DVec3),
     front: bool,
     case: u32,
+    fresnel: Fresnel,
     mut f: impl FnMut(Option<DVec3>),
 ) {
     let ray = Ray { origin: V3::<T>::splat(T::zero()), dir: V3::of64(d).normalize() };
     let normal = V3::<T>::of64(n).normalize();
     for i in 0..SAMPLES {
         let u = uniform4(i, case, 0, Purpose::Scatter, SEED);
-        let s = scatter(m, &ray, V3::splat(T::zero()), normal, front, u);
+        let s = scatter(m, &ray, V3::splat(T::zero()), normal, front, u, fresnel);
         f(s.map(|s| DVec3::from_array(s.dir.to_f64())));
     }
 }
@@ -182,9 +183,22 @@ fn sample(
     case: u32,
     f: impl FnMut(Option<DVec3>),
 ) {
+    sample_fresnel(p, m, (d, n), front, case, Fresnel::Schlick, f)
+}
+
+/// As [`sample`], glass reflecting by `fresnel`.
+fn sample_fresnel(
+    p: Precision,
+    m: &MaterialRecord,
+    dn: (DVec3, DVec3),
+    front: bool,
+    case: u32,
+    fresnel: Fresnel,
+    f: impl FnMut(Option<DVec3>),
+) {
     match p {
-        F32 => scatter_each::<f32>(m, d, n, front, case, f),
-        F64 => scatter_each::<f64>(m, d, n, front, case, f),
+        F32 => scatter_each::<f32>(m, dn, front, case, fresnel, f),
+        F64 => scatter_each::<f64>(m, dn, front, case, fresnel, f),
     }
 }
 
@@ -438,6 +452,18 @@ fn fresnel(cos_i: f64, eta: f64) -> f64 {
 /// Reflected and refracted counts of one dielectric case, every direction checked exactly
 /// against the law of reflection and Snell's law.
 fn dielectric_counts(p: Precision, ior: f32, front: bool, theta: f64, case: u32) -> (f64, f64) {
+    dielectric_counts_by(p, ior, front, theta, case, Fresnel::Schlick)
+}
+
+/// As [`dielectric_counts`], glass reflecting by `fresnel`.
+fn dielectric_counts_by(
+    p: Precision,
+    ior: f32,
+    front: bool,
+    theta: f64,
+    case: u32,
+    fresnel: Fresnel,
+) -> (f64, f64) {
     let frame = Frame::normal();
     let (d, n) = (frame.incident(theta), frame.n);
     let ri = if front { 1.0 / ior as f64 } else { ior as f64 };
@@ -453,7 +479,7 @@ fn dielectric_counts(p: Precision, ior: f32, front: bool, theta: f64, case: u32)
     };
     let (mut reflected, mut transmitted) = (0.0, 0.0);
     let m = material(material_kind::DIELECTRIC, ior);
-    sample(p, &m, d, n, front, case, |s| {
+    sample_fresnel(p, &m, (d, n), front, case, fresnel, |s| {
         let w = s.expect("a dielectric never absorbs");
         if w.dot(n) > 0.0 {
             let err = (w - mirror).length();
@@ -495,6 +521,27 @@ fn dielectric_chooses_by_schlick_and_obeys_snell() {
             let counts = dielectric_counts(p, ior, front, theta, 200 + i as u32);
             let expected = schlick(theta.to_radians().cos(), ior as f64);
             (name.clone(), chi2_two_outcomes(&name, counts, expected))
+        })
+        .collect();
+    assert_all_pass(&results);
+}
+
+/// `--fresnel exact`: the same cases against the exact Fresnel equations (leaving glass at 40°,
+/// just below the critical angle, they give 24.5% where Schlick gives 4.1%).
+#[test]
+fn dielectric_chooses_by_exact_fresnel_when_asked() {
+    let results: Vec<_> = DIELECTRIC
+        .iter()
+        .enumerate()
+        .map(|(i, &(ior, front, theta, p))| {
+            let name = format!(
+                "exact-Fresnel dielectric ior {ior:.4} {} {theta}° {p:?}",
+                if front { "front" } else { "back" }
+            );
+            let counts = dielectric_counts_by(p, ior, front, theta, 270 + i as u32, Fresnel::Exact);
+            // `fresnel` takes the index ratio transmitted / incident.
+            let eta = if front { ior as f64 } else { 1.0 / ior as f64 };
+            (name.clone(), chi2_two_outcomes(&name, counts, fresnel(theta.to_radians().cos(), eta)))
         })
         .collect();
     assert_all_pass(&results);
@@ -583,6 +630,13 @@ fn chi2_rejects_wrong_samplers() {
     results.push((
         "Schlick vs exact Fresnel",
         chi2_two_outcomes("control: Schlick vs exact Fresnel", counts, exact),
+    ));
+    // And the other way: exact Fresnel leaving glass at 30° (5.5%) against Schlick's 4.0%.
+    let counts = dielectric_counts_by(F64, 1.5, false, 30.0, 304, Fresnel::Exact);
+    let book = schlick(30f64.to_radians().cos(), 1.5);
+    results.push((
+        "exact Fresnel vs Schlick",
+        chi2_two_outcomes("control: exact Fresnel vs Schlick", counts, book),
     ));
     for (name, t) in &results {
         assert!(t.p_value < 1e-12, "{name}: the χ² test failed to reject (p = {:e}, n = {n})", t.p_value);

@@ -450,6 +450,7 @@ pub fn render(
     let data: Vec<FilmPixel> = read_back(ctx, &film, film_bytes)?;
     let film = Film::from_gpu(settings.width, settings.height, settings.spp, &data);
     let simd = b.simd.as_ref().map(|s| s.read(ctx)).transpose()?;
+    let failures = b.scene.read_failures(ctx)?;
     Ok(WavefrontRender {
         render: GpuRender {
             film,
@@ -460,7 +461,7 @@ pub fn render(
             simd,
             bytes_per_path: bytes_per_path(regenerate),
             memory: memory.summary(),
-            failures: Default::default(),
+            failures,
         },
         pool,
         histogram,
