@@ -3,6 +3,7 @@
 //! The CPU reference ([`cpu`]) is the ground truth; the GPU methods ([`gpu`]) run on wgpu.
 //! All of them draw random numbers from [`rng`], so they trace the same paths.
 
+pub mod arithmetic_range;
 pub mod bvh;
 pub mod camera;
 pub mod chart;

@@ -135,6 +135,11 @@ pub fn render(
         .with_numerics(options.numerics)
         .with_stress(options.stress);
     let camera = CameraFrame::new(&scene.camera, settings.width, settings.height);
+    // A scene whose f32 arithmetic would overflow renders silently wrong: refuse it instead.
+    if method != Method::CpuF64 {
+        crate::arithmetic_range::check_f32(&packed, &camera)
+            .map_err(|e| anyhow!("{} computes in f32: {e}", method.name()))?;
+    }
     let start = Instant::now();
     match method {
         Method::Cpu | Method::CpuF64 => {

@@ -20,5 +20,6 @@ mod resume;
 mod sampling;
 mod scale;
 mod scene_format;
+mod stability;
 mod tidy;
 mod wavefront;
