@@ -7,6 +7,7 @@ use crate::gpu::memory::GpuMemory;
 use crate::gpu::timing::{PassTime, TimeSource};
 use crate::gpu::wavefront::{QueueHistogram, ScheduleStats};
 use crate::method::{Method, MethodOptions, RenderOutput};
+use crate::numerics::Failures;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 use serde::Serialize;
@@ -93,6 +94,11 @@ pub struct RunReport {
     pub rays_per_second: f64,
     /// NaN/Inf samples dropped instead of accumulated.
     pub invalid_samples: u64,
+    /// Where the numerics failed: `self_hits` (secondary rays whose closest hit was the primitive
+    /// they left), `shadow_self_hits` (shadow rays likewise) and `depth_cut` (paths cut by
+    /// `max_depth`), as top-level fields beside `invalid_samples`.
+    #[serde(flatten)]
+    pub failures: Failures,
     pub image_mean: f64,
     /// GPU memory per path in flight, bytes (GPU methods).
     pub bytes_per_path: Option<u64>,
@@ -149,6 +155,7 @@ impl RunReport {
             rays: out.film.rays(),
             rays_per_second: out.film.rays() as f64 / seconds,
             invalid_samples: out.film.invalid_samples(),
+            failures: out.failures,
             image_mean: out.film.image_mean(),
             bytes_per_path: out.bytes_per_path,
             memory: out.memory.clone(),
@@ -160,9 +167,13 @@ impl RunReport {
         }
     }
 
-    /// The `wavetrace.*` header attributes of the run's EXR.
+    /// The `wavetrace.*` header attributes of the run's EXR: what ran, with every knob of every
+    /// method (`ray_offset`, `sphere_hit`, `fresnel` as the CLI spells them; `scale` and
+    /// `translate` as `--scale` and `--translate` read them back, exactly).
     pub fn exr_attributes(&self) -> Vec<(String, String)> {
         let s = &self.settings;
+        let n = &self.options.numerics;
+        let t = &self.options.stress;
         [
             ("method", self.method.name().to_string()),
             ("scene", self.scene.name.clone()),
@@ -172,11 +183,60 @@ impl RunReport {
             ("nee", if s.nee { "on" } else { "off" }.to_string()),
             ("light_sampling", self.options.lights.sampling.name().to_string()),
             ("light_select", self.options.lights.select.name().to_string()),
+            ("ray_offset", n.ray_offset.name()),
+            ("sphere_hit", n.sphere_hit.name().to_string()),
+            ("fresnel", n.fresnel.name().to_string()),
+            ("scale", format!("{:?}", t.scale)),
+            ("translate", t.translate.map(|c| format!("{c:?}")).join(",")),
             ("render_time_s", format!("{:.6}", self.wall_seconds)),
             ("git_commit", self.build.git_commit.to_string()),
         ]
         .into_iter()
         .map(|(k, v)| (format!("wavetrace.{k}"), v))
         .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::numerics::{Fresnel, NumericOptions, RayOffset, SphereHit};
+    use crate::scene::stress::StressTransform;
+
+    /// The knobs reach the EXR attributes in a form the CLI reads back, and the failure counters
+    /// sit beside `invalid_samples` in the `--report` JSON.
+    #[test]
+    fn knobs_and_failures_are_recorded() {
+        let scene = crate::scene::builtin::by_name("three-spheres").unwrap();
+        let settings = RenderSettings { width: 4, height: 2, spp: 1, ..RenderSettings::default() };
+        let options = MethodOptions {
+            numerics: NumericOptions {
+                ray_offset: RayOffset::Tmin(1e-4),
+                sphere_hit: SphereHit::Book,
+                fresnel: Fresnel::Exact,
+            },
+            stress: StressTransform { scale: 1e-4, translate: [1e5, -2.5, 0.1] },
+            ..MethodOptions::default()
+        };
+        let mut out = crate::method::render(Method::Cpu, &scene, &settings, &options, None, &|_| {}).unwrap();
+        out.failures = Failures { self_hits: 3, shadow_self_hits: 2, depth_cut: 1 };
+        let report = RunReport::new(&scene, Method::Cpu, &settings, &options, None, &out);
+        let attrs = report.exr_attributes();
+        let attr = |k: &str| attrs.iter().find(|(n, _)| n == &format!("wavetrace.{k}")).unwrap().1.clone();
+        assert_eq!(RayOffset::parse(&attr("ray_offset")), Ok(RayOffset::Tmin(1e-4)));
+        assert_eq!(attr("sphere_hit"), "book");
+        assert_eq!(attr("fresnel"), "exact");
+        assert_eq!(StressTransform::parse_scale(&attr("scale")), Ok(1e-4));
+        assert_eq!(StressTransform::parse_translate(&attr("translate")), Ok([1e5, -2.5, 0.1]));
+        let json = serde_json::to_value(&report).unwrap();
+        assert_eq!(json["self_hits"], 3);
+        assert_eq!(json["shadow_self_hits"], 2);
+        assert_eq!(json["depth_cut"], 1);
+        assert_eq!(json["invalid_samples"], 0);
+        assert_eq!(json["options"]["ray_offset"], "tmin=1e-4");
+        assert_eq!(json["options"]["sphere_hit"], "book");
+        assert_eq!(json["options"]["fresnel"], "exact");
+        assert_eq!(json["options"]["scale"], 1e-4);
+        assert_eq!(json["options"]["translate"], serde_json::json!([1e5, -2.5, 0.1]));
     }
 }

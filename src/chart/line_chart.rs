@@ -22,6 +22,10 @@ pub struct LineChart {
     pub y_label: String,
     pub x_log: bool,
     pub y_log: bool,
+    /// On a log x axis, draw x = 0 instead of leaving it out: at the decade below the smallest
+    /// positive x's decade, whose tick reads "0", and the x axis title says so. (No effect on a
+    /// linear axis, or when no x is positive.)
+    pub x_zero: bool,
     pub series: Vec<Series>,
 }
 
@@ -30,8 +34,36 @@ impl LineChart {
         x.is_finite() && y.is_finite() && (!self.x_log || x > 0.0) && (!self.y_log || y > 0.0)
     }
 
+    /// Where x = 0 is drawn (`x_zero`): a decade below the smallest positive x's decade, so that
+    /// it sits on a tick of its own with no other tick between it and the data.
+    fn zero_at(&self) -> Option<f64> {
+        if !(self.x_log && self.x_zero) {
+            return None;
+        }
+        let points = self.series.iter().flat_map(|s| &s.points);
+        let has_zero = points.clone().any(|&(x, y)| x == 0.0 && self.drawable((1.0, y)));
+        let min = points.map(|p| p.0).filter(|&x| x > 0.0 && x.is_finite()).reduce(f64::min)?;
+        // The nearest double to the power of ten, so that the axis's decades start at it.
+        let decade = |k: f64| format!("1e{k}").parse::<f64>().ok();
+        has_zero.then(|| decade(min.log10().floor() - 1.0)).flatten().filter(|z| *z > 0.0)
+    }
+
     /// The chart as a standalone SVG document (see the [module docs](super)).
     pub fn to_svg(&self) -> String {
+        let zero = self.zero_at();
+        if let Some(z) = zero {
+            let mut moved = self.clone();
+            for p in moved.series.iter_mut().flat_map(|s| &mut s.points) {
+                if p.0 == 0.0 {
+                    p.0 = z;
+                }
+            }
+            return moved.svg(zero);
+        }
+        self.svg(None)
+    }
+
+    fn svg(&self, zero: Option<f64>) -> String {
         let points: Vec<(f64, f64)> =
             self.series.iter().flat_map(|s| &s.points).copied().filter(|&p| self.drawable(p)).collect();
         if points.is_empty() {
@@ -41,14 +73,14 @@ impl LineChart {
         let x = range(points.iter().map(|p| p.0), self.x_log);
         let y = range(points.iter().map(|p| p.1), self.y_log);
         render(|root| match (self.x_log, self.y_log) {
-            (false, false) => self.draw(root, x, y, omitted),
-            (true, false) => self.draw(root, x.log_scale(), y, omitted),
-            (false, true) => self.draw(root, x, y.log_scale(), omitted),
-            (true, true) => self.draw(root, x.log_scale(), y.log_scale(), omitted),
+            (false, false) => self.draw(root, x, y, omitted, zero),
+            (true, false) => self.draw(root, x.log_scale(), y, omitted, zero),
+            (false, true) => self.draw(root, x, y.log_scale(), omitted, zero),
+            (true, true) => self.draw(root, x.log_scale(), y.log_scale(), omitted, zero),
         })
     }
 
-    fn draw<X, Y>(&self, root: &Area, x: X, y: Y, omitted: usize) -> Drawn
+    fn draw<X, Y>(&self, root: &Area, x: X, y: Y, omitted: usize, zero: Option<f64>) -> Drawn
     where
         X: AsRangedCoord<Value = f64>,
         Y: AsRangedCoord<Value = f64>,
@@ -62,14 +94,24 @@ impl LineChart {
         let (names, legend_w) = legend_names(root, &named);
         title(root, &self.title)?;
         let mut chart = layout(root, legend_w, omitted > 0).x_label_area_size(44).build_cartesian_2d(x, y)?;
+        let x_title = match zero {
+            Some(_) => clean(&format!("{} (log scale; 0 drawn at the tick marked 0)", self.x_label)),
+            None => axis_title(&self.x_label, self.x_log),
+        };
+        let x_tick = |v: &f64| match zero {
+            Some(z) if (v / z - 1.0).abs() < 1e-6 => "0".to_string(),
+            // Nothing lies left of 0.
+            Some(z) if *v < z => String::new(),
+            _ => tick(*v),
+        };
         chart
             .configure_mesh()
-            .x_desc(axis_title(&self.x_label, self.x_log))
+            .x_desc(x_title)
             .y_desc(axis_title(&self.y_label, self.y_log))
             .x_labels(8)
             .y_labels(8)
             .max_light_lines(5)
-            .x_label_formatter(&|v| tick(*v))
+            .x_label_formatter(&x_tick)
             .y_label_formatter(&|v| tick(*v))
             .label_style(font())
             .draw()?;

@@ -6,6 +6,8 @@
 //! external resources. What this module adds to plotters keeps the charts honest:
 //!
 //! - log axes say "(log scale)" in their title and span whole decades;
+//! - a log x axis may draw x = 0 (`LineChart::x_zero`): at a tick of its own marked "0", a
+//!   decade left of the data, and its title says so;
 //! - values that cannot be drawn (non-finite, or ≤ 0 on a log axis) are left out, never moved,
 //!   and a footnote counts them; a line breaks where a point was left out;
 //! - a chart with nothing to draw shows its title and a centred "no data" note;
@@ -21,6 +23,7 @@
 //!     y_label: "relMSE".into(),
 //!     x_log: true,
 //!     y_log: true,
+//!     x_zero: false,
 //!     series: vec![Series { name: "wavefront".into(), points: vec![(1.0, 0.3), (16.0, 0.02), (256.0, 0.001)] }],
 //! };
 //! let svg = chart.to_svg();

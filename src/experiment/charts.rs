@@ -1,9 +1,13 @@
 //! The report's charts, one set per (scene, resolution): error against time (the speed-vs-accuracy
-//! chart), GPU time per pass stacked per run, queue occupancy per bounce, and SIMD efficiency per
-//! pass where it was measured; and, where a config sweeps scenes, time by scene. Drawn from `report.json` alone, so `experiment report` and
-//! `experiment merge` can re-draw them.
+//! chart) and against spp (where f32 stops converging), GPU time per pass stacked per run, queue
+//! occupancy per bounce, SIMD efficiency per pass where it was measured, and, where runs differ in
+//! a stress transform (`scale`, `translate`), error and self-hits against it (`stability`); and,
+//! where a config sweeps scenes, time by scene. Drawn from `report.json` alone, so `experiment
+//! report` and `experiment merge` can re-draw them.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
+
+use serde_json::Value;
 
 use super::plan::file_safe;
 use super::report::{ExperimentReport, RunRecord, RunStatus};
@@ -37,6 +41,9 @@ pub fn charts(report: &ExperimentReport) -> Vec<Chart> {
         if let Some(c) = error_vs_time(&runs, &group) {
             push("error-vs-time", c.title.clone(), c.to_svg());
         }
+        if let Some(c) = error_vs_spp(&runs, &group) {
+            push("error-vs-spp", c.title.clone(), c.to_svg());
+        }
         if let Some(c) = passes(&runs, &group) {
             push("passes", c.title.clone(), c.to_svg());
         }
@@ -49,6 +56,17 @@ pub fn charts(report: &ExperimentReport) -> Vec<Chart> {
         if let Some(c) = speed_vs_memory(&runs, &group) {
             push("speed-vs-memory", c.title.clone(), c.to_svg());
         }
+        for (what, c) in stability(&runs, &group) {
+            out.push(Chart {
+                stem: format!("stability-{what}-{}-{w}x{h}", file_safe(&scene)),
+                kind: "stability",
+                title: c.title.clone(),
+                svg: c.to_svg(),
+                scene: scene.clone(),
+                width: w,
+                height: h,
+            });
+        }
     }
     out.extend(time_by_scene(report));
     out.extend(crossover(report));
@@ -56,12 +74,12 @@ pub fn charts(report: &ExperimentReport) -> Vec<Chart> {
 }
 
 /// The crossover chart, per scene (and depth and NEE where they vary): each GPU method variant's
-/// speed-up over the fastest megakernel variant at the same job, against the job's size in
-/// samples per frame; drawn where a scene has two or more job sizes with a megakernel run. With
-/// several megakernel variants (naive and regenerating), each gets its line too: the slower one
-/// below 1.
+/// speed-up over the fastest megakernel variant at the same job with the same numerical knobs and
+/// stress transform, against the job's size in samples per frame; drawn where a scene has two or
+/// more job sizes with a megakernel run. With several megakernel variants (naive and
+/// regenerating), each gets its line too: the slower one below 1.
 fn crossover(report: &ExperimentReport) -> Vec<Chart> {
-    type Job = (u32, u32, u32); // width, height, spp
+    type Job = (u32, u32, u32, String); // width, height, spp, numerical knobs
     let ok: Vec<&RunRecord> =
         report.runs.iter().filter(|r| r.status == RunStatus::Ok && r.seconds.is_some()).collect();
     let mut by_scene: BTreeMap<(String, u32, bool), Vec<&RunRecord>> = BTreeMap::new();
@@ -70,17 +88,19 @@ fn crossover(report: &ExperimentReport) -> Vec<Chart> {
     }
     let mut out = Vec::new();
     for ((scene, depth, nee), runs) in by_scene {
+        let job = |r: &RunRecord| (r.width, r.height, r.spp, numerics_key(r));
         let mut fastest_mk: BTreeMap<Job, f64> = BTreeMap::new();
         for r in runs.iter().filter(|r| r.method == "megakernel") {
-            let t = fastest_mk.entry((r.width, r.height, r.spp)).or_insert(f64::INFINITY);
+            let t = fastest_mk.entry(job(r)).or_insert(f64::INFINITY);
             *t = t.min(r.seconds.unwrap());
         }
-        if fastest_mk.len() < 2 {
+        let sizes: BTreeSet<(u32, u32, u32)> = fastest_mk.keys().map(|j| (j.0, j.1, j.2)).collect();
+        if sizes.len() < 2 {
             continue;
         }
         // Series in the order their labels first appear (config order).
         let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
-        let megakernels: std::collections::BTreeSet<&str> =
+        let megakernels: BTreeSet<&str> =
             runs.iter().filter(|r| r.method == "megakernel").map(|r| r.label.as_str()).collect();
         let plotted = |r: &&&RunRecord| match r.method.as_str() {
             "cpu" | "cpu-f64" => false,
@@ -88,7 +108,7 @@ fn crossover(report: &ExperimentReport) -> Vec<Chart> {
             _ => true,
         };
         for r in runs.iter().filter(plotted) {
-            if let Some(mk) = fastest_mk.get(&(r.width, r.height, r.spp)) {
+            if let Some(mk) = fastest_mk.get(&job(r)) {
                 let samples = r.width as f64 * r.height as f64 * r.spp as f64;
                 let point = (samples, mk / r.seconds.unwrap());
                 match series.iter_mut().find(|(l, _)| *l == r.label) {
@@ -115,6 +135,7 @@ fn crossover(report: &ExperimentReport) -> Vec<Chart> {
             y_label: "speed-up over the megakernel (>1: faster)".into(),
             x_log: true,
             y_log: true,
+            x_zero: false,
             series,
         };
         out.push(Chart {
@@ -229,7 +250,7 @@ fn speed_vs_memory(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
     let max_spp = runs.iter().map(|r| r.spp).max()?;
     let varying = Varying::of(runs);
     let mut series: Vec<Series> = Vec::new();
-    let mut peaks = std::collections::BTreeSet::new();
+    let mut peaks = BTreeSet::new();
     for r in runs.iter().filter(|r| r.spp == max_spp) {
         let (Some(m), Some(speed)) = (&r.memory, r.samples_per_second) else { continue };
         peaks.insert(m.peak);
@@ -255,6 +276,7 @@ fn speed_vs_memory(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
         y_label: "Msamples/s".into(),
         x_log: true,
         y_log: true,
+        x_zero: false,
         series,
     })
 }
@@ -280,8 +302,149 @@ fn error_vs_time(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
         y_label: "relMSE".into(),
         x_log: true,
         y_log: true,
+        x_zero: false,
         series,
     })
+}
+
+/// relMSE against spp, log–log, one line per method variant: where the error stops falling as
+/// 1/spp (f32's floor, in a precision study); drawn where the group has several spps.
+fn error_vs_spp(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
+    let measured: Vec<&&RunRecord> = runs.iter().filter(|r| r.error_metrics.is_some()).collect();
+    if measured.iter().all(|r| r.spp == measured[0].spp) {
+        return None;
+    }
+    let varying = Varying::of(runs);
+    let mut series: Vec<Series> = Vec::new();
+    for r in measured {
+        let point = (r.spp as f64, r.error_metrics.as_ref().expect("filtered").relmse);
+        let name = series_name(r, varying);
+        match series.iter_mut().find(|s| s.name == name) {
+            Some(s) => s.points.push(point),
+            None => series.push(Series { name, points: vec![point] }),
+        }
+    }
+    for s in &mut series {
+        s.points.sort_by(|a, b| a.0.total_cmp(&b.0));
+    }
+    Some(LineChart {
+        title: format!("Error against spp: {group}"),
+        x_label: "samples per pixel".into(),
+        y_label: "relMSE".into(),
+        x_log: true,
+        y_log: true,
+        x_zero: false,
+        series,
+    })
+}
+
+/// The numerical knobs and stress transform of a run, as one comparable text (empty parts for
+/// reports from before they were recorded).
+fn numerics_key(r: &RunRecord) -> String {
+    ["ray_offset", "sphere_hit", "fresnel", "scale", "translate"]
+        .map(|k| r.options.get(k).map_or(String::new(), Value::to_string))
+        .join(" ")
+}
+
+/// A run's scale factor (1 where not recorded).
+fn scale_of(r: &RunRecord) -> f64 {
+    r.options.get("scale").and_then(Value::as_f64).unwrap_or(1.0)
+}
+
+/// How far a run's scene was moved: |translate| (0 where not recorded).
+fn distance_of(r: &RunRecord) -> f64 {
+    let t = r.options.get("translate").and_then(Value::as_array);
+    let c = |i: usize| t.and_then(|t| t.get(i)?.as_f64()).unwrap_or(0.0);
+    crate::scene::stress::StressTransform { scale: 1.0, translate: [c(0), c(1), c(2)] }.distance()
+}
+
+/// A stress transform as the stability charts plot it.
+struct StressAxis {
+    /// Names the chart's file: `stability-{key}-…`.
+    key: &'static str,
+    /// The label part of the knob, dropped from series names (the line runs through its values).
+    label_prefix: &'static str,
+    value: fn(&RunRecord) -> f64,
+    noun: &'static str,
+    x_label: &'static str,
+}
+
+const STRESS_AXES: [StressAxis; 2] = [
+    StressAxis {
+        key: "scale",
+        label_prefix: "scale=",
+        value: scale_of,
+        noun: "scale",
+        x_label: "scale factor",
+    },
+    StressAxis {
+        key: "translate",
+        label_prefix: "translate=",
+        value: distance_of,
+        noun: "translation",
+        x_label: "distance moved |translate|, scene units",
+    },
+];
+
+/// Where runs of a group differ in `scale` (or in `translate`): relMSE against the scale factor
+/// (against the distance |translate|, 0 drawn at its own tick), log–log, one line per method
+/// variant with the transform's part of its label removed; and the self-hits of a render,
+/// secondary plus shadow rays, as counts + 1 (so that none sits at 1 on the log axis) against it.
+/// Returns (file-name part, chart) pairs.
+fn stability(runs: &[&RunRecord], group: &str) -> Vec<(String, LineChart)> {
+    let varying = Varying::of(runs);
+    let spps = several_spps(runs);
+    let mut out = Vec::new();
+    for axis in &STRESS_AXES {
+        let name = |r: &RunRecord| {
+            let label: Vec<&str> = r.label.split(' ').filter(|p| !p.starts_with(axis.label_prefix)).collect();
+            let spp = if spps { format!(" {}spp", r.spp) } else { String::new() };
+            format!("{}{spp}{}", label.join(" "), varying.suffix(r))
+        };
+        let chart = |title: String, y_label: &str, point: &dyn Fn(&RunRecord) -> Option<f64>| {
+            let mut series: Vec<Series> = Vec::new();
+            let mut xs = BTreeSet::new();
+            for r in runs {
+                let Some(y) = point(r) else { continue };
+                let x = (axis.value)(r);
+                xs.insert(x.to_bits());
+                let name = name(r);
+                match series.iter_mut().find(|s| s.name == name) {
+                    Some(s) => s.points.push((x, y)),
+                    None => series.push(Series { name, points: vec![(x, y)] }),
+                }
+            }
+            for s in &mut series {
+                s.points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            }
+            (xs.len() >= 2).then(|| LineChart {
+                title,
+                x_label: axis.x_label.into(),
+                y_label: y_label.into(),
+                x_log: true,
+                y_log: true,
+                x_zero: true,
+                series,
+            })
+        };
+        let relmse = |r: &RunRecord| r.error_metrics.as_ref().map(|m| m.relmse);
+        if let Some(c) = chart(
+            format!("Error under {}: {group}", axis.noun),
+            "relMSE against the untransformed reference",
+            &relmse,
+        ) {
+            out.push((axis.key.to_string(), c));
+        }
+        let self_hits = |r: &RunRecord| Some((r.self_hits? + r.shadow_self_hits.unwrap_or(0)) as f64 + 1.0);
+        if let Some(c) = chart(
+            format!("Self-hits under {} (none drawn at 1): {group}", axis.noun),
+            "secondary + shadow self-hits + 1, per render",
+            &self_hits,
+        ) {
+            out.push((format!("{}-self-hits", axis.key), c));
+        }
+    }
+    out
 }
 
 /// The label of a run among others of its group: variant, then spp, depth and NEE where they
@@ -338,6 +501,7 @@ fn queues(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
         y_label: "paths traced / paths started".into(),
         x_log: false,
         y_log: true,
+        x_zero: false,
         series,
     })
 }

@@ -30,6 +30,44 @@
 //! Required: `schema`, `question`, `scenes`, `resolutions`, `spp`, `methods`. Every other field
 //! has the default shown in [`ExperimentConfig`]'s docs. A knob given as a list is swept: each
 //! value becomes its own method variant. See the README's "Experiments" section for every field.
+//!
+//! # Numerical knobs and stress transforms (every method)
+//!
+//! As `wavetrace render`'s `--ray-offset`, `--sphere-hit`, `--fresnel`, `--scale`, `--translate`:
+//!
+//! - `ray_offset`: `"tmin"` (the book's 1e-3), `"tmin=VALUE"` (VALUE finite and ≥ 0) or
+//!   `"robust"`; label `ray-offset=robust`, `ray-offset=tmin=1e-4`.
+//! - `sphere_hit`: `"book"` or `"stable"` (default); label `sphere-hit=book`.
+//! - `fresnel`: `"schlick"` (default) or `"exact"`; label `fresnel=exact`.
+//! - `scale`: a number > 0 inside f32's range (default 1); label `scale=1e-4`.
+//! - `translate`: a number D, meaning (D, D, D), or an array `[x, y, z]` (default 0); each
+//!   coordinate must fit in f32. Label `translate=1e5`, or `translate=1,2,3` when the coordinates
+//!   differ. **A list is a sweep, except that an array of exactly three numbers is one vector**
+//!   (`[1, 2, 3]` is the translation (1, 2, 3), as `--translate 1,2,3`). In a sweep each entry is
+//!   a number D, a one-number array `[D]` (both (D, D, D)) or `[x, y, z]`: `[0, 1e3, 1e5, 1e7]`
+//!   sweeps four distances, `[0, [1, 2, 3]]` two translations, and three distances are written
+//!   `[[0], [1e3], [1e5]]` (or `[0, 1e3, [1e5]]`). A variant's label shows the vector it got, so a
+//!   three-number array meant as a sweep is visible as `translate=0,1000,100000`.
+//!
+//! The scene (geometry, camera, textures' space) is scaled, then moved, before every render of
+//! the variant; the image is the same in exact arithmetic, so what differs from the reference is
+//! numerical error. Each variant's transform is applied to each scene when the config is read:
+//! one that overflows f32 is refused there.
+//!
+//! # The reference
+//!
+//! `{"method": M, "spp": N, "max_depth": D, "seed": S, "nee": B, "ray_offset": …,
+//! "sphere_hit": …, "fresnel": …}`: rendered once per (scene, resolution), cached. The numerical
+//! knobs (each one value, defaults as on the methods) say how the reference itself computes; it
+//! never takes `scale` or `translate`: the reference is always the untransformed scene, which is
+//! what the stress transforms are measured against.
+//!
+//! `"spp": "match"` renders a reference for each run instead: at the run's own spp, max depth,
+//! NEE, seed and light knobs (`light_sampling`, `light_select`), so that run and reference trace
+//! the same random numbers and their difference is numerical error, not noise (e.g. `cpu` against
+//! a matched `cpu-f64` is f32's error alone). `seed`, `max_depth` and `nee` are then refused (they
+//! are the run's). Matched references are cached per spp (the cache key holds the settings and
+//! every knob away from its default). Or `{"exr": "refs/{scene}-{width}x{height}.exr"}`.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -42,6 +80,8 @@ use crate::gpu::wavefront::{Compaction, Scan, Schedule, ShadePasses, Tail, Wavef
 use crate::input_error::InputError;
 use crate::light_options::{LightOptions, LightSampling, LightSelect};
 use crate::method::{Method, MethodOptions};
+use crate::numerics::{Fresnel, NumericOptions, RayOffset, SphereHit};
+use crate::scene::stress::StressTransform;
 use crate::scene::Scene;
 use crate::settings::{Accel, RenderSettings};
 use crate::strict_json::{describe, did_you_mean, join, parse_strict, quoted_list};
@@ -91,12 +131,24 @@ pub const KNOBS: &[&str] = &[
     "light_sampling",
     "light_select",
     "threads",
+    "ray_offset",
+    "sphere_hit",
+    "fresnel",
+    "scale",
+    "translate",
 ];
-/// Knobs of how next-event estimation samples lights: every method has them.
-const CPU_KNOBS: &[&str] = &["light_sampling", "light_select"];
+/// Every method's knobs: how next-event estimation samples lights, the numerical choices and the
+/// stress transforms.
+const CPU_KNOBS: &[&str] =
+    &["light_sampling", "light_select", "ray_offset", "sphere_hit", "fresnel", "scale", "translate"];
 const MEGAKERNEL_KNOBS: &[&str] = &[
     "light_sampling",
     "light_select",
+    "ray_offset",
+    "sphere_hit",
+    "fresnel",
+    "scale",
+    "translate",
     "workgroup_size",
     "samples_per_dispatch",
     "schedule",
@@ -106,6 +158,11 @@ const MEGAKERNEL_KNOBS: &[&str] = &[
 const WAVEFRONT_KNOBS: &[&str] = &[
     "light_sampling",
     "light_select",
+    "ray_offset",
+    "sphere_hit",
+    "fresnel",
+    "scale",
+    "translate",
     "workgroup_size",
     "pool_size",
     "compaction",
@@ -120,6 +177,15 @@ const WAVEFRONT_KNOBS: &[&str] = &[
 const SCANS: &[&str] = &["auto", "subgroup", "workgroup"];
 const LIGHT_SAMPLINGS: &[&str] = &["area", "solid-angle"];
 const LIGHT_SELECTS: &[&str] = &["uniform", "power"];
+const SPHERE_HITS: &[&str] = &["book", "stable"];
+const FRESNELS: &[&str] = &["schlick", "exact"];
+/// What `translate` takes, for its errors.
+const TRANSLATE_FORMS: &str = "expected a number D (the translation (D, D, D)) or an array [x, y, z]; \
+a list of these is a sweep, except that an array of exactly three numbers is one vector [x, y, z] \
+(sweep three distances as [[a], [b], [c]])";
+/// The reference's fields.
+const REFERENCE_FIELDS: &[&str] =
+    &["method", "spp", "max_depth", "seed", "nee", "ray_offset", "sphere_hit", "fresnel"];
 /// Repetitions and warm-ups above this are almost certainly typos (and would take forever).
 const MAX_REPETITIONS: u32 = 1000;
 
@@ -144,10 +210,47 @@ pub struct MethodVariant {
 /// What the runs are measured against.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ReferenceSpec {
-    /// Render each (scene, resolution) with `method` at `spp`; cached on disk.
-    Render { method: Method, spp: u32, max_depth: u32, seed: u32, nee: bool },
+    /// Render with `method`, computing as `numerics` say, always on the untransformed scene;
+    /// cached on disk.
+    Render { method: Method, samples: ReferenceSamples, numerics: NumericOptions },
     /// Read EXRs: `pattern` with `{scene}`, `{width}`, `{height}` replaced, relative to the config.
     Exr { pattern: String },
+}
+
+/// Which renders a rendered reference is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ReferenceSamples {
+    /// `"spp": N`: one reference per (scene, resolution), at these settings, with the default
+    /// light knobs.
+    Fixed { spp: u32, max_depth: u32, seed: u32, nee: bool },
+    /// `"spp": "match"`: one reference per run, at the run's own spp, max depth, NEE, seed and
+    /// light knobs, so that both trace the same random numbers: their difference is numerical
+    /// error, not noise.
+    Match,
+}
+
+impl ReferenceSpec {
+    /// What the reference of a run rendered with `run` and `options` is rendered with: method,
+    /// settings and knobs (`None` for EXR references). Never a stress transform: the reference
+    /// is the untransformed scene.
+    pub fn render_for(
+        &self,
+        run: &RenderSettings,
+        options: &MethodOptions,
+    ) -> Option<(Method, RenderSettings, MethodOptions)> {
+        let ReferenceSpec::Render { method, samples, numerics } = *self else { return None };
+        let mut o = MethodOptions { numerics, ..MethodOptions::default() };
+        let settings = match samples {
+            ReferenceSamples::Fixed { spp, max_depth, seed, nee } => {
+                RenderSettings { spp, max_depth, seed, nee, ..run.clone() }
+            }
+            ReferenceSamples::Match => {
+                o.lights = options.lights;
+                run.clone()
+            }
+        };
+        Some((method, settings, o))
+    }
 }
 
 /// Error-metric options (`metrics`).
@@ -318,7 +421,7 @@ impl Cx {
             self.optional(root, "warmup", |v, p| self.uint32(v, p, 0, MAX_REPETITIONS))?.unwrap_or(1);
         let instrument = self.optional(root, "instrument", |v, p| self.boolean(v, p))?.unwrap_or(false);
         let adapter = self.optional(root, "adapter", |v, p| self.string(v, p).map(str::to_owned))?;
-        let methods = self.methods(self.field(root, "", "methods")?)?;
+        let methods = self.methods(self.field(root, "", "methods")?, &scenes)?;
         let max_max_depth = *max_depth.iter().max().expect("lists are non-empty");
         let reference = match root.get("reference") {
             None | Some(Value::Null) => None,
@@ -395,7 +498,7 @@ impl Cx {
         }
     }
 
-    fn methods(&self, v: &Value) -> Res<Vec<MethodVariant>> {
+    fn methods(&self, v: &Value, scenes: &[SceneEntry]) -> Res<Vec<MethodVariant>> {
         let Value::Array(items) = v else {
             return self
                 .err("methods", format!("expected an array of method objects, found {}", describe(v)));
@@ -416,10 +519,33 @@ impl Cx {
                         ),
                     );
                 }
+                self.check_stress(&variant, scenes, &path)?;
                 out.push(variant);
             }
         }
         Ok(out)
+    }
+
+    /// A variant's stress transform applied to every scene, so that one that overflows f32 is
+    /// refused before anything renders.
+    fn check_stress(&self, v: &MethodVariant, scenes: &[SceneEntry], path: &str) -> Res<()> {
+        let t = &v.options.stress;
+        if t.is_identity() {
+            return Ok(());
+        }
+        let field = if t.scale != 1.0 { "scale" } else { "translate" };
+        for s in scenes {
+            if let Err(e) = t.apply(&s.scene) {
+                return self.err(
+                    &join(path, field),
+                    format!(
+                        "variant {:?} (scale {:e}, translate {:?}) on scene {:?}: {e}",
+                        v.label, t.scale, t.translate, s.scene.name
+                    ),
+                );
+            }
+        }
+        Ok(())
     }
 
     /// One `methods[i]` entry, expanded over its swept knobs.
@@ -468,6 +594,11 @@ impl Cx {
                 LightSelect::Power
             })
         })?;
+        let ray_offset = self.knob(o, &opt_path("ray_offset"), "ray_offset", |v, p| self.ray_offset(v, p))?;
+        let sphere_hit = self.knob(o, &opt_path("sphere_hit"), "sphere_hit", |v, p| self.sphere_hit(v, p))?;
+        let fresnel = self.knob(o, &opt_path("fresnel"), "fresnel", |v, p| self.fresnel(v, p))?;
+        let scale = self.knob(o, &opt_path("scale"), "scale", |v, p| self.scale(v, p))?;
+        let translate = self.translate_knob(o, &opt_path("translate"))?;
         let wg =
             self.knob(o, &opt_path("workgroup_size"), "workgroup_size", |v, p| self.uint32(v, p, 1, 1024))?;
         let spd = self.knob(o, &opt_path("samples_per_dispatch"), "samples_per_dispatch", |v, p| {
@@ -603,6 +734,28 @@ impl Cx {
             o.timing = t;
             format!("timing={}", kebab(&t))
         });
+        let numerics = NumericOptions::default();
+        let stress = StressTransform::default();
+        expand(&mut variants, &ray_offset, numerics.ray_offset, labelled, |o, &r| {
+            o.numerics.ray_offset = r;
+            format!("ray-offset={}", r.name())
+        });
+        expand(&mut variants, &sphere_hit, numerics.sphere_hit, labelled, |o, &h| {
+            o.numerics.sphere_hit = h;
+            format!("sphere-hit={}", h.name())
+        });
+        expand(&mut variants, &fresnel, numerics.fresnel, labelled, |o, &f| {
+            o.numerics.fresnel = f;
+            format!("fresnel={}", f.name())
+        });
+        expand(&mut variants, &scale, stress.scale, labelled, |o, &s| {
+            o.stress.scale = s;
+            format!("scale={}", compact(s))
+        });
+        expand(&mut variants, &translate, stress.translate, labelled, |o, &t| {
+            o.stress.translate = t;
+            format!("translate={}", translate_name(t))
+        });
         // A tail only means something when regenerating: a product that pairs it with waves
         // would not run.
         variants
@@ -624,9 +777,48 @@ impl Cx {
             let pattern = self.string(self.field(o, "reference", "exr")?, "reference.exr")?.to_owned();
             return Ok(ReferenceSpec::Exr { pattern });
         }
-        self.only(o, "reference", &["method", "spp", "max_depth", "seed", "nee"])?;
+        for k in ["scale", "translate"] {
+            if o.contains_key(k) {
+                return self.err(
+                    &join("reference", k),
+                    "the reference is always the untransformed scene: the stress transforms are \
+                     measured against it (give \"scale\" and \"translate\" to the methods)",
+                );
+            }
+        }
+        self.only(o, "reference", REFERENCE_FIELDS)?;
         let method = self.method(self.field(o, "reference", "method")?, "reference.method")?;
-        let spp = self.uint32(self.field(o, "reference", "spp")?, "reference.spp", 1, u32::MAX)?;
+        let numerics = NumericOptions {
+            ray_offset: self
+                .optional(o, "ray_offset", |v, _| self.ray_offset(v, "reference.ray_offset"))?
+                .unwrap_or_default(),
+            sphere_hit: self
+                .optional(o, "sphere_hit", |v, _| self.sphere_hit(v, "reference.sphere_hit"))?
+                .unwrap_or_default(),
+            fresnel: self
+                .optional(o, "fresnel", |v, _| self.fresnel(v, "reference.fresnel"))?
+                .unwrap_or_default(),
+        };
+        let spp_value = self.field(o, "reference", "spp")?;
+        if spp_value.as_str() == Some("match") {
+            if let Some(k) = ["seed", "max_depth", "nee"].into_iter().find(|k| o.contains_key(*k)) {
+                return self.err(
+                    &join("reference", k),
+                    "with \"spp\": \"match\" the reference takes each run's own spp, seed, max depth \
+                     and NEE, so that both trace the same random numbers; drop this field",
+                );
+            }
+            return Ok(ReferenceSpec::Render { method, samples: ReferenceSamples::Match, numerics });
+        }
+        let spp = match spp_value {
+            Value::String(s) => {
+                return self.err(
+                    "reference.spp",
+                    format!("expected a whole number in 1..={} or \"match\", found {s:?}", u32::MAX),
+                )
+            }
+            v => self.uint32(v, "reference.spp", 1, u32::MAX)?,
+        };
         let max_depth =
             self.optional(o, "max_depth", |v, p| self.uint32(v, p, 1, (1 << 24) - 1))?.unwrap_or(max_depth);
         // The counter-based RNG would trace a run's paths again in the reference with the same
@@ -636,13 +828,14 @@ impl Cx {
         if ref_seed == seed {
             return self.err(
                 "reference.seed",
-                format!("equals the runs' seed ({seed}): the reference would trace the runs' own paths and hide their error; choose another seed"),
+                format!("equals the runs' seed ({seed}): the reference would trace the runs' own paths and hide their error; choose another seed (or \"spp\": \"match\", which does so on purpose)"),
             );
         }
         // Next-event estimation converges to the same image; on, a reference of lit scenes
         // such as cornell needs far fewer samples.
         let nee = self.optional(o, "nee", |v, p| self.boolean(v, p))?.unwrap_or(false);
-        Ok(ReferenceSpec::Render { method, spp, max_depth, seed: ref_seed, nee })
+        let samples = ReferenceSamples::Fixed { spp, max_depth, seed: ref_seed, nee };
+        Ok(ReferenceSpec::Render { method, samples, numerics })
     }
 
     fn metrics(&self, v: Option<&Value>) -> Res<MetricOptions> {
@@ -765,6 +958,56 @@ impl Cx {
         })
     }
 
+    /// `"tmin"`, `"tmin=VALUE"` or `"robust"`.
+    fn ray_offset(&self, v: &Value, path: &str) -> Res<RayOffset> {
+        RayOffset::parse(self.string(v, path)?).map_err(|e| self.error(path, e))
+    }
+
+    fn sphere_hit(&self, v: &Value, path: &str) -> Res<SphereHit> {
+        Ok(if self.choice(v, path, SPHERE_HITS)? == "book" { SphereHit::Book } else { SphereHit::Stable })
+    }
+
+    fn fresnel(&self, v: &Value, path: &str) -> Res<Fresnel> {
+        Ok(if self.choice(v, path, FRESNELS)? == "exact" { Fresnel::Exact } else { Fresnel::Schlick })
+    }
+
+    /// A scale factor: a number > 0 inside f32's range.
+    fn scale(&self, v: &Value, path: &str) -> Res<f64> {
+        let Some(scale) = v.as_f64() else {
+            return self
+                .err(path, format!("expected a number > 0 (the scale factor), found {}", describe(v)));
+        };
+        StressTransform { scale, ..Default::default() }.validate().map_err(|e| self.error(path, e))?;
+        Ok(scale)
+    }
+
+    /// One translation: a number D for (D, D, D), `[D]` likewise, or `[x, y, z]`.
+    fn translate(&self, v: &Value, path: &str) -> Res<[f64; 3]> {
+        let number = |v: &Value, p: &str| v.as_f64().ok_or_else(|| self.error(p, TRANSLATE_FORMS));
+        let translate = match v {
+            Value::Number(_) => [number(v, path)?; 3],
+            Value::Array(a) if a.len() == 1 => [number(&a[0], &format!("{path}[0]"))?; 3],
+            Value::Array(a) if a.len() == 3 => {
+                let c = |i: usize| number(&a[i], &format!("{path}[{i}]"));
+                [c(0)?, c(1)?, c(2)?]
+            }
+            _ => return self.err(path, format!("{TRANSLATE_FORMS}; found {}", describe(v))),
+        };
+        StressTransform { translate, ..Default::default() }.validate().map_err(|e| self.error(path, e))?;
+        Ok(translate)
+    }
+
+    /// `translate` as a knob: one value, or a list swept, where an array of exactly three numbers
+    /// is one vector, not a sweep (see the module docs).
+    fn translate_knob(&self, o: &Map<String, Value>, path: &str) -> Res<Knob<[f64; 3]>> {
+        match o.get("translate") {
+            Some(v @ Value::Array(a)) if a.len() == 3 && a.iter().all(Value::is_number) => {
+                Ok(Knob { values: vec![self.translate(v, path)?], swept: false })
+            }
+            _ => self.knob(o, path, "translate", |v, p| self.translate(v, p)),
+        }
+    }
+
     fn string<'v>(&self, v: &'v Value, path: &str) -> Res<&'v str> {
         v.as_str().ok_or_else(|| self.error(path, format!("expected a string, found {}", describe(v))))
     }
@@ -852,6 +1095,25 @@ fn expand<T: PartialEq>(
         }
     }
     *variants = out;
+}
+
+/// A number as labels show it: plain from 0.01 to 999 (`0.5`, `250`), else in exponent form
+/// (`1e-3`, `1e3`, `2.5e7`).
+pub fn compact(v: f64) -> String {
+    if v == 0.0 || (1e-2..1e3).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// A translation as labels show it: `1e5` for (1e5, 1e5, 1e5), else `x,y,z`.
+pub fn translate_name(t: [f64; 3]) -> String {
+    if t[0] == t[1] && t[1] == t[2] {
+        compact(t[0])
+    } else {
+        t.map(compact).join(",")
+    }
 }
 
 /// A knob value as the config spells it (`"per-material"`).

@@ -127,9 +127,13 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
         "<h2>Runs</h2><p>Time: median over repetitions [min–max], GPU time (timestamps) for GPU methods, \
          wall time for CPU methods. relMSE uses ε = 0.01 (pbrt-v4); efficiency = 1/(relMSE·time). \
          Dispatches: compute passes per render (empty: indirect ones sized to zero workgroups); \
-         occupancy: the wavefront's mean paths per intersect pass ÷ pool.</p>\
+         occupancy: the wavefront's mean paths per intersect pass ÷ pool. Where the numerics failed, \
+         per render: NaN/Inf samples dropped; self-hits, secondary rays whose closest hit was the \
+         primitive they left; shadow self-hits, shadow rays likewise; depth-cut, paths still going \
+         at the max depth (cut, their light lost).</p>\
          <table><tr><th>#</th><th class=\"l\">scene</th><th>size</th><th>spp</th><th>depth</th><th class=\"l\">method</th>\
-         <th>time s</th><th>[min–max]</th><th>Msamples/s</th><th>Mrays/s</th><th>NaN/Inf</th><th>MSE</th>\
+         <th>time s</th><th>[min–max]</th><th>Msamples/s</th><th>Mrays/s</th><th>NaN/Inf</th><th>self-hits</th><th>shadow self-hits</th>\
+         <th>depth-cut</th><th>MSE</th>\
          <th>relMSE</th><th>SMAPE</th><th>FLIP</th><th>efficiency</th><th>dispatches (empty)</th>\
          <th>occupancy</th><th class=\"l\">note</th></tr>\n",
     );
@@ -138,6 +142,7 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
             x.map_or("–".into(), |v| format!("{:.*}", prec, v * scale))
         };
         let e = |x: Option<f64>| x.map_or("–".into(), |v| format!("{v:.3e}"));
+        let count = |x: Option<u64>| x.map_or("–".into(), |n| n.to_string());
         let stat = r.gpu_seconds.as_ref().or(r.wall_seconds.as_ref());
         let m = r.error_metrics.as_ref();
         let note = match (&r.status, r.repeatable) {
@@ -149,7 +154,7 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
             h,
             "<tr{}><td>{}</td><td class=\"l\">{}</td><td>{}x{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td>\
              <td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>\
-             <td>{}</td><td>{}</td><td class=\"l\">{note}</td></tr>",
+             <td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"l\">{note}</td></tr>",
             if r.status == RunStatus::Failed { " class=\"failed\"" } else { "" },
             r.index,
             esc(&r.scene),
@@ -162,7 +167,10 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
             stat.map_or("–".into(), |s| format!("{:.4}–{:.4}", s.min, s.max)),
             g(r.samples_per_second, 1e-6, 3),
             g(r.rays_per_second, 1e-6, 3),
-            r.invalid_samples.map_or("–".into(), |n| n.to_string()),
+            count(r.invalid_samples),
+            count(r.self_hits),
+            count(r.shadow_self_hits),
+            count(r.depth_cut),
             e(m.map(|m| m.mse)),
             e(m.map(|m| m.relmse)),
             g(m.map(|m| m.smape), 1.0, 4),
@@ -245,6 +253,9 @@ fn images(h: &mut String, report: &ExperimentReport, dir: &Path) {
         let reference = r.reference.as_ref().and_then(|k| report.references.iter().find(|x| &x.key == k));
         if let Some(reference) = reference {
             let how = match (&reference.method, reference.spp) {
+                (Some(m), Some(spp)) if reference.spp_match => {
+                    format!("{} at {spp} spp, the run's seed", esc(m))
+                }
                 (Some(m), Some(spp)) => format!("{} at {spp} spp", esc(m)),
                 _ => esc(&reference.exr),
             };

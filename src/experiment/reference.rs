@@ -1,18 +1,22 @@
 //! Reference images: read from EXRs the config names, or rendered once and cached on disk under a
-//! key made of the scene's exact text, the size and how the reference is made, so reruns and
-//! other shards sharing the cache directory reuse it.
+//! key made of the scene's exact text, the size and how the reference is made (settings, method,
+//! and its knobs where away from their defaults), so reruns and other shards sharing the cache
+//! directory reuse it. With `"spp": "match"` there is one reference per run's settings (spp,
+//! depth, NEE, seed, light knobs), each cached alike.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 
-use super::config::{ExperimentConfig, ReferenceSpec};
+use super::config::{ExperimentConfig, ReferenceSamples, ReferenceSpec};
 use super::gpu_slot::GpuSlot;
 use super::plan::file_safe;
 use super::report::ReferenceRecord;
 use crate::image_io::{self, RgbImage};
-use crate::method::{self, MethodOptions};
+use crate::light_options::LightOptions;
+use crate::method::{self, Method, MethodOptions};
+use crate::numerics::NumericOptions;
 use crate::progress::Progress;
 use crate::report::RunReport;
 use crate::scene::Scene;
@@ -24,10 +28,10 @@ pub struct Reference {
     pub record: ReferenceRecord,
 }
 
-/// The references met so far, by (scene, width, height).
+/// The references met so far, by cache key (rendered) or scene and size (EXRs).
 pub struct References {
     cache_dir: PathBuf,
-    loaded: BTreeMap<(String, u32, u32), Reference>,
+    loaded: BTreeMap<String, Reference>,
 }
 
 impl References {
@@ -35,28 +39,38 @@ impl References {
         Self { cache_dir, loaded: BTreeMap::new() }
     }
 
-    /// The reference for `scene` at `width`×`height`, loading or rendering it on first use; `None`
-    /// when the config has no reference. `out_dir` receives its PNG preview.
+    /// The reference of a run of `scene` with `run` settings and `options` (the config says
+    /// which: one per scene and size, or with `"spp": "match"` one per run's settings), loading
+    /// or rendering it on first use; `None` when the config has no reference. `out_dir` receives
+    /// its PNG preview.
     pub fn get(
         &mut self,
         config: &ExperimentConfig,
         scene: &Scene,
-        width: u32,
-        height: u32,
+        run: &RenderSettings,
+        options: &MethodOptions,
         gpu: &mut GpuSlot,
         out_dir: &Path,
     ) -> Result<Option<&Reference>> {
         let Some(spec) = &config.reference else { return Ok(None) };
-        let key = (scene.name.clone(), width, height);
+        let (width, height) = (run.width, run.height);
+        let rendered = spec.render_for(run, options);
+        let key = match &rendered {
+            Some((method, settings, o)) => cache_key(scene, settings, method.name(), o),
+            None => format!("exr {} {width}x{height}", scene.name),
+        };
         if !self.loaded.contains_key(&key) {
-            let r = match spec {
-                ReferenceSpec::Exr { .. } => {
+            let mut r = match rendered {
+                None => {
                     let path = config.reference_exr(&scene.name, width, height).expect("an exr reference");
                     read(&path, scene, width, height)?
                 }
-                ReferenceSpec::Render { .. } => self.render(config, spec, scene, width, height, gpu)?,
+                Some((method, settings, o)) => {
+                    let matched =
+                        matches!(spec, ReferenceSpec::Render { samples: ReferenceSamples::Match, .. });
+                    self.render(method, &settings, &o, matched, scene, gpu)?
+                }
             };
-            let mut r = r;
             let png = format!("references/{}.png", r.record.key);
             image_io::write_png(out_dir.join(&png), &r.image)?;
             r.record.png = Some(png);
@@ -72,16 +86,15 @@ impl References {
 
     fn render(
         &self,
-        config: &ExperimentConfig,
-        spec: &ReferenceSpec,
+        method: Method,
+        settings: &RenderSettings,
+        options: &MethodOptions,
+        matched: bool,
         scene: &Scene,
-        width: u32,
-        height: u32,
         gpu: &mut GpuSlot,
     ) -> Result<Reference> {
-        let ReferenceSpec::Render { method, spp, max_depth, seed, nee } = *spec else { unreachable!() };
-        let settings = RenderSettings { width, height, spp, max_depth, seed, accel: config.accel, nee };
-        let key = cache_key(scene, &settings, method.name());
+        let (width, height, spp) = (settings.width, settings.height, settings.spp);
+        let key = cache_key(scene, settings, method.name(), options);
         let path = self.cache_dir.join(format!("{key}.exr"));
         let mut record = ReferenceRecord {
             key: key.clone(),
@@ -91,9 +104,11 @@ impl References {
             kind: "render".into(),
             method: Some(method.name().into()),
             spp: Some(spp),
-            max_depth: Some(max_depth),
-            seed: Some(seed),
-            nee: Some(nee),
+            max_depth: Some(settings.max_depth),
+            seed: Some(settings.seed),
+            nee: Some(settings.nee),
+            options: Some(options_json(options)),
+            spp_match: matched,
             exr: path.display().to_string(),
             cached: true,
             render_seconds: 0.0,
@@ -114,11 +129,10 @@ impl References {
         eprintln!("rendering reference {key} ({} at {spp} spp)", method.name());
         let ctx = if method.needs_gpu() { Some(gpu.get()?) } else { None };
         let progress = Progress::new(settings.sample_count(), &format!("reference {}", scene.name));
-        let options = MethodOptions::default();
-        let out = method::render(method, scene, &settings, &options, ctx, &|d| progress.set(d))
+        let out = method::render(method, scene, settings, options, ctx, &|d| progress.set(d))
             .with_context(|| format!("rendering the reference for {} at {width}x{height}", scene.name))?;
         progress.finish();
-        let report = RunReport::new(scene, method, &settings, &options, ctx.map(|c| &c.summary), &out);
+        let report = RunReport::new(scene, method, settings, options, ctx.map(|c| &c.summary), &out);
         let image = RgbImage { width, height, data: out.film.mean_rgb() };
         std::fs::create_dir_all(&self.cache_dir)
             .with_context(|| format!("creating the reference cache {}", self.cache_dir.display()))?;
@@ -155,6 +169,14 @@ fn read(path: &Path, scene: &Scene, width: u32, height: u32) -> Result<Reference
         max_depth: attribute(&attrs, "wavetrace.max_depth").and_then(|s| s.parse().ok()),
         nee: attribute(&attrs, "wavetrace.nee").map(|s| s == "on"),
         seed: attribute(&attrs, "wavetrace.seed").and_then(|s| s.parse().ok()),
+        options: {
+            let knobs: serde_json::Map<String, serde_json::Value> = REFERENCE_KNOBS
+                .iter()
+                .filter_map(|k| Some((k.to_string(), attribute(&attrs, &format!("wavetrace.{k}"))?.into())))
+                .collect();
+            (!knobs.is_empty()).then_some(serde_json::Value::Object(knobs))
+        },
+        spp_match: false,
         exr: path.display().to_string(),
         cached: false,
         render_seconds: 0.0,
@@ -164,15 +186,42 @@ fn read(path: &Path, scene: &Scene, width: u32, height: u32) -> Result<Reference
     Ok(Reference { image, record })
 }
 
+/// The knobs a reference is rendered with (and, read from an EXR, those its attributes name).
+const REFERENCE_KNOBS: [&str; 5] = ["ray_offset", "sphere_hit", "fresnel", "light_sampling", "light_select"];
+
+/// A reference's knobs, as the config spells them.
+fn options_json(o: &MethodOptions) -> serde_json::Value {
+    serde_json::json!({
+        "ray_offset": o.numerics.ray_offset,
+        "sphere_hit": o.numerics.sphere_hit,
+        "fresnel": o.numerics.fresnel,
+        "light_sampling": o.lights.sampling,
+        "light_select": o.lights.select,
+    })
+}
+
 fn attribute(attrs: &[(String, String)], name: &str) -> Option<String> {
     attrs.iter().find(|(k, _)| k == name).map(|(_, v)| v.clone())
 }
 
 /// `scene-WxH-method-SPPspp-dDEPTH-sSEED-HASH`, the hash over everything that determines the
-/// image: the scene's exact text, the settings, the method and the crate version.
-pub fn cache_key(scene: &Scene, s: &RenderSettings, method: &str) -> String {
+/// image: the scene's exact text, the settings, the method, the crate version and the knobs
+/// (`options`) that are away from their defaults; default knobs add nothing, so a reference
+/// cached before the knobs existed keeps its key.
+pub fn cache_key(scene: &Scene, s: &RenderSettings, method: &str, options: &MethodOptions) -> String {
+    let mut knobs = String::new();
+    if options.lights != LightOptions::default() {
+        knobs += &format!("\nlights {} {}", options.lights.sampling.name(), options.lights.select.name());
+    }
+    let n = &options.numerics;
+    if *n != NumericOptions::default() {
+        knobs += &format!("\nnumerics {} {} {}", n.ray_offset.name(), n.sphere_hit.name(), n.fresnel.name());
+    }
+    if !options.stress.is_identity() {
+        knobs += &format!("\nstress {:?} {:?}", options.stress.scale, options.stress.translate);
+    }
     let identity = format!(
-        "{}\n{}\n{}\n{}x{} spp {} depth {} seed {} accel {:?} nee {} {method}",
+        "{}\n{}\n{}\n{}x{} spp {} depth {} seed {} accel {:?} nee {} {method}{knobs}",
         env!("CARGO_PKG_VERSION"),
         crate::scene::export::to_json(scene),
         mesh_digest(scene),
@@ -231,12 +280,52 @@ mod tests {
     fn cache_keys_change_with_everything_that_changes_the_image() {
         let scene = crate::scene::builtin::by_name("three-spheres").unwrap();
         let s = RenderSettings::default();
-        let base = cache_key(&scene, &s, "cpu-f64");
-        assert_eq!(base, cache_key(&scene, &s, "cpu-f64"));
-        assert_ne!(base, cache_key(&scene, &s, "cpu"));
-        assert_ne!(base, cache_key(&scene, &RenderSettings { seed: 7, ..s.clone() }, "cpu-f64"));
+        let o = MethodOptions::default();
+        let base = cache_key(&scene, &s, "cpu-f64", &o);
+        assert_eq!(base, cache_key(&scene, &s, "cpu-f64", &o));
+        assert_ne!(base, cache_key(&scene, &s, "cpu", &o));
+        assert_ne!(base, cache_key(&scene, &RenderSettings { seed: 7, ..s.clone() }, "cpu-f64", &o));
+        assert_ne!(base, cache_key(&scene, &RenderSettings { spp: 7, ..s.clone() }, "cpu-f64", &o));
         let mut moved = scene.clone();
         moved.camera.vfov += 1.0;
-        assert_ne!(base, cache_key(&moved, &s, "cpu-f64"));
+        assert_ne!(base, cache_key(&moved, &s, "cpu-f64", &o));
+        // Every knob away from its default changes the key; each differently.
+        let mut keys = vec![base.clone()];
+        let mut knob = |edit: &dyn Fn(&mut MethodOptions)| {
+            let mut o = MethodOptions::default();
+            edit(&mut o);
+            let k = cache_key(&scene, &s, "cpu-f64", &o);
+            assert!(!keys.contains(&k), "{k}");
+            keys.push(k);
+        };
+        knob(&|o| o.numerics.fresnel = crate::numerics::Fresnel::Exact);
+        knob(&|o| o.numerics.sphere_hit = crate::numerics::SphereHit::Book);
+        knob(&|o| o.numerics.ray_offset = crate::numerics::RayOffset::Robust);
+        knob(&|o| o.numerics.ray_offset = crate::numerics::RayOffset::Tmin(1e-4));
+        knob(&|o| o.lights.select = crate::light_options::LightSelect::Uniform);
+        knob(&|o| o.stress.scale = 2.0);
+    }
+
+    #[test]
+    fn default_knobs_keep_the_keys_of_references_cached_before_them() {
+        // The key of three-spheres' default reference as this crate version computed it before
+        // the knobs existed: identity text without a knob line.
+        let scene = crate::scene::builtin::by_name("three-spheres").unwrap();
+        let s = RenderSettings::default();
+        let identity = format!(
+            "{}\n{}\n{}\n{}x{} spp {} depth {} seed {} accel {:?} nee {} cpu-f64",
+            env!("CARGO_PKG_VERSION"),
+            crate::scene::export::to_json(&scene),
+            mesh_digest(&scene),
+            s.width,
+            s.height,
+            s.spp,
+            s.max_depth,
+            s.seed,
+            s.accel,
+            s.nee
+        );
+        let key = cache_key(&scene, &s, "cpu-f64", &MethodOptions::default());
+        assert!(key.ends_with(&format!("{:016x}", fnv1a(identity.as_bytes()))), "{key}");
     }
 }

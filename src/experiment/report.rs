@@ -222,6 +222,17 @@ pub struct RunRecord {
     pub rays_per_second: Option<f64>,
     /// NaN/Inf samples dropped.
     pub invalid_samples: Option<u64>,
+    /// Secondary rays whose closest hit was the primitive they left (`numerics::Failures`), of
+    /// the repetition with the median time, as `invalid_samples` (absent in reports from before
+    /// they were counted).
+    #[serde(default)]
+    pub self_hits: Option<u64>,
+    /// Shadow rays whose occluder was the primitive they left.
+    #[serde(default)]
+    pub shadow_self_hits: Option<u64>,
+    /// Paths still going when they reached `max_depth`: cut, their remaining light lost.
+    #[serde(default)]
+    pub depth_cut: Option<u64>,
     pub image_mean: Option<f64>,
     /// Every repetition gave a bit-identical image (the counter-based RNG makes this expected).
     pub repeatable: Option<bool>,
@@ -258,6 +269,14 @@ pub struct ReferenceRecord {
     /// Next-event estimation on (rendered references).
     #[serde(default)]
     pub nee: Option<bool>,
+    /// The knobs it was rendered with, as the config spells them: `ray_offset`, `sphere_hit`,
+    /// `fresnel`, `light_sampling`, `light_select` (EXR references: those the file's attributes
+    /// name; None when it names none, and in reports from before the knobs existed).
+    #[serde(default)]
+    pub options: Option<Value>,
+    /// Rendered for `"spp": "match"`: at its run's own spp, seed, depth, NEE and light knobs.
+    #[serde(default)]
+    pub spp_match: bool,
     /// The EXR: in the cache (rendered) or as configured.
     pub exr: String,
     /// Taken from the cache instead of rendered now.
@@ -275,7 +294,8 @@ pub struct ChartRecord {
     /// `charts/NAME.svg`, relative to the report's directory.
     pub file: String,
     pub title: String,
-    /// `error-vs-time`, `passes`, `queues`, `simd`, `time-by-scene` or `crossover`.
+    /// `error-vs-time`, `error-vs-spp`, `passes`, `queues`, `simd`, `speed-vs-memory`,
+    /// `stability`, `time-by-scene` or `crossover`.
     pub kind: String,
     /// Empty for `time-by-scene`, which spans scenes.
     pub scene: String,

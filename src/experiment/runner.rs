@@ -218,6 +218,9 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         rays: None,
         rays_per_second: None,
         invalid_samples: None,
+        self_hits: None,
+        shadow_self_hits: None,
+        depth_cut: None,
         image_mean: None,
         repeatable: None,
         bytes_per_path: None,
@@ -235,7 +238,7 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
 /// The knobs that apply to `method`, as the config spells them.
 fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json::Value {
     use method::Method::*;
-    match method {
+    let mut json = match method {
         Cpu | CpuF64 => serde_json::json!({
             "light_sampling": o.lights.sampling,
             "light_select": o.lights.select,
@@ -263,7 +266,19 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
             "scan": o.wavefront.scan,
             "timing": o.timing,
         }),
+    };
+    // Every method's numerical knobs and stress transform.
+    let common = serde_json::json!({
+        "ray_offset": o.numerics.ray_offset,
+        "sphere_hit": o.numerics.sphere_hit,
+        "fresnel": o.numerics.fresnel,
+        "scale": o.stress.scale,
+        "translate": o.stress.translate,
+    });
+    if let (Some(map), serde_json::Value::Object(common)) = (json.as_object_mut(), common) {
+        map.extend(common);
     }
+    json
 }
 
 fn measure(
@@ -278,7 +293,7 @@ fn measure(
     let scene = &config.scenes[spec.scene].scene;
     let variant = &config.methods[spec.variant];
     let settings = &spec.settings;
-    let reference = refs.get(config, scene, settings.width, settings.height, gpu, out)?;
+    let reference = refs.get(config, scene, settings, &variant.options, gpu, out)?;
     let reference = reference.map(|r| (r.image.clone(), r.record.key.clone()));
 
     let ctx = if variant.method.needs_gpu() { Some(gpu.get()?) } else { None };
@@ -355,6 +370,9 @@ fn measure(
         rec.rays_per_second = Some(median_rep.rays as f64 / s);
     }
     rec.invalid_samples = Some(median_rep.invalid_samples);
+    rec.self_hits = Some(median_rep.failures.self_hits);
+    rec.shadow_self_hits = Some(median_rep.failures.shadow_self_hits);
+    rec.depth_cut = Some(median_rep.failures.depth_cut);
     rec.image_mean = Some(median_rep.image_mean);
     rec.repeatable = Some(repeatable);
     rec.bytes_per_path = median_rep.bytes_per_path;

@@ -167,6 +167,7 @@ fn line_chart(series: Vec<Series>) -> LineChart {
         y_label: "ms".into(),
         x_log: false,
         y_log: false,
+        x_zero: false,
         series,
     }
 }
@@ -256,6 +257,35 @@ fn log_axes_are_labelled_in_decades_and_drop_what_they_cannot_draw() {
     for t in &ticks {
         assert_eq!(t.log10(), t.log10().round(), "tick {t} is not a decade");
     }
+}
+
+/// `x_zero`: x = 0 on a log axis is drawn at a tick of its own marked "0", a decade left of the
+/// data, rather than left out; the axis title says so.
+#[test]
+fn zero_on_a_log_x_axis_sits_at_its_own_tick() {
+    let mut chart = line_chart(vec![series("far", &[(0.0, 1.0), (1e3, 2.0), (1e5, 30.0)])]);
+    chart.x_log = true;
+    chart.y_log = true;
+    chart.x_zero = true;
+    let svg = chart.to_svg();
+    let doc = check_svg(&svg);
+    let pts = markers(&doc, 0);
+    assert_eq!(pts.len(), 3 + 1, "every point drawn, and the legend's marker");
+    assert!(!svg.contains("not drawn"), "nothing left out");
+    assert!(shows(&doc, "pool size (log scale; 0 drawn at the tick marked 0)"), "{:?}", texts(&doc));
+    // Ticks 0, 1000, 10k, 100k: "0" a decade left of 1000, where 100 would be.
+    let x_of = |t: &str| num(text_nodes(&doc).into_iter().find(|(s, _)| s == t).unwrap().1, "x");
+    let (zero, thousand, ten_k) = (x_of("0"), x_of("1000"), x_of("10k"));
+    assert!(
+        zero < thousand && ((thousand - zero) - (ten_k - thousand)).abs() < 2.0,
+        "{zero} {thousand} {ten_k}"
+    );
+    // The zero point sits on the 0 tick.
+    let leftmost = markers(&doc, 0).into_iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
+    assert!((leftmost - zero).abs() < 3.0, "{leftmost} vs {zero}");
+    // Without x_zero (or on a linear axis) a zero is left out on a log axis, as before.
+    chart.x_zero = false;
+    assert!(chart.to_svg().contains("1 point not drawn"));
 }
 
 #[test]

@@ -618,3 +618,345 @@ fn light_knobs_sweep_on_every_method_and_reach_the_records() {
     let relmse: Vec<f64> = report.runs.iter().map(|r| r.error_metrics.as_ref().unwrap().relmse).collect();
     assert!(relmse.iter().all(|e| e.is_finite() && *e > 0.0), "{relmse:?}");
 }
+
+/// The numerical knobs and stress transforms are every method's: single values and sweeps become
+/// variants labelled by value (a three-number `translate` is one vector), and the reference takes
+/// the numerical knobs and `"spp": "match"`.
+#[test]
+fn numerical_knobs_and_stress_transforms_parse_into_labelled_variants() {
+    use wavetrace::experiment::config::{ReferenceSamples, ReferenceSpec};
+    use wavetrace::numerics::{Fresnel, RayOffset, SphereHit};
+
+    let dir = scratch("numeric-knobs");
+    let mut config = small_config(serde_json::json!([
+        {"method": "cpu", "scale": [1, 1e-4, 1e4]},
+        {"method": "cpu-f64", "translate": [0, 1e5, [1, 2, 3]]},
+        {"method": "megakernel", "translate": [1, 2, 3]},
+        {"method": "wavefront", "ray_offset": ["tmin", "tmin=1e-4", "robust"], "sphere_hit": "book", "fresnel": "exact"},
+        {"method": "cpu", "label": "far", "translate": [[0], [1e3], [1e5]]},
+        {"method": "cpu", "label": "plain", "scale": 2, "fresnel": "exact"}
+    ]));
+    config["reference"] = serde_json::json!({"method": "cpu-f64", "spp": "match", "fresnel": "exact", "ray_offset": "robust", "sphere_hit": "book"});
+    let config = ExperimentConfig::from_file(&write_config(&dir, "knobs", &config)).unwrap();
+    let labels: Vec<&str> = config.methods.iter().map(|m| m.label.as_str()).collect();
+    assert_eq!(
+        labels,
+        [
+            "cpu scale=1",
+            "cpu scale=1e-4",
+            "cpu scale=1e4",
+            "cpu-f64 translate=0",
+            "cpu-f64 translate=1e5",
+            "cpu-f64 translate=1,2,3",
+            "megakernel translate=1,2,3",
+            "wavefront ray-offset=tmin sphere-hit=book fresnel=exact",
+            "wavefront ray-offset=tmin=1e-4 sphere-hit=book fresnel=exact",
+            "wavefront ray-offset=robust sphere-hit=book fresnel=exact",
+            "far translate=0",
+            "far translate=1e3",
+            "far translate=1e5",
+            "plain",
+        ]
+    );
+    let o = |i: usize| &config.methods[i].options;
+    assert_eq!([o(0).stress.scale, o(1).stress.scale, o(2).stress.scale], [1.0, 1e-4, 1e4]);
+    assert_eq!(o(4).stress.translate, [1e5; 3]);
+    assert_eq!(o(5).stress.translate, [1.0, 2.0, 3.0]);
+    assert_eq!(o(6).stress.translate, [1.0, 2.0, 3.0], "three numbers are one vector");
+    assert_eq!(o(8).numerics.ray_offset, RayOffset::Tmin(1e-4));
+    assert_eq!(o(9).numerics.ray_offset, RayOffset::Robust);
+    assert!((7..10)
+        .all(|i| o(i).numerics.sphere_hit == SphereHit::Book && o(i).numerics.fresnel == Fresnel::Exact));
+    assert_eq!(o(12).stress.translate, [1e5; 3]);
+    assert_eq!((o(13).stress.scale, o(13).numerics.fresnel), (2.0, Fresnel::Exact));
+    match &config.reference {
+        Some(ReferenceSpec::Render { samples: ReferenceSamples::Match, numerics, .. }) => {
+            assert_eq!(
+                (numerics.ray_offset, numerics.sphere_hit, numerics.fresnel),
+                (RayOffset::Robust, SphereHit::Book, Fresnel::Exact)
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+    // A matched reference is each run's own settings and light knobs, never its transform.
+    let run = config.settings().next().unwrap();
+    let (_, settings, options) =
+        config.reference.as_ref().unwrap().render_for(&run, &config.methods[2].options).unwrap();
+    assert_eq!(settings, run);
+    assert!(options.stress.is_identity());
+}
+
+/// Each bad numerical knob, stress transform or reference field is refused with the file, the
+/// JSON path and the reason.
+#[test]
+fn bad_numerical_knobs_and_stress_transforms_are_refused() {
+    let dir = scratch("bad-numeric");
+    let good = small_config(serde_json::json!([{"method": "cpu"}, {"method": "wavefront"}]));
+    type Case = (&'static str, Box<dyn Fn(&mut Value)>, &'static str, &'static str);
+    let knob = |k: &'static str, v: Value| -> Box<dyn Fn(&mut Value)> {
+        Box::new(move |c| c["methods"][0][k] = v.clone())
+    };
+    let reference = |k: &'static str, v: Value| -> Box<dyn Fn(&mut Value)> {
+        Box::new(move |c| c["reference"][k] = v.clone())
+    };
+    use serde_json::json;
+    let cases: Vec<Case> = vec![
+        (
+            "scale-zero",
+            knob("scale", json!(0)),
+            "methods[0].scale",
+            "scale must be a finite number > 0, found 0",
+        ),
+        ("scale-negative", knob("scale", json!(-2)), "methods[0].scale", "> 0, found -2"),
+        ("scale-nan", knob("scale", json!("nan")), "methods[0].scale", "expected a number > 0"),
+        ("scale-in-sweep", knob("scale", json!([1, 0])), "methods[0].scale[1]", "> 0"),
+        ("scale-f32", knob("scale", json!(1e39)), "methods[0].scale", "outside f32's range"),
+        ("scale-repeat", knob("scale", json!([1, 1.0])), "methods[0].scale[1]", "repeats"),
+        ("scale-overflows-scene", knob("scale", json!(1e37)), "methods[0].scale", "scene \"three-spheres\""),
+        ("translate-f32", knob("translate", json!(1e39)), "methods[0].translate", "overflows f32"),
+        (
+            "translate-vector-f32",
+            knob("translate", json!([0, 1e39, 0])),
+            "methods[0].translate",
+            "translate y",
+        ),
+        (
+            "translate-in-sweep",
+            knob("translate", json!([0, [1e39]])),
+            "methods[0].translate[1]",
+            "overflows f32",
+        ),
+        ("translate-two", knob("translate", json!([0, [1, 2]])), "methods[0].translate[1]", "[x, y, z]"),
+        ("translate-string", knob("translate", json!("far")), "methods[0].translate", "[[a], [b], [c]]"),
+        (
+            "translate-element",
+            knob("translate", json!([[1, "a", 3]])),
+            "methods[0].translate[0][1]",
+            "a number D",
+        ),
+        ("tmin-negative", knob("ray_offset", json!("tmin=-1")), "methods[0].ray_offset", "≥ 0, found -1"),
+        (
+            "ray-offset-name",
+            knob("ray_offset", json!(["robust", "epsilon"])),
+            "methods[0].ray_offset[1]",
+            "\"robust\"",
+        ),
+        ("ray-offset-number", knob("ray_offset", json!(0.001)), "methods[0].ray_offset", "expected a string"),
+        ("sphere-hit", knob("sphere_hit", json!("fast")), "methods[0].sphere_hit", "\"book\" or \"stable\""),
+        ("fresnel", knob("fresnel", json!("exakt")), "methods[0].fresnel", "did you mean \"exact\""),
+        ("reference-scale", reference("scale", json!(2)), "reference.scale", "untransformed scene"),
+        (
+            "reference-translate",
+            reference("translate", json!(1)),
+            "reference.translate",
+            "untransformed scene",
+        ),
+        ("reference-spp", reference("spp", json!("matched")), "reference.spp", "or \"match\""),
+        (
+            "reference-match-seed",
+            Box::new(|c| c["reference"] = json!({"method": "cpu-f64", "spp": "match", "seed": 3})),
+            "reference.seed",
+            "each run's own",
+        ),
+        (
+            "reference-match-depth",
+            Box::new(|c| c["reference"] = json!({"method": "cpu-f64", "spp": "match", "max_depth": 3})),
+            "reference.max_depth",
+            "each run's own",
+        ),
+        (
+            "reference-fresnel",
+            reference("fresnel", json!("exakt")),
+            "reference.fresnel",
+            "did you mean \"exact\"",
+        ),
+        ("reference-tmin", reference("ray_offset", json!("tmin=-1")), "reference.ray_offset", "≥ 0"),
+        (
+            "reference-light",
+            reference("light_sampling", json!("area")),
+            "reference.light_sampling",
+            "unknown field",
+        ),
+    ];
+    for (name, edit, field, reason) in cases {
+        let mut c = good.clone();
+        edit(&mut c);
+        let path = write_config(&dir, name, &c);
+        let e = ExperimentConfig::from_file(&path).expect_err(name);
+        assert_eq!(e.file, path.display().to_string(), "{name}");
+        assert_eq!(e.path, field, "{name}: {e}");
+        assert!(e.reason.contains(reason), "{name}: {e}");
+    }
+}
+
+/// A scale sweep on the CPU against a matched reference: one reference per spp at the runs' own
+/// seed, the failure counters in every record, runs.csv and the page, and stability and
+/// error-vs-spp charts drawn from report.json.
+#[test]
+fn a_scale_sweep_against_a_matched_reference_reports_counters_and_stability_charts() {
+    let dir = scratch("stability");
+    let config = serde_json::json!({
+        "schema": "wavetrace-experiment/1",
+        "question": "test",
+        "scenes": ["three-spheres"],
+        "resolutions": ["8x8"],
+        "spp": [1, 4],
+        "max_depth": [8],
+        "repetitions": 1,
+        "warmup": 0,
+        "methods": [
+            {"method": "cpu", "scale": [1e-3, 1, 1e3]},
+            {"method": "cpu", "label": "far", "translate": [0, 1e4]}
+        ],
+        "reference": {"method": "cpu-f64", "spp": "match", "fresnel": "schlick"}
+    });
+    let path = write_config(&dir, "stability", &config);
+    let out = dir.join("out");
+    let cache = dir.join("cache");
+    let o = run_experiment(&path, &out, &cache);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_valid(&out);
+    let (header, _) = crate::tidy::assert_tidy(&out);
+    let header = header.join(",");
+    assert!(header.contains(",threads,ray_offset,sphere_hit,fresnel,scale,translate,"), "{header}");
+    assert!(header.contains(",invalid_samples,self_hits,shadow_self_hits,depth_cut,"), "{header}");
+
+    let report = ExperimentReport::read(&out).unwrap();
+    assert_eq!(report.runs.len(), 10);
+    for r in &report.runs {
+        assert_eq!(r.status, RunStatus::Ok, "{}: {:?}", r.id, r.error);
+        assert!(r.self_hits.is_some() && r.shadow_self_hits.is_some() && r.depth_cut.is_some(), "{}", r.id);
+        for k in ["ray_offset", "sphere_hit", "fresnel", "scale", "translate"] {
+            assert!(!r.options[k].is_null(), "{}: no {k}", r.id);
+        }
+        // Its reference: the untransformed scene at the run's own spp and seed.
+        let key = r.reference.as_ref().unwrap();
+        let reference = report.references.iter().find(|x| &x.key == key).unwrap();
+        assert!(reference.spp_match);
+        assert_eq!(
+            (reference.spp, reference.seed, reference.max_depth),
+            (Some(r.spp), Some(r.seed), Some(8))
+        );
+        assert_eq!(reference.options.as_ref().unwrap()["fresnel"], "schlick");
+        assert!(r.error_metrics.as_ref().unwrap().relmse.is_finite());
+    }
+    assert_eq!(report.runs[1].options["scale"], 1.0);
+    assert_eq!(report.runs[2].options["scale"], 1e3);
+    assert_eq!(report.runs[4].options["translate"], serde_json::json!([1e4, 1e4, 1e4]));
+    // One reference per spp, shared by every variant: cached per spp.
+    assert_eq!(report.references.len(), 2);
+    assert!(report.references.iter().all(|r| !r.cached));
+    // Same random numbers: the unscaled f32 run differs from its f64 twin by far less than noise.
+    let unscaled = |spp: u32| {
+        let r = report.runs.iter().find(|r| r.label == "cpu scale=1" && r.spp == spp).unwrap();
+        r.error_metrics.as_ref().unwrap().relmse
+    };
+    assert!(unscaled(1) < 1e-2 && unscaled(4) < 1e-2, "{} {}", unscaled(1), unscaled(4));
+
+    // The charts.
+    let files: Vec<&str> = report.charts.iter().map(|c| c.file.as_str()).collect();
+    for want in [
+        "charts/error-vs-spp-three-spheres-8x8.svg",
+        "charts/stability-scale-three-spheres-8x8.svg",
+        "charts/stability-scale-self-hits-three-spheres-8x8.svg",
+        "charts/stability-translate-three-spheres-8x8.svg",
+        "charts/stability-translate-self-hits-three-spheres-8x8.svg",
+    ] {
+        assert!(files.contains(&want), "no {want} in {files:?}");
+    }
+    let svg = |f: &str| std::fs::read_to_string(out.join(f)).unwrap();
+    let scale = svg("charts/stability-scale-three-spheres-8x8.svg");
+    // One line for the swept variant, its scale gone from the name; spp tells lines apart.
+    assert!(scale.contains("\ncpu 1spp\n") && scale.contains("\ncpu 4spp\n"), "{scale}");
+    assert!(!scale.contains("cpu scale="), "{scale}");
+    let hits = svg("charts/stability-scale-self-hits-three-spheres-8x8.svg");
+    assert!(
+        hits.contains("secondary + shadow self-hits + 1, per render") && hits.contains("none drawn at 1"),
+        "{hits}"
+    );
+    let translate = svg("charts/stability-translate-three-spheres-8x8.svg");
+    assert!(
+        translate.contains("0 drawn at the tick marked 0") && translate.contains("\nfar 1spp\n"),
+        "{translate}"
+    );
+    assert!(report.charts.iter().filter(|c| c.kind == "stability").count() == 4);
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    for want in ["<th>self-hits</th>", "<th>shadow self-hits</th>", "<th>depth-cut</th>", "the run's seed"] {
+        assert!(html.contains(want), "no {want} in the page");
+    }
+
+    // A rerun takes both references from the cache.
+    let again = dir.join("again");
+    let o = run_experiment(&path, &again, &cache);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let second = ExperimentReport::read(&again).unwrap();
+    assert!(second.references.len() == 2 && second.references.iter().all(|r| r.cached));
+
+    // A report from before the knobs and counters existed still reads and draws.
+    let mut old: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    for r in old["runs"].as_array_mut().unwrap() {
+        let r = r.as_object_mut().unwrap();
+        for k in ["self_hits", "shadow_self_hits", "depth_cut"] {
+            r.remove(k);
+        }
+        let options = r["options"].as_object_mut().unwrap();
+        for k in ["ray_offset", "sphere_hit", "fresnel", "scale", "translate"] {
+            options.remove(k);
+        }
+    }
+    for r in old["references"].as_array_mut().unwrap() {
+        r.as_object_mut().unwrap().remove("options");
+        r.as_object_mut().unwrap().remove("spp_match");
+    }
+    std::fs::write(again.join("report.json"), serde_json::to_string(&old).unwrap()).unwrap();
+    let o = wavetrace(&["experiment", "report", again.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let redrawn = ExperimentReport::read(&again).unwrap();
+    assert!(redrawn.runs.iter().all(|r| r.self_hits.is_none()));
+    assert!(
+        redrawn.charts.iter().all(|c| c.kind != "stability"),
+        "no transform recorded: no stability chart"
+    );
+}
+
+/// The committed results (reports written before later fields existed) still read, and every
+/// chart they list is drawn from them still.
+#[test]
+fn committed_reports_still_read_and_draw() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/results");
+    let mut dirs = vec![root];
+    let mut read = 0;
+    while let Some(dir) = dirs.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap().flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                dirs.push(path);
+            } else if path.file_name().is_some_and(|n| n == "report.json") {
+                let report = ExperimentReport::read(path.parent().unwrap())
+                    .unwrap_or_else(|e| panic!("{}: {e:#}", path.display()));
+                let charts = wavetrace::experiment::charts::charts(&report);
+                for c in &charts {
+                    assert!(
+                        c.svg.contains("<svg") && !c.svg.contains("NaN"),
+                        "{}: {}",
+                        path.display(),
+                        c.stem
+                    );
+                }
+                // Every chart drawn when the report was made is drawn still (crossover included).
+                let now: Vec<String> = charts.iter().map(|c| format!("charts/{}.svg", c.stem)).collect();
+                for before in &report.charts {
+                    assert!(
+                        now.contains(&before.file),
+                        "{}: {} is no longer drawn",
+                        path.display(),
+                        before.file
+                    );
+                }
+                read += 1;
+            }
+        }
+    }
+    assert!(read > 0, "no committed report found");
+}
