@@ -504,15 +504,19 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
         [
             "baselines.json",
             "cpu_vs_gpu.json",
+            "fresnel.json",
             "light_sampling.json",
             "material_cost.json",
             "megakernel_vs_wavefront.json",
             "nee.json",
             "pool_memory.json",
+            "precision.json",
             "quick.json",
             "regeneration.json",
             "scene_scale.json",
             "speed_vs_accuracy.json",
+            "stability_distance.json",
+            "stability_scale.json",
             "workgroup_size.json"
         ]
     );
