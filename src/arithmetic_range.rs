@@ -37,7 +37,7 @@ pub fn check_f32(scene: &PackedScene, camera: &CameraFrame) -> Result<(), String
         }
     }
     let d2 = squared_distance_bound(extent);
-    if !(d2 < max) {
+    if !(0.0..max).contains(&d2) {
         return Err(format!(
             "the scene overflows f32 arithmetic: its coordinates (camera included) reach {extent:.3e}, \
              so squared distances in the intersection tests reach {d2:.3e}, past f32's largest \
@@ -46,7 +46,7 @@ pub fn check_f32(scene: &PackedScene, camera: &CameraFrame) -> Result<(), String
             (max / 12.0).sqrt()
         ));
     }
-    if !(largest_edges * largest_edges < max) {
+    if !(0.0..max).contains(&(largest_edges * largest_edges)) {
         return Err(format!(
             "the scene overflows f32 arithmetic: a quad or triangle's edge lengths multiply to \
              {largest_edges:.3e}, so its squared normal |b × c|² reaches {:.3e}, past f32's \
@@ -57,12 +57,12 @@ pub fn check_f32(scene: &PackedScene, camera: &CameraFrame) -> Result<(), String
     let min = f32::MIN_POSITIVE as f64;
     // Camera rays are normalised from offsets of about a pixel's spacing on the focus plane.
     let spacing = camera.pixel_delta_u.length().min(camera.pixel_delta_v.length());
-    if !(spacing * spacing >= min) {
+    if !(min..=f64::MAX).contains(&(spacing * spacing)) {
         return Err(format!(
             "the scene underflows f32 arithmetic: the camera's pixels are {spacing:.3e} apart on              the focus plane, so squared ray directions fall below f32's smallest normal              {min:.3e}; render with --method cpu-f64, or enlarge the scene (--scale)"
         ));
     }
-    if smallest_edges.is_finite() && !(smallest_edges * smallest_edges >= min) {
+    if smallest_edges.is_finite() && !(min..=f64::MAX).contains(&(smallest_edges * smallest_edges)) {
         return Err(format!(
             "the scene underflows f32 arithmetic: a quad or triangle's edge lengths multiply to \
              {smallest_edges:.3e}, so its squared normal |b × c|² falls below f32's smallest \

@@ -96,7 +96,7 @@ pub fn is_self_hit<T: Real>(prims: &[PrimitiveRecord], from: u32, hit: u32, ray:
         return true;
     }
     let half_chord = -(ray.origin - V3::of(p.a)).dot(ray.dir);
-    !(half_chord > T::zero()) || t < half_chord
+    half_chord.partial_cmp(&T::zero()) != Some(std::cmp::Ordering::Greater) || t < half_chord
 }
 
 #[cfg(test)]

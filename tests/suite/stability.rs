@@ -183,7 +183,7 @@ fn a_scene_that_overflows_f32_is_refused_not_rendered_as_sky() {
         methods.extend([Method::Megakernel, Method::Wavefront]);
     }
     for m in methods {
-        let e = try_run(m, &scene, &s, &MethodOptions::default()).err().expect("refused").to_string();
+        let e = try_run(m, &scene, &s, &MethodOptions::default()).expect_err("refused").to_string();
         assert!(e.contains("overflows f32") && e.contains("3.403e38"), "{}: {e}", m.name());
     }
     let truth = run(Method::CpuF64, &scene, &s, &MethodOptions::default());
@@ -194,7 +194,7 @@ fn a_scene_that_overflows_f32_is_refused_not_rendered_as_sky() {
     // radius squared overflows or the camera's pixel spacing squared underflows.
     for k in [1e-10, 1e-20, 1e-30] {
         let o = MethodOptions { stress: scale(k), ..Default::default() };
-        let e = try_run(Method::Cpu, &scene, &s, &o).err().expect("refused").to_string();
+        let e = try_run(Method::Cpu, &scene, &s, &o).expect_err("refused").to_string();
         assert!(e.contains("overflows f32") || e.contains("underflows f32"), "scale {k}: {e}");
     }
 }
