@@ -89,7 +89,8 @@ pub mod background_kind {
 pub struct FrameUniform {
     pub camera_center: [f32; 3],
     pub has_defocus: u32,
-    pub pixel00: [f32; 3],
+    /// Centre of pixel (0, 0) relative to `camera_center` (see `shaders/shared/camera.wgsl`).
+    pub pixel00_offset: [f32; 3],
     pub width: u32,
     pub pixel_delta_u: [f32; 3],
     pub height: u32,

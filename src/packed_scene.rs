@@ -198,7 +198,7 @@ impl PackedScene {
         FrameUniform {
             camera_center: f(camera.center),
             has_defocus: camera.has_defocus as u32,
-            pixel00: f(camera.pixel00),
+            pixel00_offset: f(camera.pixel00 - camera.center),
             width: settings.width,
             pixel_delta_u: f(camera.pixel_delta_u),
             height: settings.height,

@@ -6,7 +6,8 @@ const BACKGROUND_CONSTANT: u32 = 1u;
 struct Frame {
     camera_center: vec3<f32>,
     has_defocus: u32,
-    pixel00: vec3<f32>,
+    // Centre of pixel (0, 0) relative to camera_center.
+    pixel00_offset: vec3<f32>,
     width: u32,
     pixel_delta_u: vec3<f32>,
     height: u32,

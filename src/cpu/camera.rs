@@ -1,4 +1,7 @@
-//! Camera rays; twin of `shaders/shared/camera.wgsl`.
+//! Camera rays; twin of `shaders/shared/camera.wgsl`. Directions are formed from offsets relative
+//! to the camera centre, never from world-space points on the focus plane: far from the origin
+//! those are rounded to the coordinates' ulp, which on a plane `focus_dist` away becomes
+//! direction error (the README's "Where methods fail — numerically").
 
 use super::{ray::Ray, real::Real, sampling::in_unit_disk, vec3::V3};
 use crate::camera::CameraFrame;
@@ -7,7 +10,8 @@ use crate::camera::CameraFrame;
 #[derive(Clone, Copy, Debug)]
 pub struct Camera<T> {
     center: V3<T>,
-    pixel00: V3<T>,
+    /// Centre of pixel (0, 0) relative to `center`.
+    pixel00_offset: V3<T>,
     delta_u: V3<T>,
     delta_v: V3<T>,
     disk_u: V3<T>,
@@ -27,7 +31,7 @@ impl<T: Real> Camera<T> {
         };
         Self {
             center: c(f.center),
-            pixel00: c(f.pixel00),
+            pixel00_offset: c(f.pixel00 - f.center),
             delta_u: c(f.pixel_delta_u),
             delta_v: c(f.pixel_delta_v),
             disk_u: c(f.defocus_disk_u),
@@ -42,13 +46,13 @@ impl<T: Real> Camera<T> {
         let half = T::of(0.5);
         let px = T::of(x as f32) + (T::of(u[0]) - half);
         let py = T::of(y as f32) + (T::of(u[1]) - half);
-        let target = self.pixel00 + self.delta_u * px + self.delta_v * py;
-        let origin = if self.has_defocus {
+        let to_target = self.pixel00_offset + self.delta_u * px + self.delta_v * py;
+        let lens = if self.has_defocus {
             let (dx, dy) = in_unit_disk::<T>(u[2], u[3]);
-            self.center + self.disk_u * dx + self.disk_v * dy
+            self.disk_u * dx + self.disk_v * dy
         } else {
-            self.center
+            V3::splat(T::zero())
         };
-        Ray { origin, dir: (target - origin).normalize() }
+        Ray { origin: self.center + lens, dir: (to_target - lens).normalize() }
     }
 }

@@ -54,7 +54,7 @@ fn frame() {
         [
             camera_center,
             has_defocus,
-            pixel00,
+            pixel00_offset,
             width,
             pixel_delta_u,
             height,
