@@ -18,8 +18,9 @@ struct TracedPath {
 
 // Traces one bounce of `path`: the ray it holds, what the hit adds, the next ray. Returns false
 // when the path has ended (escaped, hit an emitter or was absorbed); reaching max_depth is the
-// caller's test (a path that scatters at the last bounce is counted here as cut). The regenerating megakernel (megakernel_regenerate.wgsl) runs it one bounce per
-// iteration so that a lane whose path ends can start the next sample at once.
+// caller's test (a path that scatters at the last bounce is counted here as cut). The
+// regenerating megakernel (megakernel_regenerate.wgsl) runs it one bounce per iteration so
+// that a lane whose path ends can start the next sample at once.
 fn trace_bounce(path: ptr<function, TracedPath>, pixel: u32, sample: u32, bounce: u32) -> bool {
     instrument(PASS_MEGAKERNEL_BOUNCE);
     let ray = (*path).ray;

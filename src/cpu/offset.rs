@@ -67,11 +67,21 @@ pub fn spawn_origin<T: Real>(sp: &SurfacePoint<T>, n: V3<T>, dir: V3<T>, robust:
     let d = n.x.abs() * sp.err.x + n.y.abs() * sp.err.y + n.z.abs() * sp.err.z;
     let offset = if dir.dot(n) < T::zero() { -(n * d) } else { n * d };
     let po = sp.p + offset;
+    // From 0, the smallest normal rather than a subnormal, which GPUs may flush to zero (as
+    // shaders/shared/offset.wgsl does).
     let away = |p: T, o: T| {
         if o > T::zero() {
-            p.next_up()
+            if p == T::zero() {
+                T::min_positive_value()
+            } else {
+                p.next_up()
+            }
         } else if o < T::zero() {
-            p.next_down()
+            if p == T::zero() {
+                -T::min_positive_value()
+            } else {
+                p.next_down()
+            }
         } else {
             p
         }
