@@ -20,6 +20,8 @@ scale=${WAVETRACE_FIGURES_SCALE:-full}
 case "$scale" in full | tiny) ;; *) echo "WAVETRACE_FIGURES_SCALE must be full or tiny, got $scale" >&2; exit 2 ;; esac
 [ -x "$bin" ] || { echo "no binary at $bin (build it with cargo build --release, or set WAVETRACE_BIN)" >&2; exit 2; }
 mkdir -p "$out/configs"
+# Configs name scene files relative to themselves (fresnel.json: scenes/glass-block.json).
+cp -r experiments/scenes "$out/configs/"
 log="$out/log.txt"
 : > "$log"
 failed=0
@@ -30,7 +32,9 @@ say() { echo "== $*" | tee -a "$log"; }
 
 # The suite, as shipped; at tiny scale every size, sample count and repetition is shrunk (the
 # questions stay, the figures mean nothing) so the whole script runs in minutes on llvmpipe.
-read -r -a configs <<< "${WAVETRACE_FIGURES_CONFIGS:-quick megakernel_vs_wavefront regeneration baselines pool_memory material_cost nee light_sampling workgroup_size}"
+# The numerical configs too: f32 on a GPU may contract to FMA or flush subnormals where
+# llvmpipe does not, so where methods fail is worth measuring there as well.
+read -r -a configs <<< "${WAVETRACE_FIGURES_CONFIGS:-quick megakernel_vs_wavefront regeneration baselines pool_memory material_cost nee light_sampling workgroup_size stability_scale stability_distance precision fresnel}"
 for name in "${configs[@]}"; do
   src="experiments/$name.json"
   cfg="$out/configs/$name.json"
