@@ -57,9 +57,11 @@ done
 # The seeds' headline case: rtiow-final at 1920x1080, 500 spp, depth 50, each GPU method.
 if [ "$scale" = tiny ]; then size=(--width 32 --height 18 --spp 4); else size=(--width 1920 --height 1080 --spp 500); fi
 mkdir -p "$out/rtiow_final_1080p"
-for run in "megakernel" "megakernel --schedule regenerate" "wavefront" "wavefront --schedule regenerate" "wavefront --schedule regenerate --tail megakernel"; do
+# (--chunk-pools 64: a regenerating chunk of 64 pools, 1 GiB of samples at the default pool,
+# drains the pool 8 times less often; where bindings are smaller the chunk is cut to fit.)
+for run in "megakernel" "megakernel --schedule regenerate" "wavefront" "wavefront --schedule regenerate" "wavefront --schedule regenerate --tail megakernel" "wavefront --schedule regenerate --tail megakernel --chunk-pools 64"; do
   read -r -a args <<< "$run"
-  tag=$(echo "$run" | sed -E 's/ --schedule /-/; s/ --tail /-tail-/')
+  tag=$(echo "$run" | sed -E 's/ --schedule /-/; s/ --tail /-tail-/; s/ --chunk-pools /-chunks-/')
   say "render rtiow-final $tag ${size[*]}"
   if ! "$bin" render --scene rtiow-final --method "${args[@]}" "${size[@]}" --max-depth 50 \
       --out "$out/rtiow_final_1080p/$tag.exr" --png "$out/rtiow_final_1080p/$tag.png" \

@@ -145,6 +145,11 @@ pub struct RenderArgs {
     /// tail takes over.
     #[arg(long, default_value_t = WavefrontOptions::default().tail_threshold)]
     pub tail_threshold: f64,
+    /// Wavefront, --schedule regenerate: most pools of samples per chunk. The pool drains at
+    /// each chunk's end (fewer, larger chunks: fewer drains and dispatches), and a chunk's
+    /// sample buffer takes 16 bytes a sample, within one storage binding.
+    #[arg(long, default_value_t = WavefrontOptions::default().chunk_pools)]
+    pub chunk_pools: u32,
     /// Wavefront, --compaction-method scan: scan workgroups with subgroup operations (where the
     /// adapter has them: `auto`) or with the Hillis–Steele workgroup scan.
     #[arg(long, value_enum, default_value_t = Scan::Auto)]
@@ -210,6 +215,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             sync_every: a.sync_every,
             tail: a.tail,
             tail_threshold: a.tail_threshold,
+            chunk_pools: a.chunk_pools,
             scan: a.scan,
         },
         instrument: a.instrument,

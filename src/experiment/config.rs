@@ -136,6 +136,7 @@ pub const KNOBS: &[&str] = &[
     "fresnel",
     "scale",
     "translate",
+    "chunk_pools",
 ];
 /// Every method's knobs: how next-event estimation samples lights, the numerical choices and the
 /// stress transforms.
@@ -171,6 +172,7 @@ const WAVEFRONT_KNOBS: &[&str] = &[
     "sync_every",
     "tail",
     "tail_threshold",
+    "chunk_pools",
     "scan",
     "timing",
 ];
@@ -644,6 +646,9 @@ impl Cx {
                 Some(t) if t > 0.0 && t <= 1.0 => Ok(t),
                 _ => self.err(p, format!("must be a fraction of the pool in (0, 1], got {}", describe(v))),
             })?;
+        let chunk_pools = self.knob(o, &opt_path("chunk_pools"), "chunk_pools", |v, p| {
+            self.uint32(v, p, 1, crate::gpu::wavefront::schedule::MAX_CHUNK_POOLS)
+        })?;
         let scan = self.knob(o, &opt_path("scan"), "scan", |v, p| {
             Ok(match self.choice(v, p, SCANS)? {
                 "subgroup" => Scan::Subgroup,
@@ -658,6 +663,15 @@ impl Cx {
             return self.err(
                 &opt_path("tail"),
                 "\"megakernel\" finishes a regenerating chunk: it needs \"schedule\": \"regenerate\"",
+            );
+        }
+
+        if chunk_pools.values.iter().any(|&c| c != WavefrontOptions::default().chunk_pools)
+            && !schedule.values.contains(&Schedule::Regenerate)
+        {
+            return self.err(
+                &opt_path("chunk_pools"),
+                "chunks are the regenerating schedule's: it needs \"schedule\": \"regenerate\"",
             );
         }
 
@@ -726,6 +740,10 @@ impl Cx {
             o.wavefront.tail_threshold = t;
             format!("tail-threshold={t}")
         });
+        expand(&mut variants, &chunk_pools, wf.chunk_pools, labelled, |o, &c| {
+            o.wavefront.chunk_pools = c;
+            format!("chunk-pools={c}")
+        });
         expand(&mut variants, &scan, wf.scan, labelled, |o, &sc| {
             o.wavefront.scan = sc;
             format!("scan={}", kebab(&sc))
@@ -760,6 +778,10 @@ impl Cx {
         // would not run.
         variants
             .retain(|(o, _)| o.wavefront.tail == Tail::Off || o.wavefront.schedule == Schedule::Regenerate);
+        // Likewise chunk sizes, which only the regenerating wavefront has.
+        variants.retain(|(o, _)| {
+            o.wavefront.chunk_pools == wf.chunk_pools || o.wavefront.schedule == Schedule::Regenerate
+        });
         // Likewise persistent threads, which only the regenerating megakernel has.
         variants
             .retain(|(o, _)| o.megakernel.threads.is_none() || o.megakernel.schedule == Schedule::Regenerate);

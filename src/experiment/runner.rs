@@ -263,6 +263,7 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
             "sync_every": o.wavefront.sync_every,
             "tail": o.wavefront.tail,
             "tail_threshold": o.wavefront.tail_threshold,
+            "chunk_pools": o.wavefront.chunk_pools,
             "scan": o.wavefront.scan,
             "timing": o.timing,
         }),

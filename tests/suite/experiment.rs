@@ -415,6 +415,21 @@ fn bad_configs_name_the_file_the_field_and_the_reason() {
             "did you mean \"wavefront\"",
         ),
         (
+            "chunks-without-regeneration",
+            Box::new(|c| c["methods"][1]["chunk_pools"] = 16.into()),
+            "methods[1].chunk_pools",
+            "needs \"schedule\": \"regenerate\"",
+        ),
+        (
+            "chunk-pools-zero",
+            Box::new(|c| {
+                c["methods"][1]["chunk_pools"] = 0.into();
+                c["methods"][1]["schedule"] = "regenerate".into();
+            }),
+            "methods[1].chunk_pools",
+            "must be in 1..=1024",
+        ),
+        (
             "cpu-knob",
             Box::new(|c| c["methods"][0]["compaction"] = "scan".into()),
             "methods[0].compaction",

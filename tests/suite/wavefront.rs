@@ -265,6 +265,47 @@ fn bad_sync_every_is_refused() {
     }
 }
 
+/// `--chunk-pools` decides how often the pool drains, never what is rendered: with chunks of
+/// one pool or eight the film is bit-identical (the accumulate pass adds samples in order
+/// either way), and fewer, larger chunks drain the pool fewer times, in fewer iterations.
+#[test]
+fn chunk_pools_change_the_drains_not_the_image() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let s = settings(8); // 7 680 samples: 7.5 pools of 1024
+    let with = |chunk_pools| MethodOptions {
+        wavefront: regenerating(WavefrontOptions {
+            pool_size: Some(1024),
+            chunk_pools,
+            ..Default::default()
+        }),
+        ..Default::default()
+    };
+    let (one, eight) = (
+        run(Method::Wavefront, "rtiow-final", &s, &with(1)),
+        run(Method::Wavefront, "rtiow-final", &s, &with(8)),
+    );
+    assert_eq!(one.film, eight.film);
+    let (a, b) = (one.schedule.unwrap(), eight.schedule.unwrap());
+    assert_eq!((a.shares, b.shares), (8, 1));
+    assert!(b.iterations < a.iterations && b.intersect_occupancy > a.intersect_occupancy, "{a:?} vs {b:?}");
+}
+
+#[test]
+fn bad_chunk_pools_are_refused() {
+    if common::gpu().is_none() {
+        return;
+    }
+    for c in [0, 1025] {
+        assert_refused(
+            WavefrontOptions { chunk_pools: c, ..regenerating(Default::default()) },
+            "--chunk-pools",
+        );
+    }
+    assert_refused(WavefrontOptions { chunk_pools: 4, ..Default::default() }, "--chunk-pools");
+}
+
 /// The megakernel tail finishes a chunk's last paths with the megakernel's own loop: its images
 /// agree with the megakernel as the passes do, for every knob, NEE on and off; a threshold of 1
 /// hands most paths to it.

@@ -100,6 +100,9 @@ pub struct WavefrontOptions {
     pub tail: Tail,
     /// The live fraction of the pool below which the tail takes over.
     pub tail_threshold: f64,
+    /// Regenerating: most pools of samples per chunk (the pool drains at each chunk's end; a
+    /// chunk's sample buffer takes 16 bytes a sample).
+    pub chunk_pools: u32,
     /// How the scan compaction scans a workgroup.
     pub scan: Scan,
 }
@@ -115,6 +118,7 @@ impl Default for WavefrontOptions {
             sync_every: schedule::DEFAULT_SYNC_EVERY,
             tail: Tail::Off,
             tail_threshold: tail::DEFAULT_THRESHOLD,
+            chunk_pools: schedule::CHUNK_POOLS,
             scan: Scan::Auto,
         }
     }
@@ -300,20 +304,27 @@ pub fn render(
     // (the regenerating schedule's start, compaction off) and its memory shrink with it.
     let pool = choose_pool(ctx, opts)?.min(u32::try_from(settings.sample_count()).unwrap_or(u32::MAX));
     schedule::check_sync_every(opts.sync_every)?;
+    schedule::check_chunk_pools(opts.chunk_pools)?;
     tail::check_threshold(opts.tail_threshold)?;
     let subgroup_scan = opts.scan.uses_subgroups(ctx)?;
     let regenerate = opts.schedule == Schedule::Regenerate;
     if opts.tail == Tail::Megakernel && !regenerate {
         bail!("--tail megakernel finishes a regenerating chunk: it needs --schedule regenerate");
     }
+    if opts.chunk_pools != schedule::CHUNK_POOLS && !regenerate {
+        bail!("--chunk-pools sizes regenerating chunks: it needs --schedule regenerate");
+    }
     let start = Instant::now();
 
     let pixels = settings.width * settings.height;
     let shares = match opts.schedule {
         Schedule::Waves => dispatch_plan::plan(pixels, settings.spp, pool as u64, pool),
-        Schedule::Regenerate => {
-            dispatch_plan::plan(pixels, settings.spp, schedule::chunk_budget(ctx, pool), u32::MAX)
-        }
+        Schedule::Regenerate => dispatch_plan::plan(
+            pixels,
+            settings.spp,
+            schedule::chunk_budget(ctx, pool, opts.chunk_pools),
+            u32::MAX,
+        ),
     };
     let mut memory = MemoryLedger::default();
     let params = DispatchUniforms::new(ctx, &shares, &mut memory);

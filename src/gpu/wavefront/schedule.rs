@@ -14,9 +14,12 @@ pub use super::super::schedule::Schedule;
 pub const DEFAULT_SYNC_EVERY: u32 = 8;
 /// Most iterations between read-backs.
 pub const MAX_SYNC_EVERY: u32 = 1024;
-/// A chunk holds at most this many pools of samples: its per-sample radiance buffer (16 bytes a
-/// sample) costs this many times the pool's radiance, and the pool drains once per chunk.
-pub const CHUNK_POOLS: u64 = 8;
+/// Default `--chunk-pools`: a chunk holds at most this many pools of samples. Its per-sample
+/// radiance buffer (16 bytes a sample) costs this many times the pool's radiance, and the pool
+/// drains once per chunk.
+pub const CHUNK_POOLS: u32 = 8;
+/// Most pools a chunk may hold.
+pub const MAX_CHUNK_POOLS: u32 = 1024;
 
 pub fn check_sync_every(k: u32) -> Result<()> {
     if !(1..=MAX_SYNC_EVERY).contains(&k) {
@@ -25,10 +28,17 @@ pub fn check_sync_every(k: u32) -> Result<()> {
     Ok(())
 }
 
-/// Samples per chunk: `CHUNK_POOLS` pools, within one storage binding of 16-byte samples.
-pub fn chunk_budget(ctx: &GpuContext, pool: u32) -> u64 {
+pub fn check_chunk_pools(n: u32) -> Result<()> {
+    if !(1..=MAX_CHUNK_POOLS).contains(&n) {
+        bail!("--chunk-pools must be in 1..={MAX_CHUNK_POOLS} pools, got {n}");
+    }
+    Ok(())
+}
+
+/// Samples per chunk: `chunk_pools` pools, within one storage binding of 16-byte samples.
+pub fn chunk_budget(ctx: &GpuContext, pool: u32, chunk_pools: u32) -> u64 {
     let limit = ctx.summary.max_storage_buffer_binding_size.min(ctx.summary.max_buffer_size) / 16;
-    (CHUNK_POOLS * pool as u64).min(limit).clamp(pool as u64, u32::MAX as u64)
+    (chunk_pools as u64 * pool as u64).min(limit).clamp(pool as u64, u32::MAX as u64)
 }
 
 /// A regenerating chunk's progress, read back between batches of iterations.
