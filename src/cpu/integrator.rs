@@ -7,6 +7,7 @@ use super::offset::{is_self_hit, spawn_origin, surface_point, NO_ORIGIN};
 use super::{background::background, camera::Camera, material::scatter};
 use super::{primitive::outward_normal, ray::Ray, real::Real, vec3::V3};
 use crate::layout::material_kind;
+use crate::numerics::Failures;
 use crate::packed_scene::PackedScene;
 use crate::rng::{uniform4, Purpose};
 use crate::settings::RenderSettings;
@@ -17,12 +18,8 @@ pub struct PathSample<T> {
     pub radiance: V3<T>,
     /// Rays traced (closest-hit and shadow queries), camera ray included.
     pub rays: u32,
-    /// Secondary rays that met the surface they left (`offset::is_self_hit`).
-    pub self_hits: u32,
-    /// Shadow rays whose occluder was the surface they left.
-    pub shadow_self_hits: u32,
-    /// Still going at `max_depth` rays: cut off.
-    pub depth_cut: bool,
+    /// Its self-hits (`offset::is_self_hit`) and whether it was cut at `max_depth` (0 or 1).
+    pub failures: Failures,
 }
 
 /// Radiance carried by sample `sample` of pixel (x, y), and the rays it took.
@@ -37,13 +34,7 @@ pub fn trace_path<T: Real>(
     let (seed, max_depth) = (settings.seed, settings.max_depth);
     let pixel = y * settings.width + x;
     let mut ray = camera.ray(x, y, uniform4(pixel, sample, 0, Purpose::Camera, seed));
-    let mut out = PathSample {
-        radiance: V3::splat(T::zero()),
-        rays: 0,
-        self_hits: 0,
-        shadow_self_hits: 0,
-        depth_cut: false,
-    };
+    let mut out = PathSample { radiance: V3::splat(T::zero()), rays: 0, failures: Failures::default() };
     let mut throughput = V3::splat(T::one());
     // When the previous hit sampled the lights: the density of this ray's direction under the
     // diffuse bounce, for the MIS weight of the emission it may find.
@@ -60,7 +51,7 @@ pub fn trace_path<T: Real>(
             out.radiance = out.radiance + throughput.mul_elem(background(&scene.background, ray.dir));
             return out;
         };
-        out.self_hits += is_self_hit(&scene.primitives, from, hit.prim, &ray, hit.t) as u32;
+        out.failures.self_hits += is_self_hit(&scene.primitives, from, hit.prim, &ray, hit.t) as u64;
         let prim = &scene.primitives[hit.prim as usize];
         let material = &scene.materials[prim.material as usize];
         let sp = surface_point(prim, &ray, hit.t, robust);
@@ -106,8 +97,8 @@ pub fn trace_path<T: Real>(
                             out.radiance + throughput.mul_elem(s.attenuation).mul_elem(shadow.weight)
                     }
                     Some(b) => {
-                        out.shadow_self_hits +=
-                            is_self_hit(&scene.primitives, hit.prim, b.prim, &shadow.ray, b.t) as u32
+                        out.failures.shadow_self_hits +=
+                            is_self_hit(&scene.primitives, hit.prim, b.prim, &shadow.ray, b.t) as u64
                     }
                 }
             }
@@ -117,6 +108,6 @@ pub fn trace_path<T: Real>(
         from = hit.prim;
     }
     // Out of depth: as in the book, the unfinished path adds nothing more.
-    out.depth_cut = true;
+    out.failures.depth_cut = 1;
     out
 }

@@ -46,9 +46,7 @@ pub fn render<T: Real>(
                 let path = integrator::trace_path(scene, &camera, settings, x as u32, y as u32, s);
                 stats.add(path.radiance.to_f64());
                 stats.rays += path.rays as u64;
-                row_failures.self_hits += path.self_hits as u64;
-                row_failures.shadow_self_hits += path.shadow_self_hits as u64;
-                row_failures.depth_cut += path.depth_cut as u64;
+                row_failures.add(&path.failures);
             }
             *px = stats;
         }

@@ -40,6 +40,14 @@ fn options(ray_offset: RayOffset, sphere_hit: SphereHit, stress: StressTransform
     }
 }
 
+/// `methods`, and the GPU methods where there is a GPU.
+fn with_gpu_methods(mut methods: Vec<Method>) -> Vec<Method> {
+    if common::gpu().is_some() {
+        methods.extend([Method::Megakernel, Method::Wavefront]);
+    }
+    methods
+}
+
 fn scale(s: f64) -> StressTransform {
     StressTransform { scale: s, ..Default::default() }
 }
@@ -66,10 +74,7 @@ fn robust_offsets_and_the_stable_sphere_hit_hold_under_stress_on_every_method() 
     let scene = builtin::by_name("three-spheres").unwrap();
     let s = settings(16);
     let reference = run(Method::CpuF64, &scene, &s, &MethodOptions::default());
-    let mut methods = vec![Method::Cpu, Method::CpuF64];
-    if common::gpu().is_some() {
-        methods.extend([Method::Megakernel, Method::Wavefront]);
-    }
+    let methods = with_gpu_methods(vec![Method::Cpu, Method::CpuF64]);
     for (name, stress) in stress_points() {
         for &m in &methods {
             let out = run(m, &scene, &s, &options(RayOffset::Robust, SphereHit::Stable, stress));
@@ -134,10 +139,7 @@ fn every_knob_repeats_bit_identically() {
         stress: StressTransform { scale: 1e-2, translate: [3.0, -2.0, 1e3] },
         ..Default::default()
     };
-    let mut methods = vec![Method::Cpu, Method::CpuF64];
-    if common::gpu().is_some() {
-        methods.extend([Method::Megakernel, Method::Wavefront]);
-    }
+    let methods = with_gpu_methods(vec![Method::Cpu, Method::CpuF64]);
     for m in methods {
         let (a, b) = (run(m, &scene, &s, &o), run(m, &scene, &s, &o));
         assert_eq!(a.film, b.film, "{}", m.name());
@@ -154,10 +156,7 @@ fn exact_fresnel_agrees_across_methods() {
         ..Default::default()
     };
     let reference = run(Method::CpuF64, &scene, &s, &o);
-    let mut methods = vec![Method::Cpu];
-    if common::gpu().is_some() {
-        methods.extend([Method::Megakernel, Method::Wavefront]);
-    }
+    let methods = with_gpu_methods(vec![Method::Cpu]);
     for m in methods {
         let (ok, why) = agrees(&run(m, &scene, &s, &o), &reference);
         assert!(ok, "{} with exact Fresnel: {why}", m.name());
@@ -178,10 +177,7 @@ fn a_scene_that_overflows_f32_is_refused_not_rendered_as_sky() {
     scene.spheres =
         vec![Sphere { center: glam::Vec3::ZERO, radius: 1e38, material: scene.materials.len() as u32 - 1 }];
     let s = RenderSettings { width: 8, height: 8, spp: 2, ..settings(2) };
-    let mut methods = vec![Method::Cpu];
-    if common::gpu().is_some() {
-        methods.extend([Method::Megakernel, Method::Wavefront]);
-    }
+    let methods = with_gpu_methods(vec![Method::Cpu]);
     for m in methods {
         let e = try_run(m, &scene, &s, &MethodOptions::default()).expect_err("refused").to_string();
         assert!(e.contains("overflows f32") && e.contains("3.403e38"), "{}: {e}", m.name());
