@@ -442,3 +442,45 @@ fn the_subgroup_scan_builds_the_same_queues() {
         }
     }
 }
+
+/// The pool holds only what the render's passes read: the shadow ray and weight with a shadow
+/// pass (NEE on, a scene with lights), the scan's scratch with the scan compaction, each slot's
+/// sample when regenerating; unused buffers are one 16-byte element. `bytes_per_path` says the same.
+#[test]
+fn pool_memory_follows_the_knobs() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let pool = 1000u64;
+    let memory = |nee: bool, compaction: Compaction, schedule: Schedule| {
+        let s = RenderSettings { nee, ..settings(2) };
+        let opts = MethodOptions {
+            wavefront: WavefrontOptions {
+                pool_size: Some(pool as u32),
+                compaction,
+                schedule,
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        let out = run(Method::Wavefront, "cornell", &s, &opts);
+        let m = out.memory.unwrap().by_category;
+        (out.bytes_per_path.unwrap(), m["shadow_queue"], m["queues"], m["path_state"])
+    };
+    let (plain, plain_shadow, plain_queues, plain_state) = memory(false, Compaction::Atomic, Schedule::Waves);
+    assert_eq!(plain, 4 * 16 + 8 * 4, "state and eight queue entries");
+    assert_eq!(plain_shadow, 2 * 16, "no shadow pass: placeholders only");
+    let (nee, nee_shadow, _, _) = memory(true, Compaction::Atomic, Schedule::Waves);
+    assert_eq!(nee, plain + 32);
+    assert_eq!(nee_shadow, pool * 32, "shadow ray and weight per slot");
+    let (scan, _, scan_queues, _) = memory(false, Compaction::Scan, Schedule::Waves);
+    assert_eq!(scan, plain + 12);
+    assert_eq!(scan_queues - plain_queues, pool * 12 + pool.div_ceil(256) * 16 - 4 * 16, "scan scratch");
+    let (regen, _, _, regen_state) = memory(false, Compaction::Atomic, Schedule::Regenerate);
+    assert_eq!(regen, plain + 8);
+    assert_eq!(regen_state - plain_state, pool * 8 - 16, "each slot's sample and bounce");
+    // Without lights, NEE has nothing to sample: no shadow pass, no shadow buffers.
+    let s = RenderSettings { nee: true, ..settings(2) };
+    let out = run(Method::Wavefront, "three-spheres", &s, &MethodOptions::default());
+    assert_eq!(out.memory.unwrap().by_category["shadow_queue"], 2 * 16);
+}

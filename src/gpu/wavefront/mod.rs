@@ -56,9 +56,7 @@ use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
 pub use compact::Scan;
 use compact::Target;
-use path_state::{
-    bytes_per_path, PathState, COUNTER_STATS, LARGEST_BINDING_PER_PATH, QUEUE_COUNT, QUEUE_SHADOW,
-};
+use path_state::{PathState, PoolLayout, COUNTER_STATS, LARGEST_BINDING_PER_PATH, QUEUE_COUNT, QUEUE_SHADOW};
 pub use schedule::{Schedule, ScheduleStats};
 use std::time::Instant;
 pub use tail::Tail;
@@ -340,17 +338,15 @@ pub fn render(
     let largest_share =
         shares.iter().map(|d| d.pixel_count as u64 * d.sample_count as u64).max().unwrap_or(1);
     let frame = scene.frame_uniform(camera, settings);
+    let has_shadow_pass = settings.nee && !scene.lights.is_empty();
+    let layout = PoolLayout {
+        scan: opts.compaction == Compaction::Scan,
+        shadow: has_shadow_pass,
+        chunk_samples: regenerate.then_some(largest_share),
+    };
     let b = Bindings {
         scene: SceneBuffers::new(ctx, scene, &frame, settings, &mut memory)?,
-        state: PathState::new(
-            ctx,
-            pool,
-            wave,
-            &params,
-            stats_bounces,
-            regenerate.then_some(largest_share),
-            &mut memory,
-        )?,
+        state: PathState::new(ctx, pool, wave, &params, stats_bounces, layout, &mut memory)?,
         simd: instrument.then(|| SimdCounters::new(ctx, &mut memory)).transpose()?,
         regenerate,
     };
@@ -367,9 +363,7 @@ pub fn render(
         compact: (opts.compaction == Compaction::Scan)
             .then(|| compact::Compact::new(ctx, &b, subgroup_scan))
             .transpose()?,
-        shadow: (settings.nee && !scene.lights.is_empty())
-            .then(|| shadow::Shadow::new(ctx, &b, wg, instrument))
-            .transpose()?,
+        shadow: has_shadow_pass.then(|| shadow::Shadow::new(ctx, &b, wg, instrument)).transpose()?,
         tail: (opts.tail == Tail::Megakernel)
             .then(|| tail::TailPass::new(ctx, &b, wg, instrument))
             .transpose()?,
@@ -470,7 +464,7 @@ pub fn render(
             empty_dispatches: Some(stats.empty_dispatches),
             wall_seconds: start.elapsed().as_secs_f64(),
             simd,
-            bytes_per_path: bytes_per_path(regenerate),
+            bytes_per_path: layout.bytes_per_path(),
             memory: memory.summary(),
             failures,
         },
@@ -489,9 +483,9 @@ fn choose_pool(ctx: &GpuContext, opts: &WavefrontOptions) -> Result<u32> {
         Some(0) => bail!("--pool-size must be at least 1"),
         Some(p) if p > max => {
             eprintln!(
-                "notice: pool of {p} paths does not fit {} ({} bytes per path, {} per binding); using {max}",
+                "notice: pool of {p} paths does not fit {} ({LARGEST_BINDING_PER_PATH} bytes per path in \
+                 its largest buffer, {} per binding); using {max}",
                 ctx.summary.name,
-                bytes_per_path(opts.schedule == Schedule::Regenerate),
                 super::buffers::human_bytes(ctx.summary.max_storage_buffer_binding_size)
             );
             max

@@ -43,11 +43,30 @@ pub const ARGS_COMPACT: u64 = 5;
 pub const ARGS_SHADOW: u64 = 6;
 pub const ARGS_REGENERATE: u64 = 7;
 pub const ARGS_TAIL: u64 = 8;
-/// Bytes of GPU memory per pool slot: origin, direction, throughput, radiance, shadow ray and
-/// shadow weight (16 each), eight queue entries, the scan's target queue, offset and slot (4
-/// each); regenerating, also the slot's sample and bounce (8).
-pub const fn bytes_per_path(regenerate: bool) -> u64 {
-    6 * 16 + QUEUE_COUNT * 4 + 3 * 4 + if regenerate { 8 } else { 0 }
+/// Which per-slot buffers a render's pool holds beyond the path itself: a buffer no pass of
+/// the render reads is bound as one 16-byte element, so memory follows the scene and the knobs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PoolLayout {
+    /// The scan compaction's target queue, offset and slot per position (`--compaction-method scan`).
+    pub scan: bool,
+    /// The pending shadow ray and its weight (`--nee on` in a scene with lights).
+    pub shadow: bool,
+    /// Regenerating (`--schedule regenerate`): the samples of its largest chunk, whose radiance
+    /// waits in `samples` for the accumulate pass; each slot also holds its sample and bounce.
+    pub chunk_samples: Option<u64>,
+}
+
+impl PoolLayout {
+    /// Bytes of GPU memory per pool slot: origin, direction, throughput and radiance (16 each)
+    /// and eight queue entries (4 each) always; the shadow ray and weight (16 each), the scan's
+    /// three words (4 each) and the slot's sample and bounce (8) where used.
+    pub const fn bytes_per_path(self) -> u64 {
+        4 * 16
+            + QUEUE_COUNT * 4
+            + if self.shadow { 2 * 16 } else { 0 }
+            + if self.scan { 3 * 4 } else { 0 }
+            + if self.chunk_samples.is_some() { 8 } else { 0 }
+    }
 }
 /// Bytes of the largest single binding per slot (the queues), which bounds the pool.
 pub const LARGEST_BINDING_PER_PATH: u64 = QUEUE_COUNT * 4;
@@ -76,7 +95,7 @@ impl PathState {
         wave: WaveUniform,
         params: &DispatchUniforms,
         stats_bounces: u32,
-        chunk_samples: Option<u64>,
+        uses: PoolLayout,
         memory: &mut MemoryLedger,
     ) -> Result<Self> {
         let pool64 = pool as u64;
@@ -98,17 +117,24 @@ impl PathState {
             wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
         )?;
         let indirect = buffer(Mem::Queues, "indirect args", ARGS_SLOTS * 12, wgpu::BufferUsages::INDIRECT)?;
-        let next_queue = buffer(Mem::Queues, "scan targets", pool64 * 4, none)?;
-        let scan_offset = buffer(Mem::Queues, "scan offsets", pool64 * 4, none)?;
-        let block_sums = buffer(Mem::Queues, "scan block sums", pool64.div_ceil(SCAN_WG) * 16, none)?;
-        let scan_slot = buffer(Mem::Queues, "scan slots", pool64 * 4, none)?;
-        let shadow_ray = buffer(Mem::ShadowQueue, "shadow ray", pool64 * 16, none)?;
-        let shadow_weight = buffer(Mem::ShadowQueue, "shadow weight", pool64 * 16, none)?;
+        // Per slot where used, else one element (no pass of this render reads it).
+        let per_slot = |used: bool, bytes: u64| if used { pool64 * bytes } else { 16 };
+        let next_queue = buffer(Mem::Queues, "scan targets", per_slot(uses.scan, 4), none)?;
+        let scan_offset = buffer(Mem::Queues, "scan offsets", per_slot(uses.scan, 4), none)?;
+        let block_sums = buffer(
+            Mem::Queues,
+            "scan block sums",
+            if uses.scan { pool64.div_ceil(SCAN_WG) * 16 } else { 16 },
+            none,
+        )?;
+        let scan_slot = buffer(Mem::Queues, "scan slots", per_slot(uses.scan, 4), none)?;
+        let shadow_ray = buffer(Mem::ShadowQueue, "shadow ray", per_slot(uses.shadow, 16), none)?;
+        let shadow_weight = buffer(Mem::ShadowQueue, "shadow weight", per_slot(uses.shadow, 16), none)?;
         // Regenerating: each slot's sample and bounce, and the chunk's finished samples. In
         // waves neither is read (slot = sample, bounce = iteration): minimal buffers.
         let path_sample =
-            buffer(Mem::PathState, "path samples", chunk_samples.map_or(16, |_| pool64 * 8), none)?;
-        let samples = buffer(Mem::Samples, "chunk samples", chunk_samples.map_or(16, |c| c * 16), none)?;
+            buffer(Mem::PathState, "path samples", per_slot(uses.chunk_samples.is_some(), 8), none)?;
+        let samples = buffer(Mem::Samples, "chunk samples", uses.chunk_samples.map_or(16, |c| c * 16), none)?;
         let wave_buf = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("wave"),
             contents: bytemuck::bytes_of(&wave),
