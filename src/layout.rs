@@ -178,4 +178,21 @@ pub struct WaveUniform {
     /// Bit k: the shade pass over queue `QUEUE_MATERIAL_0 + k` is recorded (for counting the
     /// empty ones).
     pub shade_mask: u32,
+    /// Regenerating: samples per chunk of the sample ring (0 in waves).
+    pub chunk: u32,
+    /// Regenerating: chunks in the sample ring (0 in waves).
+    pub ring: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+}
+
+/// WGSL: `Range` in `shaders/accumulate.wgsl`: the samples l in `first .. first + count` of a
+/// share, held at l modulo `ring` (the regenerating wavefront's sample ring).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct AccumulateRange {
+    pub first: u32,
+    pub count: u32,
+    pub ring: u32,
+    pub pad: u32,
 }

@@ -2,9 +2,12 @@
 // pass. Rust side: src/gpu/wavefront/path_state.rs. `dispatch` is a share of the image's samples
 // (pixel_count × sample_count); its sample l is sample (start + l / pixel_count) of pixel
 // (offset + l % pixel_count). With `--schedule waves` the share is one wave and slot l traces
-// sample l, so neither is stored. With `--schedule regenerate` the share (a chunk) is larger than
-// the pool: each slot stores the sample it traces and its bounce, and a slot whose path ended
-// takes the chunk's next sample (regenerate.wgsl), so the pool stays full.
+// sample l, so neither is stored. With `--schedule regenerate` the share is far larger than the
+// pool: each slot stores the sample it traces and its bounce, and a slot whose path ended takes
+// the share's next sample (generate.wgsl's `regenerate`), so the pool stays full. Finished
+// samples wait in a ring of `wave.ring` chunks of `wave.chunk` samples for the accumulate pass,
+// which the host records as the oldest chunks complete; refills stop at the ring's end
+// (COUNTER_FILL_LIMIT, advanced by the host), so the pool drains once per share, not per chunk.
 
 #include "shared/dispatch.wgsl"
 
@@ -30,6 +33,11 @@ const COUNTER_EMPTY: u32 = COUNTER_SHADE_BASE + 7u;        // indirect dispatche
 const COUNTER_INDIRECT: u32 = COUNTER_SHADE_BASE + 8u;     // indirect dispatches sized
 const COUNTER_INTERSECTED: u32 = COUNTER_SHADE_BASE + 9u;  // paths queued for intersect, summed
 const COUNTER_IDLE: u32 = COUNTER_SHADE_BASE + 10u;        // iterations that found no ray to trace
+// (regenerate) Written by the host between submissions:
+const COUNTER_FILL_LIMIT: u32 = COUNTER_SHADE_BASE + 11u;  // refills start samples below this (the ring's end)
+const COUNTER_TAIL_BOUND: u32 = COUNTER_SHADE_BASE + 12u;  // the tail finishes the paths of samples below this
+const COUNTER_FREE_BASE: u32 = COUNTER_SHADE_BASE + 13u;   // (regenerate) first free-queue entry of this refill
+const COUNTER_RING_0: u32 = COUNTER_SHADE_BASE + 14u;      // + ring chunk: its samples finished
 // Indirect-dispatch argument slots (3 words each) in queue_setup's `indirect`.
 const ARGS_INTERSECT: u32 = 0u;
 const ARGS_SHADE_0: u32 = 1u;       // + material kind
@@ -40,6 +48,9 @@ const ARGS_TAIL: u32 = 8u;
 
 // A path that no pass should touch again.
 const DEAD: u32 = 0xffffffffu;
+// (regenerate) A path the tail finished while its slot was still on the ray queue: the next
+// intersect frees the slot (a slot must leave every queue before a refill takes it).
+const FLUSHED: u32 = 0xfffffffdu;
 
 // Knobs constant over a render; twin of WaveUniform in src/layout.rs.
 struct Wave {
@@ -51,6 +62,11 @@ struct Wave {
     pool: u32,
     // Bit k: the shade pass of queue QUEUE_MATERIAL_0 + k is recorded (to count empty ones).
     shade_mask: u32,
+    // (regenerate) Samples per chunk of the sample ring, and chunks in the ring.
+    chunk: u32,
+    ring: u32,
+    pad0: u32,
+    pad1: u32,
 }
 
 @group(1) @binding(0) var<uniform> dispatch: Dispatch;
@@ -79,8 +95,8 @@ struct Wave {
 @group(1) @binding(13) var<storage, read_write> shadow_weight: array<vec4<f32>>;
 // (regenerate) x: the sample the slot traces (index l in the chunk); y: its bounce.
 @group(1) @binding(14) var<storage, read_write> path_sample: array<vec2<u32>>;
-// (regenerate) each finished sample's radiance, by l: the accumulate pass's input, so the film
-// adds samples in the same order as with waves.
+// (regenerate) each finished sample's radiance, at l modulo the ring's samples: the accumulate
+// pass's input, so the film adds samples in the same order as with waves.
 @group(1) @binding(15) var<storage, read_write> samples: array<vec4<f32>>;
 
 // Samples in this share of the image (a wave, or a chunk when regenerating).
@@ -135,15 +151,27 @@ fn path_bounce(slot: u32) -> u32 {
 }
 
 // The path in `slot` has ended (its radiance is final). Regenerating, its sample's radiance goes
-// to `samples` and the slot to the free queue, for the next iteration's refill; in waves the
-// accumulate pass reads `radiance` itself.
+// to the sample ring and the slot to the free queue, for the next iteration's refill; in waves
+// the accumulate pass reads `radiance` itself.
 fn finish_path(slot: u32) {
     if REGENERATE {
-        samples[path_sample[slot].x] = radiance[slot];
-        let at = atomicAdd(&counters[QUEUE_FREE], 1u);
-        queues[QUEUE_FREE * wave.pool + at] = slot;
-        atomicAdd(&counters[COUNTER_FINISHED], 1u);
+        store_sample(slot);
+        free_slot(slot);
     }
+}
+
+// (regenerate) The finished path's radiance into the sample ring, counted for its chunk.
+fn store_sample(slot: u32) {
+    let l = path_sample[slot].x;
+    samples[l % (wave.chunk * wave.ring)] = radiance[slot];
+    atomicAdd(&counters[COUNTER_RING_0 + (l / wave.chunk) % wave.ring], 1u);
+    atomicAdd(&counters[COUNTER_FINISHED], 1u);
+}
+
+// (regenerate) `slot` is on no queue and traces nothing: the next refill may take it.
+fn free_slot(slot: u32) {
+    let at = atomicAdd(&counters[QUEUE_FREE], 1u);
+    queues[QUEUE_FREE * wave.pool + at] = slot;
 }
 
 // Puts `slot`, processed at scan position `position`, on queue `q`: appended atomically, or

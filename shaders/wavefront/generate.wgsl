@@ -59,6 +59,9 @@ fn regenerate_init(@builtin(global_invocation_id) gid: vec3<u32>) {
         atomicStore(&counters[COUNTER_BOUNCE], DEAD);
         atomicStore(&counters[COUNTER_NEXT_SAMPLE], 0u);
         atomicStore(&counters[COUNTER_FINISHED], 0u);
+        for (var c = 0u; c < wave.ring; c++) {
+            atomicStore(&counters[COUNTER_RING_0 + c], 0u);
+        }
     }
     if slot >= wave.pool {
         return;
@@ -79,7 +82,7 @@ fn regenerate(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     instrument(PASS_GENERATE);
-    let slot = queues[QUEUE_FREE * wave.pool + gid.x];
+    let slot = queues[QUEUE_FREE * wave.pool + atomicLoad(&counters[COUNTER_FREE_BASE]) + gid.x];
     start_path(slot, base + gid.x);
     enqueue_atomic(QUEUE_RAY_0 + (current_bounce() + 1u) % 2u, slot);
 }

@@ -18,6 +18,16 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>) {
     if bitcast<u32>(dir.w) == DEAD {
         return; // only without compaction: an ended path in the pool
     }
+    if REGENERATE && bitcast<u32>(dir.w) == FLUSHED {
+        // The tail finished this path after it was queued: off the queue now, so free.
+        path_dir[slot].w = bitcast<f32>(DEAD);
+        free_slot(slot);
+        retire(gid.x);
+        if wave.compaction != 0u {
+            atomicSub(&counters[COUNTER_INTERSECTED], 1u); // queued, but no ray traced
+        }
+        return;
+    }
     instrument(PASS_INTERSECT);
     let ray = Ray(path_origin[slot].xyz, dir.xyz);
     let hit = closest_hit(ray, frame.t_min);

@@ -41,18 +41,21 @@ fn set_compact_args(positions: u32) {
     }
 }
 
-// (regenerate) Before the refill: as many of the chunk's next samples as there are free slots.
+// (regenerate) Before the refill: as many of the share's next samples as there are free slots,
+// up to the sample ring's end.
 @compute @workgroup_size(1)
 fn queue_setup_regenerate() {
     let next = atomicLoad(&counters[COUNTER_NEXT_SAMPLE]);
-    let n = min(atomicLoad(&counters[QUEUE_FREE]), wave_paths() - next);
+    let free = atomicLoad(&counters[QUEUE_FREE]);
+    let n = min(free, atomicLoad(&counters[COUNTER_FILL_LIMIT]) - next);
     set_args(ARGS_REGENERATE, n);
     count_dispatches(n, 1u);
     atomicStore(&counters[COUNTER_REGEN_BASE], next);
     atomicStore(&counters[COUNTER_NEXT_SAMPLE], next + n);
-    // The refill reads the first n entries; paths ending later append from 0 again. Slots left
-    // over once the chunk's samples are all started are not needed any more.
-    atomicStore(&counters[QUEUE_FREE], 0u);
+    // The free queue is a stack: the refill takes its top n entries, and paths ending later push
+    // from there again, so slots the ring's end left idle stay free for the next refill.
+    atomicStore(&counters[COUNTER_FREE_BASE], free - n);
+    atomicStore(&counters[QUEUE_FREE], free - n);
 }
 
 fn record(bounce: u32, q: u32, n: u32) {
@@ -110,7 +113,7 @@ fn queue_setup_shade() {
 }
 
 // (regenerate, --tail megakernel) Before the tail: every path on the ray queue the last shade
-// pass filled.
+// pass filled (the tail itself skips those of samples from COUNTER_TAIL_BOUND on).
 @compute @workgroup_size(1)
 fn queue_setup_tail() {
     var n = pool_slots();

@@ -1,8 +1,9 @@
-// tail (--tail megakernel): when few paths are left in a regenerating chunk, one pass finishes
-// each of them megakernel-style, every remaining bounce in one thread (Cycles X ends a frame
-// this way), instead of a near-empty round of passes per bounce. Takes the ray queue the last
-// shade pass filled; the path loop is the megakernel's (shared/integrator.wgsl), so a sample
-// comes out as it would from the passes. Rust side: src/gpu/wavefront/tail.rs.
+// tail (--tail megakernel): one pass finishes paths megakernel-style, every remaining bounce in
+// one thread (Cycles X ends a frame this way), instead of a near-empty round of passes per
+// bounce: the last paths of a share, and the few left of the oldest chunks when the sample ring
+// needs them back. Takes the ray queue the last shade pass filled and finishes the paths of
+// samples below COUNTER_TAIL_BOUND; the path loop is the megakernel's (shared/integrator.wgsl),
+// so a sample comes out as it would from the passes. Rust side: src/gpu/wavefront/tail.rs.
 
 #include "shared/rng.wgsl"
 #include "shared/scene.wgsl"
@@ -19,8 +20,11 @@ fn tail(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let d = path_dir[slot];
-    if bitcast<u32>(d.w) == DEAD {
+    if bitcast<u32>(d.w) == DEAD || bitcast<u32>(d.w) == FLUSHED {
         return; // only without compaction: an ended path in the pool
+    }
+    if slot_index(slot) >= atomicLoad(&counters[COUNTER_TAIL_BOUND]) {
+        return; // a younger chunk's path: the passes go on with it
     }
     let o = path_origin[slot];
     let t = path_throughput[slot];
@@ -28,6 +32,7 @@ fn tail(@builtin(global_invocation_id) gid: vec3<u32>) {
     var path = TracedPath(Ray(o.xyz, d.xyz), t.xyz, r.xyz, u32(r.w), t.w, bitcast<u32>(d.w));
     continue_path(&path, slot_pixel(slot), slot_sample(slot), path_bounce(slot));
     radiance[slot] = vec4<f32>(path.radiance, f32(path.rays));
-    path_dir[slot].w = bitcast<f32>(DEAD);
-    finish_path(slot);
+    // Still on the ray queue: the next intersect frees the slot.
+    path_dir[slot].w = bitcast<f32>(FLUSHED);
+    store_sample(slot);
 }

@@ -24,8 +24,10 @@ pub mod label {
     /// `--method megakernel --schedule regenerate`: persistent threads that regenerate paths.
     pub const MEGAKERNEL_REGENERATE: &str = "megakernel_regenerate";
     pub const ACCUMULATE: &str = "accumulate";
+    /// `--schedule regenerate` (wavefront): adds the finished chunks of the sample ring.
+    pub const ACCUMULATE_RANGE: &str = "accumulate_range";
     pub const GENERATE: &str = "generate";
-    /// `--schedule regenerate`: empties the pool at a chunk's start.
+    /// `--schedule regenerate`: empties the pool at a share's start.
     pub const REGENERATE_INIT: &str = "regenerate_init";
     /// `--schedule regenerate`: sizes the refill from the free slots and the samples left.
     pub const QUEUE_SETUP_REGENERATE: &str = "queue_setup_regenerate";
@@ -47,7 +49,8 @@ pub mod label {
     pub const SHADOW: &str = "shadow";
     /// `--tail megakernel`: sizes the tail from the paths left.
     pub const QUEUE_SETUP_TAIL: &str = "queue_setup_tail";
-    /// `--tail megakernel`: finishes the last paths of a chunk megakernel-style.
+    /// `--tail megakernel`: finishes paths megakernel-style: a share's last ones, and the oldest
+    /// chunks' last ones when the sample ring needs them back.
     pub const TAIL: &str = "tail";
 }
 

@@ -111,5 +111,15 @@ fn material_kinds_match() {
 
 #[test]
 fn wave() {
-    check!(WaveUniform, "Wave", shaders::INTERSECT.plain, [compaction, per_material, pool, shade_mask]);
+    check!(
+        WaveUniform,
+        "Wave",
+        shaders::INTERSECT.plain,
+        [compaction, per_material, pool, shade_mask, chunk, ring, pad0, pad1]
+    );
+}
+
+#[test]
+fn accumulate_range() {
+    check!(AccumulateRange, "Range", shaders::ACCUMULATE, [first, count, ring, pad]);
 }

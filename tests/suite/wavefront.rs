@@ -265,9 +265,11 @@ fn bad_sync_every_is_refused() {
     }
 }
 
-/// `--chunk-pools` decides how often the pool drains, never what is rendered: with chunks of
-/// one pool or eight the film is bit-identical (the accumulate pass adds samples in order
-/// either way), and fewer, larger chunks drain the pool fewer times, in fewer iterations.
+/// `--chunk-pools` (the sample ring's chunks) decides how far refills may run ahead of the
+/// oldest unfinished chunk, never what is rendered: with a ring of one chunk (the pool drains
+/// at every chunk, as chunks did before the ring) or of eight the film is bit-identical (the
+/// accumulate pass adds samples in order either way), and the larger ring keeps the pool fuller,
+/// in fewer iterations.
 #[test]
 fn chunk_pools_change_the_drains_not_the_image() {
     if common::gpu().is_none() {
@@ -288,8 +290,42 @@ fn chunk_pools_change_the_drains_not_the_image() {
     );
     assert_eq!(one.film, eight.film);
     let (a, b) = (one.schedule.unwrap(), eight.schedule.unwrap());
-    assert_eq!((a.shares, b.shares), (8, 1));
+    assert_eq!((a.shares, b.shares), (8, 8), "chunks of one pool either way");
     assert!(b.iterations < a.iterations && b.intersect_occupancy > a.intersect_occupancy, "{a:?} vs {b:?}");
+}
+
+/// With the tail, a ring smaller than the share does not wait for its oldest chunk's longest
+/// paths: the tail finishes them once few are left, so refills go on. The film still agrees with
+/// the megakernel (the tail is its loop), several tails ran, and the pool stays fuller than
+/// with the same ring and no tail.
+#[test]
+fn the_tail_frees_the_sample_ring() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let s = settings(16); // 15 360 samples: 15 chunks of 1024 in a ring of 2
+    let reference = run(Method::Megakernel, "rtiow-final", &s, &MethodOptions::default()).film;
+    let ring = |tail| MethodOptions {
+        wavefront: regenerating(WavefrontOptions {
+            pool_size: Some(1024),
+            chunk_pools: 2,
+            tail,
+            tail_threshold: 0.1,
+            sync_every: 2,
+            ..Default::default()
+        }),
+        ..Default::default()
+    };
+    let (with, without) = (
+        run(Method::Wavefront, "rtiow-final", &s, &ring(Tail::Megakernel)),
+        run(Method::Wavefront, "rtiow-final", &s, &ring(Tail::Off)),
+    );
+    assert_match("ring of 2 with the tail", &with.film, &reference);
+    assert_rays_match("ring of 2 with the tail", &with.film, &reference);
+    let (a, b) = (with.schedule.unwrap(), without.schedule.unwrap());
+    eprintln!("tail: {a:?}\nno tail: {b:?}");
+    assert!(a.tail_passes > 2 && a.tail_passes <= a.shares, "{a:?}");
+    assert!(a.intersect_occupancy > b.intersect_occupancy, "{a:?} vs {b:?}");
 }
 
 #[test]

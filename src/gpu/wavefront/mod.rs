@@ -50,13 +50,16 @@ use super::stage::{Stage, Workgroups};
 use super::timing::{GpuTimer, Measure};
 use crate::camera::CameraFrame;
 use crate::film::Film;
-use crate::layout::{FilmPixel, WaveUniform};
+use crate::layout::{AccumulateRange, FilmPixel, WaveUniform};
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
 pub use compact::Scan;
 use compact::Target;
-use path_state::{PathState, PoolLayout, COUNTER_STATS, LARGEST_BINDING_PER_PATH, QUEUE_COUNT, QUEUE_SHADOW};
+use path_state::{
+    schedule_word as word, PathState, PoolLayout, COUNTER_STATS, LARGEST_BINDING_PER_PATH, QUEUE_COUNT,
+    QUEUE_SHADOW,
+};
 pub use schedule::{Schedule, ScheduleStats};
 use std::time::Instant;
 pub use tail::Tail;
@@ -317,32 +320,34 @@ pub fn render(
     let pixels = settings.width * settings.height;
     let shares = match opts.schedule {
         Schedule::Waves => dispatch_plan::plan(pixels, settings.spp, pool as u64, pool),
-        Schedule::Regenerate => dispatch_plan::plan(
-            pixels,
-            settings.spp,
-            schedule::chunk_budget(ctx, pool, opts.chunk_pools),
-            u32::MAX,
-        ),
+        Schedule::Regenerate => dispatch_plan::plan(pixels, settings.spp, schedule::MAX_SHARE, u32::MAX),
     };
     let mut memory = MemoryLedger::default();
     let params = DispatchUniforms::new(ctx, &shares, &mut memory);
     let kinds = scene.material_kinds_used();
     let per_material = opts.shade == ShadePasses::PerMaterial;
+    // Regenerating: every share's sample ring has the same chunks (one pool) and at most the
+    // same number of them, so one ring buffer serves them all.
+    let ring_budget = schedule::ring_budget(ctx, pool, opts.chunk_pools);
+    let largest_share = shares.iter().map(|d| d.pixel_count * d.sample_count).max().unwrap_or(1);
+    let ring = schedule::Ring::new(largest_share, pool, ring_budget);
     let wave = WaveUniform {
         compaction: opts.compaction as u32,
         per_material: per_material as u32,
         pool,
         shade_mask: if per_material { kinds.iter().fold(0, |m, k| m | 1 << k) } else { 1 },
+        chunk: if regenerate { ring.chunk } else { 0 },
+        ring: if regenerate { ring.ring } else { 0 },
+        pad0: 0,
+        pad1: 0,
     };
     let stats_bounces = if regenerate { 1 } else { settings.max_depth.min(STATS_BOUNCES) };
-    let largest_share =
-        shares.iter().map(|d| d.pixel_count as u64 * d.sample_count as u64).max().unwrap_or(1);
     let frame = scene.frame_uniform(camera, settings);
     let has_shadow_pass = settings.nee && !scene.lights.is_empty();
     let layout = PoolLayout {
         scan: opts.compaction == Compaction::Scan,
         shadow: has_shadow_pass,
-        chunk_samples: regenerate.then_some(largest_share),
+        ring_samples: regenerate.then_some(ring.samples() as u64),
     };
     let b = Bindings {
         scene: SceneBuffers::new(ctx, scene, &frame, settings, &mut memory)?,
@@ -403,12 +408,19 @@ pub fn render(
                 settings.max_depth
             }
             Schedule::Regenerate => {
-                // Iterate until every sample of the chunk has finished, reading the counter back
-                // only every `sync_every` iterations.
+                // Iterate until every sample of the share is in the film, reading the counters
+                // back only every `sync_every` iterations; after each read, add the chunks that
+                // are complete (with the tail, finish the oldest ones' last paths first where the
+                // ring needs them back) and move the refills' limit on.
+                let r = schedule::Ring { paths, ..ring };
+                b.state.write_schedule_word(ctx, word::FILL_LIMIT, r.fill_limit(0));
+                b.state.write_schedule_word(ctx, word::TAIL_BOUND, 0);
                 let mut i = 0;
                 let mut progress = schedule::Progress::new(paths, settings.max_depth, opts.sync_every);
                 // Once a check finds every sample started, the refill passes would be empty.
                 let mut refill = true;
+                // The first chunk not yet in the film, and the samples started at the last check.
+                let (mut oldest, mut started_before) = (0, 0);
                 loop {
                     for _ in 0..opts.sync_every {
                         if wave.timer.remaining() < per_iteration + 1 {
@@ -418,27 +430,62 @@ pub fn render(
                         i += 1;
                     }
                     wave.submit_and_wait(ctx)?;
-                    let c = schedule::ChunkCounters::read(ctx, &b.state)?;
+                    let c = schedule::ChunkCounters::read(ctx, &b.state, r.ring)?;
                     on_progress(done + c.finished as u64);
                     refill = c.started < paths;
-                    if progress.done_after(c.finished, i)? {
+                    progress.done_after(c.finished, i)?;
+                    let complete = r.complete_from(oldest, &c.ring);
+                    let mut added = complete;
+                    if let Some(tail) = &stages.tail {
+                        let bound = if c.tail_due(paths, opts.tail_threshold, pool) {
+                            r.chunks()
+                        } else {
+                            let max_live = opts.tail_threshold * pool as f64;
+                            r.flush_to(complete, c.started, c.started - started_before, &c.ring, max_live)
+                        };
+                        if bound > complete {
+                            let left = |k: u32| r.len(k) - c.ring[(k % r.ring) as usize];
+                            stats.add_tail((complete..bound).map(left).sum());
+                            b.state.write_schedule_word(ctx, word::TAIL_BOUND, r.end(bound - 1));
+                            stages.queue_setup.record_tail(&mut wave, i);
+                            tail.record(&mut wave);
+                            added = bound;
+                        }
+                    }
+                    started_before = c.started;
+                    if added > oldest {
+                        let first = oldest * r.chunk;
+                        let count = r.end(added - 1) - first;
+                        let range = AccumulateRange { first, count, ring: r.samples(), pad: 0 };
+                        accumulate.record_range(
+                            ctx,
+                            &mut wave.enc,
+                            wave.timer,
+                            wave.offset,
+                            d.pixel_count,
+                            range,
+                        );
+                        wave.dispatches += 1;
+                        b.state.clear_ring_counters(&mut wave.enc, (oldest..added).map(|k| k % r.ring));
+                        oldest = added;
+                        b.state.write_schedule_word(ctx, word::FILL_LIMIT, r.fill_limit(oldest));
+                    }
+                    if oldest == r.chunks() {
                         break i;
                     }
-                    if let Some(tail) =
-                        stages.tail.as_ref().filter(|_| c.tail_due(paths, opts.tail_threshold, pool))
-                    {
-                        stages.queue_setup.record_tail(&mut wave, i);
-                        tail.record(&mut wave);
-                        stats.add_tail(c.live());
-                        break i;
+                    if c.finished == paths {
+                        bail!("the regenerating wavefront finished every sample but added chunks only up to {oldest} of {}", r.chunks());
                     }
                 }
             }
         };
-        accumulate.record(&mut wave.enc, wave.timer, wave.offset, d.pixel_count);
-        wave.dispatches += 1;
+        if !regenerate {
+            accumulate.record(&mut wave.enc, wave.timer, wave.offset, d.pixel_count);
+            wave.dispatches += 1;
+        }
         wave.submit_and_wait(ctx)?;
-        stats.add_share(ctx, &b.state, iterations, wave.dispatches)?;
+        let units = if regenerate { schedule::Ring { paths, ..ring }.chunks() } else { 1 };
+        stats.add_share(ctx, &b.state, units, iterations, wave.dispatches)?;
 
         if let Some(h) = &mut histogram {
             // Per wave, so the GPU's u32 counters never overflow on long renders.

@@ -20,7 +20,8 @@ pub const COUNTER_STATS: u64 = 10;
 pub const MAX_STATS_BOUNCES: u64 = 64;
 /// `COUNTER_SHADE_BASE`: the four shade passes' first scan positions.
 const COUNTER_SHADE_BASE: u64 = COUNTER_STATS + MAX_STATS_BOUNCES * QUEUE_COUNT;
-/// The scheduling counters (`COUNTER_NEXT_SAMPLE` … `COUNTER_IDLE`), read after submissions.
+/// The scheduling counters (`COUNTER_NEXT_SAMPLE` … `COUNTER_FREE_BASE`), read after submissions
+/// (the fill limit and tail bound written) by the host.
 pub const COUNTER_SCHEDULE: u64 = COUNTER_SHADE_BASE + 4;
 /// Offsets from [`COUNTER_SCHEDULE`].
 pub mod schedule_word {
@@ -30,10 +31,16 @@ pub mod schedule_word {
     pub const INDIRECT: usize = 4;
     pub const INTERSECTED: usize = 5;
     pub const IDLE: usize = 6;
-    pub const WORDS: u64 = 7;
+    pub const FILL_LIMIT: usize = 7;
+    pub const TAIL_BOUND: usize = 8;
+    pub const WORDS: u64 = 10;
 }
-/// Words of `counters`: header, histogram, shade positions, scheduling counters.
-const COUNTER_WORDS: u64 = COUNTER_SCHEDULE + schedule_word::WORDS;
+/// `COUNTER_RING_0`: the finished samples of each chunk of the sample ring.
+pub const COUNTER_RING: u64 = COUNTER_SCHEDULE + schedule_word::WORDS;
+/// Most chunks in the sample ring (`--chunk-pools` is at most this).
+pub const MAX_RING_CHUNKS: u64 = 1024;
+/// Words of `counters`: header, histogram, shade positions, scheduling counters, ring counters.
+const COUNTER_WORDS: u64 = COUNTER_RING + MAX_RING_CHUNKS;
 /// Indirect-argument slots: intersect, one per material kind, the scan passes, the shadow pass,
 /// the refill, the tail.
 const ARGS_SLOTS: u64 = 9;
@@ -51,9 +58,9 @@ pub struct PoolLayout {
     pub scan: bool,
     /// The pending shadow ray and its weight (`--nee on` in a scene with lights).
     pub shadow: bool,
-    /// Regenerating (`--schedule regenerate`): the samples of its largest chunk, whose radiance
+    /// Regenerating (`--schedule regenerate`): the samples of its sample ring, whose radiance
     /// waits in `samples` for the accumulate pass; each slot also holds its sample and bounce.
-    pub chunk_samples: Option<u64>,
+    pub ring_samples: Option<u64>,
 }
 
 impl PoolLayout {
@@ -65,7 +72,7 @@ impl PoolLayout {
             + QUEUE_COUNT * 4
             + if self.shadow { 2 * 16 } else { 0 }
             + if self.scan { 3 * 4 } else { 0 }
-            + if self.chunk_samples.is_some() { 8 } else { 0 }
+            + if self.ring_samples.is_some() { 8 } else { 0 }
     }
 }
 /// Bytes of the largest single binding per slot (the queues), which bounds the pool.
@@ -81,7 +88,7 @@ pub struct PathState {
     pub indirect_group: wgpu::BindGroup,
     /// Per-slot radiance: the accumulate pass's input in waves.
     pub radiance: wgpu::Buffer,
-    /// Per-sample radiance of a chunk: the accumulate pass's input when regenerating.
+    /// The sample ring (per-sample radiance): the accumulate pass's input when regenerating.
     pub samples: wgpu::Buffer,
     pub counters: wgpu::Buffer,
     pub indirect: wgpu::Buffer,
@@ -133,8 +140,8 @@ impl PathState {
         // Regenerating: each slot's sample and bounce, and the chunk's finished samples. In
         // waves neither is read (slot = sample, bounce = iteration): minimal buffers.
         let path_sample =
-            buffer(Mem::PathState, "path samples", per_slot(uses.chunk_samples.is_some(), 8), none)?;
-        let samples = buffer(Mem::Samples, "chunk samples", uses.chunk_samples.map_or(16, |c| c * 16), none)?;
+            buffer(Mem::PathState, "path samples", per_slot(uses.ring_samples.is_some(), 8), none)?;
+        let samples = buffer(Mem::Samples, "sample ring", uses.ring_samples.map_or(16, |c| c * 16), none)?;
         let wave_buf = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("wave"),
             contents: bytemuck::bytes_of(&wave),
@@ -199,5 +206,22 @@ impl PathState {
             indirect,
             stats_bounces,
         })
+    }
+
+    /// Writes scheduling word `word` (`schedule_word`); it takes effect at the next submission.
+    pub fn write_schedule_word(&self, ctx: &GpuContext, word: usize, value: u32) {
+        ctx.queue.write_buffer(
+            &self.counters,
+            (COUNTER_SCHEDULE + word as u64) * 4,
+            bytemuck::bytes_of(&value),
+        );
+    }
+
+    /// Records the zeroing of the finished counts of the sample ring's chunks `chunks` (indices
+    /// in the ring), once they are in the film and before a refill reuses them.
+    pub fn clear_ring_counters(&self, enc: &mut wgpu::CommandEncoder, chunks: impl Iterator<Item = u32>) {
+        for c in chunks {
+            enc.clear_buffer(&self.counters, (COUNTER_RING + c as u64) * 4, Some(4));
+        }
     }
 }

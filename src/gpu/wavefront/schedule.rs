@@ -4,7 +4,7 @@
 
 use super::super::buffers::read_back;
 use super::super::context::GpuContext;
-use super::path_state::{schedule_word as word, PathState, COUNTER_SCHEDULE};
+use super::path_state::{schedule_word as word, PathState, COUNTER_RING, COUNTER_SCHEDULE};
 use anyhow::{bail, Result};
 
 pub use super::super::schedule::Schedule;
@@ -14,12 +14,12 @@ pub use super::super::schedule::Schedule;
 pub const DEFAULT_SYNC_EVERY: u32 = 8;
 /// Most iterations between read-backs.
 pub const MAX_SYNC_EVERY: u32 = 1024;
-/// Default `--chunk-pools`: a chunk holds at most this many pools of samples. Its per-sample
-/// radiance buffer (16 bytes a sample) costs this many times the pool's radiance, and the pool
-/// drains once per chunk.
+/// Default `--chunk-pools`: the sample ring holds at most this many chunks of one pool of
+/// samples each. Its per-sample radiance (16 bytes a sample) costs this many times the pool's
+/// radiance; refills stop when it is full and its oldest chunk has paths still going.
 pub const CHUNK_POOLS: u32 = 8;
-/// Most pools a chunk may hold.
-pub const MAX_CHUNK_POOLS: u32 = 1024;
+/// Most chunks the sample ring may hold (`MAX_RING_CHUNKS` counters).
+pub const MAX_CHUNK_POOLS: u32 = super::path_state::MAX_RING_CHUNKS as u32;
 
 pub fn check_sync_every(k: u32) -> Result<()> {
     if !(1..=MAX_SYNC_EVERY).contains(&k) {
@@ -35,25 +35,122 @@ pub fn check_chunk_pools(n: u32) -> Result<()> {
     Ok(())
 }
 
-/// Samples per chunk: `chunk_pools` pools, within one storage binding of 16-byte samples.
-pub fn chunk_budget(ctx: &GpuContext, pool: u32, chunk_pools: u32) -> u64 {
+/// Most samples in one share when regenerating: the share's sample index is a u32, and the
+/// shaders add a pixel count to it.
+pub const MAX_SHARE: u64 = 1 << 31;
+
+/// Samples the sample ring may hold: `chunk_pools` pools, within one storage binding of
+/// 16-byte samples.
+pub fn ring_budget(ctx: &GpuContext, pool: u32, chunk_pools: u32) -> u64 {
     let limit = ctx.summary.max_storage_buffer_binding_size.min(ctx.summary.max_buffer_size) / 16;
     (chunk_pools as u64 * pool as u64).min(limit).clamp(pool as u64, u32::MAX as u64)
 }
 
-/// A regenerating chunk's progress, read back between batches of iterations.
+/// The sample ring of a regenerating share: its samples are cut into chunks of `chunk` (one
+/// pool), the last one shorter; finished samples wait in a ring of `ring` chunks until the
+/// oldest chunks are complete and added to the film, and refills never run more than `ring`
+/// chunks ahead of the oldest one not yet added.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Ring {
+    pub paths: u32,
+    pub chunk: u32,
+    pub ring: u32,
+}
+
+impl Ring {
+    /// The ring for a share of `paths` samples, a pool of `pool` and `budget` samples of ring.
+    pub fn new(paths: u32, pool: u32, budget: u64) -> Self {
+        let chunk = pool.min(paths).max(1);
+        let chunks = paths.div_ceil(chunk).max(1);
+        let ring = (budget / chunk as u64).clamp(1, chunks as u64) as u32;
+        Self { paths, chunk, ring }
+    }
+
+    pub fn chunks(&self) -> u32 {
+        self.paths.div_ceil(self.chunk).max(1)
+    }
+
+    /// Samples in chunk `c` (the last may be short).
+    pub fn len(&self, c: u32) -> u32 {
+        self.end(c) - c * self.chunk
+    }
+
+    /// One past chunk `c`'s last sample.
+    pub fn end(&self, c: u32) -> u32 {
+        ((c as u64 + 1) * self.chunk as u64).min(self.paths as u64) as u32
+    }
+
+    /// Samples the ring holds.
+    pub fn samples(&self) -> u32 {
+        self.chunk * self.ring
+    }
+
+    /// The fill limit once the chunks before `oldest` are added: refills start no sample of a
+    /// chunk `ring` or more after it.
+    pub fn fill_limit(&self, oldest: u32) -> u32 {
+        if oldest + self.ring >= self.chunks() {
+            return self.paths;
+        }
+        (oldest + self.ring) * self.chunk
+    }
+
+    /// The chunks from `oldest` on that are complete, in order (the first incomplete one ends
+    /// the run): `finished[c % ring]` counts chunk c's finished samples, for the `ring` chunks
+    /// from `oldest` on (the ones refills may have started).
+    pub fn complete_from(&self, oldest: u32, finished: &[u32]) -> u32 {
+        let mut c = oldest;
+        let window = self.chunks().min(oldest.saturating_add(self.ring));
+        while c < window && finished[(c % self.ring) as usize] == self.len(c) {
+            c += 1;
+        }
+        c
+    }
+
+    /// With the megakernel tail: the chunks before the returned one should be finished by it now
+    /// (from `complete`, the first incomplete chunk), so that the refills of the next batch,
+    /// expected to start `expected` samples, do not stop at the ring's end. Only chunks whose
+    /// samples have all started and that have at most `max_live` paths left are taken, oldest
+    /// first.
+    pub fn flush_to(
+        &self,
+        complete: u32,
+        started: u32,
+        expected: u32,
+        finished: &[u32],
+        max_live: f64,
+    ) -> u32 {
+        let mut c = complete;
+        while c < self.chunks()
+            && self.fill_limit(c) < self.paths
+            && self.fill_limit(c).saturating_sub(started) < expected
+            && self.end(c) <= started
+            && (self.len(c) - finished[(c % self.ring) as usize]) as f64 <= max_live
+        {
+            c += 1;
+        }
+        c
+    }
+}
+
+/// A regenerating share's progress, read back between batches of iterations.
 pub struct ChunkCounters {
     /// Samples started (handed to a slot).
     pub started: u32,
     /// Samples whose path has ended.
     pub finished: u32,
+    /// Finished samples of each chunk of the ring, by chunk index modulo the ring.
+    pub ring: Vec<u32>,
 }
 
 impl ChunkCounters {
-    pub fn read(ctx: &GpuContext, state: &PathState) -> Result<Self> {
-        let words: Vec<u32> = read_back(ctx, &state.counters, (COUNTER_SCHEDULE + word::WORDS) * 4)?;
+    pub fn read(ctx: &GpuContext, state: &PathState, ring: u32) -> Result<Self> {
+        let words: Vec<u32> = read_back(ctx, &state.counters, (COUNTER_RING + ring as u64) * 4)?;
         let w = |i: usize| words[COUNTER_SCHEDULE as usize + i];
-        Ok(Self { started: w(word::NEXT_SAMPLE), finished: w(word::FINISHED) })
+        Ok(Self {
+            started: w(word::NEXT_SAMPLE),
+            finished: w(word::FINISHED),
+            ring: words[COUNTER_RING as usize..].to_vec(),
+        })
     }
 
     /// Paths in flight.
@@ -61,14 +158,14 @@ impl ChunkCounters {
         self.started - self.finished
     }
 
-    /// Whether the megakernel tail should finish the chunk of `paths` samples now: every sample
+    /// Whether the megakernel tail should finish the share of `paths` samples now: every sample
     /// started, and at most `threshold` × `pool` paths still going.
     pub fn tail_due(&self, paths: u32, threshold: f64, pool: u32) -> bool {
         self.started == paths && (self.live() as f64) <= threshold * pool as f64
     }
 }
 
-/// When a regenerating chunk is done, and the guard against a schedule that stops advancing.
+/// The guard against a regenerating share that stops advancing.
 pub struct Progress {
     paths: u32,
     /// Every path ends within `max_depth` iterations of its start and a free slot is refilled
@@ -115,7 +212,7 @@ pub struct ScheduleStats {
     pub schedule: Schedule,
     /// Iterations between read-backs (regenerate only).
     pub sync_every: Option<u32>,
-    /// Waves, or chunks when regenerating.
+    /// Waves, or chunks (of one pool of samples) when regenerating.
     pub shares: u64,
     /// Iterations recorded (bounces × waves, or refill-and-bounce rounds).
     pub iterations: u64,
@@ -165,18 +262,19 @@ impl ScheduleStats {
         self.tail_paths += paths as u64;
     }
 
-    /// Adds a finished share (`iterations` recorded, `dispatches` passes) and zeroes the GPU's
-    /// counters, so they never overflow on long renders.
+    /// Adds a finished share of `units` waves or chunks (`iterations` recorded, `dispatches`
+    /// passes) and zeroes the GPU's counters, so they never overflow on long renders.
     pub fn add_share(
         &mut self,
         ctx: &GpuContext,
         state: &PathState,
+        units: u32,
         iterations: u32,
         dispatches: u64,
     ) -> Result<()> {
         let words: Vec<u32> = read_back(ctx, &state.counters, (COUNTER_SCHEDULE + word::WORDS) * 4)?;
         let w = |i: usize| words[COUNTER_SCHEDULE as usize + i] as u64;
-        self.shares += 1;
+        self.shares += units as u64;
         self.iterations += iterations as u64;
         self.idle_iterations += w(word::IDLE);
         self.dispatches += dispatches;
@@ -189,5 +287,56 @@ impl ScheduleStats {
         enc.clear_buffer(&state.counters, first, Some((word::WORDS - word::EMPTY as u64) * 4));
         ctx.queue.submit([enc.finish()]);
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ring_chunks_cover_the_share() {
+        // 10 000 samples, a pool of 1 024 and room for 4 pools: 10 chunks, the last of 784.
+        let r = Ring::new(10_000, 1024, 4 * 1024);
+        assert_eq!((r.chunk, r.ring, r.chunks(), r.samples()), (1024, 4, 10, 4096));
+        assert_eq!((r.len(0), r.len(9), r.end(9)), (1024, 784, 10_000));
+        // Refills run at most four chunks ahead of the oldest not yet in the film.
+        assert_eq!((r.fill_limit(0), r.fill_limit(5), r.fill_limit(6)), (4096, 9216, 10_000));
+        // A share smaller than the ring: one chunk per pool, a ring of as many.
+        let small = Ring::new(3000, 1024, 8 * 1024);
+        assert_eq!((small.ring, small.chunks(), small.fill_limit(0)), (3, 3, 3000));
+        // A share smaller than the pool: one chunk.
+        let one = Ring::new(500, 1024, 8 * 1024);
+        assert_eq!((one.chunk, one.ring, one.chunks(), one.len(0)), (500, 1, 1, 500));
+    }
+
+    #[test]
+    fn complete_chunks_are_taken_in_order() {
+        let r = Ring::new(10_000, 1024, 4 * 1024);
+        // Chunks 4..8 in flight (ring slots 0, 1, 2, 3): 4 and 5 done, 6 not, 7 done.
+        let finished = [1024, 1024, 1000, 1024];
+        assert_eq!(r.complete_from(4, &finished), 6);
+        assert_eq!(r.complete_from(6, &finished), 6);
+        // The short last chunk is complete at its own length.
+        assert_eq!(r.complete_from(9, &[0, 784, 0, 0]), 10);
+        // A ring slot counts only the chunk that holds it now: chunks 2..6 all complete, chunk 6
+        // (slot 2 again) not started, however full slot 2 looks.
+        assert_eq!(r.complete_from(2, &[1024, 1024, 1024, 1024]), 6);
+    }
+
+    #[test]
+    fn the_tail_flushes_only_what_the_ring_needs_back() {
+        let r = Ring::new(100_000, 1000, 4000);
+        // Chunks 0..4 in flight, 3 500 samples started: a batch starting 1 000 more would stop at
+        // the ring's end (4 000). Chunk 0 has 20 paths left, chunk 1 has 600.
+        let finished = [980, 400, 0, 0];
+        assert_eq!(r.flush_to(0, 3500, 1000, &finished, 50.0), 1, "chunk 0 only: chunk 1 has too many left");
+        // With room for the batch, nothing is flushed.
+        assert_eq!(r.flush_to(0, 2500, 1000, &finished, 50.0), 0);
+        // A chunk whose samples have not all started is never flushed.
+        assert_eq!(r.flush_to(0, 900, 5000, &[880, 0, 0, 0], 50.0), 0);
+        // Where the ring reaches the share's end, the final tail finishes what is left instead.
+        let end = Ring::new(4500, 1000, 4000);
+        assert_eq!(end.flush_to(1, 4400, 1000, &[1000, 990, 0, 0, 0], 50.0), 1);
     }
 }
