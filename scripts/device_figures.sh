@@ -57,8 +57,8 @@ done
 # The seeds' headline case: rtiow-final at 1920x1080, 500 spp, depth 50, each GPU method.
 if [ "$scale" = tiny ]; then size=(--width 32 --height 18 --spp 4); else size=(--width 1920 --height 1080 --spp 500); fi
 mkdir -p "$out/rtiow_final_1080p"
-# (--chunk-pools 64: a regenerating chunk of 64 pools, 1 GiB of samples at the default pool,
-# drains the pool 8 times less often; where bindings are smaller the chunk is cut to fit.)
+# (--chunk-pools 64: a sample ring of 64 pools, 1 GiB at the default pool, waits less on its
+# oldest chunk's longest paths; where bindings are smaller the ring is cut to fit.)
 for run in "megakernel" "megakernel --schedule regenerate" "wavefront" "wavefront --schedule regenerate" "wavefront --schedule regenerate --tail megakernel" "wavefront --schedule regenerate --tail megakernel --chunk-pools 64"; do
   read -r -a args <<< "$run"
   tag=$(echo "$run" | sed -E 's/ --schedule /-/; s/ --tail /-tail-/; s/ --chunk-pools /-chunks-/')

@@ -27,7 +27,8 @@ const COUNTER_STATS: u32 = 10u;     // + bounce * QUEUE_COUNT + queue: paths que
 const COUNTER_SHADE_BASE: u32 = 10u + 64u * QUEUE_COUNT; // + kind: first scan position of each shade pass
 // Scheduling counters, read by the host after each submission (src/gpu/wavefront/schedule.rs).
 const COUNTER_NEXT_SAMPLE: u32 = COUNTER_SHADE_BASE + 4u;  // (regenerate) the chunk's next sample to start
-const COUNTER_FINISHED: u32 = COUNTER_SHADE_BASE + 5u;     // (regenerate) samples whose path ended
+// COUNTER_SHADE_BASE + 5: unused (finished samples are counted per chunk of the ring only: one
+// contended atomic per path, not two).
 const COUNTER_REGEN_BASE: u32 = COUNTER_SHADE_BASE + 6u;   // (regenerate) first sample of this iteration's refill
 const COUNTER_EMPTY: u32 = COUNTER_SHADE_BASE + 7u;        // indirect dispatches sized to zero workgroups
 const COUNTER_INDIRECT: u32 = COUNTER_SHADE_BASE + 8u;     // indirect dispatches sized
@@ -165,7 +166,6 @@ fn store_sample(slot: u32) {
     let l = path_sample[slot].x;
     samples[l % (wave.chunk * wave.ring)] = radiance[slot];
     atomicAdd(&counters[COUNTER_RING_0 + (l / wave.chunk) % wave.ring], 1u);
-    atomicAdd(&counters[COUNTER_FINISHED], 1u);
 }
 
 // (regenerate) `slot` is on no queue and traces nothing: the next refill may take it.

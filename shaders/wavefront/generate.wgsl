@@ -58,7 +58,6 @@ fn regenerate_init(@builtin(global_invocation_id) gid: vec3<u32>) {
         // queue_setup_intersect advances this to 0 before the first iteration.
         atomicStore(&counters[COUNTER_BOUNCE], DEAD);
         atomicStore(&counters[COUNTER_NEXT_SAMPLE], 0u);
-        atomicStore(&counters[COUNTER_FINISHED], 0u);
         for (var c = 0u; c < wave.ring; c++) {
             atomicStore(&counters[COUNTER_RING_0 + c], 0u);
         }

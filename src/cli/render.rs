@@ -133,21 +133,24 @@ pub struct RenderArgs {
     /// workgroups [default: 65536].
     #[arg(long)]
     pub threads: Option<u32>,
-    /// Wavefront, regenerate: iterations recorded between checks of the finished samples (the
-    /// host waits for the GPU at each check; up to this many iterations idle at a chunk's end).
+    /// Wavefront, regenerate: iterations recorded between checks of the schedule's counters (the
+    /// host waits for the GPU at each check, then adds complete chunks to the film; up to this
+    /// many iterations idle at the image's end).
     #[arg(long, default_value_t = WavefrontOptions::default().sync_every)]
     pub sync_every: u32,
-    /// Wavefront, regenerate: finish each chunk's last paths in one megakernel-style pass once
-    /// fewer than --tail-threshold × pool are left.
+    /// Wavefront, regenerate: finish paths in one megakernel-style pass: the image's last ones
+    /// once at most --tail-threshold × pool are left, and the oldest chunks' last ones (each at
+    /// most that many) when the sample ring would stop the refills.
     #[arg(long, value_enum, default_value_t = WavefrontOptions::default().tail)]
     pub tail: Tail,
     /// Wavefront, --tail megakernel: the live fraction of the pool, in (0, 1], below which the
     /// tail takes over.
     #[arg(long, default_value_t = WavefrontOptions::default().tail_threshold)]
     pub tail_threshold: f64,
-    /// Wavefront, --schedule regenerate: most pools of samples per chunk. The pool drains at
-    /// each chunk's end (fewer, larger chunks: fewer drains and dispatches), and a chunk's
-    /// sample buffer takes 16 bytes a sample, within one storage binding.
+    /// Wavefront, --schedule regenerate: chunks of one pool of samples in the sample ring.
+    /// Refills run at most this many chunks ahead of the oldest one not yet in the film (a
+    /// larger ring waits less on its oldest chunk's longest paths); the ring takes 16 bytes a
+    /// sample, within one storage binding.
     #[arg(long, default_value_t = WavefrontOptions::default().chunk_pools)]
     pub chunk_pools: u32,
     /// Wavefront, --compaction-method scan: scan workgroups with subgroup operations (where the

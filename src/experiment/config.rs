@@ -662,7 +662,7 @@ impl Cx {
         if tail.values.contains(&Tail::Megakernel) && !schedule.values.contains(&Schedule::Regenerate) {
             return self.err(
                 &opt_path("tail"),
-                "\"megakernel\" finishes a regenerating chunk: it needs \"schedule\": \"regenerate\"",
+                "\"megakernel\" finishes regenerated paths: it needs \"schedule\": \"regenerate\"",
             );
         }
 
@@ -671,7 +671,7 @@ impl Cx {
         {
             return self.err(
                 &opt_path("chunk_pools"),
-                "chunks are the regenerating schedule's: it needs \"schedule\": \"regenerate\"",
+                "the sample ring is the regenerating schedule's: it needs \"schedule\": \"regenerate\"",
             );
         }
 

@@ -1,6 +1,6 @@
 //! generate (`shaders/wavefront/generate.wgsl`): camera paths. With `--schedule waves`, one pass
 //! starts every path of a wave; with `--schedule regenerate`, `regenerate_init` empties the pool
-//! at a chunk's start and `regenerate` refills the slots whose paths ended, every iteration.
+//! at a share's start and `regenerate` refills the slots whose paths ended, every iteration.
 
 use super::super::stage::{Stage, Workgroups};
 use super::super::{context::GpuContext, label, shaders};
@@ -36,7 +36,7 @@ impl Generate {
         })
     }
 
-    /// Waves: the wave's camera paths. Regenerating: a chunk's start (every slot free).
+    /// Waves: the wave's camera paths. Regenerating: a share's start (every slot free).
     pub fn record_start(&self, wave: &mut WaveRecorder<'_>) {
         let (stage, threads, wg) = match self {
             Generate::Waves { generate, workgroup_size } => (generate, wave.paths, *workgroup_size),

@@ -3,13 +3,19 @@
 //!
 //! The image's samples are cut into shares: with `--schedule waves`, waves of at most `pool`
 //! paths that all start together and run `max_depth` bounces; with `--schedule regenerate`,
-//! chunks of several pools whose slots are refilled as paths end (Laine et al.'s "new path"
-//! stage), so intersect and shade see a full pool until the chunk's last samples. Per share:
+//! shares as large as a dispatch's parameters allow (usually the whole image), whose slots are
+//! refilled as paths end (Laine et al.'s "new path" stage), so intersect and shade see a full
+//! pool until the image's last samples. Finished samples wait in a ring of one-pool chunks
+//! until the host adds the oldest complete ones to the film. Per share:
 //!
 //! ```text
 //! generate | regenerate_init                camera rays (waves) | every slot free (regenerate)
-//! for each iteration (waves: max_depth; regenerate: until the share's samples are done,
-//!                     read back every --sync-every iterations):
+//! for each iteration (waves: max_depth; regenerate: until the share's samples are done):
+//!     (regenerate, every --sync-every iterations: read the counters back, then
+//!      [queue_setup_tail, tail]             finish the oldest chunks' last paths if the ring
+//!                                           needs them back, or the share's last paths
+//!      accumulate_range                     complete chunks → film, in sample order
+//!      and move the refill limit to the ring's new end)
 //!     [queue_setup_regenerate, regenerate]  (regenerate) next samples into the free slots
 //!     queue_setup_intersect                 ray queue count → intersect's indirect args
 //!     intersect                             closest hits; escaped rays add the background
@@ -19,7 +25,7 @@
 //!                                           (--nee on) diffuse hits → shadow queue
 //!     [compact_scan, _blocks, _scatter]     (scan method) build the next ray queue
 //!     [queue_setup_shadow, shadow]          (--nee on, scene has lights) shadow rays
-//! accumulate                                the share's radiance → film, in sample order
+//! accumulate                                (waves) the wave's radiance → film, in sample order
 //! ```
 //!
 //! The host never reads a counter inside a batch of iterations: passes whose queues are empty
@@ -94,15 +100,16 @@ pub struct WavefrontOptions {
     pub compaction: Compaction,
     pub shade: ShadePasses,
     pub schedule: Schedule,
-    /// Regenerating: iterations recorded between read-backs of the finished-sample counter
-    /// (more: fewer host waits, up to this many idle iterations at a chunk's end).
+    /// Regenerating: iterations recorded between read-backs of the schedule's counters (more:
+    /// fewer host waits, up to this many idle iterations at the image's end).
     pub sync_every: u32,
-    /// Regenerating: whether a chunk's last paths are finished megakernel-style.
+    /// Regenerating: whether the last paths (of the image, and of the oldest chunks when the
+    /// sample ring needs them back) are finished megakernel-style.
     pub tail: Tail,
     /// The live fraction of the pool below which the tail takes over.
     pub tail_threshold: f64,
-    /// Regenerating: most pools of samples per chunk (the pool drains at each chunk's end; a
-    /// chunk's sample buffer takes 16 bytes a sample).
+    /// Regenerating: one-pool chunks in the sample ring (16 bytes a sample): how far refills
+    /// may run ahead of the oldest chunk not yet in the film.
     pub chunk_pools: u32,
     /// How the scan compaction scans a workgroup.
     pub scan: Scan,
@@ -310,10 +317,10 @@ pub fn render(
     let subgroup_scan = opts.scan.uses_subgroups(ctx)?;
     let regenerate = opts.schedule == Schedule::Regenerate;
     if opts.tail == Tail::Megakernel && !regenerate {
-        bail!("--tail megakernel finishes a regenerating chunk: it needs --schedule regenerate");
+        bail!("--tail megakernel finishes regenerated paths: it needs --schedule regenerate");
     }
     if opts.chunk_pools != schedule::CHUNK_POOLS && !regenerate {
-        bail!("--chunk-pools sizes regenerating chunks: it needs --schedule regenerate");
+        bail!("--chunk-pools sizes the regenerating sample ring: it needs --schedule regenerate");
     }
     let start = Instant::now();
 
@@ -430,7 +437,7 @@ pub fn render(
                         i += 1;
                     }
                     wave.submit_and_wait(ctx)?;
-                    let c = schedule::ChunkCounters::read(ctx, &b.state, r.ring)?;
+                    let c = schedule::ChunkCounters::read(ctx, &b.state, &r, oldest)?;
                     on_progress(done + c.finished as u64);
                     refill = c.started < paths;
                     progress.done_after(c.finished, i)?;

@@ -26,7 +26,6 @@ pub const COUNTER_SCHEDULE: u64 = COUNTER_SHADE_BASE + 4;
 /// Offsets from [`COUNTER_SCHEDULE`].
 pub mod schedule_word {
     pub const NEXT_SAMPLE: usize = 0;
-    pub const FINISHED: usize = 1;
     pub const EMPTY: usize = 3;
     pub const INDIRECT: usize = 4;
     pub const INTERSECTED: usize = 5;

@@ -136,20 +136,23 @@ impl Ring {
 pub struct ChunkCounters {
     /// Samples started (handed to a slot).
     pub started: u32,
-    /// Samples whose path has ended.
+    /// Samples whose path has ended: those of the chunks already in the film and the ring's.
     pub finished: u32,
     /// Finished samples of each chunk of the ring, by chunk index modulo the ring.
     pub ring: Vec<u32>,
 }
 
 impl ChunkCounters {
-    pub fn read(ctx: &GpuContext, state: &PathState, ring: u32) -> Result<Self> {
-        let words: Vec<u32> = read_back(ctx, &state.counters, (COUNTER_RING + ring as u64) * 4)?;
-        let w = |i: usize| words[COUNTER_SCHEDULE as usize + i];
+    /// The counters of `r` when the chunks before `oldest` are in the film (their ring counts
+    /// cleared).
+    pub fn read(ctx: &GpuContext, state: &PathState, r: &Ring, oldest: u32) -> Result<Self> {
+        let words: Vec<u32> = read_back(ctx, &state.counters, (COUNTER_RING + r.ring as u64) * 4)?;
+        let ring = words[COUNTER_RING as usize..].to_vec();
+        let in_ring: u32 = ring.iter().sum();
         Ok(Self {
-            started: w(word::NEXT_SAMPLE),
-            finished: w(word::FINISHED),
-            ring: words[COUNTER_RING as usize..].to_vec(),
+            started: words[COUNTER_SCHEDULE as usize + word::NEXT_SAMPLE],
+            finished: oldest * r.chunk + in_ring,
+            ring,
         })
     }
 

@@ -1,6 +1,7 @@
-//! tail (`shaders/wavefront/tail.wgsl`, `--tail megakernel`): finishes a regenerating chunk's
-//! last paths megakernel-style, in one pass sized on the GPU by queue_setup_tail, once the live
-//! paths fall below a fraction of the pool.
+//! tail (`shaders/wavefront/tail.wgsl`, `--tail megakernel`): finishes regenerated paths
+//! megakernel-style, in one pass sized on the GPU by queue_setup_tail: the image's last ones
+//! once the live paths fall below a fraction of the pool, and the oldest chunks' last ones when
+//! the sample ring needs them back (the paths of samples below the bound the host sets).
 
 use super::super::stage::{Stage, Workgroups};
 use super::super::{context::GpuContext, label, shaders};
@@ -8,7 +9,7 @@ use super::path_state::ARGS_TAIL;
 use super::{Bindings, WaveRecorder};
 use anyhow::{bail, Result};
 
-/// Whether a regenerating chunk ends with a megakernel pass.
+/// Whether regenerated paths end with a megakernel pass.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Tail {
