@@ -26,7 +26,7 @@ const COUNTER_POSITIONS: u32 = 9u;  // queue positions the next scan compaction 
 const COUNTER_STATS: u32 = 10u;     // + bounce * QUEUE_COUNT + queue: paths queued, summed over waves
 const COUNTER_SHADE_BASE: u32 = 10u + 64u * QUEUE_COUNT; // + kind: first scan position of each shade pass
 // Scheduling counters, read by the host after each submission (src/gpu/wavefront/schedule.rs).
-const COUNTER_NEXT_SAMPLE: u32 = COUNTER_SHADE_BASE + 4u;  // (regenerate) the chunk's next sample to start
+const COUNTER_NEXT_SAMPLE: u32 = COUNTER_SHADE_BASE + 4u;  // (regenerate) the share's next sample to start
 // COUNTER_SHADE_BASE + 5: unused (finished samples are counted per chunk of the ring only: one
 // contended atomic per path, not two).
 const COUNTER_REGEN_BASE: u32 = COUNTER_SHADE_BASE + 6u;   // (regenerate) first sample of this iteration's refill
@@ -94,13 +94,13 @@ struct Wave {
 // rgb: what it adds to the radiance if unblocked; w: the bits of its light's slot + 1 while it
 // is pending (which the shadow ray skips), 0 otherwise.
 @group(1) @binding(13) var<storage, read_write> shadow_weight: array<vec4<f32>>;
-// (regenerate) x: the sample the slot traces (index l in the chunk); y: its bounce.
+// (regenerate) x: the sample the slot traces (index l in the share); y: its bounce.
 @group(1) @binding(14) var<storage, read_write> path_sample: array<vec2<u32>>;
 // (regenerate) each finished sample's radiance, at l modulo the ring's samples: the accumulate
 // pass's input, so the film adds samples in the same order as with waves.
 @group(1) @binding(15) var<storage, read_write> samples: array<vec4<f32>>;
 
-// Samples in this share of the image (a wave, or a chunk when regenerating).
+// Samples in this share of the image (a wave; when regenerating, usually the whole image).
 fn wave_paths() -> u32 {
     return dispatch.pixel_count * dispatch.sample_count;
 }

@@ -1,6 +1,6 @@
 // generate: camera paths. `generate` starts every path of a wave on the bounce-0 ray queue
-// (--schedule waves); `regenerate_init` empties the pool at a chunk's start and `regenerate`
-// starts the chunk's next samples in the slots whose paths ended (--schedule regenerate).
+// (--schedule waves); `regenerate_init` empties the pool at a share's start and `regenerate`
+// starts the share's next samples in the slots whose paths ended (--schedule regenerate).
 // Rust side: src/gpu/wavefront/generate.rs.
 
 #include "shared/rng.wgsl"
@@ -46,7 +46,7 @@ fn start_path(slot: u32, l: u32) {
     }
 }
 
-// A chunk's start: every slot free, no queue holding anything, no sample started.
+// A share's start: every slot free, no queue holding anything, no sample started.
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn regenerate_init(@builtin(global_invocation_id) gid: vec3<u32>) {
     let slot = gid.x;

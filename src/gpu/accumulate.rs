@@ -16,7 +16,8 @@ pub const WORKGROUP_SIZE: u32 = 64;
 
 pub struct Accumulate {
     stage: Stage,
-    range_stage: Stage,
+    /// `accumulate_range`, built only for the renders that use it (the regenerating wavefront).
+    range_stage: Option<Stage>,
     bind_group: wgpu::BindGroup,
     range: wgpu::Buffer,
 }
@@ -27,6 +28,7 @@ impl Accumulate {
         samples: &wgpu::Buffer,
         film: &wgpu::Buffer,
         params: &DispatchUniforms,
+        ranges: bool,
     ) -> Result<Self> {
         let layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some(label::ACCUMULATE),
@@ -55,7 +57,9 @@ impl Accumulate {
         let module = ctx.shader(label::ACCUMULATE, shaders::ACCUMULATE)?;
         Ok(Self {
             stage: Stage::new(ctx, label::ACCUMULATE, &module, &[&layout], &[])?,
-            range_stage: Stage::new(ctx, label::ACCUMULATE_RANGE, &module, &[&layout], &[])?,
+            range_stage: ranges
+                .then(|| Stage::new(ctx, label::ACCUMULATE_RANGE, &module, &[&layout], &[]))
+                .transpose()?,
             bind_group,
             range,
         })
@@ -82,12 +86,7 @@ impl Accumulate {
         ctx.queue.write_buffer(&self.range, 0, bytemuck::bytes_of(&range));
         let groups = [(&self.bind_group, vec![offset])];
         let threads = pixels.min(range.count);
-        self.range_stage.record(
-            enc,
-            timer,
-            None,
-            &groups,
-            Workgroups::Direct(threads.div_ceil(WORKGROUP_SIZE)),
-        );
+        let stage = self.range_stage.as_ref().expect("Accumulate built without ranges");
+        stage.record(enc, timer, None, &groups, Workgroups::Direct(threads.div_ceil(WORKGROUP_SIZE)));
     }
 }

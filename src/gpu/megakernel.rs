@@ -156,7 +156,7 @@ pub fn render(
         })
         .transpose()?
         .map(|b| memory.track(MemoryCategory::Counters, b));
-    let accumulate = Accumulate::new(ctx, &samples, &film, &params)?;
+    let accumulate = Accumulate::new(ctx, &samples, &film, &params, false)?;
     let simd = instrument.then(|| SimdCounters::new(ctx, &mut memory)).transpose()?;
 
     let mut entries = vec![storage_entry(0, false), uniform_entry(1, true)];

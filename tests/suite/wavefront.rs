@@ -296,8 +296,9 @@ fn chunk_pools_change_the_drains_not_the_image() {
 
 /// With the tail, a ring smaller than the share does not wait for its oldest chunk's longest
 /// paths: the tail finishes them once few are left, so refills go on. The film still agrees with
-/// the megakernel (the tail is its loop), several tails ran, and the pool stays fuller than
-/// with the same ring and no tail.
+/// the megakernel (the tail is its loop) for every compaction method (the flushed slots leave
+/// the queues through intersect), several tails ran, and the pool stays fuller than with the
+/// same ring and no tail.
 #[test]
 fn the_tail_frees_the_sample_ring() {
     if common::gpu().is_none() {
@@ -305,27 +306,35 @@ fn the_tail_frees_the_sample_ring() {
     }
     let s = settings(16); // 15 360 samples: 15 chunks of 1024 in a ring of 2
     let reference = run(Method::Megakernel, "rtiow-final", &s, &MethodOptions::default()).film;
-    let ring = |tail| MethodOptions {
+    let ring = |tail, compaction| MethodOptions {
         wavefront: regenerating(WavefrontOptions {
             pool_size: Some(1024),
             chunk_pools: 2,
             tail,
             tail_threshold: 0.1,
             sync_every: 2,
+            compaction,
             ..Default::default()
         }),
         ..Default::default()
     };
-    let (with, without) = (
-        run(Method::Wavefront, "rtiow-final", &s, &ring(Tail::Megakernel)),
-        run(Method::Wavefront, "rtiow-final", &s, &ring(Tail::Off)),
-    );
-    assert_match("ring of 2 with the tail", &with.film, &reference);
-    assert_rays_match("ring of 2 with the tail", &with.film, &reference);
-    let (a, b) = (with.schedule.unwrap(), without.schedule.unwrap());
-    eprintln!("tail: {a:?}\nno tail: {b:?}");
-    assert!(a.tail_passes > 2 && a.tail_passes <= a.shares, "{a:?}");
-    assert!(a.intersect_occupancy > b.intersect_occupancy, "{a:?} vs {b:?}");
+    for compaction in [Compaction::Atomic, Compaction::Scan, Compaction::Off] {
+        let (with, without) = (
+            run(Method::Wavefront, "rtiow-final", &s, &ring(Tail::Megakernel, compaction)),
+            run(Method::Wavefront, "rtiow-final", &s, &ring(Tail::Off, compaction)),
+        );
+        let what = format!("ring of 2 with the tail, {compaction:?}");
+        assert_match(&what, &with.film, &reference);
+        assert_rays_match(&what, &with.film, &reference);
+        let (a, b) = (with.schedule.unwrap(), without.schedule.unwrap());
+        eprintln!("{what}: {a:?}\nno tail: {b:?}");
+        assert!(a.tail_passes > 2 && a.tail_passes <= a.shares, "{what}: {a:?}");
+        assert!(a.iterations < b.iterations, "{what}: {a:?} vs {b:?}");
+        if compaction != Compaction::Off {
+            // (Without queues every intersect pass covers the whole pool.)
+            assert!(a.intersect_occupancy > b.intersect_occupancy, "{what}: {a:?} vs {b:?}");
+        }
+    }
 }
 
 #[test]

@@ -382,7 +382,7 @@ pub fn render(
         regenerate,
     };
     let samples = if regenerate { &b.state.samples } else { &b.state.radiance };
-    let accumulate = Accumulate::new(ctx, samples, &film, &params)?;
+    let accumulate = Accumulate::new(ctx, samples, &film, &params, regenerate)?;
 
     let per_iteration = stages.per_iteration();
     let mut timer = GpuTimer::new(ctx, measure.timing, &mut memory);
@@ -481,7 +481,8 @@ pub fn render(
                         break i;
                     }
                     if c.finished == paths {
-                        bail!("the regenerating wavefront finished every sample but added chunks only up to {oldest} of {}", r.chunks());
+                        let total = r.chunks();
+                        bail!("the regenerating wavefront finished every sample but added {oldest} of {total} chunks");
                     }
                 }
             }
