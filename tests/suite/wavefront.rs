@@ -199,6 +199,29 @@ fn regenerate_gives_the_waved_film_bit_for_bit() {
     }
 }
 
+/// A pixel takes at most 4 096 samples per share (the accumulate pass's loop bound), so a tiny
+/// image at many samples per pixel is several shares, each with its own ring that wraps: the
+/// film is still the waved one, bit for bit.
+#[test]
+fn regenerate_spans_several_shares() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let s = RenderSettings { width: 2, height: 2, spp: 5000, ..settings(1) };
+    let base = WavefrontOptions { pool_size: Some(1000), ..Default::default() };
+    let w =
+        run(Method::Wavefront, "rtiow-final", &s, &MethodOptions { wavefront: base, ..Default::default() });
+    let r = run(
+        Method::Wavefront,
+        "rtiow-final",
+        &s,
+        &MethodOptions { wavefront: regenerating(base), ..Default::default() },
+    );
+    assert_eq!(w.film, r.film);
+    // Shares of 16 384 and 3 616 samples: 17 and 4 chunks of one pool.
+    assert_eq!(r.schedule.unwrap().shares, 21);
+}
+
 #[test]
 fn regenerate_repeats_bit_identically() {
     if common::gpu().is_none() {
