@@ -392,6 +392,8 @@ pub fn render(
     let mut done = 0u64;
     for (w, d) in shares.iter().enumerate() {
         let paths = d.pixel_count * d.sample_count;
+        // Regenerating: this share's sample ring (the render's chunk and ring sizes).
+        let r = schedule::Ring { paths, ..ring };
         let enc = ctx.device.create_command_encoder(&Default::default());
         let mut wave = WaveRecorder {
             enc,
@@ -419,7 +421,6 @@ pub fn render(
                 // back only every `sync_every` iterations; after each read, add the chunks that
                 // are complete (with the tail, finish the oldest ones' last paths first where the
                 // ring needs them back) and move the refills' limit on.
-                let r = schedule::Ring { paths, ..ring };
                 b.state.write_schedule_word(ctx, word::FILL_LIMIT, r.fill_limit(0));
                 b.state.write_schedule_word(ctx, word::TAIL_BOUND, 0);
                 let mut i = 0;
@@ -440,7 +441,7 @@ pub fn render(
                     let c = schedule::ChunkCounters::read(ctx, &b.state, &r, oldest)?;
                     on_progress(done + c.finished as u64);
                     refill = c.started < paths;
-                    progress.done_after(c.finished, i)?;
+                    progress.check(c.finished, i)?;
                     let complete = r.complete_from(oldest, &c.ring);
                     let mut added = complete;
                     if let Some(tail) = &stages.tail {
@@ -492,7 +493,7 @@ pub fn render(
             wave.dispatches += 1;
         }
         wave.submit_and_wait(ctx)?;
-        let units = if regenerate { schedule::Ring { paths, ..ring }.chunks() } else { 1 };
+        let units = if regenerate { r.chunks() } else { 1 };
         stats.add_share(ctx, &b.state, units, iterations, wave.dispatches)?;
 
         if let Some(h) = &mut histogram {

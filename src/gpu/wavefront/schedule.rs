@@ -188,11 +188,11 @@ impl Progress {
         }
     }
 
-    /// Whether all `paths` samples have finished after `iterations`; an error if none finished
-    /// for longer than any path can take (a scheduling bug, never a slow scene).
-    pub fn done_after(&mut self, finished: u32, iterations: u32) -> Result<bool> {
+    /// An error if, after `iterations`, no sample has finished for longer than any path can take
+    /// (a scheduling bug, never a slow scene); none once all `paths` samples have finished.
+    pub fn check(&mut self, finished: u32, iterations: u32) -> Result<()> {
         if finished >= self.paths {
-            return Ok(true);
+            return Ok(());
         }
         if finished != self.last_finished {
             self.last_finished = finished;
@@ -205,7 +205,7 @@ impl Progress {
                 iterations - self.last_change
             );
         }
-        Ok(false)
+        Ok(())
     }
 }
 
