@@ -79,7 +79,8 @@ struct Wave {
 // xyz: throughput; w: when the last hit sampled the lights, the diffuse bounce's density for the
 // ray now traced (MIS weight of the emission it finds), else 0.
 @group(1) @binding(4) var<storage, read_write> path_throughput: array<vec4<f32>>;
-// rgb: the path's radiance so far; w: rays it traced (both read by the accumulate pass).
+// rgb: the path's radiance so far; w: shadow rays traced, and once the path has ended every ray it
+// traced (finish_path; both read by the accumulate pass).
 @group(1) @binding(5) var<storage, read_write> radiance: array<vec4<f32>>;
 @group(1) @binding(6) var<storage, read_write> queues: array<u32>;
 @group(1) @binding(7) var<storage, read_write> counters: array<atomic<u32>>;
@@ -151,10 +152,13 @@ fn path_bounce(slot: u32) -> u32 {
     return current_bounce();
 }
 
-// The path in `slot` has ended (its radiance is final). Regenerating, its sample's radiance goes
+// The path in `slot` has ended at `bounce`: its radiance is final once its rays are counted (w:
+// the bounce + 1 rays it traced, added here so that intersect need not touch `radiance` on a
+// hit, and the shadow rays, added as they were traced). Regenerating, its sample's radiance goes
 // to the sample ring and the slot to the free queue, for the next iteration's refill; in waves
 // the accumulate pass reads `radiance` itself.
-fn finish_path(slot: u32) {
+fn finish_path(slot: u32, bounce: u32) {
+    radiance[slot].w += f32(bounce + 1u);
     if REGENERATE {
         store_sample(slot);
         free_slot(slot);

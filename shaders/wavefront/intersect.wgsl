@@ -31,16 +31,13 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>) {
     instrument(PASS_INTERSECT);
     let ray = Ray(path_origin[slot].xyz, dir.xyz);
     let hit = closest_hit(ray, frame.t_min);
-    // w counts the rays traced.
-    let sum = radiance[slot] + vec4<f32>(0.0, 0.0, 0.0, 1.0);
     if hit.prim == NO_HIT {
-        radiance[slot] = sum + vec4<f32>(path_throughput[slot].xyz * background(ray.dir), 0.0);
+        radiance[slot] += vec4<f32>(path_throughput[slot].xyz * background(ray.dir), 0.0);
         path_dir[slot].w = bitcast<f32>(DEAD);
         retire(gid.x);
-        finish_path(slot);
+        finish_path(slot, path_bounce(slot));
         return;
     }
-    radiance[slot] = sum;
     // dir.w: the primitive the ray left (set by shade, NO_ORIGIN by generate).
     if is_self_hit(bitcast<u32>(dir.w), hit.prim, ray, hit.t) {
         count_failure(FAILURE_SELF_HIT);

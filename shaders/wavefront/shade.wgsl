@@ -51,7 +51,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         radiance[slot] += vec4<f32>(throughput * material.color * w, 0.0);
         path_dir[slot].w = bitcast<f32>(DEAD);
         retire(position);
-        finish_path(slot);
+        finish_path(slot, bounce);
         return;
     }
     let outward = outward_normal(prim, p);
@@ -66,7 +66,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         }
         path_dir[slot].w = bitcast<f32>(DEAD);
         retire(position);
-        finish_path(slot);
+        finish_path(slot, bounce);
         return;
     }
     // Direct light at diffuse hits, when the ray it stands in for is within the depth limit
