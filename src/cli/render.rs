@@ -135,7 +135,8 @@ pub struct RenderArgs {
     pub threads: Option<u32>,
     /// Wavefront, regenerate: iterations recorded between checks of the schedule's counters (the
     /// host waits for the GPU at each check, then adds complete chunks to the film; up to this
-    /// many iterations idle at the image's end).
+    /// many iterations idle at the image's end). With --tail megakernel, the host checks after
+    /// every iteration once every sample has started, so the tail starts when it is due.
     #[arg(long, default_value_t = WavefrontOptions::default().sync_every)]
     pub sync_every: u32,
     /// Wavefront, regenerate: finish paths in one megakernel-style pass: the image's last ones

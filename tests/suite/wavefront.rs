@@ -436,6 +436,44 @@ fn the_tail_keeps_occupancy_high_on_small_jobs() {
     assert!(stats.intersect_occupancy >= 0.5, "{stats:?}");
 }
 
+/// With the tail, once every sample has started the host checks after every iteration, so the
+/// tail starts in the iteration it is due whatever `--sync-every`: as many iterations as with a
+/// check after each, none idle, and for a job within one pool fewer than one batch of 8.
+#[test]
+fn the_tail_starts_in_the_iteration_it_is_due() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let s = settings(16); // 15 360 samples: one pool
+    for compaction in [Compaction::Atomic, Compaction::Scan] {
+        let wf = |k| WavefrontOptions {
+            compaction,
+            tail: Tail::Megakernel,
+            sync_every: k,
+            ..regenerating(Default::default())
+        };
+        let each = run(
+            Method::Wavefront,
+            "three-spheres",
+            &s,
+            &MethodOptions { wavefront: wf(1), ..Default::default() },
+        );
+        let batched = run(
+            Method::Wavefront,
+            "three-spheres",
+            &s,
+            &MethodOptions { wavefront: wf(8), ..Default::default() },
+        );
+        assert_eq!(batched.film, each.film, "{compaction:?}");
+        let (a, b) = (each.schedule.unwrap(), batched.schedule.unwrap());
+        eprintln!("{compaction:?}: every iteration {a:?}\nbatches of 8 {b:?}");
+        assert_eq!(b.iterations, a.iterations, "{compaction:?}");
+        assert_eq!(b.idle_iterations, 0, "{compaction:?}");
+        assert_eq!(b.tail_passes, 1, "{compaction:?}");
+        assert!(b.iterations < 8, "{compaction:?}: {b:?}");
+    }
+}
+
 #[test]
 fn a_tail_needs_regeneration() {
     if common::gpu().is_none() {

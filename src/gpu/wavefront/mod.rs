@@ -11,7 +11,8 @@
 //! ```text
 //! generate | regenerate_init                camera rays (waves) | every slot free (regenerate)
 //! for each iteration (waves: max_depth; regenerate: until the share's samples are done):
-//!     (regenerate, every --sync-every iterations: read the counters back, then
+//!     (regenerate, every --sync-every iterations, and with the tail every iteration once
+//!      every sample has started: read the counters back, then
 //!      [queue_setup_tail, tail]             finish the oldest chunks' last paths if the ring
 //!                                           needs them back, or the share's last paths
 //!      accumulate_range                     complete chunks → film, in sample order
@@ -101,7 +102,8 @@ pub struct WavefrontOptions {
     pub shade: ShadePasses,
     pub schedule: Schedule,
     /// Regenerating: iterations recorded between read-backs of the schedule's counters (more:
-    /// fewer host waits, up to this many idle iterations at the image's end).
+    /// fewer host waits, up to this many idle iterations at the image's end; with the tail,
+    /// every iteration once every sample has started).
     pub sync_every: u32,
     /// Regenerating: whether the last paths (of the image, and of the oldest chunks when the
     /// sample ring needs them back) are finished megakernel-style.
@@ -429,6 +431,10 @@ pub fn render(
                 let mut refill = true;
                 // The first chunk not yet in the film, and the samples started at the last check.
                 let (mut oldest, mut started_before) = (0, 0);
+                // Samples the host knows to have started: the first refill starts a pool of
+                // them (up to the ring's end), later ones are known from the checks.
+                let first_refill = pool.min(r.fill_limit(0)).min(paths);
+                let mut started_known = 0;
                 loop {
                     for _ in 0..opts.sync_every {
                         if wave.timer.remaining() < per_iteration + 1 {
@@ -436,11 +442,19 @@ pub fn render(
                         }
                         stages.record_iteration(&mut wave, i, refill);
                         i += 1;
+                        started_known = started_known.max(first_refill);
+                        // With the tail, once every sample has started the host checks after
+                        // every iteration: the tail starts in the iteration it is due, and no
+                        // idle iteration follows it.
+                        if stages.tail.is_some() && started_known == paths {
+                            break;
+                        }
                     }
                     wave.submit_and_wait(ctx)?;
                     let c = schedule::ChunkCounters::read(ctx, &b.state, &r, oldest)?;
                     on_progress(done + c.finished as u64);
                     refill = c.started < paths;
+                    started_known = c.started;
                     progress.check(c.finished, i)?;
                     let complete = r.complete_from(oldest, &c.ring);
                     let mut added = complete;
