@@ -1,9 +1,10 @@
 // tail (--tail megakernel): one pass finishes paths megakernel-style, every remaining bounce in
-// one thread (Cycles X ends a frame this way), instead of a near-empty round of passes per
-// bounce: the last paths of a share, and the few left of the oldest chunks when the sample ring
-// needs them back. Takes the ray queue the last shade pass filled and finishes the paths of
-// samples below COUNTER_TAIL_BOUND; the path loop is the megakernel's (shared/integrator.wgsl),
-// so a sample comes out as it would from the passes. Rust side: src/gpu/wavefront/tail.rs.
+// one thread (as early Cycles X did on the GPU below 2% of its path states), instead of a
+// near-empty round of passes per bounce: the last paths of a share, and the few left of the
+// oldest chunks when the sample ring needs them back. Takes the ray queue the last shade pass
+// filled and finishes the paths of samples below COUNTER_TAIL_BOUND; the path loop is the
+// megakernel's (shared/integrator.wgsl), so a sample comes out as it would from the passes.
+// Rust side: src/gpu/wavefront/tail.rs.
 
 #include "shared/rng.wgsl"
 #include "shared/scene.wgsl"
