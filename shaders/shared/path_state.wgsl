@@ -27,8 +27,9 @@ const COUNTER_STATS: u32 = 10u;     // + bounce * QUEUE_COUNT + queue: paths que
 const COUNTER_SHADE_BASE: u32 = 10u + 64u * QUEUE_COUNT; // + kind: first scan position of each shade pass
 // Scheduling counters, read by the host after each submission (src/gpu/wavefront/schedule.rs).
 const COUNTER_NEXT_SAMPLE: u32 = COUNTER_SHADE_BASE + 4u;  // (regenerate) the share's next sample to start
-// COUNTER_SHADE_BASE + 5: unused (finished samples are counted per chunk of the ring only: one
-// contended atomic per path, not two).
+// (regenerate) first ray-queue entry of this iteration's refill: queue_setup_regenerate reserves
+// the refill's entries, so `regenerate` appends without an atomic.
+const COUNTER_REFILL_QUEUED: u32 = COUNTER_SHADE_BASE + 5u;
 const COUNTER_REGEN_BASE: u32 = COUNTER_SHADE_BASE + 6u;   // (regenerate) first sample of this iteration's refill
 const COUNTER_EMPTY: u32 = COUNTER_SHADE_BASE + 7u;        // indirect dispatches sized to zero workgroups
 const COUNTER_INDIRECT: u32 = COUNTER_SHADE_BASE + 8u;     // indirect dispatches sized
@@ -194,22 +195,16 @@ fn enqueue(q: u32, slot: u32, position: u32) {
 // method (a path can go to both the next ray queue and this one, which a scan's single target per
 // position cannot express); without compaction the pending flag alone marks it.
 fn enqueue_shadow(slot: u32) {
-    enqueue_atomic(QUEUE_SHADOW, slot);
+    if wave.compaction != 0u {
+        let at = atomicAdd(&counters[QUEUE_SHADOW], 1u);
+        queues[QUEUE_SHADOW * wave.pool + at] = slot;
+    }
 }
 
 // The path processed at scan position `position` has ended: the scan skips it.
 fn retire(position: u32) {
     if wave.compaction == 2u {
         next_queue[position] = DEAD;
-    }
-}
-
-// Appends `slot` to queue `q` atomically, whatever the compaction method (a scan only orders the
-// paths a pass processed; new and shadow paths join with atomics); nothing without queues.
-fn enqueue_atomic(q: u32, slot: u32) {
-    if wave.compaction != 0u {
-        let at = atomicAdd(&counters[q], 1u);
-        queues[q * wave.pool + at] = slot;
     }
 }
 

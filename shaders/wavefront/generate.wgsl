@@ -73,7 +73,8 @@ fn regenerate_init(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 // The refill: thread i starts sample (base + i) in the i-th free slot and queues its camera ray
-// for the coming iteration (queue_setup_regenerate sized the pass and took the samples).
+// for the coming iteration in the i-th ray-queue entry queue_setup_regenerate reserved (which
+// also sized the pass and took the samples).
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn regenerate(@builtin(global_invocation_id) gid: vec3<u32>) {
     let base = atomicLoad(&counters[COUNTER_REGEN_BASE]);
@@ -83,5 +84,8 @@ fn regenerate(@builtin(global_invocation_id) gid: vec3<u32>) {
     instrument(PASS_GENERATE);
     let slot = queues[QUEUE_FREE * wave.pool + atomicLoad(&counters[COUNTER_FREE_BASE]) + gid.x];
     start_path(slot, base + gid.x);
-    enqueue_atomic(QUEUE_RAY_0 + (current_bounce() + 1u) % 2u, slot);
+    if wave.compaction != 0u {
+        let q = QUEUE_RAY_0 + (current_bounce() + 1u) % 2u;
+        queues[q * wave.pool + atomicLoad(&counters[COUNTER_REFILL_QUEUED]) + gid.x] = slot;
+    }
 }

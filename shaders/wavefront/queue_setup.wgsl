@@ -56,6 +56,14 @@ fn queue_setup_regenerate() {
     // from there again, so slots the ring's end left idle stay free for the next refill.
     atomicStore(&counters[COUNTER_FREE_BASE], free - n);
     atomicStore(&counters[QUEUE_FREE], free - n);
+    // The refill's entries on the coming iteration's ray queue (filled by the last shade passes,
+    // so its count is final here): one reservation instead of an atomic append per new path.
+    if wave.compaction != 0u {
+        let q = QUEUE_RAY_0 + (current_bounce() + 1u) % 2u;
+        let queued = atomicLoad(&counters[q]);
+        atomicStore(&counters[COUNTER_REFILL_QUEUED], queued);
+        atomicStore(&counters[q], queued + n);
+    }
 }
 
 fn record(bounce: u32, q: u32, n: u32) {
