@@ -18,6 +18,11 @@ fn run(method: Method, scene: &str, s: &RenderSettings, opts: &MethodOptions) ->
     render(method, &scene, s, opts, common::gpu(), &|_| {}).unwrap()
 }
 
+/// A wavefront render with `wf`, every other option at its default.
+fn run_wavefront(scene: &str, s: &RenderSettings, wf: WavefrontOptions) -> RenderOutput {
+    run(Method::Wavefront, scene, s, &MethodOptions { wavefront: wf, ..Default::default() })
+}
+
 fn all_knobs() -> Vec<WavefrontOptions> {
     let mut v = Vec::new();
     for compaction in [Compaction::Off, Compaction::Atomic, Compaction::Scan] {
@@ -185,11 +190,9 @@ fn regenerate_gives_the_waved_film_bit_for_bit() {
         for knobs in all_knobs() {
             // A pool of 700 makes chunks of 8 pools: many chunks, many refills per chunk.
             let waves = WavefrontOptions { pool_size: Some(700), ..knobs };
-            let w =
-                run(Method::Wavefront, scene, &s, &MethodOptions { wavefront: waves, ..Default::default() });
+            let w = run_wavefront(scene, &s, waves);
             let regen = WavefrontOptions { sync_every: 3, ..regenerating(waves) };
-            let r =
-                run(Method::Wavefront, scene, &s, &MethodOptions { wavefront: regen, ..Default::default() });
+            let r = run_wavefront(scene, &s, regen);
             assert_eq!(w.film, r.film, "{scene} {regen:?}");
             let stats = r.schedule.as_ref().unwrap();
             assert_eq!(stats.schedule, Schedule::Regenerate);
@@ -209,14 +212,8 @@ fn regenerate_spans_several_shares() {
     }
     let s = RenderSettings { width: 2, height: 2, spp: 5000, ..settings(1) };
     let base = WavefrontOptions { pool_size: Some(1000), ..Default::default() };
-    let w =
-        run(Method::Wavefront, "rtiow-final", &s, &MethodOptions { wavefront: base, ..Default::default() });
-    let r = run(
-        Method::Wavefront,
-        "rtiow-final",
-        &s,
-        &MethodOptions { wavefront: regenerating(base), ..Default::default() },
-    );
+    let w = run_wavefront("rtiow-final", &s, base);
+    let r = run_wavefront("rtiow-final", &s, regenerating(base));
     assert_eq!(w.film, r.film);
     // Shares of 16 384 and 3 616 samples: 17 and 4 chunks of one pool.
     assert_eq!(r.schedule.unwrap().shares, 21);
@@ -247,14 +244,8 @@ fn regenerate_keeps_the_pool_full() {
     }
     let s = settings(16); // 15 360 samples: 7.5 pools of 2048
     let base = WavefrontOptions { pool_size: Some(2048), ..Default::default() };
-    let w =
-        run(Method::Wavefront, "rtiow-final", &s, &MethodOptions { wavefront: base, ..Default::default() });
-    let r = run(
-        Method::Wavefront,
-        "rtiow-final",
-        &s,
-        &MethodOptions { wavefront: regenerating(base), ..Default::default() },
-    );
+    let w = run_wavefront("rtiow-final", &s, base);
+    let r = run_wavefront("rtiow-final", &s, regenerating(base));
     let (ws, rs) = (w.schedule.unwrap(), r.schedule.unwrap());
     eprintln!("waves: {ws:?}\nregenerate: {rs:?}");
     assert!(rs.intersect_occupancy > 3.0 * ws.intersect_occupancy, "{rs:?} vs {ws:?}");
@@ -397,8 +388,7 @@ fn the_megakernel_tail_agrees_with_the_megakernel() {
                     sync_every: 2,
                     ..regenerating(knobs)
                 };
-                let out =
-                    run(Method::Wavefront, scene, &s, &MethodOptions { wavefront: wf, ..Default::default() });
+                let out = run_wavefront(scene, &s, wf);
                 let what = format!("{scene} {wf:?}");
                 assert_match(&what, &out.film, &reference);
                 assert_rays_match(&what, &out.film, &reference);
@@ -429,8 +419,7 @@ fn the_tail_keeps_occupancy_high_on_small_jobs() {
         sync_every: 1,
         ..regenerating(Default::default())
     };
-    let out =
-        run(Method::Wavefront, "rtiow-final", &s, &MethodOptions { wavefront: wf, ..Default::default() });
+    let out = run_wavefront("rtiow-final", &s, wf);
     let stats = out.schedule.unwrap();
     eprintln!("{stats:?}");
     assert!(stats.intersect_occupancy >= 0.5, "{stats:?}");
@@ -452,18 +441,8 @@ fn the_tail_starts_in_the_iteration_it_is_due() {
             sync_every: k,
             ..regenerating(Default::default())
         };
-        let each = run(
-            Method::Wavefront,
-            "three-spheres",
-            &s,
-            &MethodOptions { wavefront: wf(1), ..Default::default() },
-        );
-        let batched = run(
-            Method::Wavefront,
-            "three-spheres",
-            &s,
-            &MethodOptions { wavefront: wf(8), ..Default::default() },
-        );
+        let each = run_wavefront("three-spheres", &s, wf(1));
+        let batched = run_wavefront("three-spheres", &s, wf(8));
         assert_eq!(batched.film, each.film, "{compaction:?}");
         let (a, b) = (each.schedule.unwrap(), batched.schedule.unwrap());
         eprintln!("{compaction:?}: every iteration {a:?}\nbatches of 8 {b:?}");
@@ -535,8 +514,7 @@ fn the_subgroup_scan_builds_the_same_queues() {
                 scan,
                 ..Default::default()
             };
-            let out =
-                run(Method::Wavefront, "cornell", &s, &MethodOptions { wavefront: wf, ..Default::default() });
+            let out = run_wavefront("cornell", &s, wf);
             (out.film, out.schedule.unwrap().subgroup_scan)
         };
         let (workgroup, used) = with(Scan::Workgroup);
