@@ -431,10 +431,9 @@ pub fn render(
                 let mut refill = true;
                 // The first chunk not yet in the film, and the samples started at the last check.
                 let (mut oldest, mut started_before) = (0, 0);
-                // Samples the host knows to have started: the first refill starts a pool of
-                // them (up to the ring's end), later ones are known from the checks.
-                let first_refill = pool.min(r.fill_limit(0)).min(paths);
-                let mut started_known = 0;
+                // Whether the first refill starts every sample (it starts a pool of them, up to
+                // the ring's end); later, a check says so by clearing `refill`.
+                let one_refill = paths <= pool.min(r.fill_limit(0));
                 loop {
                     for _ in 0..opts.sync_every {
                         if wave.timer.remaining() < per_iteration + 1 {
@@ -442,11 +441,10 @@ pub fn render(
                         }
                         stages.record_iteration(&mut wave, i, refill);
                         i += 1;
-                        started_known = started_known.max(first_refill);
                         // With the tail, once every sample has started the host checks after
                         // every iteration: the tail starts in the iteration it is due, and no
                         // idle iteration follows it.
-                        if stages.tail.is_some() && started_known == paths {
+                        if stages.tail.is_some() && (one_refill || !refill) {
                             break;
                         }
                     }
@@ -454,7 +452,6 @@ pub fn render(
                     let c = schedule::ChunkCounters::read(ctx, &b.state, &r, oldest)?;
                     on_progress(done + c.finished as u64);
                     refill = c.started < paths;
-                    started_known = c.started;
                     progress.check(c.finished, i)?;
                     let complete = r.complete_from(oldest, &c.ring);
                     let mut added = complete;
