@@ -173,18 +173,22 @@ fn store_sample(slot: u32) {
     atomicAdd(&counters[COUNTER_RING_0 + (l / wave.chunk) % wave.ring], 1u);
 }
 
+// Appends `slot` to queue `q` with an atomic on its counter.
+fn append(q: u32, slot: u32) {
+    let at = atomicAdd(&counters[q], 1u);
+    queues[q * wave.pool + at] = slot;
+}
+
 // (regenerate) `slot` is on no queue and traces nothing: the next refill may take it.
 fn free_slot(slot: u32) {
-    let at = atomicAdd(&counters[QUEUE_FREE], 1u);
-    queues[QUEUE_FREE * wave.pool + at] = slot;
+    append(QUEUE_FREE, slot);
 }
 
 // Puts `slot`, processed at scan position `position`, on queue `q`: appended atomically, or
 // marked for the scan, per the compaction knob.
 fn enqueue(q: u32, slot: u32, position: u32) {
     if wave.compaction == 1u {
-        let at = atomicAdd(&counters[q], 1u);
-        queues[q * wave.pool + at] = slot;
+        append(q, slot);
     } else if wave.compaction == 2u {
         next_queue[position] = q;
         scan_slot[position] = slot;
@@ -196,8 +200,7 @@ fn enqueue(q: u32, slot: u32, position: u32) {
 // position cannot express); without compaction the pending flag alone marks it.
 fn enqueue_shadow(slot: u32) {
     if wave.compaction != 0u {
-        let at = atomicAdd(&counters[QUEUE_SHADOW], 1u);
-        queues[QUEUE_SHADOW * wave.pool + at] = slot;
+        append(QUEUE_SHADOW, slot);
     }
 }
 
