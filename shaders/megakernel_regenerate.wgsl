@@ -9,3 +9,8 @@ fn take_sample(wants: bool) -> u32 {
     }
     return atomicAdd(&work[WORK_NEXT], 1u);
 }
+
+// Without subgroup operations in the loop, each lane leaves as soon as it is done.
+fn leave_together(done: bool) -> bool {
+    return done;
+}

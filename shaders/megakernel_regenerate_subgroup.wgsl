@@ -4,6 +4,9 @@
 
 #include "shared/regenerate.wgsl"
 
+// Called by every lane of the subgroup at once (the loop keeps them together, see
+// shared/regenerate.wgsl): the subgroup operations see the whole subgroup, and the one atomic's
+// branch reconverges at its end, where its header was uniform.
 fn take_sample(wants: bool) -> u32 {
     let asks = select(0u, 1u, wants);
     let count = subgroupAdd(asks);
@@ -18,4 +21,9 @@ fn take_sample(wants: bool) -> u32 {
         return NO_SAMPLE;
     }
     return base + rank;
+}
+
+// The loop ends for the whole subgroup at once, so `take_sample` stays in uniform control flow.
+fn leave_together(done: bool) -> bool {
+    return subgroupAll(done);
 }

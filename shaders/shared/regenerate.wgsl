@@ -1,8 +1,10 @@
 // The regenerating megakernel's thread loop (Novák et al. 2010, on Aila & Laine's persistent
 // threads): a fixed number of threads loop one bounce per iteration, and a lane whose path has
 // ended takes the next (pixel, sample) of the dispatch at once, so lanes stop idling while their
-// subgroup's longest path finishes. The includer defines `take_sample(wants: bool) -> u32`: per
-// thread (megakernel_regenerate.wgsl) or per subgroup (megakernel_regenerate_subgroup.wgsl).
+// subgroup's longest path finishes. The includer defines `take_sample(wants: bool) -> u32`, per
+// thread (megakernel_regenerate.wgsl) or per subgroup (megakernel_regenerate_subgroup.wgsl), and
+// `leave_together(done: bool) -> bool`, whether the loop ends: for this lane alone, or once
+// every lane of its subgroup is done.
 // Rust side: src/gpu/megakernel.rs.
 //
 // Each sample keeps its counter-based random stream and lands in `samples` at its index in the
@@ -45,31 +47,46 @@ fn megakernel_regenerate() {
     var taken = 0u;
     var finished = 0u;
     var out_of_work = false;
+    // Lanes leave the loop together (`leave_together`): with subgroups, `take_sample` runs
+    // subgroup operations, which Vulkan defines only in uniform control flow unless the driver
+    // guarantees maximal reconvergence. So no lane breaks out alone, `take_sample` is called by
+    // every lane of the subgroup at the top of every iteration, and the branches below all
+    // reconverge before the next one. A lane with nothing left to do idles there, as it would
+    // masked off after an early break.
     loop {
-        if !live {
-            index = take_sample(taken < paths_per_thread);
-            if index >= n {
+        if leave_together(out_of_work && !live) {
+            break;
+        }
+        let wants = !live && !out_of_work;
+        let next = take_sample(wants && taken < paths_per_thread);
+        if wants {
+            // NO_SAMPLE (this thread's share taken) or past the dispatch: nothing more to start.
+            if next >= n {
                 out_of_work = true;
-                break;
+            } else {
+                index = next;
+                taken += 1u;
+                // As the naive megakernel: neighbouring indices are neighbouring pixels of a sample.
+                pixel = dispatch.pixel_offset + index % dispatch.pixel_count;
+                sample = dispatch.sample_start + index / dispatch.pixel_count;
+                let x = pixel % frame.width;
+                let y = pixel / frame.width;
+                let ray = camera_ray(x, y, uniform4(pixel, sample, 0u, PURPOSE_CAMERA, frame.seed));
+                path = TracedPath(ray, vec3<f32>(1.0), vec3<f32>(0.0), 0u, 0.0, NO_ORIGIN);
+                bounce = 0u;
+                live = true;
             }
-            taken += 1u;
-            // As the naive megakernel: neighbouring indices are neighbouring pixels of a sample.
-            pixel = dispatch.pixel_offset + index % dispatch.pixel_count;
-            sample = dispatch.sample_start + index / dispatch.pixel_count;
-            let x = pixel % frame.width;
-            let y = pixel / frame.width;
-            let ray = camera_ray(x, y, uniform4(pixel, sample, 0u, PURPOSE_CAMERA, frame.seed));
-            path = TracedPath(ray, vec3<f32>(1.0), vec3<f32>(0.0), 0u, 0.0, NO_ORIGIN);
-            bounce = 0u;
         }
-        live = trace_bounce(&path, pixel, sample, bounce);
-        bounce += 1u;
-        if bounce >= frame.max_depth {
-            live = false;
-        }
-        if !live {
-            samples[index] = vec4<f32>(path.radiance, f32(path.rays));
-            finished += 1u;
+        if live {
+            live = trace_bounce(&path, pixel, sample, bounce);
+            bounce += 1u;
+            if bounce >= frame.max_depth {
+                live = false;
+            }
+            if !live {
+                samples[index] = vec4<f32>(path.radiance, f32(path.rays));
+                finished += 1u;
+            }
         }
     }
     if finished > 0u {

@@ -379,6 +379,16 @@ impl Checked<'_> {
                     self.counted.add(&decode_failures(&words));
                     break;
                 }
+                // Only a cut is healed by tracing again; without one, a count that differs means
+                // samples were lost or taken twice, and another attempt would hide it.
+                if words[WORK_CUT] == 0 {
+                    bail!(
+                        "the regenerating megakernel finished {} of {samples} samples in dispatch {i} \
+                         with no thread cut short: samples were lost or taken twice (a bug; please \
+                         report it with `wavetrace info`)",
+                        words[WORK_FINISHED]
+                    );
+                }
                 if per_thread == 1 {
                     bail!(
                         "the regenerating megakernel's threads were cut short by {}'s loop limit \

@@ -7,11 +7,11 @@ use std::path::PathBuf;
 use std::process::{Command, Output};
 
 fn wavetrace(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wavetrace")).args(args).output().expect("run wavetrace")
+    Command::new(crate::common::bin()).args(args).output().expect("run wavetrace")
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli");
+    let dir = crate::common::tmp().join("cli");
     std::fs::create_dir_all(&dir).unwrap();
     dir.join(name)
 }
@@ -151,9 +151,9 @@ fn bad_input_gives_clear_errors() {
         &["render", "--scene", bad.to_str().unwrap(), "--method", "cpu", "--out", out],
         &["bad.json", "line 2"],
     );
-    let radius = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/scenes/bad-radius.json");
+    let radius = crate::common::root().join("tests/scenes/bad-radius.json");
     fails_with(
-        &["render", "--scene", radius, "--method", "cpu", "--out", out],
+        &["render", "--scene", radius.to_str().unwrap(), "--method", "cpu", "--out", out],
         &["bad-radius.json", "radius"],
     );
     fails_with(&["render", "--scene", "furnace", "--spp", "0", "--method", "cpu", "--out", out], &["spp"]);
@@ -320,7 +320,7 @@ fn gpu_runs_are_quiet_without_a_runtime_dir() {
             exr.to_str().unwrap(),
         ],
     ] {
-        let out = Command::new(env!("CARGO_BIN_EXE_wavetrace"))
+        let out = Command::new(crate::common::bin())
             .args(args)
             .env_remove("XDG_RUNTIME_DIR")
             .env_remove("NODEVICE_SELECT")
@@ -341,13 +341,13 @@ fn device_figures_script_runs_at_tiny_scale() {
     if common::gpu().is_none() {
         return;
     }
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = crate::common::root();
     let out = scratch("device_figures");
     let _ = std::fs::remove_dir_all(&out);
     let run = Command::new("bash")
         .arg(root.join("scripts/device_figures.sh"))
         .arg(&out)
-        .env("WAVETRACE_BIN", env!("CARGO_BIN_EXE_wavetrace"))
+        .env("WAVETRACE_BIN", crate::common::bin())
         .env("WAVETRACE_FIGURES_SCALE", "tiny")
         .env("WAVETRACE_FIGURES_CONFIGS", "regeneration pool_memory")
         .output()

@@ -18,14 +18,14 @@ use wavetrace::experiment::runner::{self, RunnerOptions};
 use wavetrace::experiment::ExperimentConfig;
 
 pub fn scratch(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("experiment").join(name);
+    let dir = crate::common::tmp().join("experiment").join(name);
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
 
 pub fn wavetrace(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wavetrace")).args(args).output().expect("run wavetrace")
+    Command::new(crate::common::bin()).args(args).output().expect("run wavetrace")
 }
 
 /// `wavetrace experiment run CONFIG --out OUT --cache CACHE`.
@@ -52,7 +52,7 @@ pub fn write_config(dir: &Path, name: &str, config: &Value) -> PathBuf {
 
 /// Checks `report.json` in `dir` against experiments/report.schema.json.
 pub fn assert_valid(dir: &Path) -> Value {
-    let schema_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/report.schema.json");
+    let schema_path = crate::common::root().join("experiments/report.schema.json");
     let schema: Value = serde_json::from_str(&std::fs::read_to_string(schema_path).unwrap()).unwrap();
     let report: Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
@@ -248,7 +248,7 @@ fn a_killed_experiment_leaves_its_last_complete_report() {
     // Kill at several moments; whatever instant the kill lands, report.json is whole.
     for (attempt, runs_before_kill) in [1usize, 3, 6].into_iter().enumerate() {
         let out = dir.join(format!("out{attempt}"));
-        let mut child = Command::new(env!("CARGO_BIN_EXE_wavetrace"))
+        let mut child = Command::new(crate::common::bin())
             .args(["experiment", "run", path.to_str().unwrap(), "--out", out.to_str().unwrap()])
             .stdout(Stdio::null())
             .stderr(Stdio::null())
@@ -500,7 +500,7 @@ fn bad_configs_name_the_file_the_field_and_the_reason() {
 
 #[test]
 fn every_shipped_config_is_valid_and_says_what_it_asks() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
+    let dir = crate::common::root().join("experiments");
     let mut names = Vec::new();
     for entry in std::fs::read_dir(&dir).unwrap().flatten() {
         let path = entry.path();
@@ -943,7 +943,7 @@ fn a_scale_sweep_against_a_matched_reference_reports_counters_and_stability_char
 /// chart they list is drawn from them still.
 #[test]
 fn committed_reports_still_read_and_draw() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments/results");
+    let root = crate::common::root().join("experiments/results");
     let mut dirs = vec![root];
     let mut read = 0;
     while let Some(dir) = dirs.pop() {

@@ -12,7 +12,7 @@ use wavetrace::image_io::{linear_to_srgb8, read_exr, write_exr, write_png, Image
 
 /// A fresh, empty directory per test, under cargo's scratch directory for integration tests.
 fn scratch_dir(test: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("image_io").join(test);
+    let dir = crate::common::tmp().join("image_io").join(test);
     let _ = fs::remove_dir_all(&dir);
     fs::create_dir_all(&dir).unwrap();
     dir

@@ -5,8 +5,6 @@
 
 use crate::common;
 
-use std::path::Path;
-
 use wavetrace::film::Film;
 use wavetrace::gpu::wavefront::Compaction;
 use wavetrace::light_options::{LightOptions, LightSampling, LightSelect};
@@ -249,7 +247,7 @@ fn enclosure_matches_its_closed_form_on_the_gpu() {
 }
 
 fn mesh_box() -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/mesh_box.json");
+    let path = crate::common::root().join("tests/scenes/mesh_box.json");
     load::from_file(&path).unwrap()
 }
 

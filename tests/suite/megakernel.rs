@@ -70,6 +70,31 @@ fn regenerate_gives_the_naive_film_bit_for_bit() {
     }
 }
 
+/// Every sample is taken exactly once, however the lanes of a subgroup run out of work: with
+/// subgroups, samples are handed out one atomic per subgroup inside a loop that lanes leave
+/// together (shared/regenerate.wgsl), and a lane whose share of paths is taken idles while the
+/// others go on. A lost sample leaves its slot of the sample buffer unwritten (the film differs);
+/// a repeated one makes the finished count differ from the samples asked for, which the host
+/// refuses (`check_finished`, and per dispatch where the driver caps loops). Per-thread shares
+/// of 1 and 3 make lanes stop at different times and launches repeat.
+#[test]
+fn regenerate_takes_every_sample_once() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let scene = builtin::by_name("rtiow-final").unwrap();
+    let s = settings(24, 16, 4, false);
+    let naive = run(Method::Megakernel, &scene, &s, MegakernelOptions::default());
+    for threads in [1, 13, 64, 200] {
+        for paths_per_thread in [1, 3, 1000] {
+            let mk =
+                MegakernelOptions { paths_per_thread: Some(paths_per_thread), ..regenerate(Some(threads)) };
+            let r = run(Method::Megakernel, &scene, &s, mk);
+            assert_eq!(naive.film, r.film, "{mk:?}");
+        }
+    }
+}
+
 /// Against the CPU reference (the ground truth), by the per-pixel z-test of DESIGN.md §4.
 #[test]
 fn regenerate_agrees_with_the_cpu_reference() {

@@ -1,7 +1,7 @@
 //! Error metrics and FLIP: analytic values on tiny images, non-finite handling, errors, and
 //! LDR-FLIP against NVIDIA's reference implementation (`flip-evaluator` 1.7).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use wavetrace::image_io::{write_exr, RgbImage};
 use wavetrace::metrics::{
@@ -190,7 +190,7 @@ fn report_from_files() {
 /// An 8-bit sRGB PNG fixture decoded to linear RGB with FLIP's own sRGB curve (in `f32`, as
 /// flip-evaluator does with `inputsRGB=True`).
 fn load_srgb_png(name: &str) -> RgbImage {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name);
+    let path = crate::common::root().join("tests/data").join(name);
     let png = image::open(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display())).to_rgb8();
     let data = png
         .as_raw()

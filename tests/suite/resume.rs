@@ -59,7 +59,7 @@ fn a_killed_shard_resumes_without_rendering_its_finished_runs_again() {
     let (out, cache) = (dir.join("out"), dir.join("cache"));
 
     // Kill the shard (SIGKILL) once at least two runs are recorded.
-    let mut child = Command::new(env!("CARGO_BIN_EXE_wavetrace"))
+    let mut child = Command::new(crate::common::bin())
         .args(["experiment", "run", path.to_str().unwrap(), "--out", out.to_str().unwrap()])
         .args(["--cache", cache.to_str().unwrap(), "--shard", "1/2"])
         .stdout(Stdio::null())

@@ -1,7 +1,7 @@
 //! The scene file format: built-ins round-trip through export and load, and every kind of bad
 //! input is refused with a message naming the file, the JSON path and the reason.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use glam::Vec3;
 use wavetrace::scene::{
@@ -18,7 +18,7 @@ const EXAMPLE: &str = include_str!("../scenes/example.json");
 const RTIOW_FINAL_SPHERES: usize = 486;
 
 fn fixture(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes").join(name)
+    crate::common::root().join("tests/scenes").join(name)
 }
 
 fn load_str(text: &str) -> Result<Scene, InputError> {

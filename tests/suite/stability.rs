@@ -206,7 +206,7 @@ fn bad_numeric_arguments_are_refused_with_a_message() {
         ("--ray-offset", "tmin=-1", "tmin must be a finite distance"),
         ("--ray-offset", "epsilon", "expected \"tmin\""),
     ] {
-        let out = Command::new(env!("CARGO_BIN_EXE_wavetrace"))
+        let out = Command::new(crate::common::bin())
             .args(["render", "--scene", "three-spheres", "--method", "cpu", "--out", "/nonexistent/x.exr"])
             // `--scale=-1`: a bare -1 would read as a flag.
             .arg(format!("{flag}={value}"))

@@ -37,3 +37,22 @@ pub fn assert_agree_rays(name: &str, a: &Film, b: &Film, ray_tolerance: f64) {
     assert!(ra >= (a.spp as usize * a.pixels.len()) as f64, "{name}: at least one ray per sample");
     assert!((ra - rb).abs() <= ray_tolerance * rb, "{name}: {ra} vs {rb} rays traced");
 }
+
+/// The repository the tests read (scenes, configs, committed results): the checkout they were
+/// built in, or `WAVETRACE_TEST_ROOT` where the test binary travelled without it (the device
+/// run, scripts/device_figures.sh, carries the built suite to a GPU machine's copy of the tree).
+pub fn root() -> std::path::PathBuf {
+    std::env::var_os("WAVETRACE_TEST_ROOT").map_or_else(|| env!("CARGO_MANIFEST_DIR").into(), Into::into)
+}
+
+/// The `wavetrace` binary the command-line tests run: the one cargo built beside the tests, or
+/// `WAVETRACE_TEST_BIN` where the test binary travelled without it (the device run).
+pub fn bin() -> std::path::PathBuf {
+    std::env::var_os("WAVETRACE_TEST_BIN").map_or_else(|| env!("CARGO_BIN_EXE_wavetrace").into(), Into::into)
+}
+
+/// Scratch space for files the tests write: cargo's per-target temporary directory, or
+/// `WAVETRACE_TEST_TMP` where the test binary travelled without its target directory.
+pub fn tmp() -> std::path::PathBuf {
+    std::env::var_os("WAVETRACE_TEST_TMP").map_or_else(|| env!("CARGO_TARGET_TMPDIR").into(), Into::into)
+}
