@@ -1,78 +1,225 @@
 #!/usr/bin/env bash
-# The GPU figures in one command, for a machine with a GPU but no Rust toolchain or network:
-# runs an already-built release binary over the experiment suite and packs every report, chart,
-# HTML page and log into one archive, with the adapter and driver recorded (`wavetrace info`).
+# The GPU figures, in bounded steps, for a GPU machine with no Rust toolchain and no network:
+# the device tool's lent NVIDIA machine, or your own GPU. Runs an already-built, stripped
+# binary (scripts/device_prepare.sh builds it into .device/) over GPU-only experiment configs.
+# Each step runs under a time limit, continues what an earlier call left (--resume), and ends by
+# writing one archive of compact results (report.json, runs.csv, passes.csv, charts, log; no
+# images) to the output folder, so a call that is cut short still returns every finished step.
 #
-#   scripts/device_figures.sh OUT_DIR            full size (for a real GPU)
-#   WAVETRACE_FIGURES_SCALE=tiny scripts/device_figures.sh OUT_DIR
-#                                                every config shrunk to 32x18 and 1-2 spp: checks
-#                                                the suite end to end on the software driver
+#   scripts/device_figures.sh [--scale full|tiny] [--out DIR] STEP...   run these steps in order
+#   scripts/device_figures.sh --list                                    the steps, by priority
 #
-# WAVETRACE_BIN picks the binary (default target/release/wavetrace); WAVETRACE_FIGURES_CONFIGS
-# (names in experiments/, space-separated) runs a subset, as the test does. The archive is
-# OUT_DIR.tar.gz; OUT_DIR keeps the same files unpacked. A config that fails is logged and the
-# others go on; the exit status is non-zero if any failed.
+# Steps, in priority order (path samples at full size; the time is an estimate at an assumed
+# 1e8 path samples/s at depth 50, a pessimistic rate for an H100 until the first run measures
+# it; each step's archive records how long it really took):
+#   tests               the integration test suite on this GPU (bit identity, agreement at its
+#                       subgroup width), from the carried test binary       ~2 min
+#   headline            rtiow-final and mesh-room at 1920x1080x64, both megakernels against
+#                       the three wavefront schedules (device/headline.json) 5.3e9  ~1 min
+#   simd                SIMD efficiency at the device's width, 4 scenes, every GPU method
+#                       (device/simd.json, instrumented)                     0.15e9 <1 min
+#   regeneration        regeneration.json (160x90 to 1200x675, 4 to 64 spp)  6.1e9  ~1-2 min
+#   regeneration-1080p  1920x1080 at 16 and 64 spp (device/regeneration_1080p.json)
+#                                                                            13.3e9 ~2-3 min
+#   baselines           baselines.json (1280x720 and 1080p, NEE)             3.8e9  ~1 min
+#   seeds               rtiow-final 1920x1080x500, each GPU method once      5.2e9  ~1 min
+#   pool                pool_memory.json                                     1.6e9  <1 min
+#   material            material_cost.json                                   1.5e9  <1 min
+#   workgroup           workgroup_size.json                                  1.4e9  <1 min
+#   megakernel-vs-wavefront  megakernel_vs_wavefront.json (4096-spp megakernel references)
+#                                                                            56e9   ~9 min+
+# On the software driver at --scale tiny (every size 32x18 at 1-2 spp, as the dry run runs them)
+# each step takes seconds; the dry run prints the times (scripts/device_dry_run.sh).
+#
+# With the device tool (see README "Run it on a GPU"): prepare here, then one call per group of
+# steps, each call well inside the tool's 10 minutes:
+#   scripts/device_prepare.sh                     # .device/ (binaries) and .gl/ (Vulkan loader)
+#   run(command="bash scripts/device_figures.sh --out $OUT tests headline simd",
+#       carry=[".device", ".gl"], timeout_s=600)
+# and commit what comes back (files_at/*.tar.gz) under experiments/results/<device>/.
+#
+# Environment:
+#   WAVETRACE_BIN                   the binary [.device/wavetrace, else target/release/wavetrace]
+#   WAVETRACE_DEVICE_WORK           where steps keep their reports between calls, for --resume
+#                                   [$HOME/wavetrace-device]
+#   WAVETRACE_DEVICE_BUDGET         seconds this call may spend on steps [540]; a step is given
+#                                   what is left, and none starts with under 60 s left
+#   WAVETRACE_DEVICE_ALLOW_SOFTWARE 1: accept a software adapter (the dry run); otherwise only a
+#                                   discrete GPU on Vulkan is accepted
 set -uo pipefail
 cd "$(dirname "$0")/.."
-out=${1:?usage: scripts/device_figures.sh OUT_DIR}
-bin=${WAVETRACE_BIN:-target/release/wavetrace}
-scale=${WAVETRACE_FIGURES_SCALE:-full}
-case "$scale" in full | tiny) ;; *) echo "WAVETRACE_FIGURES_SCALE must be full or tiny, got $scale" >&2; exit 2 ;; esac
-[ -x "$bin" ] || { echo "no binary at $bin (build it with cargo build --release, or set WAVETRACE_BIN)" >&2; exit 2; }
-mkdir -p "$out/configs"
-# Configs name scene files relative to themselves (fresnel.json: scenes/glass-block.json).
-cp -r experiments/scenes "$out/configs/"
-log="$out/log.txt"
+
+steps_table() {
+  cat <<'EOF'
+tests
+headline device/headline.json
+simd device/simd.json
+regeneration regeneration.json
+regeneration-1080p device/regeneration_1080p.json
+baselines baselines.json
+seeds device/seeds_1080p.json
+pool pool_memory.json
+material material_cost.json
+workgroup workgroup_size.json
+megakernel-vs-wavefront megakernel_vs_wavefront.json
+EOF
+}
+config_of() { steps_table | awk -v s="$1" '$1 == s { print $2; found = 1 } END { exit !found }'; }
+
+scale=full
+out=${OUT:-out/device}
+steps=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --list) steps_table | awk '{ printf "%-24s %s\n", $1, ($2 == "" ? "(test suite)" : "experiments/" $2) }'; exit 0 ;;
+    --scale) scale=${2:?--scale needs full or tiny}; shift 2 ;;
+    --out) out=${2:?--out needs a directory}; shift 2 ;;
+    -h | --help) sed -n '2,/^set -uo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
+    -*) echo "device_figures.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
+    *) config_of "$1" >/dev/null || { echo "device_figures.sh: unknown step '$1' (see --list)" >&2; exit 2; }
+       steps+=("$1"); shift ;;
+  esac
+done
+case "$scale" in full | tiny) ;; *) echo "device_figures.sh: --scale must be full or tiny, got $scale" >&2; exit 2 ;; esac
+[ ${#steps[@]} -gt 0 ] || { echo "device_figures.sh: name the steps to run (see --list)" >&2; exit 2; }
+# The device tool returns at most 8 files a call: one archive a step, and the log.
+[ ${#steps[@]} -le 7 ] || { echo "device_figures.sh: at most 7 steps a call (8 files come back)" >&2; exit 2; }
+
+bin=${WAVETRACE_BIN:-}
+if [ -z "$bin" ]; then
+  if [ -x .device/wavetrace ]; then bin=.device/wavetrace; else bin=target/release/wavetrace; fi
+fi
+[ -x "$bin" ] || { echo "device_figures.sh: no binary at $bin (scripts/device_prepare.sh builds .device/wavetrace, or set WAVETRACE_BIN)" >&2; exit 2; }
+bin=$(cd "$(dirname "$bin")" && pwd)/$(basename "$bin")
+work=${WAVETRACE_DEVICE_WORK:-$HOME/wavetrace-device}
+budget=${WAVETRACE_DEVICE_BUDGET:-540}
+mkdir -p "$out" "$work"
+log="$out/device.log"
 : > "$log"
-failed=0
 say() { echo "== $*" | tee -a "$log"; }
+started=$(date +%s)
 
-"$bin" info > "$out/info.txt" 2>&1 || { echo "wavetrace info failed: no GPU adapter?" >&2; cat "$out/info.txt" >&2; exit 1; }
-{ date -u +%Y-%m-%dT%H:%M:%SZ; uname -a; "$bin" --version; } > "$out/machine.txt" 2>&1
+# 1. The Vulkan loader: a bare machine has none; the carried .gl/ holds Debian's packages.
+if ! ldconfig -p 2>/dev/null | grep -q 'libvulkan\.so\.1'; then
+  if compgen -G ".gl/*.deb" >/dev/null; then
+    say "unpacking the carried Vulkan loader (.gl/)"
+    for f in .gl/*.deb; do dpkg -x "$f" /; done
+    ldconfig
+  else
+    say "no Vulkan loader here and none carried (.gl/): scripts/device_prepare.sh downloads it"
+  fi
+fi
 
-# The suite, as shipped; at tiny scale every size, sample count and repetition is shrunk (the
-# questions stay, the figures mean nothing) so the whole script runs in minutes on llvmpipe.
-# The numerical configs too: f32 on a GPU may contract to FMA or flush subnormals where
-# llvmpipe does not, so where methods fail is worth measuring there as well.
-read -r -a configs <<< "${WAVETRACE_FIGURES_CONFIGS:-quick megakernel_vs_wavefront regeneration baselines pool_memory material_cost nee light_sampling workgroup_size stability_scale stability_distance precision fresnel}"
-for name in "${configs[@]}"; do
-  src="experiments/$name.json"
-  cfg="$out/configs/$name.json"
+# 2. The adapter: Vulkan only (an OpenGL adapter runs the megakernel but not the wavefront's
+# twenty storage buffers), and a discrete GPU unless the dry run allows a software one.
+export WGPU_BACKEND=vulkan
+export NODEVICE_SELECT=${NODEVICE_SELECT:-1}
+info=$("$bin" info 2>&1)
+if ! grep -q "device type: *DiscreteGpu" <<<"$info" && [ -f /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json ]; then
+  export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+  export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
+  info=$("$bin" info 2>&1)
+fi
+echo "$info" | tee "$out/info.txt" >>"$log"
+type=$(sed -n 's/^ *device type: *//p' <<<"$info")
+backend=$(sed -n 's/^ *backend: *//p' <<<"$info")
+say "adapter: $(sed -n 's/^chosen: \[[0-9]*\] //p' <<<"$info" | cut -d: -f1) | vendor $(sed -n 's/^ *vendor: *//p' <<<"$info") | type ${type:-?} | backend ${backend:-?} | driver $(sed -n 's/^ *driver: *//p' <<<"$info")"
+if [ "$backend" != Vulkan ]; then
+  say "REFUSED: the chosen adapter is not on Vulkan (backend '${backend:-none}'); see info.txt"
+  exit 1
+fi
+if [ "$type" != DiscreteGpu ] && [ "${WAVETRACE_DEVICE_ALLOW_SOFTWARE:-0}" != 1 ]; then
+  say "REFUSED: the chosen adapter is a '${type:-?}', not a discrete GPU (WAVETRACE_DEVICE_ALLOW_SOFTWARE=1 accepts it)"
+  exit 1
+fi
+{ date -u +%Y-%m-%dT%H:%M:%SZ; uname -a; "$bin" --version; cat .device/BUILD 2>/dev/null; } > "$work/machine.txt" 2>&1
+
+# Configs are used from a copy beside the scenes they name (relative paths), shrunk at tiny
+# scale (the questions stay, the figures mean nothing).
+configs="$work/configs"
+rm -rf "$configs"
+mkdir -p "$configs/device"
+cp -r experiments/scenes "$configs/"
+for src in experiments/*.json experiments/device/*.json; do
+  rel=${src#experiments/}
+  case "$rel" in report.schema.json) continue ;; esac
   if [ "$scale" = tiny ]; then
     sed -E -e 's/"resolutions": \[[^]]*\]/"resolutions": ["32x18"]/' \
       -e 's/"spp": \[[^]]*\]/"spp": [1, 2]/' \
       -e 's/"repetitions": [0-9]+/"repetitions": 1/' \
       -e 's/"warmup": [0-9]+/"warmup": 0/' \
-      -e 's/("reference": \{[^}]*"spp": )[0-9]+/\116/' "$src" > "$cfg"
+      -e 's/("reference": \{[^}]*"spp": )[0-9]+/\116/' "$src" > "$configs/$rel"
   else
-    cp "$src" "$cfg"
-  fi
-  say "experiment $name ($scale)"
-  if ! "$bin" experiment run "$cfg" --out "$out/$name" >> "$log" 2>&1; then
-    say "FAILED: experiment $name (see above)"
-    failed=1
+    cp "$src" "$configs/$rel"
   fi
 done
 
-# The seeds' headline case: rtiow-final at 1920x1080, 500 spp, depth 50, each GPU method.
-if [ "$scale" = tiny ]; then size=(--width 32 --height 18 --spp 4); else size=(--width 1920 --height 1080 --spp 500); fi
-mkdir -p "$out/rtiow_final_1080p"
-# (--chunk-pools 64: a sample ring of 64 pools, 1 GiB at the default pool, waits less on its
-# oldest chunk's longest paths; where bindings are smaller the ring is cut to fit.)
-for run in "megakernel" "megakernel --schedule regenerate" "wavefront" "wavefront --schedule regenerate" "wavefront --schedule regenerate --tail megakernel" "wavefront --schedule regenerate --tail megakernel --chunk-pools 64"; do
-  read -r -a args <<< "$run"
-  tag=$(echo "$run" | sed -E 's/ --schedule /-/; s/ --tail /-tail-/; s/ --chunk-pools /-chunks-/')
-  say "render rtiow-final $tag ${size[*]}"
-  if ! "$bin" render --scene rtiow-final --method "${args[@]}" "${size[@]}" --max-depth 50 \
-      --out "$out/rtiow_final_1080p/$tag.exr" --png "$out/rtiow_final_1080p/$tag.png" \
-      --report "$out/rtiow_final_1080p/$tag.json" >> "$log" 2>&1; then
-    say "FAILED: render $tag"
-    failed=1
+# One archive per step, of compact files only, under 16 MiB (what the device tool returns).
+pack() {
+  local step=$1 dir=$work/$1
+  cp "$work/machine.txt" "$out/info.txt" "$dir/" 2>/dev/null
+  (cd "$dir" && find . -maxdepth 2 \( -name '*.json' -o -name '*.csv' -o -name '*.svg' -o -name '*.txt' -o -name '*.log' \) \
+    ! -path './images/*' ! -path './references/*' -print0 | sort -z | tar --null -czf "$out/$step.tar.gz" -T -)
+  local size
+  size=$(stat -c %s "$out/$step.tar.gz")
+  if [ "$size" -gt $((16 * 1024 * 1024)) ]; then
+    say "FAILED: $step.tar.gz is $size bytes, over the 16 MiB a file the device tool returns"
+    return 1
   fi
-done
-# EXRs of full-size runs are large and rebuilt from the reports' settings: keep PNGs and JSON.
-find "$out" -name '*.exr' -delete
+  say "archive: $step.tar.gz ($size bytes)"
+}
 
-tar -czf "$out.tar.gz" -C "$(dirname "$out")" "$(basename "$out")"
-say "archive: $out.tar.gz"
+failed=0
+for step in "${steps[@]}"; do
+  left=$((budget - ($(date +%s) - started)))
+  if [ "$left" -lt 60 ]; then
+    say "NOT STARTED: $step ($left s left of this call's $budget s); run it in the next call"
+    failed=1
+    continue
+  fi
+  dir="$work/$step"
+  # A step's archive carried back from an earlier machine seeds its resume.
+  if [ ! -f "$dir/report.json" ] && [ -f ".device/results/$step.tar.gz" ]; then
+    mkdir -p "$dir" && tar -xzf ".device/results/$step.tar.gz" -C "$dir"
+    say "resuming $step from the carried .device/results/$step.tar.gz"
+  fi
+  mkdir -p "$dir"
+  t0=$(date +%s)
+  say "step $step ($scale, up to $left s)"
+  if [ "$step" = tests ]; then
+    suite=.device/suite
+    if [ ! -x "$suite" ]; then
+      say "FAILED: tests: no test binary at $suite (scripts/device_prepare.sh builds it)"
+      failed=1
+    else
+      # At tiny scale, the regenerating megakernel's tests stand for the suite; the suite's
+      # own device-run tests would run this script inside itself.
+      filter=(--skip device_)
+      if [ "$scale" = tiny ]; then filter=(megakernel::regenerate --skip device_); fi
+      mkdir -p "$dir/tmp"
+      WAVETRACE_TEST_ROOT=$PWD WAVETRACE_TEST_BIN=$bin WAVETRACE_TEST_TMP=$dir/tmp WAVETRACE_REQUIRE_GPU=1 \
+        timeout --kill-after=10 "$left" "$suite" "${filter[@]}" > "$dir/tests.log" 2>&1
+      rc=$?
+      rm -rf "$dir/tmp"
+      grep -E '^test result|^failures:|^    [a-z_:]+$|panicked' "$dir/tests.log" | tee -a "$log"
+      [ $rc = 0 ] || { say "FAILED: tests (exit $rc; tests.log in the archive)"; failed=1; }
+    fi
+  else
+    cfg="$configs/$(config_of "$step")"
+    timeout --kill-after=10 "$left" "$bin" experiment run "$cfg" --out "$dir" --resume \
+      --cache "$work/cache" > "$dir/step.log" 2>&1
+    rc=$?
+    tail -n 3 "$dir/step.log" | tee -a "$log"
+    case $rc in
+      0) ;;
+      124 | 137) say "CUT SHORT: $step at the call's time limit; the same command resumes it (finished runs are kept)"; failed=1 ;;
+      *) say "FAILED: $step (exit $rc; step.log in the archive)"; failed=1 ;;
+    esac
+  fi
+  echo "$step $scale $(($(date +%s) - t0))" >> "$work/step_seconds.txt"
+  cp "$work/step_seconds.txt" "$dir/"
+  say "step $step took $(($(date +%s) - t0)) s"
+  pack "$step" || failed=1
+done
+say "done in $(($(date +%s) - started)) s"
 exit $failed

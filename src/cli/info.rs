@@ -32,6 +32,9 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
     if s.is_software() {
         println!("  note: a software adapter; GPU timings measure the CPU it runs on");
     }
+    let info = adapters[chosen].get_info();
+    println!("  device type:               {}", s.device_type);
+    println!("  vendor:                    {:#06x} ({})", info.vendor, vendor_name(info.vendor));
     println!("  backend:                   {}", s.backend);
     println!("  driver:                    {} {}", s.driver, s.driver_info);
     println!("  timestamp queries:         {}", if s.timestamps { "yes" } else { "no (wall-clock timing)" });
@@ -45,4 +48,18 @@ pub fn run(args: InfoArgs) -> anyhow::Result<()> {
     println!("  max workgroups per dim:    {}", s.max_compute_workgroups_per_dimension);
     println!("  max invocations per group: {}", s.max_compute_invocations_per_workgroup);
     Ok(())
+}
+
+/// The PCI vendor IDs of the GPU vendors a researcher is likely to meet.
+fn vendor_name(id: u32) -> &'static str {
+    match id {
+        0x10de => "NVIDIA",
+        0x1002 | 0x1022 => "AMD",
+        0x8086 => "Intel",
+        0x106b => "Apple",
+        0x13b5 => "Arm",
+        0x5143 => "Qualcomm",
+        0x10005 => "Mesa (software)",
+        _ => "unknown",
+    }
 }

@@ -332,55 +332,68 @@ fn gpu_runs_are_quiet_without_a_runtime_dir() {
     }
 }
 
-/// `scripts/device_figures.sh` (the GPU suite for a machine without a toolchain) runs end to end
-/// on the software driver at its tiny scale: reports, the 1080p renders' reports, the adapter
-/// and one archive. Two configs here, to stay within CI's time; the others are checked by
-/// `every_shipped_config_is_valid_and_says_what_it_asks`.
+/// `scripts/device_figures.sh` (the GPU figures in bounded steps, for a machine without a
+/// toolchain) runs a step on the software driver at tiny size and leaves one archive of compact
+/// results in its output folder, with the adapter it checked; it refuses a step it does not
+/// know, more steps than the device tool returns files for, and a software adapter unless told.
+/// The whole device procedure (the copy that travels, every step, the tool's limits) is
+/// rehearsed by scripts/device_dry_run.sh, which CI runs.
 #[test]
-fn device_figures_script_runs_at_tiny_scale() {
+fn device_figures_script_runs_a_step_and_packs_it() {
     if common::gpu().is_none() {
         return;
     }
     let root = crate::common::root();
     let out = scratch("device_figures");
     let _ = std::fs::remove_dir_all(&out);
-    let run = Command::new("bash")
-        .arg(root.join("scripts/device_figures.sh"))
-        .arg(&out)
-        .env("WAVETRACE_BIN", crate::common::bin())
-        .env("WAVETRACE_FIGURES_SCALE", "tiny")
-        .env("WAVETRACE_FIGURES_CONFIGS", "regeneration pool_memory")
-        .output()
-        .expect("run device_figures.sh");
-    let log = std::fs::read_to_string(out.join("log.txt")).unwrap_or_default();
+    let script = |args: &[&str], allow_software: bool| {
+        Command::new("bash")
+            .arg(root.join("scripts/device_figures.sh"))
+            .args(args)
+            .env("WAVETRACE_BIN", crate::common::bin())
+            .env("WAVETRACE_DEVICE_WORK", out.join("work"))
+            .env("WAVETRACE_DEVICE_ALLOW_SOFTWARE", if allow_software { "1" } else { "0" })
+            .output()
+            .expect("run device_figures.sh")
+    };
+    let o = out.to_str().unwrap();
+    let run = script(&["--scale", "tiny", "--out", o, "headline"], true);
+    let log = std::fs::read_to_string(out.join("device.log")).unwrap_or_default();
     assert!(run.status.success(), "{}\n{log}", String::from_utf8_lossy(&run.stderr));
+    assert!(log.contains("adapter: ") && log.contains("backend Vulkan"), "{log}");
+    let files: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .flatten()
+        .filter(|e| e.path().is_file())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(files.contains(&"headline.tar.gz".to_string()), "{files:?}");
+    let listing = Command::new("tar").arg("-tzf").arg(out.join("headline.tar.gz")).output().unwrap();
+    let listing = String::from_utf8_lossy(&listing.stdout);
+    for want in ["./report.json", "./runs.csv", "./passes.csv", "./step.log", "./info.txt"] {
+        assert!(listing.lines().any(|l| l == want), "{want} not in the archive:\n{listing}");
+    }
+    assert!(!listing.contains(".exr") && !listing.contains(".png"), "images travel back:\n{listing}");
     let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("regeneration/report.json")).unwrap())
+        serde_json::from_str(&std::fs::read_to_string(out.join("work/headline/report.json")).unwrap())
             .unwrap();
     assert_eq!(report["status"], "complete");
-    assert_eq!(report["runs"].as_array().unwrap().len(), 40, "4 scenes × 2 spp × 5 methods");
-    // The pool sweep's chart: speed against GPU memory, from the runs' memory records.
-    let pool: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("pool_memory/report.json")).unwrap()).unwrap();
-    assert_eq!(pool["runs"].as_array().unwrap().len(), 24, "2 spp × 12 variants");
-    assert!(pool["runs"].as_array().unwrap().iter().all(|r| r["memory"]["peak"].as_u64().unwrap() > 0));
-    assert!(out.join("pool_memory/charts/speed-vs-memory-rtiow-final-32x18.svg").exists());
-    assert!(std::fs::read_to_string(out.join("info.txt")).unwrap().contains("chosen"));
-    for tag in [
-        "megakernel",
-        "megakernel-regenerate",
-        "wavefront",
-        "wavefront-regenerate",
-        "wavefront-regenerate-tail-megakernel",
-    ] {
-        let r: serde_json::Value = serde_json::from_str(
-            &std::fs::read_to_string(out.join(format!("rtiow_final_1080p/{tag}.json"))).unwrap(),
-        )
-        .unwrap();
-        assert_eq!(r["settings"]["max_depth"], 50, "{tag}");
-    }
-    let archive = out.with_extension("tar.gz");
-    assert!(std::fs::metadata(&archive).unwrap().len() > 0);
+    assert_eq!(report["runs"].as_array().unwrap().len(), 20, "2 scenes × 2 spp × 5 methods");
+
+    let refused = |args: &[&str], allow: bool, expected: &str| {
+        let r = script(args, allow);
+        let text = format!(
+            "{}{}{}",
+            String::from_utf8_lossy(&r.stdout),
+            String::from_utf8_lossy(&r.stderr),
+            std::fs::read_to_string(out.join("device.log")).unwrap_or_default()
+        );
+        assert!(!r.status.success() && text.contains(expected), "{args:?}: {text}");
+    };
+    refused(&["--out", o, "nonsense"], true, "unknown step 'nonsense'");
+    let eight = ["tests", "headline", "simd", "regeneration", "baselines", "seeds", "pool", "material"];
+    refused(&[&["--out", o][..], &eight[..]].concat(), true, "at most 7 steps");
+    refused(&["--out", o, "--scale", "tiny", "headline"], false, "not a discrete GPU");
 }
 
 /// `--light-sampling` and `--light-select` reach the run record and the EXR's attributes; a value

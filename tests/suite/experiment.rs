@@ -502,15 +502,21 @@ fn bad_configs_name_the_file_the_field_and_the_reason() {
 fn every_shipped_config_is_valid_and_says_what_it_asks() {
     let dir = crate::common::root().join("experiments");
     let mut names = Vec::new();
-    for entry in std::fs::read_dir(&dir).unwrap().flatten() {
+    let device = std::fs::read_dir(dir.join("device")).unwrap().flatten();
+    for entry in std::fs::read_dir(&dir).unwrap().flatten().chain(device) {
         let path = entry.path();
-        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let name = path.strip_prefix(&dir).unwrap().to_string_lossy().into_owned();
         if path.extension().is_none_or(|e| e != "json") || name == "report.schema.json" {
             continue;
         }
         let config = ExperimentConfig::from_file(&path).unwrap_or_else(|e| panic!("{e}"));
         assert!(config.question.len() > 20, "{name}: say what question it answers");
         assert!(!plan(&config).is_empty());
+        if name.starts_with("device/") {
+            // The device run renders nothing on the CPU (scripts/device_figures.sh).
+            let raw = std::fs::read_to_string(&path).unwrap();
+            assert!(!raw.contains("\"cpu"), "{name}: a CPU method or reference in a device config");
+        }
         names.push(name);
     }
     names.sort();
@@ -519,6 +525,10 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
         [
             "baselines.json",
             "cpu_vs_gpu.json",
+            "device/headline.json",
+            "device/regeneration_1080p.json",
+            "device/seeds_1080p.json",
+            "device/simd.json",
             "fresnel.json",
             "light_sampling.json",
             "material_cost.json",

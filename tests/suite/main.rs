@@ -16,6 +16,7 @@ mod layout;
 mod lights;
 mod megakernel;
 mod metrics;
+mod repository;
 mod resume;
 mod sampling;
 mod scale;
