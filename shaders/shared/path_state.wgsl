@@ -39,7 +39,8 @@ const COUNTER_IDLE: u32 = COUNTER_SHADE_BASE + 10u;        // iterations that fo
 const COUNTER_FILL_LIMIT: u32 = COUNTER_SHADE_BASE + 11u;  // refills start samples below this (the ring's end)
 const COUNTER_TAIL_BOUND: u32 = COUNTER_SHADE_BASE + 12u;  // the tail finishes the paths of samples below this
 const COUNTER_FREE_BASE: u32 = COUNTER_SHADE_BASE + 13u;   // (regenerate) first free-queue entry of this refill
-const COUNTER_RING_0: u32 = COUNTER_SHADE_BASE + 14u;      // + ring chunk: its samples finished
+const COUNTER_CLAMPED: u32 = COUNTER_SHADE_BASE + 14u;     // indirect arguments clamped to the adapter's limit (a bug if > 0)
+const COUNTER_RING_0: u32 = COUNTER_SHADE_BASE + 15u;      // + ring chunk: its samples finished
 // Indirect-dispatch argument slots (3 words each) in queue_setup's `indirect`.
 const ARGS_INTERSECT: u32 = 0u;
 const ARGS_SHADE_0: u32 = 1u;       // + material kind

@@ -4,6 +4,7 @@
 // Rust side: src/gpu/wavefront/queue_setup.rs.
 
 #include "shared/path_state.wgsl"
+#include "shared/indirect_args.wgsl"
 
 // Its own group: a buffer bound as storage cannot also feed an indirect dispatch in the same
 // pass, so only this pass binds it.
@@ -15,10 +16,19 @@ override STATS_BOUNCES: u32 = 64u;
 const SCAN_WG: u32 = 256u;
 override WORKGROUP_SIZE: u32 = 64u;
 
-fn set_args(slot: u32, threads: u32) {
-    indirect[3u * slot] = (threads + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE;
+// One indirect dispatch's arguments: workgroups of `group` threads covering `threads`, clamped
+// to the adapter's limit (shared/indirect_args.wgsl); a clamp is counted for the host to refuse.
+fn set_group_args(slot: u32, threads: u32, group: u32) {
+    if workgroups_needed(threads, group) > MAX_WORKGROUPS {
+        atomicAdd(&counters[COUNTER_CLAMPED], 1u);
+    }
+    indirect[3u * slot] = workgroups_clamped(threads, group);
     indirect[3u * slot + 1u] = 1u;
     indirect[3u * slot + 2u] = 1u;
+}
+
+fn set_args(slot: u32, threads: u32) {
+    set_group_args(slot, threads, WORKGROUP_SIZE);
 }
 
 // Counts `dispatches` recorded indirect dispatches sized to `threads` (empty ones apart): the
@@ -33,9 +43,7 @@ fn count_dispatches(threads: u32, dispatches: u32) {
 // The scan passes (compact_scan and compact_scatter, indirect) over `positions`.
 fn set_compact_args(positions: u32) {
     atomicStore(&counters[COUNTER_POSITIONS], positions);
-    indirect[3u * ARGS_COMPACT] = (positions + SCAN_WG - 1u) / SCAN_WG;
-    indirect[3u * ARGS_COMPACT + 1u] = 1u;
-    indirect[3u * ARGS_COMPACT + 2u] = 1u;
+    set_group_args(ARGS_COMPACT, positions, SCAN_WG);
     if wave.compaction == 2u {
         count_dispatches(positions, 2u);
     }

@@ -62,8 +62,19 @@ impl AdapterSummary {
     }
 }
 
+/// wgpu's defaults adjusted by its `WGPU_*` variables, except that indirect-call validation is
+/// off unless `WGPU_VALIDATION_INDIRECT_CALL=1` asks for it: it adds a dispatch and two barriers
+/// to every indirect pass, which nearly all wavefront passes are and no megakernel pass is, so
+/// it biased every comparison against the wavefront (15-25% of a small job on the software
+/// driver). It guards against indirect arguments past the device's limit; ours are clamped where
+/// our shaders write them (shaders/shared/indirect_args.wgsl, tests/suite/indirect_args.rs).
+/// Reports record the setting (`indirect_validation`).
 fn instance_descriptor() -> wgpu::InstanceDescriptor {
-    wgpu::InstanceDescriptor::new_without_display_handle_from_env()
+    let mut d = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+    if std::env::var_os("WGPU_VALIDATION_INDIRECT_CALL").is_none() {
+        d.flags.remove(wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL);
+    }
+    d
 }
 
 /// The instance flags in force (build defaults adjusted by `WGPU_*` variables).

@@ -12,6 +12,7 @@ mod experiment;
 mod film;
 mod gpu_rng;
 mod image_io;
+mod indirect_args;
 mod layout;
 mod lights;
 mod megakernel;

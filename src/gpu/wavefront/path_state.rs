@@ -32,7 +32,9 @@ pub mod schedule_word {
     pub const IDLE: usize = 6;
     pub const FILL_LIMIT: usize = 7;
     pub const TAIL_BOUND: usize = 8;
-    pub const WORDS: u64 = 10;
+    /// Indirect arguments queue_setup clamped to the adapter's limit (shared/indirect_args.wgsl).
+    pub const CLAMPED: usize = 10;
+    pub const WORDS: u64 = 11;
 }
 /// `COUNTER_RING_0`: the finished samples of each chunk of the sample ring.
 pub const COUNTER_RING: u64 = COUNTER_SCHEDULE + schedule_word::WORDS;

@@ -277,6 +277,15 @@ impl ScheduleStats {
     ) -> Result<()> {
         let words: Vec<u32> = read_back(ctx, &state.counters, (COUNTER_SCHEDULE + word::WORDS) * 4)?;
         let w = |i: usize| words[COUNTER_SCHEDULE as usize + i] as u64;
+        if w(word::CLAMPED) > 0 {
+            bail!(
+                "{} indirect dispatches were sized past {}'s limit of {} workgroups and clamped: a \
+                 queue grew past the pool (a bug; please report it with `wavetrace info`)",
+                w(word::CLAMPED),
+                ctx.summary.name,
+                ctx.summary.max_compute_workgroups_per_dimension
+            );
+        }
         self.shares += units as u64;
         self.iterations += iterations as u64;
         self.idle_iterations += w(word::IDLE);
