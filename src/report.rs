@@ -77,6 +77,12 @@ pub struct RunReport {
     pub wall_seconds: f64,
     /// Sum of pass times (None for CPU methods).
     pub gpu_seconds: Option<f64>,
+    /// Wall clock from the first submission to the last completion (GPU methods): the headline
+    /// time, since it includes the GPU idle while the host reads counters back between
+    /// submissions, where the schedules differ.
+    pub frame_seconds: Option<f64>,
+    /// `frame_seconds` − `gpu_seconds`: what the sum of passes leaves out (GPU methods).
+    pub host_gap_seconds: Option<f64>,
     pub time_source: Option<TimeSource>,
     pub passes: BTreeMap<&'static str, PassTime>,
     /// Compute passes dispatched, empty ones included (GPU methods).
@@ -86,7 +92,7 @@ pub struct RunReport {
     /// The wavefront's schedule: shares, iterations (idle ones apart), intersect occupancy.
     pub schedule: Option<ScheduleStats>,
     pub samples: u64,
-    /// Samples per second of GPU time where measured, else of wall time.
+    /// Samples per second of frame time (GPU methods), else of wall time.
     pub samples_per_second: f64,
     /// Rays traced (closest-hit queries, camera rays included), counted per path by every method.
     pub rays: u64,
@@ -127,8 +133,9 @@ impl RunReport {
         out: &RenderOutput,
     ) -> Self {
         let gpu_seconds = out.timings.as_ref().map(|t| t.total_seconds());
+        let frame_seconds = out.timings.as_ref().map(|t| t.frame_seconds);
         let samples = settings.sample_count();
-        let seconds = gpu_seconds.filter(|&s| s > 0.0).unwrap_or(out.wall_seconds);
+        let seconds = frame_seconds.filter(|&s| s > 0.0).unwrap_or(out.wall_seconds);
         Self {
             schema: RUN_SCHEMA,
             build: Build::this(),
@@ -145,6 +152,8 @@ impl RunReport {
             options: options.clone(),
             wall_seconds: out.wall_seconds,
             gpu_seconds,
+            frame_seconds,
+            host_gap_seconds: frame_seconds.zip(gpu_seconds).map(|(f, g)| f - g),
             time_source: out.timings.as_ref().map(|t| t.source),
             passes: out.timings.as_ref().map(|t| t.passes.clone()).unwrap_or_default(),
             dispatches: out.dispatches,

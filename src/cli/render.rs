@@ -3,7 +3,7 @@
 use crate::gpu::buffers::human_bytes;
 use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::memory::{GpuMemory, MemoryCategory};
-use crate::gpu::timing::{TimeSource, Timing, Timings};
+use crate::gpu::timing::{TimeSource, Timing, Timings, FRAME_LABEL};
 use crate::gpu::wavefront::{Compaction, Scan, Schedule, ShadePasses, Tail, WavefrontOptions};
 use crate::gpu::GpuContext;
 use crate::image_io::{self, RgbImage};
@@ -269,9 +269,11 @@ pub fn run(a: RenderArgs) -> Result<()> {
 
 fn print_summary(r: &RunReport, out: &std::path::Path) {
     let s = &r.settings;
-    let gpu = match (r.gpu_seconds, r.time_source) {
-        (Some(g), Some(TimeSource::Timestamps)) => format!(", {g:.3} s GPU (timestamps)"),
-        (Some(g), _) => format!(", {g:.3} s GPU (wall clock: no timestamp queries)"),
+    let gpu = match (r.gpu_seconds, r.frame_seconds, r.time_source) {
+        (Some(g), Some(f), Some(TimeSource::Timestamps)) => {
+            format!(", {f:.3} s frame ({g:.3} s in passes by timestamps, {:.3} s host gaps)", f - g)
+        }
+        (Some(_), Some(f), _) => format!(", {f:.3} s frame (wall clock: no timestamps, no time per pass)"),
         _ => String::new(),
     };
     println!(
@@ -312,12 +314,17 @@ pub fn print_pass_table(t: &Timings, r: &RunReport) {
     let total = t.total_seconds();
     println!("{:<24} {:>11} {:>8} {:>7} {:>6}", "pass", "GPU ms", "passes", "share", "SIMD");
     for (label, p) in &t.passes {
-        let share = if total > 0.0 { 100.0 * p.seconds / total } else { 0.0 };
         let simd = r
             .simd
             .as_ref()
             .and_then(|s| s.get(*label))
             .map_or(String::new(), |e| format!("{:.1}%", 100.0 * e.efficiency));
+        if !t.per_pass() && *label != FRAME_LABEL {
+            // Without timestamps a pass has no time of its own: counted, not timed.
+            println!("{label:<24} {:>11} {:>8} {:>7} {simd:>6}", "–", p.passes, "–");
+            continue;
+        }
+        let share = if total > 0.0 { 100.0 * p.seconds / total } else { 0.0 };
         println!("{label:<24} {:>11.3} {:>8} {share:>6.1}% {simd:>6}", p.seconds * 1e3, p.passes);
     }
     if let Some(simd) = &r.simd {

@@ -143,7 +143,7 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
         };
         let e = |x: Option<f64>| x.map_or("–".into(), |v| format!("{v:.3e}"));
         let count = |x: Option<u64>| x.map_or("–".into(), |n| n.to_string());
-        let stat = r.gpu_seconds.as_ref().or(r.wall_seconds.as_ref());
+        let stat = r.frame_seconds.as_ref().or(r.gpu_seconds.as_ref()).or(r.wall_seconds.as_ref());
         let m = r.error_metrics.as_ref();
         let note = match (&r.status, r.repeatable) {
             (RunStatus::Failed, _) => format!("FAILED: {}", esc(r.error.as_deref().unwrap_or(""))),

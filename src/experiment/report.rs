@@ -192,10 +192,17 @@ pub struct RunRecord {
     pub wall_seconds: Option<Stat>,
     /// Sum of GPU pass times per render (GPU methods).
     pub gpu_seconds: Option<Stat>,
+    /// Wall clock from a render's first submission to its last completion (GPU methods): GPU
+    /// work plus the GPU's idle time while the host reads back and decides.
+    #[serde(default)]
+    pub frame_seconds: Option<Stat>,
+    /// Median frame time − median GPU time: what the sum of passes leaves out.
+    #[serde(default)]
+    pub host_gap_seconds: Option<f64>,
     /// `timestamps` or `wall-clock` (GPU methods).
     pub time_source: Option<String>,
-    /// The time samples/s, rays/s and efficiency use: median GPU time where measured, else
-    /// median wall time.
+    /// The time samples/s, rays/s and efficiency use: median frame time (GPU methods; reports
+    /// written before it existed used the median GPU time), else median wall time.
     pub seconds: Option<f64>,
     pub passes: BTreeMap<String, PassStat>,
     /// Seconds per bounce of per-bounce passes, from the repetition with the median GPU time.

@@ -119,7 +119,7 @@ fn summary_line(r: &RunRecord) -> String {
         RunStatus::Failed => format!("  FAILED: {}", r.error.as_deref().unwrap_or("?")),
         RunStatus::Ok => {
             let t = r.seconds.map_or("?".into(), |s| format!("{s:.4} s"));
-            let src = if r.gpu_seconds.is_some() { " GPU" } else { " wall" };
+            let src = if r.frame_seconds.is_some() { " frame" } else { " wall" };
             let err =
                 r.error_metrics.as_ref().map_or(String::new(), |m| format!(", relMSE {:.3e}", m.relmse));
             format!("  ok: {t}{src}{err}")
@@ -203,6 +203,8 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         repetitions: config.repetitions,
         wall_seconds: None,
         gpu_seconds: None,
+        frame_seconds: None,
+        host_gap_seconds: None,
         time_source: None,
         seconds: None,
         passes: BTreeMap::new(),
@@ -330,16 +332,21 @@ fn measure(
     // Times: median over repetitions; per-bounce detail from the repetition with the median time.
     let wall: Vec<f64> = reports.iter().map(|r| r.wall_seconds).collect();
     let gpu_times: Vec<f64> = reports.iter().filter_map(|r| r.gpu_seconds).collect();
+    let frame_times: Vec<f64> = reports.iter().filter_map(|r| r.frame_seconds).collect();
     rec.wall_seconds = Stat::of(&wall);
     rec.gpu_seconds = Stat::of(&gpu_times);
+    rec.frame_seconds = Stat::of(&frame_times);
+    rec.host_gap_seconds =
+        rec.frame_seconds.as_ref().zip(rec.gpu_seconds.as_ref()).map(|(f, g)| f.median - g.median);
+    // The headline time: the frame's, host round trips included.
     let seconds = rec
-        .gpu_seconds
+        .frame_seconds
         .as_ref()
         .filter(|g| g.median > 0.0)
         .map_or(rec.wall_seconds.as_ref().map(|w| w.median), |g| Some(g.median));
     rec.seconds = seconds;
     let median_rep = {
-        let key = |r: &RunReport| r.gpu_seconds.unwrap_or(r.wall_seconds);
+        let key = |r: &RunReport| r.frame_seconds.unwrap_or(r.wall_seconds);
         let mut order: Vec<usize> = (0..reports.len()).collect();
         order.sort_by(|&a, &b| key(&reports[a]).total_cmp(&key(&reports[b])));
         &reports[order[order.len() / 2]]

@@ -7,6 +7,7 @@
 //! reads back to the same f64, `.` as decimal point whatever the locale, `1e-7` for small ones).
 
 use crate::gpu::memory::MemoryCategory;
+use crate::gpu::timing::FRAME_LABEL;
 use std::collections::BTreeSet;
 use std::path::Path;
 
@@ -70,6 +71,10 @@ pub fn passes_csv(report: &ExperimentReport) -> String {
         })
         .collect();
     let pass = |(r, l): &PassRow| r.passes.get(l).cloned();
+    // A pass's own time only where timestamps measured it; on the wall clock, only `frame` has one.
+    let timed = move |x: &PassRow| {
+        pass(x).filter(|_| x.0.time_source.as_deref() != Some("wall-clock") || x.1 == FRAME_LABEL)
+    };
     let simd = |(r, l): &PassRow| r.simd.as_ref().and_then(|s| s.get(l)).cloned();
     let cols: Vec<Column<PassRow>> = vec![
         col::<PassRow>("run_index", |x| int(x.0.index)),
@@ -81,14 +86,14 @@ pub fn passes_csv(report: &ExperimentReport) -> String {
         col::<PassRow>("method", |x| text(&x.0.method)),
         col::<PassRow>("label", |x| text(&x.0.label)),
         col::<PassRow>("pass", |x| text(&x.1)),
-        col::<PassRow>("seconds_median", move |x| pass(x).map(|p| float(p.seconds.median))),
-        col::<PassRow>("seconds_min", move |x| pass(x).map(|p| float(p.seconds.min))),
-        col::<PassRow>("seconds_max", move |x| pass(x).map(|p| float(p.seconds.max))),
+        col::<PassRow>("seconds_median", move |x| timed(x).map(|p| float(p.seconds.median))),
+        col::<PassRow>("seconds_min", move |x| timed(x).map(|p| float(p.seconds.min))),
+        col::<PassRow>("seconds_max", move |x| timed(x).map(|p| float(p.seconds.max))),
         col::<PassRow>("passes", move |x| pass(x).map(|p| p.passes.to_string())),
         // Of the run's summed median pass times, so a run's shares add up to 1.
         col::<PassRow>("share", move |x| {
             let total: f64 = x.0.passes.values().map(|p| p.seconds.median).sum();
-            pass(x).filter(|_| total > 0.0).map(|p| float(p.seconds.median / total))
+            timed(x).filter(|_| total > 0.0).map(|p| float(p.seconds.median / total))
         }),
         col::<PassRow>("simd_efficiency", move |x| simd(x).map(|s| float(s.efficiency))),
         col::<PassRow>("simd_subgroups", move |x| simd(x).map(|s| s.subgroups.to_string())),
@@ -124,9 +129,15 @@ fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
     for k in knobs {
         cols.push((k.clone(), Box::new(move |r: &RunRecord| r.options.get(&k).and_then(json))));
     }
-    // The stat `seconds` is the median of: GPU time where measured, else wall time.
-    let timed =
-        |r: &RunRecord| r.gpu_seconds.clone().filter(|g| g.median > 0.0).or_else(|| r.wall_seconds.clone());
+    // The stat `seconds` is the median of: frame time where measured (GPU time in reports
+    // written before it), else wall time.
+    let timed = |r: &RunRecord| {
+        r.frame_seconds
+            .clone()
+            .or_else(|| r.gpu_seconds.clone())
+            .filter(|g| g.median > 0.0)
+            .or_else(|| r.wall_seconds.clone())
+    };
     let stat = |f: fn(&Stat) -> f64, s: Option<Stat>| s.map(|s| float(f(&s)));
     let metric = |name: &'static str| {
         move |r: &RunRecord| {
@@ -150,6 +161,10 @@ fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
         rcol("gpu_seconds_median", move |r| stat(|s| s.median, r.gpu_seconds.clone())),
         rcol("gpu_seconds_min", move |r| stat(|s| s.min, r.gpu_seconds.clone())),
         rcol("gpu_seconds_max", move |r| stat(|s| s.max, r.gpu_seconds.clone())),
+        rcol("frame_seconds_median", move |r| stat(|s| s.median, r.frame_seconds.clone())),
+        rcol("frame_seconds_min", move |r| stat(|s| s.min, r.frame_seconds.clone())),
+        rcol("frame_seconds_max", move |r| stat(|s| s.max, r.frame_seconds.clone())),
+        rcol("host_gap_seconds", |r| r.host_gap_seconds.map(float)),
         rcol("samples", |r| int(r.samples)),
         rcol("samples_per_second", |r| r.samples_per_second.map(float)),
         rcol("rays", |r| r.rays.and_then(int)),

@@ -1,5 +1,8 @@
 //! GPU time per labelled pass: timestamp queries where the adapter has them, otherwise the wall
-//! clock around each submission (and the report says which).
+//! clock around each submission under the label `frame` (per-pass times are then unavailable,
+//! never invented). Beside it, the frame time: the wall clock from the first submission to the
+//! last completion, which includes what the sum of passes leaves out — the GPU idle while the
+//! host reads counters back and decides, between submissions.
 //!
 //! Resolving and copying timestamps in one encoder can read zeros on Vulkan (wgpu #6406), so the
 //! copy to the host goes in a submission of its own ([`read_back`]).
@@ -17,7 +20,9 @@ use std::time::Instant;
 pub enum TimeSource {
     /// Timestamp queries at the start and end of every pass.
     Timestamps,
-    /// Host clock from submit to completion: includes submission overhead and idle gaps.
+    /// Host clock from submit to completion, per submission (label `frame`): includes
+    /// submission overhead and idle gaps; no time per pass. Also where timestamps read as zeros
+    /// (macOS 26 Metal, wgpu #9414): they count as missing.
     WallClock,
 }
 
@@ -56,14 +61,81 @@ pub struct PassTime {
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Timings {
     pub source: TimeSource,
+    /// Wall-clock seconds from the first submission to the last completion: the GPU's work and
+    /// its idle time between submissions (host read-backs and decisions) alike.
+    pub frame_seconds: f64,
     pub passes: BTreeMap<&'static str, PassTime>,
     /// Seconds per bounce (index) for passes that run once per bounce.
     pub per_bounce: BTreeMap<&'static str, Vec<f64>>,
 }
 
 impl Timings {
+    /// The sum of pass times (timestamps), or of submission times (wall clock).
     pub fn total_seconds(&self) -> f64 {
         self.passes.values().map(|p| p.seconds).sum()
+    }
+
+    /// Whether each pass has its own measured time (timestamps that were delivered).
+    pub fn per_pass(&self) -> bool {
+        self.source == TimeSource::Timestamps
+    }
+
+    /// Adds a finished batch: its passes `labels`, their timestamp pairs `ticks` (None without
+    /// timestamps) and the batch's wall-clock seconds. With timestamps each pass gets its own
+    /// time. Without, or once a batch's timestamps all read zero (the adapter claims
+    /// timestamps it does not deliver), the passes are only counted and the batch's time goes
+    /// to `frame` whole: a pass is never given a share it was not measured to take. Returns
+    /// true when this batch found the timestamps to be zeros (the source becomes wall clock,
+    /// and the passes timed before lose their times to `frame`).
+    pub fn add_batch(
+        &mut self,
+        labels: &[(&'static str, Option<u32>)],
+        ticks: Option<&[u64]>,
+        ns_per_tick: f64,
+        batch_seconds: f64,
+    ) -> bool {
+        let mut found_zeros = false;
+        match ticks {
+            Some(ticks) if ticks.iter().any(|&t| t != 0) && self.source == TimeSource::Timestamps => {
+                for (i, &(label, bounce)) in labels.iter().enumerate() {
+                    let dt = ticks[2 * i + 1].saturating_sub(ticks[2 * i]) as f64 * ns_per_tick * 1e-9;
+                    self.add(label, bounce, dt);
+                }
+                return false;
+            }
+            Some(_) if self.source == TimeSource::Timestamps => {
+                found_zeros = true;
+                self.source = TimeSource::WallClock;
+                let timed: f64 = self.passes.values().map(|p| p.seconds).sum();
+                for p in self.passes.values_mut() {
+                    p.seconds = 0.0;
+                }
+                self.per_bounce.clear();
+                if timed > 0.0 {
+                    self.passes.entry(FRAME_LABEL).or_default().seconds += timed;
+                }
+            }
+            _ => {}
+        }
+        // Counted only; no time per bounce either.
+        for &(label, _) in labels {
+            self.add(label, None, 0.0);
+        }
+        self.add(FRAME_LABEL, None, batch_seconds);
+        found_zeros
+    }
+
+    fn add(&mut self, label: &'static str, bounce: Option<u32>, seconds: f64) {
+        let e = self.passes.entry(label).or_default();
+        e.seconds += seconds;
+        e.passes += 1;
+        if let Some(b) = bounce {
+            let v = self.per_bounce.entry(label).or_default();
+            if v.len() <= b as usize {
+                v.resize(b as usize + 1, 0.0);
+            }
+            v[b as usize] += seconds;
+        }
     }
 }
 
@@ -71,11 +143,11 @@ impl Timings {
 pub const MAX_PASSES_PER_BATCH: u32 = 2048;
 
 pub struct GpuTimer {
-    timing: Timing,
     queries: Option<(wgpu::QuerySet, wgpu::Buffer)>,
     labels: Vec<(&'static str, Option<u32>)>,
     timings: Timings,
     submitted_at: Option<Instant>,
+    first_submitted: Option<Instant>,
 }
 
 impl GpuTimer {
@@ -99,11 +171,16 @@ impl GpuTimer {
         });
         let source = if queries.is_some() { TimeSource::Timestamps } else { TimeSource::WallClock };
         Self {
-            timing,
             queries,
             labels: Vec::new(),
-            timings: Timings { source, passes: BTreeMap::new(), per_bounce: BTreeMap::new() },
+            timings: Timings {
+                source,
+                frame_seconds: 0.0,
+                passes: BTreeMap::new(),
+                per_bounce: BTreeMap::new(),
+            },
             submitted_at: None,
+            first_submitted: None,
         }
     }
 
@@ -151,56 +228,84 @@ impl GpuTimer {
             }
         }
         ctx.queue.submit([encoder.finish()]);
-        self.submitted_at = Some(Instant::now());
+        let now = Instant::now();
+        self.submitted_at = Some(now);
+        self.first_submitted.get_or_insert(now);
         self.finish_batch(ctx)
     }
 
     /// Waits for the batch and adds its pass times.
     fn finish_batch(&mut self, ctx: &GpuContext) -> Result<()> {
         ctx.wait()?;
+        let done = Instant::now();
+        if let Some(first) = self.first_submitted {
+            self.timings.frame_seconds = done.duration_since(first).as_secs_f64();
+        }
+        let batch = self.submitted_at.take().map_or(0.0, |t| done.duration_since(t).as_secs_f64());
         let labels = std::mem::take(&mut self.labels);
-        match &self.queries {
-            Some((_, buf)) if !labels.is_empty() => {
-                let ticks: Vec<u64> = read_back(ctx, buf, labels.len() as u64 * 16)?;
-                let ns_per_tick = ctx.queue.get_timestamp_period() as f64;
-                for (i, &(label, bounce)) in labels.iter().enumerate() {
-                    let dt = ticks[2 * i + 1].saturating_sub(ticks[2 * i]) as f64 * ns_per_tick * 1e-9;
-                    self.add(label, bounce, dt);
-                }
-            }
-            _ if self.timing == Timing::Frame => {
-                // The batch's time as a whole; the passes only counted.
-                let dt = self.submitted_at.take().map_or(0.0, |t| t.elapsed().as_secs_f64());
-                for &(label, bounce) in &labels {
-                    self.add(label, bounce, 0.0);
-                }
-                self.add(FRAME_LABEL, None, dt);
-            }
-            _ => {
-                // Wall clock: the batch's time is split evenly over its passes.
-                let dt = self.submitted_at.take().map_or(0.0, |t| t.elapsed().as_secs_f64());
-                for &(label, bounce) in &labels {
-                    self.add(label, bounce, dt / labels.len() as f64);
-                }
-            }
+        let ticks: Option<Vec<u64>> = match &self.queries {
+            Some((_, buf)) if !labels.is_empty() => Some(read_back(ctx, buf, labels.len() as u64 * 16)?),
+            _ => None,
+        };
+        let ns_per_tick = ctx.queue.get_timestamp_period() as f64;
+        if self.timings.add_batch(&labels, ticks.as_deref(), ns_per_tick, batch) {
+            log::warn!("{}'s timestamps read as zeros: timing on the wall clock", ctx.summary.name);
         }
         Ok(())
     }
 
-    fn add(&mut self, label: &'static str, bounce: Option<u32>, seconds: f64) {
-        let e = self.timings.passes.entry(label).or_default();
-        e.seconds += seconds;
-        e.passes += 1;
-        if let Some(b) = bounce {
-            let v = self.timings.per_bounce.entry(label).or_default();
-            if v.len() <= b as usize {
-                v.resize(b as usize + 1, 0.0);
-            }
-            v[b as usize] += seconds;
-        }
-    }
-
     pub fn into_timings(self) -> Timings {
         self.timings
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn timings(source: TimeSource) -> Timings {
+        Timings { source, frame_seconds: 0.0, passes: BTreeMap::new(), per_bounce: BTreeMap::new() }
+    }
+
+    #[test]
+    fn timestamps_time_each_pass() {
+        let mut t = timings(TimeSource::Timestamps);
+        let zeros =
+            t.add_batch(&[("intersect", Some(0)), ("shade", Some(0))], Some(&[10, 30, 30, 40]), 1e6, 9.0);
+        assert!(!zeros);
+        assert_eq!(t.passes["intersect"], PassTime { seconds: 0.02, passes: 1 });
+        assert!((t.passes["shade"].seconds - 0.01).abs() < 1e-12);
+        assert!(!t.passes.contains_key(FRAME_LABEL));
+        assert!(t.per_pass());
+    }
+
+    /// Without timestamps no pass is given a share of its batch's time: it goes to `frame`.
+    #[test]
+    fn the_wall_clock_times_batches_not_passes() {
+        let mut t = timings(TimeSource::WallClock);
+        t.add_batch(&[("intersect", Some(0)), ("shade", Some(0))], None, 1.0, 0.5);
+        t.add_batch(&[("intersect", Some(1))], None, 1.0, 0.25);
+        assert_eq!(t.passes["intersect"], PassTime { seconds: 0.0, passes: 2 });
+        assert_eq!(t.passes["shade"], PassTime { seconds: 0.0, passes: 1 });
+        assert_eq!(t.passes[FRAME_LABEL], PassTime { seconds: 0.75, passes: 2 });
+        assert_eq!(t.total_seconds(), 0.75);
+        assert!(!t.per_pass());
+    }
+
+    /// Timestamps that read as zeros (macOS 26 Metal, wgpu #9414) are missing, not free: the
+    /// source becomes the wall clock, earlier pass times move to `frame`.
+    #[test]
+    fn zero_timestamps_count_as_missing() {
+        let mut t = timings(TimeSource::Timestamps);
+        assert!(!t.add_batch(&[("intersect", Some(0))], Some(&[0, 1000]), 1.0, 0.5));
+        assert!(t.add_batch(&[("intersect", Some(1)), ("shade", Some(1))], Some(&[0, 0, 0, 0]), 1.0, 0.5));
+        assert_eq!(t.source, TimeSource::WallClock);
+        assert_eq!(t.passes["intersect"], PassTime { seconds: 0.0, passes: 2 });
+        assert_eq!(t.passes[FRAME_LABEL].passes, 1);
+        assert!((t.passes[FRAME_LABEL].seconds - (1e-6 + 0.5)).abs() < 1e-12);
+        assert!(t.per_bounce.is_empty());
+        // Later batches stay on the wall clock even if a timestamp reads non-zero.
+        assert!(!t.add_batch(&[("intersect", Some(2))], Some(&[5, 9]), 1.0, 0.25));
+        assert_eq!(t.passes["intersect"].seconds, 0.0);
     }
 }

@@ -295,6 +295,8 @@ fn comparable(report: &ExperimentReport) -> Value {
             "environment",
             "wall_seconds",
             "gpu_seconds",
+            "frame_seconds",
+            "host_gap_seconds",
             "seconds",
             "passes",
             "passes_per_bounce",

@@ -24,4 +24,5 @@ mod scale;
 mod scene_format;
 mod stability;
 mod tidy;
+mod timing;
 mod wavefront;

@@ -1,0 +1,64 @@
+//! What a GPU render's times say. The headline is the frame time, from the first submission to
+//! the last completion, so it includes the GPU idle while the host reads counters back between
+//! submissions (where the wavefront's schedules differ); the sum of passes leaves that out, and
+//! the run record says by how much (`host_gap_seconds`). Without timestamps no pass is given a
+//! time it was not measured to take.
+
+use crate::common;
+
+use wavetrace::gpu::timing::{TimeSource, Timing, FRAME_LABEL};
+use wavetrace::gpu::wavefront::{Schedule, WavefrontOptions};
+use wavetrace::method::{render, Method, MethodOptions};
+use wavetrace::report::RunReport;
+use wavetrace::scene::builtin;
+use wavetrace::settings::{Accel, RenderSettings};
+
+#[test]
+fn the_frame_time_holds_the_passes_and_the_host_gaps() {
+    let Some(ctx) = common::gpu() else { return };
+    let scene = builtin::by_name("rtiow-final").unwrap();
+    let s = RenderSettings {
+        width: 40,
+        height: 24,
+        spp: 8,
+        max_depth: 50,
+        seed: 1,
+        accel: Accel::Bvh,
+        nee: false,
+    };
+    let regenerate = WavefrontOptions { schedule: Schedule::Regenerate, ..Default::default() };
+    for (method, wavefront) in [
+        (Method::Megakernel, WavefrontOptions::default()),
+        (Method::Wavefront, WavefrontOptions::default()),
+        (Method::Wavefront, regenerate),
+    ] {
+        for timing in [Timing::Passes, Timing::Frame] {
+            let opts = MethodOptions { wavefront, timing, ..Default::default() };
+            let out = render(method, &scene, &s, &opts, Some(ctx), &|_| {}).unwrap();
+            let r = RunReport::new(&scene, method, &s, &opts, Some(&ctx.summary), &out);
+            let what = format!("{method:?} {:?} {timing:?}", wavefront.schedule);
+            let (frame, gpu) = (r.frame_seconds.unwrap(), r.gpu_seconds.unwrap());
+            assert!(frame > 0.0 && gpu > 0.0, "{what}: frame {frame}, passes {gpu}");
+            assert!(frame >= gpu, "{what}: the frame ({frame}) holds its passes ({gpu})");
+            assert!(frame <= r.wall_seconds, "{what}: the frame lies within the render's wall time");
+            assert_eq!(r.host_gap_seconds, Some(frame - gpu), "{what}");
+            assert_eq!(
+                r.samples_per_second,
+                s.sample_count() as f64 / frame,
+                "{what}: the headline is the frame"
+            );
+            let t = out.timings.unwrap();
+            if timing == Timing::Frame || t.source == TimeSource::WallClock {
+                // Counted, not timed: only `frame` has a time.
+                for (label, p) in &t.passes {
+                    assert!(
+                        *label == FRAME_LABEL || p.seconds == 0.0,
+                        "{what}: {label} was given {}",
+                        p.seconds
+                    );
+                }
+                assert!(t.per_bounce.is_empty(), "{what}: times per bounce without timestamps");
+            }
+        }
+    }
+}
