@@ -35,7 +35,11 @@ fn main() {
             } else {
                 p.to_path_buf()
             };
-            std::fs::read_to_string(p).map_err(|e| e.to_string())
+            // Entry points hand their subgroup width to `instrument_begin` (instrument.wgsl).
+            std::fs::read_to_string(p).map_err(|e| e.to_string()).map(|s| {
+                s.replace("/*@subgroup_size_param*/", "@builtin(subgroup_size) instrument_width: u32")
+                    .replace("/*@subgroup_size_arg*/", "instrument_width")
+            })
         };
         // naga 30 takes subgroup builtins without `enable subgroups;` (which it rejects).
         let variants: [(&str, Reader); 2] = [("", &plain), (".instrumented", &instrumented)];

@@ -11,7 +11,8 @@
 override WORKGROUP_SIZE: u32 = 64u;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn generate(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn generate(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
+    instrument_begin(/*@subgroup_size_arg*/);
     let slot = gid.x;
     if slot == 0u {
         atomicStore(&counters[QUEUE_RAY_0], wave_paths());
@@ -48,7 +49,8 @@ fn start_path(slot: u32, l: u32) {
 
 // A share's start: every slot free, no queue holding anything, no sample started.
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn regenerate_init(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn regenerate_init(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
+    instrument_begin(/*@subgroup_size_arg*/);
     let slot = gid.x;
     if slot == 0u {
         for (var q = 0u; q < QUEUE_COUNT; q++) {
@@ -76,7 +78,8 @@ fn regenerate_init(@builtin(global_invocation_id) gid: vec3<u32>) {
 // for the coming iteration in the i-th ray-queue entry queue_setup_regenerate reserved (which
 // also sized the pass and took the samples).
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn regenerate(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn regenerate(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
+    instrument_begin(/*@subgroup_size_arg*/);
     let base = atomicLoad(&counters[COUNTER_REGEN_BASE]);
     if gid.x >= atomicLoad(&counters[COUNTER_NEXT_SAMPLE]) - base {
         return;

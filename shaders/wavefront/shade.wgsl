@@ -98,26 +98,31 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn shade_lambertian(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn shade_lambertian(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
+    instrument_begin(/*@subgroup_size_arg*/);
     shade_path(gid.x, MATERIAL_LAMBERTIAN, PASS_SHADE_LAMBERTIAN);
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn shade_metal(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn shade_metal(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
+    instrument_begin(/*@subgroup_size_arg*/);
     shade_path(gid.x, MATERIAL_METAL, PASS_SHADE_METAL);
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn shade_dielectric(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn shade_dielectric(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
+    instrument_begin(/*@subgroup_size_arg*/);
     shade_path(gid.x, MATERIAL_DIELECTRIC, PASS_SHADE_DIELECTRIC);
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn shade_emissive(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn shade_emissive(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
+    instrument_begin(/*@subgroup_size_arg*/);
     shade_path(gid.x, MATERIAL_EMISSIVE, PASS_SHADE_EMISSIVE);
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn shade(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
+    instrument_begin(/*@subgroup_size_arg*/);
     shade_path(gid.x, NO_KIND, PASS_SHADE);
 }

@@ -11,7 +11,8 @@
 override WORKGROUP_SIZE: u32 = 64u;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn shadow(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn shadow(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
+    instrument_begin(/*@subgroup_size_arg*/);
     let slot = queued_slot(QUEUE_SHADOW, gid.x);
     if slot == DEAD {
         return;

@@ -1,5 +1,6 @@
 //! SIMD efficiency (`--instrument`): per pass slot, subgroup lanes active at the instrumented
-//! point over lanes available (subgroups arriving × subgroup size). Shaders write the counters
+//! point over lanes available (the sum of each arriving subgroup's own `subgroup_size`, so the
+//! figure is right on drivers that pick the width per pipeline). Shaders write the counters
 //! in their `.instrumented` variants (`shaders/shared/instrument_on.wgsl`); timing runs use the
 //! plain variants and carry no counters.
 
@@ -28,6 +29,10 @@ pub const SLOTS: [&str; 15] = [
     "shadow",
 ];
 
+/// Words per slot in the counter buffer: active lanes, subgroups and available lanes, each a
+/// 64-bit count in two words (low, high), as `shaders/shared/instrument_on.wgsl` writes them.
+const SLOT_WORDS: usize = 6;
+
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SimdEfficiency {
     /// Active lanes / available lanes, in [0, 1].
@@ -50,18 +55,14 @@ impl SimdCounters {
                 ctx.summary.name
             );
         }
-        if ctx.summary.subgroup_min_size != ctx.summary.subgroup_max_size {
-            log::warn!(
-                "subgroup size varies ({}..={}) on {}: efficiencies assume {}",
-                ctx.summary.subgroup_min_size,
-                ctx.summary.subgroup_max_size,
-                ctx.summary.name,
-                ctx.summary.subgroup_max_size
-            );
-        }
         let buffer = memory.track(
             MemoryCategory::Instrumentation,
-            storage_zeroed(ctx, "simd counters", SLOTS.len() as u64 * 8, wgpu::BufferUsages::COPY_SRC)?,
+            storage_zeroed(
+                ctx,
+                "simd counters",
+                (SLOTS.len() * SLOT_WORDS * 4) as u64,
+                wgpu::BufferUsages::COPY_SRC,
+            )?,
         );
         let layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("simd counters"),
@@ -77,19 +78,60 @@ impl SimdCounters {
 
     /// Efficiency of every slot that was reached.
     pub fn read(&self, ctx: &GpuContext) -> Result<BTreeMap<String, SimdEfficiency>> {
-        let raw: Vec<u32> = read_back(ctx, &self.buffer, SLOTS.len() as u64 * 8)?;
-        let size = ctx.summary.subgroup_max_size.max(1) as f64;
-        Ok(SLOTS
-            .iter()
-            .enumerate()
-            .filter(|&(i, _)| raw[2 * i + 1] > 0)
-            .map(|(i, name)| {
-                let (lanes, groups) = (raw[2 * i] as f64, raw[2 * i + 1] as u64);
-                (
-                    name.to_string(),
-                    SimdEfficiency { efficiency: lanes / (groups as f64 * size), subgroups: groups },
-                )
-            })
-            .collect())
+        let raw: Vec<u32> = read_back(ctx, &self.buffer, (SLOTS.len() * SLOT_WORDS * 4) as u64)?;
+        decode(&raw)
+    }
+}
+
+/// Efficiency of every slot that was reached, from the counter words.
+pub fn decode(raw: &[u32]) -> Result<BTreeMap<String, SimdEfficiency>> {
+    let word = |i: usize| raw[i] as u64 | (raw[i + 1] as u64) << 32;
+    let mut out = BTreeMap::new();
+    for (i, name) in SLOTS.iter().enumerate() {
+        let base = i * SLOT_WORDS;
+        let (lanes, groups, available) = (word(base), word(base + 2), word(base + 4));
+        if groups == 0 {
+            continue;
+        }
+        if available == 0 || lanes > available {
+            bail!(
+                "SIMD counters of {name}: {lanes} active lanes of {available} available in {groups} subgroups \
+                 (an entry point that does not hand its subgroup width to instrument_begin?)"
+            );
+        }
+        out.insert(
+            name.to_string(),
+            SimdEfficiency { efficiency: lanes as f64 / available as f64, subgroups: groups },
+        );
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Counts past 2^32 carry into the high word; each subgroup's own width is what is
+    /// available, so subgroups of 32 and of 64 lanes count as such.
+    #[test]
+    fn counters_are_64_bit_and_widths_per_subgroup() {
+        let mut raw = vec![0u32; SLOTS.len() * SLOT_WORDS];
+        let set = |raw: &mut Vec<u32>, i: usize, v: u64| {
+            raw[i] = v as u32;
+            raw[i + 1] = (v >> 32) as u32;
+        };
+        // "intersect" (slot 7): 3·10⁹ subgroups of 32 and 10⁹ of 64 lanes, 75% active.
+        let base = 7 * SLOT_WORDS;
+        let available = 3_000_000_000u64 * 32 + 1_000_000_000 * 64;
+        set(&mut raw, base, available / 4 * 3);
+        set(&mut raw, base + 2, 4_000_000_000);
+        set(&mut raw, base + 4, available);
+        let e = decode(&raw).unwrap();
+        assert_eq!(e.len(), 1);
+        assert_eq!(e["intersect"], SimdEfficiency { efficiency: 0.75, subgroups: 4_000_000_000 });
+        // A slot reached with no width recorded is refused, not divided by zero.
+        set(&mut raw, 0, 10);
+        set(&mut raw, 2, 1);
+        assert!(decode(&raw).unwrap_err().to_string().contains("megakernel_bounce"));
     }
 }

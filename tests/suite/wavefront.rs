@@ -149,6 +149,16 @@ fn measurements_are_reported() {
             let e = simd[pass].efficiency;
             assert!(e > 0.0 && e <= 1.0, "{pass}: {e}");
         }
+        // generate runs one lane per pool slot, 3840 = 60 workgroups of 64: every subgroup is
+        // full, so active lanes equal the lanes the subgroups had, counted per subgroup.
+        assert_eq!(out.pool, Some(40 * 24 * 4));
+        assert_eq!(simd["generate"].efficiency, 1.0);
+        let (min, max) = (u64::from(ctx.summary.subgroup_min_size), u64::from(ctx.summary.subgroup_max_size));
+        let groups = simd["generate"].subgroups;
+        assert!(
+            (3840 / max..=3840 / min.max(1)).contains(&groups),
+            "{groups} subgroups of {min}..={max} lanes"
+        );
         let mk = run(Method::Megakernel, "rtiow-final", &s, &opts);
         let mk_simd = mk.simd.unwrap();
         // Inside the megakernel's material branches lanes diverge; the wavefront's per-material
