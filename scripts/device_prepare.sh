@@ -11,7 +11,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 profile=${WAVETRACE_DEVICE_PROFILE:-release}
 mkdir -p .device
-cargo build --profile "$profile" --locked
+# In the ci profile the binary is the one `cargo test` builds beside the suite (a plain `cargo
+# build` would resolve other features and compile every dependency again).
+if [ "$profile" != ci ]; then cargo build --profile "$profile" --locked; fi
 # The suite as `cargo test` builds it (ci profile: the same code, no link-time optimisation).
 suite=$(cargo test --profile ci --locked --no-run --message-format=json 2>/dev/null |
   sed -n 's/.*"executable":"\([^"]*\/suite-[^"]*\)".*/\1/p' | tail -n 1)
