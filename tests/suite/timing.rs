@@ -1,8 +1,8 @@
 //! What a GPU render's times say. The headline is the frame time, from the first submission to
 //! the last completion, so it includes the GPU idle while the host reads counters back between
 //! submissions (where the wavefront's schedules differ); the sum of passes leaves that out, and
-//! the run record says by how much (`host_gap_seconds`). Without timestamps no pass is given a
-//! time it was not measured to take.
+//! the run record says by how much (`host_gap_seconds`; negative where passes overlapped).
+//! Without timestamps no pass is given a time it was not measured to take.
 
 use crate::common;
 
@@ -39,7 +39,9 @@ fn the_frame_time_holds_the_passes_and_the_host_gaps() {
             let what = format!("{method:?} {:?} {timing:?}", wavefront.schedule);
             let (frame, gpu) = (r.frame_seconds.unwrap(), r.gpu_seconds.unwrap());
             assert!(frame > 0.0 && gpu > 0.0, "{what}: frame {frame}, passes {gpu}");
-            assert!(frame >= gpu, "{what}: the frame ({frame}) holds its passes ({gpu})");
+            // Not `frame >= gpu`: passes without a barrier between them may overlap (seen on
+            // llvmpipe: the megakernel's passes summed to 0.021 s in a 0.017 s frame), so the
+            // host gap can be negative; the frame is still the time the job took.
             assert!(frame <= r.wall_seconds, "{what}: the frame lies within the render's wall time");
             assert_eq!(r.host_gap_seconds, Some(frame - gpu), "{what}");
             assert_eq!(

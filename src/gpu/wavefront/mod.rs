@@ -47,7 +47,7 @@ pub mod tail;
 use super::accumulate::Accumulate;
 use super::buffers::{read_back, storage_zeroed};
 use super::context::GpuContext;
-use super::dispatch_plan::{self, DispatchUniforms};
+use super::dispatch_plan::DispatchUniforms;
 use super::gpu_render::GpuRender;
 use super::instrument::SimdCounters;
 use super::loop_limit::check_loop_limit;
@@ -327,10 +327,7 @@ pub fn render(
     let start = Instant::now();
 
     let pixels = settings.width * settings.height;
-    let shares = match opts.schedule {
-        Schedule::Waves => dispatch_plan::plan(pixels, settings.spp, pool as u64, pool),
-        Schedule::Regenerate => dispatch_plan::plan(pixels, settings.spp, schedule::MAX_SHARE, u32::MAX),
-    };
+    let shares = schedule::shares(opts.schedule, pixels, settings.spp, pool, settings.max_depth);
     let mut memory = MemoryLedger::default();
     let params = DispatchUniforms::new(ctx, &shares, &mut memory);
     let kinds = scene.material_kinds_used();

@@ -4,7 +4,9 @@
 
 use super::super::buffers::read_back;
 use super::super::context::GpuContext;
+use super::super::dispatch_plan;
 use super::path_state::{schedule_word as word, PathState, COUNTER_RING, COUNTER_SCHEDULE};
+use crate::layout::DispatchParams;
 use anyhow::{bail, Result};
 
 pub use super::super::schedule::Schedule;
@@ -38,6 +40,25 @@ pub fn check_chunk_pools(n: u32) -> Result<()> {
 /// Most samples in one share when regenerating: the share's sample index is a u32, and the
 /// shaders add a pixel count to it.
 pub const MAX_SHARE: u64 = 1 << 31;
+
+/// Most samples in one share (a wave, or a regenerating share) such that none of the share's
+/// 32-bit counters can wrap: a sample adds at most `max_depth` entries to the intersect count,
+/// to the bounce histogram's rows (one row holds every bounce when regenerating) and to the
+/// shadow queue's, and the host reads and zeroes them after every share (`add_share`,
+/// `add_wave_histogram`). The one slack entry covers the camera ray.
+pub fn counter_safe_share(max_depth: u32) -> u64 {
+    u32::MAX as u64 / (max_depth as u64 + 1)
+}
+
+/// The render's shares: waves of at most `pool` samples, or regenerating shares as large as a
+/// share's sample index allows; either within [`counter_safe_share`].
+pub fn shares(schedule: Schedule, pixels: u32, spp: u32, pool: u32, max_depth: u32) -> Vec<DispatchParams> {
+    let safe = counter_safe_share(max_depth);
+    match schedule {
+        Schedule::Waves => dispatch_plan::plan(pixels, spp, (pool as u64).min(safe), pool),
+        Schedule::Regenerate => dispatch_plan::plan(pixels, spp, MAX_SHARE.min(safe), u32::MAX),
+    }
+}
 
 /// Samples the sample ring may hold: `chunk_pools` pools, within one storage binding of
 /// 16-byte samples.
@@ -305,6 +326,32 @@ impl ScheduleStats {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The arithmetic, not a render: at 1920x1080 and 4096 spp, for any max depth the settings
+    /// accept, every share of either schedule holds few enough samples that a counter adding up
+    /// to max_depth + 1 per sample stays within u32 (the pool here as large as a 4 GiB binding
+    /// of 96-byte paths allows).
+    #[test]
+    fn no_share_counter_can_wrap_at_1080p_4096spp() {
+        let (pixels, spp) = (1920 * 1080, 4096);
+        let pool = ((4u64 << 30) / 96) as u32;
+        // The deepest the settings accept still leaves shares of one sample or more.
+        assert!(counter_safe_share((1 << 24) - 1) >= 1);
+        for max_depth in [1, 8, 50, 1000, 65_536] {
+            for schedule in [Schedule::Waves, Schedule::Regenerate] {
+                let name = format!("{schedule:?}");
+                let plan = shares(schedule, pixels, spp, pool, max_depth);
+                let total: u64 = plan.iter().map(|d| d.pixel_count as u64 * d.sample_count as u64).sum();
+                assert_eq!(total, pixels as u64 * spp as u64, "{name}: every sample planned");
+                for d in &plan {
+                    let worst = d.pixel_count as u64 * d.sample_count as u64 * (max_depth as u64 + 1);
+                    assert!(worst <= u32::MAX as u64, "{name} depth {max_depth}: {d:?} can count {worst}");
+                }
+            }
+        }
+        // Without the bound, the regenerating share at depth 50 could count past 2^32.
+        assert!(MAX_SHARE * 51 > u32::MAX as u64);
+    }
 
     #[test]
     fn ring_chunks_cover_the_share() {
