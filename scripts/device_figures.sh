@@ -192,10 +192,12 @@ for step in "${steps[@]}"; do
       say "FAILED: tests: no test binary at $suite (scripts/device_prepare.sh builds it)"
       failed=1
     else
-      # At tiny scale, the regenerating megakernel's tests stand for the suite; the suite's
-      # own device-run tests would run this script inside itself.
-      filter=(--skip device_)
-      if [ "$scale" = tiny ]; then filter=(megakernel::regenerate --skip device_); fi
+      # At tiny scale, the regenerating megakernel's tests stand for the suite. Skipped
+      # everywhere: the suite's device-run test (it would run this script inside itself) and
+      # the repository's size (the copy that travels has no .git; it is checked before it
+      # travels).
+      filter=(--skip device_ --skip repository::)
+      if [ "$scale" = tiny ]; then filter=(megakernel::regenerate "${filter[@]}"); fi
       mkdir -p "$dir/tmp"
       WAVETRACE_TEST_ROOT=$PWD WAVETRACE_TEST_BIN=$bin WAVETRACE_TEST_TMP=$dir/tmp WAVETRACE_REQUIRE_GPU=1 \
         timeout --kill-after=10 "$left" "$suite" "${filter[@]}" > "$dir/tests.log" 2>&1
