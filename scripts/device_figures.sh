@@ -21,7 +21,7 @@
 #   regeneration        regeneration.json (160x90 to 1200x675, 4 to 64 spp)  6.1e9  ~1-2 min
 #   regeneration-1080p  1920x1080 at 16 and 64 spp (device/regeneration_1080p.json)
 #                                                                            13.3e9 ~2-3 min
-#   baselines           baselines.json (1280x720 and 1080p, NEE)             3.8e9  ~1 min
+#   baselines           baselines.json (1280x720 and 1080p, NEE, threads sweep) 5.8e9 ~1 min
 #   seeds               rtiow-final 1920x1080x500, each GPU method once      5.2e9  ~1 min
 #   pool                pool_memory.json                                     1.6e9  <1 min
 #   material            material_cost.json                                   1.5e9  <1 min

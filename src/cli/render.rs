@@ -130,7 +130,7 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = Schedule::Waves)]
     pub schedule: Schedule,
     /// Megakernel, --schedule regenerate: persistent threads per dispatch, rounded up to whole
-    /// workgroups [default: 65536].
+    /// workgroups [default: 262144 on a discrete GPU, else 65536].
     #[arg(long)]
     pub threads: Option<u32>,
     /// Wavefront, regenerate: iterations recorded between checks of the schedule's counters (the

@@ -35,12 +35,24 @@ use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
 use std::time::Instant;
 
-/// Persistent threads of the regenerating megakernel when `--threads` is not given. wgpu does
-/// not say how many threads an adapter holds; 2^16 is a fixed number near a data-centre GPU's
-/// (an H100 holds 132 × 2048) that keeps the tail, where threads run out of samples, short
-/// against dispatches of 2^21 samples. On llvmpipe it was the fastest of 2^10–2^16
-/// (`pool_memory.json`, README).
+/// Persistent threads of the regenerating megakernel when `--threads` is not given, on adapters
+/// other than discrete GPUs: on llvmpipe the fastest of 2^10–2^16 (`pool_memory.json`, README).
 pub const DEFAULT_THREADS: u32 = 1 << 16;
+
+/// The default on a discrete GPU. wgpu does not say how many threads an adapter holds; an H100
+/// holds 132 SMs × 2048 = 270 336, so 2^16 would leave three quarters of it empty. 2^18 is 97%
+/// of it, and keeps the tail where threads run out of samples short against dispatches of 2^21
+/// samples. Untuned until a GPU run measures it: `experiments/baselines.json` sweeps the count.
+pub const DEFAULT_THREADS_DISCRETE: u32 = 1 << 18;
+
+/// The default persistent threads for this adapter.
+pub fn default_threads(ctx: &GpuContext) -> u32 {
+    if ctx.summary.device_type == format!("{:?}", wgpu::DeviceType::DiscreteGpu) {
+        DEFAULT_THREADS_DISCRETE
+    } else {
+        DEFAULT_THREADS
+    }
+}
 
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct MegakernelOptions {
@@ -52,7 +64,7 @@ pub struct MegakernelOptions {
     pub dispatches_per_submit: u32,
     /// One thread per sample (`waves`) or persistent threads that regenerate paths.
     pub schedule: Schedule,
-    /// `regenerate`: persistent threads per dispatch (None: [`DEFAULT_THREADS`]).
+    /// `regenerate`: persistent threads per dispatch (None: [`default_threads`]).
     pub threads: Option<u32>,
     /// `regenerate` where the driver caps loops (llvmpipe): the paths a thread starts per launch
     /// at first (None: estimated from the scene, [`paths_per_thread`]); lowered on a cut.
@@ -75,7 +87,7 @@ impl Default for MegakernelOptions {
 /// The persistent threads a regenerating render launches: `threads` rounded up to whole
 /// workgroups, refused when zero or beyond what one dispatch can launch on `ctx`.
 pub fn persistent_threads(ctx: &GpuContext, threads: Option<u32>, workgroup_size: u32) -> Result<u32> {
-    let asked = threads.unwrap_or(DEFAULT_THREADS);
+    let asked = threads.unwrap_or_else(|| default_threads(ctx));
     let max = ctx.summary.max_compute_workgroups_per_dimension as u64 * workgroup_size as u64;
     if asked == 0 {
         bail!("--threads must be at least 1");

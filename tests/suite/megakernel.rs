@@ -235,3 +235,18 @@ fn a_dispatch_the_loop_cap_cuts_is_traced_again() {
     // One trace launch and one accumulate pass if nothing had been cut.
     assert!(r.dispatches > 2, "{} passes: the dispatch was not traced again", r.dispatches);
 }
+
+/// Without `--threads`, a discrete GPU gets 2^18 persistent threads (97% of an H100's 132 SMs ×
+/// 2048), other adapters the count that was fastest on llvmpipe.
+#[test]
+fn the_default_threads_follow_the_adapter() {
+    let Some(ctx) = common::gpu() else {
+        return;
+    };
+    use wavetrace::gpu::megakernel::persistent_threads;
+    let threads = persistent_threads(ctx, None, 64).unwrap();
+    let expected = if ctx.summary.device_type == "DiscreteGpu" { 1 << 18 } else { 1 << 16 };
+    assert_eq!(threads, expected, "{}", ctx.summary.device_type);
+    // An explicit count wins, rounded up to whole workgroups.
+    assert_eq!(persistent_threads(ctx, Some(100), 64).unwrap(), 128);
+}
