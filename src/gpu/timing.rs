@@ -96,6 +96,9 @@ impl Timings {
     ) -> bool {
         let mut found_zeros = false;
         match ticks {
+            // A batch with no pass (only copies or clears): nothing to time per pass, and its
+            // time is in the frame time already.
+            None if self.source == TimeSource::Timestamps => return false,
             Some(ticks) if ticks.iter().any(|&t| t != 0) && self.source == TimeSource::Timestamps => {
                 for (i, &(label, bounce)) in labels.iter().enumerate() {
                     let dt = ticks[2 * i + 1].saturating_sub(ticks[2 * i]) as f64 * ns_per_tick * 1e-9;
@@ -277,6 +280,10 @@ mod tests {
         assert!((t.passes["shade"].seconds - 0.01).abs() < 1e-12);
         assert!(!t.passes.contains_key(FRAME_LABEL));
         assert!(t.per_pass());
+        // A batch of copies only (no pass) adds no row: its time is in the frame time.
+        assert!(!t.add_batch(&[], None, 1e6, 4.0));
+        assert!(!t.passes.contains_key(FRAME_LABEL));
+        assert_eq!(t.passes.len(), 2);
     }
 
     /// Without timestamps no pass is given a share of its batch's time: it goes to `frame`.

@@ -50,6 +50,10 @@ fn the_frame_time_holds_the_passes_and_the_host_gaps() {
                 "{what}: the headline is the frame"
             );
             let t = out.timings.unwrap();
+            if t.source == TimeSource::Timestamps {
+                // Every second of the sum is some pass's own: no `frame` row beside them.
+                assert!(!t.passes.contains_key(FRAME_LABEL), "{what}: {:?}", t.passes.keys());
+            }
             if timing == Timing::Frame || t.source == TimeSource::WallClock {
                 // Counted, not timed: only `frame` has a time.
                 for (label, p) in &t.passes {
