@@ -32,7 +32,7 @@ for carried in .device .gl; do
 done
 travels=$(du -sb "$tree" | cut -f1)
 [ "$travels" -lt $((64 * 1024 * 1024)) ] || fail "what travels is $(mib "$travels"), over the 64 MiB limit"
-echo "device dry run: tracked tree $(mib "$tracked"); travels $(mib "$travels") (binaries $(du -sb .device | cut -f1 | xargs -I{} awk 'BEGIN{printf "%.1f MiB", {}/1048576}'))"
+echo "device dry run: tracked tree $(mib "$tracked"); travels $(mib "$travels") (binaries $(mib "$(du -sb .device | cut -f1)"))"
 
 # The calls a session makes, in priority order (scripts/device_figures.sh --list).
 calls=("tests headline simd" "regeneration regeneration-1080p baselines seeds" "pool material workgroup megakernel-vs-wavefront")

@@ -55,7 +55,8 @@ fn megakernel_regenerate(/*@subgroup_size_param*/) {
     // reconverge before the next one. A lane with nothing left to do idles there, as it would
     // masked off after an early break.
     loop {
-        if leave_together(out_of_work && !live) {
+        // A lane out of work never starts another path, so it is no longer live either.
+        if leave_together(out_of_work) {
             break;
         }
         let wants = !live && !out_of_work;

@@ -34,21 +34,19 @@ fn indirect_arguments_stay_within_the_limit() {
         label: None,
         entries: &[storage_entry(0, true), storage_entry(1, false), storage_entry(2, false)],
     });
-    let group_of = |args_binding: bool| {
-        let mut entries = vec![wgpu::BindGroupEntry { binding: 0, resource: input.as_entire_binding() }];
-        // The indirect dispatch cannot bind its argument buffer as storage: a stand-in there.
-        let stand_in = storage_zeroed(ctx, "stand-in", n * 12, wgpu::BufferUsages::empty()).unwrap();
-        let buffer = if args_binding { &args } else { &stand_in };
-        entries.push(wgpu::BindGroupEntry { binding: 1, resource: buffer.as_entire_binding() });
-        entries.push(wgpu::BindGroupEntry { binding: 2, resource: ran.as_entire_binding() });
-        (
-            ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: None,
-                layout: &layout,
-                entries: &entries,
-            }),
-            stand_in,
-        )
+    // The indirect dispatch cannot bind its argument buffer as storage: a stand-in there.
+    let stand_in = storage_zeroed(ctx, "stand-in", n * 12, wgpu::BufferUsages::empty()).unwrap();
+    let group_of = |binding_1: &wgpu::Buffer| {
+        let entries = [
+            wgpu::BindGroupEntry { binding: 0, resource: input.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: binding_1.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 2, resource: ran.as_entire_binding() },
+        ];
+        ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &layout,
+            entries: &entries,
+        })
     };
     let pl = ctx.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: None,
@@ -59,8 +57,7 @@ fn indirect_arguments_stay_within_the_limit() {
     let constants = [("MAX_WORKGROUPS", limit as f64)];
     let probe = ctx.compute_pipeline("indirect_probe", &module, &pl, &constants).unwrap();
     let count = ctx.compute_pipeline("count_workgroups", &module, &pl, &constants).unwrap();
-    let (write_group, _) = group_of(true);
-    let (count_group, _stand_in) = group_of(false);
+    let (write_group, count_group) = (group_of(&args), group_of(&stand_in));
     let mut enc = ctx.device.create_command_encoder(&Default::default());
     {
         let mut pass = enc.begin_compute_pass(&Default::default());
