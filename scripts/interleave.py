@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """Times render variants interleaved: round after round, each variant once per round, so that a
 slow spell of a shared machine falls on all of them alike. Prints each variant's median time
-(`gpu_seconds` where the run has it, else `wall_seconds`, from `wavetrace render --report`), its
-range, and each median over the first variant's.
+(the headline `frame_seconds` where the run has it — GPU work and the host round trips between
+submissions — else `gpu_seconds`, else `wall_seconds`, from `wavetrace render --report`), its
+range, and each median over the first variant's. `--field NAME` times by another report field
+(e.g. `wall_seconds`, which includes pipeline creation and the upload).
 
 Usage:
     scripts/interleave.py --rounds 5 COMMON_ARGS... -v NAME ARGS... [-v NAME ARGS...]
@@ -23,13 +25,25 @@ import sys
 import tempfile
 
 
+def pick(rec, field):
+    if field:
+        return rec[field]
+    for f in ("frame_seconds", "gpu_seconds"):
+        if rec.get(f):
+            return rec[f]
+    return rec["wall_seconds"]
+
+
 def parse(argv):
-    rounds, common, variants = 3, [], []
+    rounds, field, common, variants = 3, None, [], []
     i = 0
     while i < len(argv):
         a = argv[i]
         if a == "--rounds":
             rounds = int(argv[i + 1])
+            i += 2
+        elif a == "--field":
+            field = argv[i + 1]
             i += 2
         elif a == "-v":
             variants.append((argv[i + 1], []))
@@ -39,11 +53,11 @@ def parse(argv):
             i += 1
     if len(variants) < 2:
         sys.exit("name at least two variants with -v NAME ARGS...")
-    return rounds, common, variants
+    return rounds, field, common, variants
 
 
 def main():
-    rounds, common, variants = parse(sys.argv[1:])
+    rounds, field, common, variants = parse(sys.argv[1:])
     binary = os.environ.get("WAVETRACE_BIN", "target/release/wavetrace")
     times = {name: [] for name, _ in variants}
     with tempfile.TemporaryDirectory() as tmp:
@@ -57,7 +71,7 @@ def main():
                 subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
                 with open(report) as f:
                     rec = json.load(f)
-                times[name].append(rec["gpu_seconds"] if rec.get("gpu_seconds") else rec["wall_seconds"])
+                times[name].append(pick(rec, field))
             print(f"round {r + 1}/{rounds}: " + ", ".join(f"{n} {t[-1]:.4f} s" for n, t in times.items()),
                   file=sys.stderr)
     base = statistics.median(times[variants[0][0]])

@@ -30,15 +30,15 @@ impl Accumulate {
         params: &DispatchUniforms,
         ranges: bool,
     ) -> Result<Self> {
-        let layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some(label::ACCUMULATE),
-            entries: &[
+        let layout = ctx.bind_group_layout(
+            label::ACCUMULATE,
+            &[
                 storage_entry(0, true),
                 storage_entry(1, false),
                 uniform_entry(2, true),
                 uniform_entry(3, false),
             ],
-        });
+        );
         let range = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("accumulate range"),
             contents: bytemuck::bytes_of(&AccumulateRange::default()),

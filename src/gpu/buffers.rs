@@ -96,28 +96,57 @@ pub fn uniform_entry(binding: u32, dynamic_offset: bool) -> wgpu::BindGroupLayou
 }
 
 /// Copies `size` bytes of `src` to the host (in its own submission) and returns them as `T`s.
+/// For one-off reads (the film, end-of-render counters); reads repeated within a render go
+/// through a [`Staging`] buffer.
 pub fn read_back<T: bytemuck::Pod>(ctx: &GpuContext, src: &wgpu::Buffer, size: u64) -> Result<Vec<T>> {
-    let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("read-back"),
-        size,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
+    let staging = Staging::new(ctx, "read-back", size);
     let mut enc =
         ctx.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("read-back") });
-    enc.copy_buffer_to_buffer(src, 0, &staging, 0, size);
+    staging.copy(&mut enc, src, size);
     ctx.queue.submit([enc.finish()]);
-    let (tx, rx) = std::sync::mpsc::channel();
-    staging.slice(..).map_async(wgpu::MapMode::Read, move |r| {
-        let _ = tx.send(r);
-    });
-    ctx.wait()?;
-    rx.recv()
-        .map_err(|_| anyhow!("read-back was never completed"))?
-        .map_err(|e| anyhow!("mapping the read-back buffer failed: {e}"))?;
-    let view = staging.get_mapped_range(..).map_err(|e| anyhow!("read-back: {e}"))?;
-    let out = bytemuck::cast_slice::<u8, T>(&view).to_vec();
-    drop(view);
-    staging.unmap();
-    Ok(out)
+    staging.read(ctx, size)
+}
+
+/// A host-readable buffer reused by every read-back of one kind during a render (the
+/// regenerating schedule's counters at each check, the timestamps of each batch), so that a
+/// check costs a copy recorded into the submission it follows, not a buffer and a submission of
+/// its own.
+pub struct Staging {
+    buffer: wgpu::Buffer,
+}
+
+impl Staging {
+    pub fn new(ctx: &GpuContext, label: &'static str, size: u64) -> Self {
+        let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: size.max(4),
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Self { buffer }
+    }
+
+    /// Records a copy of `src`'s first `size` bytes into the staging buffer.
+    pub fn copy(&self, enc: &mut wgpu::CommandEncoder, src: &wgpu::Buffer, size: u64) {
+        enc.copy_buffer_to_buffer(src, 0, &self.buffer, 0, size);
+    }
+
+    /// The first `size` bytes as `T`s, once the submission holding the copy has run (waits
+    /// for it).
+    pub fn read<T: bytemuck::Pod>(&self, ctx: &GpuContext, size: u64) -> Result<Vec<T>> {
+        let slice = self.buffer.slice(..size);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        ctx.wait()?;
+        rx.recv()
+            .map_err(|_| anyhow!("read-back was never completed"))?
+            .map_err(|e| anyhow!("mapping the read-back buffer failed: {e}"))?;
+        let view = slice.get_mapped_range().map_err(|e| anyhow!("read-back: {e}"))?;
+        let out = bytemuck::cast_slice::<u8, T>(&view).to_vec();
+        drop(view);
+        self.buffer.unmap();
+        Ok(out)
+    }
 }

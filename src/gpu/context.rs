@@ -4,6 +4,7 @@
 //! software adapter (lavapipe) is used with a one-line notice. Device errors and device loss
 //! are captured here and surfaced as `Err` by [`GpuContext::check`], never as panics.
 
+use super::stage_cache::StageCache;
 use anyhow::{anyhow, bail, Result};
 use std::sync::{Arc, Mutex};
 
@@ -134,6 +135,8 @@ pub struct GpuContext {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub summary: AdapterSummary,
+    /// Modules, layouts and pipelines built on this device, reused by later renders.
+    pub stages: StageCache,
     errors: Arc<Mutex<Vec<String>>>,
 }
 
@@ -173,7 +176,7 @@ impl GpuContext {
         device.set_device_lost_callback(move |reason, msg| {
             sink.lock().unwrap().push(format!("device lost ({reason:?}): {msg}"));
         });
-        Ok(Self { adapter, device, queue, summary, errors })
+        Ok(Self { adapter, device, queue, summary, stages: StageCache::default(), errors })
     }
 
     /// Returns the first device error or loss reported since the last check.
@@ -232,8 +235,25 @@ impl GpuContext {
         Ok(pipeline)
     }
 
-    /// Creates a shader module from composed WGSL, reporting compilation errors as `Err`.
+    /// A bind-group layout with `entries`: the one made before on this device if any, so that
+    /// cached pipelines accept the bind groups of later renders.
+    pub fn bind_group_layout(
+        &self,
+        label: &'static str,
+        entries: &[wgpu::BindGroupLayoutEntry],
+    ) -> wgpu::BindGroupLayout {
+        self.stages.layout(entries, || {
+            self.device
+                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(label), entries })
+        })
+    }
+
+    /// A shader module from composed WGSL (compilation errors as `Err`), built once per device.
     pub fn shader(&self, label: &'static str, source: &str) -> Result<wgpu::ShaderModule> {
+        self.stages.module(label, source, || self.build_shader(label, source))
+    }
+
+    fn build_shader(&self, label: &'static str, source: &str) -> Result<wgpu::ShaderModule> {
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(label),

@@ -64,10 +64,7 @@ impl SimdCounters {
                 wgpu::BufferUsages::COPY_SRC,
             )?,
         );
-        let layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("simd counters"),
-            entries: &[storage_entry(0, false)],
-        });
+        let layout = ctx.bind_group_layout("simd counters", &[storage_entry(0, false)]);
         let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("simd counters"),
             layout: &layout,

@@ -14,7 +14,7 @@
 //! two schedules give the same film, and the same settings bit-identical films.
 
 use super::accumulate::Accumulate;
-use super::buffers::{read_back, storage_entry, storage_zeroed, uniform_entry};
+use super::buffers::{read_back, storage_entry, storage_zeroed, uniform_entry, Staging};
 use super::context::GpuContext;
 use super::dispatch_plan::{self, DispatchUniforms};
 use super::gpu_render::GpuRender;
@@ -173,10 +173,7 @@ pub fn render(
 
     let mut entries = vec![storage_entry(0, false), uniform_entry(1, true)];
     entries.extend(work.as_ref().map(|_| storage_entry(2, false)));
-    let layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some(label::MEGAKERNEL),
-        entries: &entries,
-    });
+    let layout = ctx.bind_group_layout(label::MEGAKERNEL, &entries);
     let mut bind = vec![
         wgpu::BindGroupEntry { binding: 0, resource: samples.as_entire_binding() },
         wgpu::BindGroupEntry { binding: 1, resource: params.binding() },
@@ -215,6 +212,8 @@ pub fn render(
                 counted: Failures::default(),
                 threads,
                 wg: opts.workgroup_size,
+                work_staging: Staging::new(ctx, "work counters read-back", 12),
+                failures_staging: Staging::new(ctx, "failure counters read-back", FAILURE_BYTES),
             };
             let n = run.render(&plan, &params, cap, &mut timer, on_progress)?;
             checked_failures = Some(run.counted);
@@ -355,6 +354,9 @@ struct Checked<'a> {
     counted: Failures,
     threads: u32,
     wg: u32,
+    /// Where each attempt's work and failure counters are copied at the end of its submission.
+    work_staging: Staging,
+    failures_staging: Staging,
 }
 
 impl Checked<'_> {
@@ -384,10 +386,12 @@ impl Checked<'_> {
                     self.trace.record(&mut enc, timer, offset, threads, self.wg);
                 }
                 dispatches += launches;
+                self.work_staging.copy(&mut enc, self.work, 12);
+                self.failures_staging.copy(&mut enc, self.failures, FAILURE_BYTES);
                 timer.submit_batch(ctx, enc)?;
-                let words: Vec<u32> = read_back(ctx, self.work, 12)?;
+                let words: Vec<u32> = self.work_staging.read(ctx, 12)?;
                 if words[WORK_CUT] == 0 && words[WORK_FINISHED] == samples {
-                    let words: Vec<u32> = read_back(ctx, self.failures, FAILURE_BYTES)?;
+                    let words: Vec<u32> = self.failures_staging.read(ctx, FAILURE_BYTES)?;
                     self.counted.add(&decode_failures(&words));
                     break;
                 }

@@ -14,6 +14,7 @@ pub mod scene_buffers;
 pub mod schedule;
 pub mod shaders;
 pub mod stage;
+pub mod stage_cache;
 pub mod timing;
 pub mod wavefront;
 

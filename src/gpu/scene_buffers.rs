@@ -28,9 +28,9 @@ pub struct SceneBuffers {
 
 impl SceneBuffers {
     pub fn layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
-        ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("scene"),
-            entries: &[
+        ctx.bind_group_layout(
+            "scene",
+            &[
                 uniform_entry(0, false),
                 storage_entry(1, true),
                 storage_entry(2, true),
@@ -38,7 +38,7 @@ impl SceneBuffers {
                 storage_entry(4, true),
                 storage_entry(5, false),
             ],
-        })
+        )
     }
 
     /// A pass's own pipeline constants plus the scene's, for every pass that binds the scene.

@@ -18,7 +18,8 @@ pub struct Stage {
 }
 
 impl Stage {
-    /// Builds the pipeline for entry point `label` of `module`.
+    /// The pipeline for entry point `label` of `module`: built on the first render that needs it,
+    /// reused from the device's [`StageCache`](super::stage_cache::StageCache) after.
     pub fn new(
         ctx: &GpuContext,
         label: &'static str,
@@ -26,13 +27,15 @@ impl Stage {
         layouts: &[&wgpu::BindGroupLayout],
         constants: &[(&str, f64)],
     ) -> Result<Self> {
-        let layouts: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(|l| Some(*l)).collect();
-        let layout = ctx.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(label),
-            bind_group_layouts: &layouts,
-            immediate_size: 0,
-        });
-        let pipeline = ctx.compute_pipeline(label, module, &layout, constants)?;
+        let pipeline = ctx.stages.pipeline(label, module, layouts, constants, || {
+            let layouts: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(|l| Some(*l)).collect();
+            let layout = ctx.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(label),
+                bind_group_layouts: &layouts,
+                immediate_size: 0,
+            });
+            ctx.compute_pipeline(label, module, &layout, constants)
+        })?;
         Ok(Self { label, pipeline })
     }
 

@@ -5,9 +5,9 @@
 //! host reads counters back and decides, between submissions.
 //!
 //! Resolving and copying timestamps in one encoder can read zeros on Vulkan (wgpu #6406), so the
-//! copy to the host goes in a submission of its own ([`read_back`]).
+//! copy to the host goes in a submission of its own, into a staging buffer reused by every batch.
 
-use super::buffers::read_back;
+use super::buffers::Staging;
 use super::context::GpuContext;
 use super::memory::{MemoryCategory, MemoryLedger};
 use anyhow::Result;
@@ -146,7 +146,7 @@ impl Timings {
 pub const MAX_PASSES_PER_BATCH: u32 = 2048;
 
 pub struct GpuTimer {
-    queries: Option<(wgpu::QuerySet, wgpu::Buffer)>,
+    queries: Option<(wgpu::QuerySet, wgpu::Buffer, Staging)>,
     labels: Vec<(&'static str, Option<u32>)>,
     timings: Timings,
     submitted_at: Option<Instant>,
@@ -168,9 +168,11 @@ impl GpuTimer {
                 usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             });
-            // The query set holds one 8-byte timestamp per query, as the resolve buffer.
-            memory.add(MemoryCategory::Instrumentation, 2 * resolve.size());
-            (set, resolve)
+            let staging = Staging::new(ctx, "timestamp read-back", resolve.size());
+            // The query set holds one 8-byte timestamp per query, as do the resolve and staging
+            // buffers.
+            memory.add(MemoryCategory::Instrumentation, 3 * resolve.size());
+            (set, resolve, staging)
         });
         let source = if queries.is_some() { TimeSource::Timestamps } else { TimeSource::WallClock };
         Self {
@@ -202,7 +204,7 @@ impl GpuTimer {
         assert!(!self.is_full(), "too many passes in one timing batch");
         let i = self.labels.len() as u32;
         self.labels.push((label, bounce));
-        self.queries.as_ref().map(|(set, _)| wgpu::ComputePassTimestampWrites {
+        self.queries.as_ref().map(|(set, _, _)| wgpu::ComputePassTimestampWrites {
             query_set: set,
             beginning_of_pass_write_index: Some(2 * i),
             end_of_pass_write_index: Some(2 * i + 1),
@@ -225,7 +227,7 @@ impl GpuTimer {
     /// Ends a batch: records the resolve of its queries as the encoder's last command, submits
     /// the encoder, waits for it and adds its pass times. The one submit loop of every GPU method.
     pub fn submit_batch(&mut self, ctx: &GpuContext, mut encoder: wgpu::CommandEncoder) -> Result<()> {
-        if let Some((set, buf)) = &self.queries {
+        if let Some((set, buf, _)) = &self.queries {
             if !self.labels.is_empty() {
                 encoder.resolve_query_set(set, 0..2 * self.labels.len() as u32, buf, 0);
             }
@@ -247,7 +249,13 @@ impl GpuTimer {
         let batch = self.submitted_at.take().map_or(0.0, |t| done.duration_since(t).as_secs_f64());
         let labels = std::mem::take(&mut self.labels);
         let ticks: Option<Vec<u64>> = match &self.queries {
-            Some((_, buf)) if !labels.is_empty() => Some(read_back(ctx, buf, labels.len() as u64 * 16)?),
+            Some((_, buf, staging)) if !labels.is_empty() => {
+                let size = labels.len() as u64 * 16;
+                let mut enc = ctx.device.create_command_encoder(&Default::default());
+                staging.copy(&mut enc, buf, size);
+                ctx.queue.submit([enc.finish()]);
+                Some(staging.read(ctx, size)?)
+            }
             _ => None,
         };
         let ns_per_tick = ctx.queue.get_timestamp_period() as f64;

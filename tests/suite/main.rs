@@ -23,6 +23,7 @@ mod sampling;
 mod scale;
 mod scene_format;
 mod stability;
+mod stage_cache;
 mod tidy;
 mod timing;
 mod wavefront;

@@ -45,7 +45,7 @@ pub mod shadow;
 pub mod tail;
 
 use super::accumulate::Accumulate;
-use super::buffers::{read_back, storage_zeroed};
+use super::buffers::{read_back, storage_zeroed, Staging};
 use super::context::GpuContext;
 use super::dispatch_plan::DispatchUniforms;
 use super::gpu_render::GpuRender;
@@ -383,6 +383,12 @@ pub fn render(
     let samples = if regenerate { &b.state.samples } else { &b.state.radiance };
     let accumulate = Accumulate::new(ctx, samples, &film, &params, regenerate)?;
 
+    // Regenerating: the staging buffer every check reads the schedule's counters through.
+    let check_staging = regenerate.then(|| {
+        let bytes = schedule::ChunkCounters::bytes(&ring);
+        memory.add(MemoryCategory::Counters, bytes);
+        Staging::new(ctx, "schedule counters read-back", bytes)
+    });
     let per_iteration = stages.per_iteration();
     let mut timer = GpuTimer::new(ctx, measure.timing, &mut memory);
     let mut histogram = (opts.compaction != Compaction::Off && !regenerate).then(QueueHistogram::default);
@@ -416,6 +422,7 @@ pub fn render(
                 settings.max_depth
             }
             Schedule::Regenerate => {
+                let check = check_staging.as_ref().expect("regenerating renders make a staging buffer");
                 // Iterate until every sample of the share is in the film, reading the counters
                 // back only every `sync_every` iterations; after each read, add the chunks that
                 // are complete (with the tail, finish the oldest ones' last paths first where the
@@ -445,8 +452,9 @@ pub fn render(
                             break;
                         }
                     }
+                    schedule::ChunkCounters::copy(&mut wave.enc, check, &b.state, &r);
                     wave.submit_and_wait(ctx)?;
-                    let c = schedule::ChunkCounters::read(ctx, &b.state, &r, oldest)?;
+                    let c = schedule::ChunkCounters::read(ctx, check, &r, oldest)?;
                     on_progress(done + c.finished as u64);
                     refill = c.started < paths;
                     progress.check(c.finished, i)?;

@@ -151,10 +151,7 @@ impl PathState {
         memory.add(Mem::Parameters, wave_buf.size());
         let mut entries = vec![uniform_entry(0, true), uniform_entry(1, false)];
         entries.extend((2..=15).map(|b| storage_entry(b, false)));
-        let layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("path state"),
-            entries: &entries,
-        });
+        let layout = ctx.bind_group_layout("path state", &entries);
         let storage = [
             &origin,
             &dir,
@@ -186,10 +183,7 @@ impl PathState {
             layout: &layout,
             entries: &bind,
         });
-        let indirect_layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("indirect args"),
-            entries: &[storage_entry(0, false)],
-        });
+        let indirect_layout = ctx.bind_group_layout("indirect args", &[storage_entry(0, false)]);
         let indirect_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("indirect args"),
             layout: &indirect_layout,

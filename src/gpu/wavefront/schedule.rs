@@ -2,7 +2,7 @@
 //! (empty ones apart), iterations (idle ones apart) and the intersect passes' occupancy, read
 //! from the scheduling counters of `shaders/shared/path_state.wgsl`.
 
-use super::super::buffers::read_back;
+use super::super::buffers::{read_back, Staging};
 use super::super::context::GpuContext;
 use super::super::dispatch_plan;
 use super::path_state::{schedule_word as word, PathState, COUNTER_RING, COUNTER_SCHEDULE};
@@ -164,10 +164,21 @@ pub struct ChunkCounters {
 }
 
 impl ChunkCounters {
-    /// The counters of `r` when the chunks before `oldest` are in the film (their ring counts
-    /// cleared).
-    pub fn read(ctx: &GpuContext, state: &PathState, r: &Ring, oldest: u32) -> Result<Self> {
-        let words: Vec<u32> = read_back(ctx, &state.counters, (COUNTER_RING + r.ring as u64) * 4)?;
+    /// Bytes of the counter buffer a check reads (the schedule words and the ring's counts).
+    pub fn bytes(r: &Ring) -> u64 {
+        (COUNTER_RING + r.ring as u64) * 4
+    }
+
+    /// Records the copy of the counters a check reads into `staging`, at the end of the batch
+    /// the check follows (so the check adds no submission of its own).
+    pub fn copy(enc: &mut wgpu::CommandEncoder, staging: &Staging, state: &PathState, r: &Ring) {
+        staging.copy(enc, &state.counters, Self::bytes(r));
+    }
+
+    /// The counters of `r` copied by [`Self::copy`] when the chunks before `oldest` are in the
+    /// film (their ring counts cleared).
+    pub fn read(ctx: &GpuContext, staging: &Staging, r: &Ring, oldest: u32) -> Result<Self> {
+        let words: Vec<u32> = staging.read(ctx, Self::bytes(r))?;
         let ring = words[COUNTER_RING as usize..].to_vec();
         let in_ring: u32 = ring.iter().sum();
         Ok(Self {
