@@ -1,7 +1,9 @@
 //! Composes every entry shader (`shaders/*.wgsl`, `shaders/{tests,wavefront}/*.wgsl`) with its
 //! includes and validates it with naga, so a shader error is a build error. Shaders that include
-//! the `shared/instrument.wgsl` hook get a second, `.instrumented` variant with subgroup
-//! counters. The composed sources land in OUT_DIR and are embedded by `src/gpu/shaders.rs`.
+//! the `shared/instrument.wgsl` hook get an `.instrumented` variant with subgroup counters, and
+//! those that include `shared/append.wgsl` a `.subgroup` variant with subgroup-aggregated queue
+//! appends (and `.instrumented.subgroup` with both). The composed sources land in OUT_DIR and
+//! are embedded by `src/gpu/shaders.rs`.
 
 #[path = "src/shader_include.rs"]
 mod shader_include;
@@ -27,24 +29,36 @@ fn main() {
     let mut failed = false;
     for entry in &entries {
         let name = entry.trim_end_matches(".wgsl").replace('/', "_");
-        let plain = |p: &Path| std::fs::read_to_string(p).map_err(|e| e.to_string());
-        // The `--instrument` variant swaps the no-op hook for subgroup counters.
-        let instrumented = |p: &Path| {
-            let p = if p.ends_with("shared/instrument.wgsl") {
-                root.join("shared/instrument_on.wgsl")
-            } else {
-                p.to_path_buf()
+        // A variant swaps hooks: the `--instrument` variant the no-op instrument hook for
+        // subgroup counters, the `.subgroup` variant per-lane queue appends for subgroup-aggregated
+        // ones (`--append`). A variant is written only where the entry includes every hook it
+        // swaps.
+        let variants: [(&str, &[Hook]); 4] = [
+            ("", &[]),
+            (".instrumented", &[INSTRUMENT]),
+            (".subgroup", &[APPEND]),
+            (".instrumented.subgroup", &[INSTRUMENT, APPEND]),
+        ];
+        for (suffix, hooks) in variants {
+            let read = |p: &Path| {
+                let mut p = p.to_path_buf();
+                for h in hooks.iter() {
+                    if p.ends_with(h.file) {
+                        p = root.join(h.swap);
+                    }
+                }
+                // Entry points hand their subgroup width to `instrument_begin` (instrument.wgsl).
+                std::fs::read_to_string(&p).map_err(|e| e.to_string()).map(|s| {
+                    if hooks.iter().any(|h| h.file == INSTRUMENT.file) {
+                        s.replace("/*@subgroup_size_param*/", "@builtin(subgroup_size) instrument_width: u32")
+                            .replace("/*@subgroup_size_arg*/", "instrument_width")
+                    } else {
+                        s
+                    }
+                })
             };
-            // Entry points hand their subgroup width to `instrument_begin` (instrument.wgsl).
-            std::fs::read_to_string(p).map_err(|e| e.to_string()).map(|s| {
-                s.replace("/*@subgroup_size_param*/", "@builtin(subgroup_size) instrument_width: u32")
-                    .replace("/*@subgroup_size_arg*/", "instrument_width")
-            })
-        };
-        // naga 30 takes subgroup builtins without `enable subgroups;` (which it rejects).
-        let variants: [(&str, Reader); 2] = [("", &plain), (".instrumented", &instrumented)];
-        for (suffix, read) in variants {
-            let (src, files) = match shader_include::compose(root, entry, read) {
+            // naga 30 takes subgroup builtins without `enable subgroups;` (which it rejects).
+            let (src, files) = match shader_include::compose(root, entry, &read) {
                 Ok(x) => x,
                 Err(e) => {
                     println!("cargo:warning=shader {entry}: {e}");
@@ -55,8 +69,8 @@ fn main() {
             for f in &files {
                 println!("cargo:rerun-if-changed=shaders/{f}");
             }
-            if !suffix.is_empty() && !files.iter().any(|f| f == "shared/instrument.wgsl") {
-                break; // no hook, no variant
+            if !hooks.iter().all(|h| files.iter().any(|f| f == h.file)) {
+                continue; // a hook it lacks: no such variant
             }
             if let Err(e) = validate(&src) {
                 println!("cargo:warning=shader {entry}{suffix} is invalid:");
@@ -73,8 +87,14 @@ fn main() {
     }
 }
 
-/// Loads a shader file for composition.
-type Reader<'a> = &'a dyn Fn(&Path) -> Result<String, String>;
+/// A shared file that a variant replaces with another.
+struct Hook {
+    file: &'static str,
+    swap: &'static str,
+}
+
+const INSTRUMENT: Hook = Hook { file: "shared/instrument.wgsl", swap: "shared/instrument_on.wgsl" };
+const APPEND: Hook = Hook { file: "shared/append.wgsl", swap: "shared/append_subgroup.wgsl" };
 
 fn validate(src: &str) -> Result<(), String> {
     let module = naga::front::wgsl::parse_str(src).map_err(|e| e.emit_to_string(src))?;

@@ -174,11 +174,9 @@ fn store_sample(slot: u32) {
     atomicAdd(&counters[COUNTER_RING_0 + (l / wave.chunk) % wave.ring], 1u);
 }
 
-// Appends `slot` to queue `q` with an atomic on its counter.
-fn append(q: u32, slot: u32) {
-    let at = atomicAdd(&counters[q], 1u);
-    queues[q * wave.pool + at] = slot;
-}
+// `append(q, slot)`: one atomic per lane here; the `.subgroup` variant (build.rs) swaps in
+// shared/append_subgroup.wgsl, one atomic per subgroup and queue (`--append`).
+#include "shared/append.wgsl"
 
 // (regenerate) `slot` is on no queue and traces nothing: the next refill may take it.
 fn free_slot(slot: u32) {

@@ -4,7 +4,7 @@ use crate::gpu::buffers::human_bytes;
 use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::memory::{GpuMemory, MemoryCategory};
 use crate::gpu::timing::{TimeSource, Timing, Timings, FRAME_LABEL};
-use crate::gpu::wavefront::{Compaction, Scan, Schedule, ShadePasses, Tail, WavefrontOptions};
+use crate::gpu::wavefront::{Append, Compaction, Scan, Schedule, ShadePasses, Tail, WavefrontOptions};
 use crate::gpu::GpuContext;
 use crate::image_io::{self, RgbImage};
 use crate::light_options::{LightOptions, LightSampling, LightSelect};
@@ -158,6 +158,10 @@ pub struct RenderArgs {
     /// adapter has them: `auto`) or with the Hillis–Steele workgroup scan.
     #[arg(long, value_enum, default_value_t = Scan::Auto)]
     pub scan: Scan,
+    /// Wavefront: append paths to queues with one atomic per subgroup and queue (where the
+    /// adapter has subgroups: `auto`) or one per lane.
+    #[arg(long, value_enum, default_value_t = Append::Auto)]
+    pub append: Append,
     /// GPU methods: count SIMD efficiency per pass with subgroup operations (adds atomics: use
     /// separate runs for timing).
     #[arg(long)]
@@ -221,6 +225,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             tail_threshold: a.tail_threshold,
             chunk_pools: a.chunk_pools,
             scan: a.scan,
+            append: a.append,
         },
         instrument: a.instrument,
         timing: a.timing,

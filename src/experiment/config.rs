@@ -76,7 +76,7 @@ use serde_json::{Map, Value};
 
 use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::timing::Timing;
-use crate::gpu::wavefront::{Compaction, Scan, Schedule, ShadePasses, Tail, WavefrontOptions};
+use crate::gpu::wavefront::{Append, Compaction, Scan, Schedule, ShadePasses, Tail, WavefrontOptions};
 use crate::input_error::InputError;
 use crate::light_options::{LightOptions, LightSampling, LightSelect};
 use crate::method::{Method, MethodOptions};
@@ -127,6 +127,7 @@ pub const KNOBS: &[&str] = &[
     "tail",
     "tail_threshold",
     "scan",
+    "append",
     "timing",
     "light_sampling",
     "light_select",
@@ -174,9 +175,11 @@ const WAVEFRONT_KNOBS: &[&str] = &[
     "tail_threshold",
     "chunk_pools",
     "scan",
+    "append",
     "timing",
 ];
 const SCANS: &[&str] = &["auto", "subgroup", "workgroup"];
+const APPENDS: &[&str] = &["auto", "lane", "subgroup"];
 const LIGHT_SAMPLINGS: &[&str] = &["area", "solid-angle"];
 const LIGHT_SELECTS: &[&str] = &["uniform", "power"];
 const SPHERE_HITS: &[&str] = &["book", "stable"];
@@ -656,6 +659,13 @@ impl Cx {
                 _ => Scan::Auto,
             })
         })?;
+        let append = self.knob(o, &opt_path("append"), "append", |v, p| {
+            Ok(match self.choice(v, p, APPENDS)? {
+                "subgroup" => Append::Subgroup,
+                "lane" => Append::Lane,
+                _ => Append::Auto,
+            })
+        })?;
         let timing = self.knob(o, &opt_path("timing"), "timing", |v, p| {
             Ok(if self.choice(v, p, TIMINGS)? == "frame" { Timing::Frame } else { Timing::Passes })
         })?;
@@ -747,6 +757,10 @@ impl Cx {
         expand(&mut variants, &scan, wf.scan, labelled, |o, &sc| {
             o.wavefront.scan = sc;
             format!("scan={}", kebab(&sc))
+        });
+        expand(&mut variants, &append, wf.append, labelled, |o, &a| {
+            o.wavefront.append = a;
+            format!("append={}", kebab(&a))
         });
         expand(&mut variants, &timing, Timing::Passes, labelled, |o, &t| {
             o.timing = t;

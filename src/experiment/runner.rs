@@ -267,6 +267,7 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
             "tail_threshold": o.wavefront.tail_threshold,
             "chunk_pools": o.wavefront.chunk_pools,
             "scan": o.wavefront.scan,
+            "append": o.wavefront.append,
             "timing": o.timing,
         }),
     };

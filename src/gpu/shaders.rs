@@ -7,18 +7,28 @@ macro_rules! composed {
     };
 }
 
-/// A shader in its timing and `--instrument` variants.
+/// A shader in its timing and `--instrument` variants, and for wavefront passes that append to
+/// queues, both again with subgroup-aggregated appends (`--append subgroup`).
 pub struct Variants {
     pub plain: &'static str,
     pub instrumented: &'static str,
+    /// (plain, instrumented) with `shared/append_subgroup.wgsl`.
+    pub subgroup_append: Option<(&'static str, &'static str)>,
 }
 
 impl Variants {
     pub fn get(&self, instrumented: bool) -> &'static str {
-        if instrumented {
-            self.instrumented
-        } else {
-            self.plain
+        self.select(instrumented, false)
+    }
+
+    /// The variant with subgroup-aggregated appends where asked for (passes that append
+    /// nothing have one variant for both).
+    pub fn select(&self, instrumented: bool, subgroup_append: bool) -> &'static str {
+        match (self.subgroup_append, instrumented) {
+            (Some((plain, _)), false) if subgroup_append => plain,
+            (Some((_, instrumented)), true) if subgroup_append => instrumented,
+            (_, true) => self.instrumented,
+            (_, false) => self.plain,
         }
     }
 }
@@ -28,6 +38,17 @@ macro_rules! variants {
         Variants {
             plain: composed!($name),
             instrumented: include_str!(concat!(env!("OUT_DIR"), "/", $name, ".instrumented.wgsl")),
+            subgroup_append: None,
+        }
+    };
+    ($name:literal, appends) => {
+        Variants {
+            plain: composed!($name),
+            instrumented: include_str!(concat!(env!("OUT_DIR"), "/", $name, ".instrumented.wgsl")),
+            subgroup_append: Some((
+                include_str!(concat!(env!("OUT_DIR"), "/", $name, ".subgroup.wgsl")),
+                include_str!(concat!(env!("OUT_DIR"), "/", $name, ".instrumented.subgroup.wgsl")),
+            )),
         }
     };
 }
@@ -38,11 +59,11 @@ pub const MEGAKERNEL_REGENERATE_SUBGROUP: Variants = variants!("megakernel_regen
 pub const ACCUMULATE: &str = composed!("accumulate");
 pub const RNG_PROBE: &str = composed!("tests_rng_probe");
 pub const INDIRECT_PROBE: &str = composed!("tests_indirect_probe");
-pub const GENERATE: Variants = variants!("wavefront_generate");
-pub const INTERSECT: Variants = variants!("wavefront_intersect");
-pub const SHADE: Variants = variants!("wavefront_shade");
-pub const SHADOW: Variants = variants!("wavefront_shadow");
-pub const TAIL: Variants = variants!("wavefront_tail");
+pub const GENERATE: Variants = variants!("wavefront_generate", appends);
+pub const INTERSECT: Variants = variants!("wavefront_intersect", appends);
+pub const SHADE: Variants = variants!("wavefront_shade", appends);
+pub const SHADOW: Variants = variants!("wavefront_shadow", appends);
+pub const TAIL: Variants = variants!("wavefront_tail", appends);
 pub const QUEUE_SETUP: &str = composed!("wavefront_queue_setup");
 pub const COMPACT: &str = composed!("wavefront_compact");
 pub const COMPACT_SUBGROUP: &str = composed!("wavefront_compact_subgroup");

@@ -537,6 +537,43 @@ fn the_subgroup_scan_builds_the_same_queues() {
     }
 }
 
+/// Subgroup-aggregated appends reserve the same entries as per-lane atomics, only in a different
+/// order within a queue; the ring makes the film independent of that order, so films are
+/// bit-identical on every schedule and tail (instrumented too: its own shader variant).
+#[test]
+fn subgroup_appends_give_the_same_film() {
+    use wavetrace::gpu::wavefront::Append;
+    let Some(ctx) = common::gpu() else { return };
+    if !ctx.summary.subgroups {
+        eprintln!("SKIPPED: {} has no subgroup operations", ctx.summary.name);
+        return;
+    }
+    let s = RenderSettings { nee: true, max_depth: 12, ..settings(8) };
+    let cases = [
+        (Schedule::Waves, Tail::Off, false),
+        (Schedule::Regenerate, Tail::Off, false),
+        (Schedule::Regenerate, Tail::Megakernel, false),
+        (Schedule::Waves, Tail::Off, true),
+    ];
+    for (schedule, tail, instrument) in cases {
+        let with = |append| {
+            let wf = WavefrontOptions { pool_size: Some(3000), schedule, tail, append, ..Default::default() };
+            let opts = MethodOptions { wavefront: wf, instrument, ..Default::default() };
+            let out = run(Method::Wavefront, "cornell", &s, &opts);
+            (out.film, out.schedule.unwrap().subgroup_append)
+        };
+        let (lane, used) = with(Append::Lane);
+        assert!(!used);
+        let (subgroup, used) = with(Append::Subgroup);
+        assert!(used);
+        assert!(lane.image_mean() > 0.0, "{schedule:?}: a black film proves nothing");
+        assert_eq!(subgroup, lane, "{schedule:?} {tail:?} instrument={instrument}");
+        let (auto, used) = with(Append::Auto);
+        assert!(used, "auto takes subgroups where the adapter has them");
+        assert_eq!(auto, lane);
+    }
+}
+
 /// The pool holds only what the render's passes read: the shadow ray and weight with a shadow
 /// pass (NEE on, a scene with lights), the scan's scratch with the scan compaction, each slot's
 /// sample when regenerating; unused buffers are one 16-byte element. `bytes_per_path` says the same.

@@ -34,6 +34,7 @@
 //! random numbers and the film adds each pixel's samples in sample order under both schedules,
 //! so they give bit-identical films.
 
+pub mod append;
 pub mod compact;
 pub mod generate;
 pub mod intersect;
@@ -61,6 +62,7 @@ use crate::layout::{AccumulateRange, FilmPixel, WaveUniform};
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
+pub use append::Append;
 pub use compact::Scan;
 use compact::Target;
 use path_state::{
@@ -115,6 +117,8 @@ pub struct WavefrontOptions {
     pub chunk_pools: u32,
     /// How the scan compaction scans a workgroup.
     pub scan: Scan,
+    /// How passes append paths to queues.
+    pub append: Append,
 }
 
 impl Default for WavefrontOptions {
@@ -130,6 +134,7 @@ impl Default for WavefrontOptions {
             tail_threshold: tail::DEFAULT_THRESHOLD,
             chunk_pools: schedule::CHUNK_POOLS,
             scan: Scan::Auto,
+            append: Append::Auto,
         }
     }
 }
@@ -169,6 +174,8 @@ pub struct Bindings {
     pub simd: Option<SimdCounters>,
     /// `--schedule regenerate` (the `REGENERATE` pipeline constant).
     pub regenerate: bool,
+    /// Whether passes use the shader variants with subgroup-aggregated appends (`--append`).
+    pub subgroup_append: bool,
 }
 
 impl Bindings {
@@ -317,6 +324,7 @@ pub fn render(
     schedule::check_chunk_pools(opts.chunk_pools)?;
     tail::check_threshold(opts.tail_threshold)?;
     let subgroup_scan = opts.scan.uses_subgroups(ctx)?;
+    let subgroup_append = opts.append.uses_subgroups(ctx)?;
     let regenerate = opts.schedule == Schedule::Regenerate;
     if opts.tail == Tail::Megakernel && !regenerate {
         bail!("--tail megakernel finishes regenerated paths: it needs --schedule regenerate");
@@ -360,6 +368,7 @@ pub fn render(
         state: PathState::new(ctx, pool, wave, &params, stats_bounces, layout, &mut memory)?,
         simd: instrument.then(|| SimdCounters::new(ctx, &mut memory)).transpose()?,
         regenerate,
+        subgroup_append,
     };
     let film_bytes = pixels as u64 * std::mem::size_of::<FilmPixel>() as u64;
     let film = memory
@@ -394,6 +403,7 @@ pub fn render(
     let mut histogram = (opts.compaction != Compaction::Off && !regenerate).then(QueueHistogram::default);
     let mut stats = ScheduleStats::new(opts.schedule, opts.sync_every, pool);
     stats.subgroup_scan = (opts.compaction == Compaction::Scan).then_some(subgroup_scan);
+    stats.subgroup_append = subgroup_append;
     let mut done = 0u64;
     for (w, d) in shares.iter().enumerate() {
         let paths = d.pixel_count * d.sample_count;

@@ -266,6 +266,8 @@ pub struct ScheduleStats {
     pub tail_paths: u64,
     /// With the scan compaction: whether its workgroup scan used subgroup operations.
     pub subgroup_scan: Option<bool>,
+    /// Whether queue appends were aggregated per subgroup (`--append`).
+    pub subgroup_append: bool,
     #[serde(skip)]
     intersected: u64,
     #[serde(skip)]
@@ -286,6 +288,7 @@ impl ScheduleStats {
             tail_passes: 0,
             tail_paths: 0,
             subgroup_scan: None,
+            subgroup_append: false,
             intersected: 0,
             pool,
         }

@@ -21,7 +21,7 @@ impl Shade {
         workgroup_size: u32,
         instrument: bool,
     ) -> Result<Self> {
-        let module = ctx.shader(label::SHADE, shaders::SHADE.get(instrument))?;
+        let module = ctx.shader(label::SHADE, shaders::SHADE.select(instrument, b.subgroup_append))?;
         let constants = b.constants(&[("WORKGROUP_SIZE", workgroup_size as f64)]);
         let passes: Vec<(u64, &'static str)> = match kinds {
             Some(kinds) => {

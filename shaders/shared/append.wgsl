@@ -1,0 +1,8 @@
+// Queue appends, one atomic per lane (`--append lane`, and adapters without subgroups): appends
+// `slot` to queue `q` (`counters[q]` counts its entries). The order within a queue is whatever
+// order the atomics run in; nothing depends on it (the film adds samples in sample order).
+
+fn append(q: u32, slot: u32) {
+    let at = atomicAdd(&counters[q], 1u);
+    queues[q * wave.pool + at] = slot;
+}

@@ -1,0 +1,22 @@
+// Queue appends aggregated per subgroup (`--append subgroup`): the active lanes that append to
+// the same queue reserve their entries with one atomic, made by the first of them, instead of
+// one atomic each on the same counter (the pattern of shaders/megakernel_regenerate_subgroup.wgsl
+// and CUDA's warp-aggregated atomics). The loop takes one queue per round, the first active
+// lane's: a subgroup whose lanes append to k queues runs k rounds. Correct whatever the driver
+// groups together: each group of lanes that runs the subgroup operations together elects its own
+// first lane and reserves its own entries.
+
+fn append(q: u32, slot: u32) {
+    loop {
+        if q == subgroupBroadcastFirst(q) {
+            let rank = subgroupExclusiveAdd(1u);
+            let count = subgroupAdd(1u);
+            var base = 0u;
+            if rank == 0u {
+                base = atomicAdd(&counters[q], count);
+            }
+            queues[q * wave.pool + subgroupBroadcastFirst(base) + rank] = slot;
+            break;
+        }
+    }
+}
