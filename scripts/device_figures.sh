@@ -24,7 +24,7 @@
 #   baselines           baselines.json (1280x720 and 1080p, NEE, threads sweep) 5.8e9 ~1 min
 #   seeds               rtiow-final 1920x1080x500, each GPU method once      5.2e9  ~1 min
 #   fixed-costs         queue appends per lane against per subgroup, rtiow-final and mesh-room
-#                       at 1920x1080x16 (device/fixed_costs.json)          1.3e9  <1 min
+#                       at 1920x1080x16, and the scan compaction (device/fixed_costs.json) 1.5e9 <1 min
 #   pool                pool_memory.json                                     1.6e9  <1 min
 #   material            material_cost.json                                   1.5e9  <1 min
 #   workgroup           workgroup_size.json                                  1.4e9  <1 min

@@ -28,8 +28,8 @@ fn compact_scan(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_in
 }
 
 @compute @workgroup_size(SCAN_WG)
-fn compact_blocks(@builtin(local_invocation_index) lid: u32) {
-    compact_blocks_main(lid, Lanes(0u, 0u, 0u));
+fn compact_blocks(@builtin(local_invocation_index) lid: u32, @builtin(workgroup_id) wid: vec3<u32>) {
+    compact_blocks_main(lid, wid, Lanes(0u, 0u, 0u));
 }
 
 @compute @workgroup_size(SCAN_WG)

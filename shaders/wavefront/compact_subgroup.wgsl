@@ -39,9 +39,10 @@ fn compact_scan(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_in
 }
 
 @compute @workgroup_size(SCAN_WG)
-fn compact_blocks(@builtin(local_invocation_index) lid: u32, @builtin(subgroup_invocation_id) lane: u32,
-                  @builtin(subgroup_size) size: u32, @builtin(subgroup_id) id: u32) {
-    compact_blocks_main(lid, Lanes(lane, size, id));
+fn compact_blocks(@builtin(local_invocation_index) lid: u32, @builtin(workgroup_id) wid: vec3<u32>,
+                  @builtin(subgroup_invocation_id) lane: u32, @builtin(subgroup_size) size: u32,
+                  @builtin(subgroup_id) id: u32) {
+    compact_blocks_main(lid, wid, Lanes(lane, size, id));
 }
 
 @compute @workgroup_size(SCAN_WG)

@@ -574,6 +574,36 @@ fn subgroup_appends_give_the_same_film() {
     }
 }
 
+/// The scan's block pass runs one workgroup per 1,024 blocks of 256 positions, each starting from
+/// the sum of the blocks before its own: with a pool of three such groups (queues that cross group
+/// boundaries), the scan builds queues holding the same paths as the atomic appends, so the films
+/// and the queue sizes per bounce are the same, with either workgroup scan.
+#[test]
+fn the_scan_spans_block_groups() {
+    use wavetrace::gpu::wavefront::Scan;
+    let Some(ctx) = common::gpu() else { return };
+    let s = RenderSettings { width: 128, height: 96, spp: 48, max_depth: 3, ..settings(1) };
+    let pool = 128 * 96 * 48;
+    assert!(pool > 2 * 1024 * 256, "three groups of blocks");
+    let with = |compaction, scan| {
+        let wf = WavefrontOptions { pool_size: Some(pool), compaction, scan, ..Default::default() };
+        let out = run_wavefront("cornell", &s, wf);
+        assert_eq!(out.pool, Some(pool));
+        (out.film, out.histogram.unwrap())
+    };
+    let (atomic, atomic_sizes) = with(Compaction::Atomic, Scan::Auto);
+    assert!(atomic.image_mean() > 0.0);
+    let mut scans = vec![Scan::Workgroup];
+    if ctx.summary.subgroups {
+        scans.push(Scan::Subgroup);
+    }
+    for scan in scans {
+        let (film, sizes) = with(Compaction::Scan, scan);
+        assert_eq!(sizes, atomic_sizes, "{scan:?}: queue sizes per bounce");
+        assert_eq!(film, atomic, "{scan:?}");
+    }
+}
+
 /// The pool holds only what the render's passes read: the shadow ray and weight with a shadow
 /// pass (NEE on, a scene with lights), the scan's scratch with the scan compaction, each slot's
 /// sample when regenerating; unused buffers are one 16-byte element. `bytes_per_path` says the same.
@@ -606,7 +636,9 @@ fn pool_memory_follows_the_knobs() {
     assert_eq!(nee_shadow, pool * 32, "shadow ray and weight per slot");
     let (scan, _, scan_queues, _) = memory(false, Compaction::Scan, Schedule::Waves);
     assert_eq!(scan, plain + 12);
-    assert_eq!(scan_queues - plain_queues, pool * 12 + pool.div_ceil(256) * 16 - 4 * 16, "scan scratch");
+    // Scratch per slot, a total and a prefix sum per block of 256 positions.
+    let block_sums = 2 * pool.div_ceil(256) * 16;
+    assert_eq!(scan_queues - plain_queues, pool * 12 + block_sums - 4 * 16, "scan scratch");
     let (regen, _, _, regen_state) = memory(false, Compaction::Atomic, Schedule::Regenerate);
     assert_eq!(regen, plain + 8);
     assert_eq!(regen_state - plain_state, pool * 8 - 16, "each slot's sample and bounce");

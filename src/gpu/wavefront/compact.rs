@@ -1,12 +1,12 @@
 //! compact (`shaders/wavefront/compact.wgsl`): the prefix-sum scan that builds dense queues when
 //! `--compaction-method scan` (the alternative to atomic appends). Three passes over the queue
 //! positions the previous pass processed (sized on the GPU by queue_setup): per-workgroup scan,
-//! scan of workgroup totals, scatter; built twice, for the material queues (after intersect) and
+//! scan of workgroup totals (a workgroup per 1,024 of them), scatter; built twice, for the material queues (after intersect) and
 //! for the next ray queue (after shade).
 
 use super::super::stage::{Stage, Workgroups};
 use super::super::{context::GpuContext, label, shaders};
-use super::path_state::ARGS_COMPACT;
+use super::path_state::{scan_block_groups, ARGS_COMPACT};
 use super::{Bindings, WaveRecorder};
 
 /// Which queues a compaction builds.
@@ -80,7 +80,8 @@ impl Compact {
         // Scene and path state only.
         let (scan_args, scatter_args) = (args(), args());
         wave.record(scan, Some(bounce), 2, scan_args);
-        wave.record(blocks, Some(bounce), 2, Workgroups::Direct(1));
+        let groups = scan_block_groups(wave.b.state.pool as u64) as u32;
+        wave.record(blocks, Some(bounce), 2, Workgroups::Direct(groups));
         wave.record(scatter, Some(bounce), 2, scatter_args);
     }
 }

@@ -80,6 +80,20 @@ impl PoolLayout {
 pub const LARGEST_BINDING_PER_PATH: u64 = QUEUE_COUNT * 4;
 pub const SCAN_WG: u64 = 256;
 
+/// `block_sums` entries for a pool (shaders/shared/compact.wgsl): a total per scan block, then
+/// each block's prefix sum (a separate copy, as the block pass's workgroups read other groups'
+/// totals while writing their own prefixes).
+pub fn scan_block_sums(pool: u64) -> u64 {
+    2 * pool.div_ceil(SCAN_WG)
+}
+
+/// Workgroups of the scan's block pass: one per GROUP_CHUNKS × SCAN_WG blocks of SCAN_WG
+/// positions (`GROUP_CHUNKS` in shaders/shared/compact.wgsl).
+pub fn scan_block_groups(pool: u64) -> u64 {
+    const GROUP_CHUNKS: u64 = 4;
+    pool.div_ceil(GROUP_CHUNKS * SCAN_WG * SCAN_WG)
+}
+
 pub struct PathState {
     pub layout: wgpu::BindGroupLayout,
     pub bind_group: wgpu::BindGroup,
@@ -94,6 +108,8 @@ pub struct PathState {
     pub counters: wgpu::Buffer,
     pub indirect: wgpu::Buffer,
     pub stats_bounces: u32,
+    /// Slots in the pool.
+    pub pool: u32,
 }
 
 impl PathState {
@@ -132,7 +148,7 @@ impl PathState {
         let block_sums = buffer(
             Mem::Queues,
             "scan block sums",
-            if uses.scan { pool64.div_ceil(SCAN_WG) * 16 } else { 16 },
+            if uses.scan { scan_block_sums(pool64) * 16 } else { 16 },
             none,
         )?;
         let scan_slot = buffer(Mem::Queues, "scan slots", per_slot(uses.scan, 4), none)?;
@@ -200,6 +216,7 @@ impl PathState {
             counters,
             indirect,
             stats_bounces,
+            pool,
         })
     }
 
