@@ -81,8 +81,13 @@ pub struct RunReport {
     /// time, since it includes the GPU idle while the host reads counters back between
     /// submissions, where the schedules differ.
     pub frame_seconds: Option<f64>,
-    /// `frame_seconds` − `gpu_seconds`: what the sum of passes leaves out (GPU methods).
+    /// Frame time between a submission's completion and the next submission: the GPU idle
+    /// while the host reads counters back and records (GPU methods).
     pub host_gap_seconds: Option<f64>,
+    /// `frame_seconds` − `gpu_seconds` − `host_gap_seconds`: the GPU's time between its timed
+    /// passes inside a submission (launches, barriers, cache flushes: a fixed cost per pass);
+    /// with per-pass timestamps only.
+    pub between_passes_seconds: Option<f64>,
     pub time_source: Option<TimeSource>,
     pub passes: BTreeMap<&'static str, PassTime>,
     /// Compute passes dispatched, empty ones included (GPU methods).
@@ -153,7 +158,12 @@ impl RunReport {
             wall_seconds: out.wall_seconds,
             gpu_seconds,
             frame_seconds,
-            host_gap_seconds: frame_seconds.zip(gpu_seconds).map(|(f, g)| f - g),
+            host_gap_seconds: out.timings.as_ref().map(|t| t.host_gap_seconds),
+            between_passes_seconds: out
+                .timings
+                .as_ref()
+                .filter(|t| t.per_pass())
+                .map(|t| t.frame_seconds - t.total_seconds() - t.host_gap_seconds),
             time_source: out.timings.as_ref().map(|t| t.source),
             passes: out.timings.as_ref().map(|t| t.passes.clone()).unwrap_or_default(),
             dispatches: out.dispatches,

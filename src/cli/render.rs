@@ -275,9 +275,11 @@ pub fn run(a: RenderArgs) -> Result<()> {
 fn print_summary(r: &RunReport, out: &std::path::Path) {
     let s = &r.settings;
     let gpu = match (r.gpu_seconds, r.frame_seconds, r.time_source) {
-        (Some(g), Some(f), Some(TimeSource::Timestamps)) => {
-            format!(", {f:.3} s frame ({g:.3} s in passes by timestamps, {:.3} s host gaps)", f - g)
-        }
+        (Some(g), Some(f), Some(TimeSource::Timestamps)) => format!(
+            ", {f:.3} s frame ({g:.3} s in passes by timestamps, {:.3} s between passes, {:.3} s host gaps)",
+            r.between_passes_seconds.unwrap_or(0.0),
+            r.host_gap_seconds.unwrap_or(0.0)
+        ),
         (Some(_), Some(f), _) => format!(", {f:.3} s frame (wall clock: no timestamps, no time per pass)"),
         _ => String::new(),
     };

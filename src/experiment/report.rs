@@ -196,9 +196,14 @@ pub struct RunRecord {
     /// work plus the GPU's idle time while the host reads back and decides.
     #[serde(default)]
     pub frame_seconds: Option<Stat>,
-    /// Median frame time − median GPU time: what the sum of passes leaves out.
+    /// Median over repetitions of the frame's host gaps: the GPU idle between a submission's
+    /// completion and the next submission, while the host reads back and records.
     #[serde(default)]
     pub host_gap_seconds: Option<f64>,
+    /// Median frame − median GPU time − host gaps: the GPU's time between its timed passes
+    /// (launches, barriers), with per-pass timestamps only.
+    #[serde(default)]
+    pub between_passes_seconds: Option<f64>,
     /// `timestamps` or `wall-clock` (GPU methods).
     pub time_source: Option<String>,
     /// The time samples/s, rays/s and efficiency use: median frame time (GPU methods; reports

@@ -205,6 +205,7 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         gpu_seconds: None,
         frame_seconds: None,
         host_gap_seconds: None,
+        between_passes_seconds: None,
         time_source: None,
         seconds: None,
         passes: BTreeMap::new(),
@@ -337,8 +338,16 @@ fn measure(
     rec.wall_seconds = Stat::of(&wall);
     rec.gpu_seconds = Stat::of(&gpu_times);
     rec.frame_seconds = Stat::of(&frame_times);
-    rec.host_gap_seconds =
-        rec.frame_seconds.as_ref().zip(rec.gpu_seconds.as_ref()).map(|(f, g)| f.median - g.median);
+    let gaps: Vec<f64> = reports.iter().filter_map(|r| r.host_gap_seconds).collect();
+    rec.host_gap_seconds = Stat::of(&gaps).map(|s| s.median);
+    let timed_per_pass = reports.iter().all(|r| r.between_passes_seconds.is_some());
+    rec.between_passes_seconds = rec
+        .frame_seconds
+        .as_ref()
+        .zip(rec.gpu_seconds.as_ref())
+        .zip(rec.host_gap_seconds)
+        .filter(|_| timed_per_pass)
+        .map(|((f, g), h)| f.median - g.median - h);
     // The headline time: the frame's, host round trips included.
     let seconds = rec
         .frame_seconds

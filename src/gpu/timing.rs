@@ -64,6 +64,10 @@ pub struct Timings {
     /// Wall-clock seconds from the first submission to the last completion: the GPU's work and
     /// its idle time between submissions (host read-backs and decisions) alike.
     pub frame_seconds: f64,
+    /// Wall-clock seconds within the frame between a submission's completion and the next
+    /// submission: the GPU certainly idle while the host reads back and records. The rest of
+    /// the frame outside the passes is the GPU's own time between passes (launches, barriers).
+    pub host_gap_seconds: f64,
     pub passes: BTreeMap<&'static str, PassTime>,
     /// Seconds per bounce (index) for passes that run once per bounce.
     pub per_bounce: BTreeMap<&'static str, Vec<f64>>,
@@ -151,6 +155,7 @@ pub struct GpuTimer {
     timings: Timings,
     submitted_at: Option<Instant>,
     first_submitted: Option<Instant>,
+    last_done: Option<Instant>,
 }
 
 impl GpuTimer {
@@ -181,11 +186,13 @@ impl GpuTimer {
             timings: Timings {
                 source,
                 frame_seconds: 0.0,
+                host_gap_seconds: 0.0,
                 passes: BTreeMap::new(),
                 per_bounce: BTreeMap::new(),
             },
             submitted_at: None,
             first_submitted: None,
+            last_done: None,
         }
     }
 
@@ -234,6 +241,9 @@ impl GpuTimer {
         }
         ctx.queue.submit([encoder.finish()]);
         let now = Instant::now();
+        if let Some(done) = self.last_done {
+            self.timings.host_gap_seconds += now.duration_since(done).as_secs_f64();
+        }
         self.submitted_at = Some(now);
         self.first_submitted.get_or_insert(now);
         self.finish_batch(ctx)
@@ -243,6 +253,7 @@ impl GpuTimer {
     fn finish_batch(&mut self, ctx: &GpuContext) -> Result<()> {
         ctx.wait()?;
         let done = Instant::now();
+        self.last_done = Some(done);
         if let Some(first) = self.first_submitted {
             self.timings.frame_seconds = done.duration_since(first).as_secs_f64();
         }
@@ -275,7 +286,13 @@ mod tests {
     use super::*;
 
     fn timings(source: TimeSource) -> Timings {
-        Timings { source, frame_seconds: 0.0, passes: BTreeMap::new(), per_bounce: BTreeMap::new() }
+        Timings {
+            source,
+            frame_seconds: 0.0,
+            host_gap_seconds: 0.0,
+            passes: BTreeMap::new(),
+            per_bounce: BTreeMap::new(),
+        }
     }
 
     #[test]

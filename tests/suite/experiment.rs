@@ -297,6 +297,7 @@ fn comparable(report: &ExperimentReport) -> Value {
             "gpu_seconds",
             "frame_seconds",
             "host_gap_seconds",
+            "between_passes_seconds",
             "seconds",
             "passes",
             "passes_per_bounce",
@@ -527,6 +528,7 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
         [
             "baselines.json",
             "cpu_vs_gpu.json",
+            "device/fixed_costs.json",
             "device/headline.json",
             "device/regeneration_1080p.json",
             "device/seeds_1080p.json",
