@@ -4,7 +4,9 @@ slow spell of a shared machine falls on all of them alike. Prints each variant's
 (the headline `frame_seconds` where the run has it — GPU work and the host round trips between
 submissions — else `gpu_seconds`, else `wall_seconds`, from `wavetrace render --report`), its
 range, and each median over the first variant's. `--field NAME` times by another report field
-(e.g. `wall_seconds`, which includes pipeline creation and the upload).
+(e.g. `wall_seconds`, which includes pipeline creation and the upload). Renders run with
+`--timing frame` (no per-pass timestamps, which on some drivers wait for the work before each
+one and so charge the method with the most passes) unless the arguments name `--timing`.
 
 Usage:
     scripts/interleave.py --rounds 5 COMMON_ARGS... -v NAME ARGS... [-v NAME ARGS...]
@@ -67,7 +69,9 @@ def main():
                 own = [a[len("--bin="):] for a in args if a.startswith("--bin=")]
                 args = [a for a in args if not a.startswith("--bin=")]
                 exe = own[-1] if own else binary
-                cmd = [exe, "render", *common, *args, "--out", os.path.join(tmp, "run.exr"), "--report", report]
+                timing = [] if "--timing" in common + args else ["--timing", "frame"]
+                cmd = [exe, "render", *common, *args, *timing, "--out", os.path.join(tmp, "run.exr"),
+                       "--report", report]
                 subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
                 with open(report) as f:
                     rec = json.load(f)

@@ -276,7 +276,8 @@ fn print_summary(r: &RunReport, out: &std::path::Path) {
     let s = &r.settings;
     let gpu = match (r.gpu_seconds, r.frame_seconds, r.time_source) {
         (Some(g), Some(f), Some(TimeSource::Timestamps)) => format!(
-            ", {f:.3} s frame ({g:.3} s in passes by timestamps, {:.3} s between passes, {:.3} s host gaps)",
+            ", {f:.3} s frame with per-pass timestamps, which can slow it (--timing frame for the \
+             unperturbed frame): {g:.3} s in passes, {:.3} s between passes, {:.3} s host gaps",
             r.between_passes_seconds.unwrap_or(0.0),
             r.host_gap_seconds.unwrap_or(0.0)
         ),

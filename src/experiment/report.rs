@@ -204,6 +204,11 @@ pub struct RunRecord {
     /// (launches, barriers), with per-pass timestamps only.
     #[serde(default)]
     pub between_passes_seconds: Option<f64>,
+    /// The frame time of the one repetition run with per-pass timestamps, for the per-pass
+    /// table, after the timed ones without them; beside `frame_seconds` it shows what the
+    /// timestamps cost on this adapter (GPU methods with `timing: passes` and timestamps).
+    #[serde(default)]
+    pub profiled_frame_seconds: Option<f64>,
     /// `timestamps` or `wall-clock` (GPU methods).
     pub time_source: Option<String>,
     /// The time samples/s, rays/s and efficiency use: median frame time (GPU methods; reports

@@ -1,5 +1,6 @@
 //! Runs an experiment: every planned run (or a shard's share) in turn, each as warm-up renders,
-//! timed repetitions and an optional instrumented render, then its image, error against the
+//! timed repetitions (GPU methods without per-pass timestamps), one render with per-pass
+//! timestamps for the per-pass table, and an optional instrumented render, then its image, error against the
 //! reference and record. `report.json` is rewritten atomically after every run; a run that fails
 //! is recorded with its error and the others go on.
 
@@ -20,6 +21,7 @@ use super::report::{
     RunRecord, RunStatus, Stat,
 };
 use super::resume::{self, Resume};
+use crate::gpu::timing::Timing;
 use crate::image_io::{self, RgbImage};
 use crate::method::{self, MethodOptions};
 use crate::metrics::{self, CompareOptions};
@@ -127,10 +129,18 @@ fn summary_line(r: &RunRecord) -> String {
     }
 }
 
-/// Path samples a run renders: warm-ups, timed repetitions and the instrumented render.
+/// Path samples a run renders: warm-ups, timed repetitions, the profiled render (per-pass
+/// timestamps; none where the adapter has no timestamps, so the bar may end a render short) and
+/// the instrumented render.
 fn run_samples(config: &ExperimentConfig, spec: &RunSpec) -> u64 {
-    let instrumented = config.instrument && config.methods[spec.variant].method.needs_gpu();
-    let renders = u64::from(config.warmup) + u64::from(config.repetitions) + u64::from(instrumented);
+    let variant = &config.methods[spec.variant];
+    let gpu = variant.method.needs_gpu();
+    let instrumented = config.instrument && gpu;
+    let profiled = gpu && variant.options.timing == Timing::Passes;
+    let renders = u64::from(config.warmup)
+        + u64::from(config.repetitions)
+        + u64::from(profiled)
+        + u64::from(instrumented);
     renders * spec.settings.sample_count()
 }
 
@@ -206,6 +216,7 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         frame_seconds: None,
         host_gap_seconds: None,
         between_passes_seconds: None,
+        profiled_frame_seconds: None,
         time_source: None,
         seconds: None,
         passes: BTreeMap::new(),
@@ -311,43 +322,64 @@ fn measure(
         method::render(variant.method, scene, settings, options, ctx, &|d| progress.set(start + d))
     };
 
+    // Per-pass timestamps are a profiler: on some drivers each one waits for the work before it
+    // (llvmpipe: a wavefront frame of 23,500 passes took 3.7-3.9 s with them, 1.5-1.9 s
+    // without), which charges the method with the most passes. So the timed repetitions run
+    // without them, and one more repetition, not timed, gives the per-pass table.
+    let profile = ctx.is_some_and(|c| c.summary.timestamps) && variant.options.timing == Timing::Passes;
+    let timed = MethodOptions {
+        timing: if profile { Timing::Frame } else { variant.options.timing },
+        ..variant.options.clone()
+    };
     for _ in 0..config.warmup {
-        render(&variant.options)?;
+        render(&timed)?;
     }
     let mut reports: Vec<RunReport> = Vec::new();
     let mut image: Option<Vec<f32>> = None;
     let mut repeatable = true;
+    let mut same_image = |rgb: Vec<f32>| match &image {
+        None => image = Some(rgb),
+        Some(first) => repeatable &= first.iter().map(|v| v.to_bits()).eq(rgb.iter().map(|v| v.to_bits())),
+    };
     for _ in 0..config.repetitions {
-        let o = render(&variant.options)?;
-        let rgb = o.film.mean_rgb();
-        match &image {
-            None => image = Some(rgb),
-            Some(first) => {
-                repeatable &= first.iter().map(|v| v.to_bits()).eq(rgb.iter().map(|v| v.to_bits()))
-            }
-        }
-        reports.push(RunReport::new(scene, variant.method, settings, &variant.options, adapter, &o));
+        let o = render(&timed)?;
+        same_image(o.film.mean_rgb());
+        reports.push(RunReport::new(scene, variant.method, settings, &timed, adapter, &o));
     }
+    let profiled = if profile {
+        let o = render(&variant.options)?;
+        same_image(o.film.mean_rgb());
+        Some(RunReport::new(scene, variant.method, settings, &variant.options, adapter, &o))
+    } else {
+        None
+    };
     let image =
         RgbImage { width: settings.width, height: settings.height, data: image.expect("repetitions >= 1") };
 
-    // Times: median over repetitions; per-bounce detail from the repetition with the median time.
+    // Times: median over the timed repetitions; per-pass times, and the split of the frame they
+    // allow, from the profiled one where there is one, else from the timed repetitions.
     let wall: Vec<f64> = reports.iter().map(|r| r.wall_seconds).collect();
-    let gpu_times: Vec<f64> = reports.iter().filter_map(|r| r.gpu_seconds).collect();
     let frame_times: Vec<f64> = reports.iter().filter_map(|r| r.frame_seconds).collect();
     rec.wall_seconds = Stat::of(&wall);
-    rec.gpu_seconds = Stat::of(&gpu_times);
     rec.frame_seconds = Stat::of(&frame_times);
     let gaps: Vec<f64> = reports.iter().filter_map(|r| r.host_gap_seconds).collect();
     rec.host_gap_seconds = Stat::of(&gaps).map(|s| s.median);
-    let timed_per_pass = reports.iter().all(|r| r.between_passes_seconds.is_some());
-    rec.between_passes_seconds = rec
-        .frame_seconds
-        .as_ref()
-        .zip(rec.gpu_seconds.as_ref())
-        .zip(rec.host_gap_seconds)
-        .filter(|_| timed_per_pass)
-        .map(|((f, g), h)| f.median - g.median - h);
+    let pass_reports = profiled.as_ref().map_or(&reports[..], std::slice::from_ref);
+    let gpu_times: Vec<f64> = pass_reports.iter().filter_map(|r| r.gpu_seconds).collect();
+    rec.gpu_seconds = Stat::of(&gpu_times);
+    rec.profiled_frame_seconds = profiled.as_ref().and_then(|p| p.frame_seconds);
+    rec.between_passes_seconds = match &profiled {
+        Some(p) => p.between_passes_seconds,
+        None => {
+            let timed_per_pass = reports.iter().all(|r| r.between_passes_seconds.is_some());
+            rec.frame_seconds
+                .as_ref()
+                .zip(rec.gpu_seconds.as_ref())
+                .zip(rec.host_gap_seconds)
+                .filter(|_| timed_per_pass)
+                .map(|((f, g), h)| f.median - g.median - h)
+        }
+    };
     // The headline time: the frame's, host round trips included.
     let seconds = rec
         .frame_seconds
@@ -361,19 +393,20 @@ fn measure(
         order.sort_by(|&a, &b| key(&reports[a]).total_cmp(&key(&reports[b])));
         &reports[order[order.len() / 2]]
     };
+    let pass_rep = profiled.as_ref().unwrap_or(median_rep);
     let labels: std::collections::BTreeSet<&str> =
-        reports.iter().flat_map(|r| r.passes.keys().copied()).collect();
+        pass_reports.iter().flat_map(|r| r.passes.keys().copied()).collect();
     for label in labels {
         let times: Vec<f64> =
-            reports.iter().map(|r| r.passes.get(label).map_or(0.0, |p| p.seconds)).collect();
-        let passes = median_rep.passes.get(label).map_or(0, |p| p.passes);
+            pass_reports.iter().map(|r| r.passes.get(label).map_or(0.0, |p| p.seconds)).collect();
+        let passes = pass_rep.passes.get(label).map_or(0, |p| p.passes);
         rec.passes
             .insert(label.to_string(), PassStat { seconds: Stat::of(&times).expect("non-empty"), passes });
     }
     rec.passes_per_bounce =
-        median_rep.passes_per_bounce.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
+        pass_rep.passes_per_bounce.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
     rec.time_source =
-        median_rep.time_source.and_then(|t| serde_json::to_value(t).ok()?.as_str().map(str::to_owned));
+        pass_rep.time_source.and_then(|t| serde_json::to_value(t).ok()?.as_str().map(str::to_owned));
     rec.queue_histogram = median_rep.queue_histogram.clone();
     rec.dispatches = Some(median_rep.dispatches);
     rec.empty_dispatches = median_rep.empty_dispatches;

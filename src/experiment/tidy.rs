@@ -166,6 +166,7 @@ fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
         rcol("frame_seconds_max", move |r| stat(|s| s.max, r.frame_seconds.clone())),
         rcol("host_gap_seconds", |r| r.host_gap_seconds.map(float)),
         rcol("between_passes_seconds", |r| r.between_passes_seconds.map(float)),
+        rcol("profiled_frame_seconds", |r| r.profiled_frame_seconds.map(float)),
         rcol("samples", |r| int(r.samples)),
         rcol("samples_per_second", |r| r.samples_per_second.map(float)),
         rcol("rays", |r| r.rays.and_then(int)),

@@ -141,6 +141,17 @@ fn full_report_matches_the_schema_and_holds_every_output() {
         }
         if r.method != "cpu" {
             assert!(r.gpu_seconds.is_some() && !r.passes.is_empty());
+            if common::gpu().unwrap().summary.timestamps {
+                // Timed without per-pass timestamps (two frames), profiled once with them: the
+                // per-pass times and their sum come from that one render alone.
+                assert_eq!(r.frame_seconds.as_ref().unwrap().values.len(), 2, "{}", r.id);
+                assert_eq!(r.gpu_seconds.as_ref().unwrap().values.len(), 1, "{}", r.id);
+                assert_eq!(r.passes.values().next().unwrap().seconds.values.len(), 1, "{}", r.id);
+                assert_eq!(r.time_source.as_deref(), Some("timestamps"), "{}", r.id);
+                let profiled = r.profiled_frame_seconds.unwrap();
+                assert!(profiled >= r.gpu_seconds.as_ref().unwrap().median * 0.5, "{}", r.id);
+                assert!(r.between_passes_seconds.is_some(), "{}", r.id);
+            }
             let subgroups = common::gpu().unwrap().summary.subgroups;
             assert_eq!(r.simd.is_some(), subgroups, "{}: SIMD efficiency where subgroups exist", r.id);
         }
@@ -298,6 +309,7 @@ fn comparable(report: &ExperimentReport) -> Value {
             "frame_seconds",
             "host_gap_seconds",
             "between_passes_seconds",
+            "profiled_frame_seconds",
             "seconds",
             "passes",
             "passes_per_bounce",
