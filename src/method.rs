@@ -13,6 +13,7 @@ use crate::gpu::GpuRender;
 use crate::light_options::LightOptions;
 use crate::numerics::{Failures, NumericOptions};
 use crate::packed_scene::PackedScene;
+use crate::render_space::RenderSpace;
 use crate::scene::stress::StressTransform;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
@@ -129,11 +130,17 @@ pub fn render(
     on_progress: &(dyn Fn(u64) + Sync),
 ) -> Result<RenderOutput> {
     settings.validate().map_err(anyhow::Error::msg)?;
-    let scene = &options.stress.apply(scene).map_err(anyhow::Error::msg)?;
+    // The stress transform and the move into render space, as one f64 transform before the
+    // scene is stored in f32. cpu-f64, the ground truth, always renders camera-relative: its
+    // stand-in for a scene kept in f64 end to end (in f64, rendering about the camera differs
+    // from rendering in world coordinates by ~1e-16 of the distance).
+    let space = if method == Method::CpuF64 { RenderSpace::Camera } else { options.numerics.render_space };
+    let transform = space.transform(options.stress, &scene.camera);
+    let scene = &transform.apply(scene).map_err(anyhow::Error::msg)?;
     let packed = PackedScene::new(scene, settings.accel)
         .with_light_options(options.lights)
         .with_numerics(options.numerics)
-        .with_stress(options.stress);
+        .with_stress(transform);
     let camera = CameraFrame::new(&scene.camera, settings.width, settings.height);
     // A scene whose f32 arithmetic would overflow renders silently wrong: refuse it instead.
     if method != Method::CpuF64 {

@@ -115,6 +115,8 @@ pub struct NumericOptions {
     pub ray_offset: RayOffset,
     pub sphere_hit: SphereHit,
     pub fresnel: Fresnel,
+    /// Where the scene is rendered (`--render-space`; `cpu-f64` always in camera space).
+    pub render_space: crate::render_space::RenderSpace,
 }
 
 /// What went wrong numerically in a render, counted per path event on every method (the NaN and

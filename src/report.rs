@@ -205,6 +205,7 @@ impl RunReport {
             ("ray_offset", n.ray_offset.name()),
             ("sphere_hit", n.sphere_hit.name().to_string()),
             ("fresnel", n.fresnel.name().to_string()),
+            ("render_space", n.render_space.name().to_string()),
             ("scale", format!("{:?}", t.scale)),
             ("translate", t.translate.map(|c| format!("{c:?}")).join(",")),
             ("render_time_s", format!("{:.6}", self.wall_seconds)),
@@ -233,6 +234,7 @@ mod tests {
                 ray_offset: RayOffset::Tmin(1e-4),
                 sphere_hit: SphereHit::Book,
                 fresnel: Fresnel::Exact,
+                render_space: crate::render_space::RenderSpace::World,
             },
             stress: StressTransform { scale: 1e-4, translate: [1e5, -2.5, 0.1] },
             ..MethodOptions::default()

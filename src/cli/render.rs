@@ -11,6 +11,7 @@ use crate::light_options::{LightOptions, LightSampling, LightSelect};
 use crate::method::{self, Method, MethodOptions};
 use crate::numerics::{Fresnel, NumericOptions, RayOffset, SphereHit};
 use crate::progress::Progress;
+use crate::render_space::RenderSpace;
 use crate::report::RunReport;
 use crate::scene::stress::StressTransform;
 use crate::scene::Scene;
@@ -85,6 +86,11 @@ pub struct RenderArgs {
     /// Reflectance of glass: the book's Schlick approximation, or the exact Fresnel equations.
     #[arg(long, value_enum, default_value_t = Fresnel::Schlick)]
     pub fresnel: Fresnel,
+    /// Where the scene is rendered: moved in f64 so the camera is at the origin before it is
+    /// stored in f32 (`camera`), or in its own coordinates (`world`). cpu-f64 always renders in
+    /// camera space.
+    #[arg(long, value_enum, default_value_t = RenderSpace::Camera)]
+    pub render_space: RenderSpace,
     /// Stress transform: scale the scene (geometry, camera, textures) about the origin by S > 0.
     /// The image is the same in exact arithmetic; what changes is numerical error.
     #[arg(long, default_value_t = 1.0, value_parser = StressTransform::parse_scale)]
@@ -205,7 +211,12 @@ pub fn run(a: RenderArgs) -> Result<()> {
     };
     let options = MethodOptions {
         lights: LightOptions { sampling: a.light_sampling, select: a.light_select },
-        numerics: NumericOptions { ray_offset: a.ray_offset, sphere_hit: a.sphere_hit, fresnel: a.fresnel },
+        numerics: NumericOptions {
+            ray_offset: a.ray_offset,
+            sphere_hit: a.sphere_hit,
+            fresnel: a.fresnel,
+            render_space: a.render_space,
+        },
         stress: StressTransform { scale: a.scale, translate: a.translate },
         megakernel: MegakernelOptions {
             workgroup_size: a.workgroup_size,
@@ -252,10 +263,11 @@ pub fn run(a: RenderArgs) -> Result<()> {
     print_summary(&report, &a.out);
     let f = &out.failures;
     println!(
-        "numerics: ray offset {}, sphere hit {}, Fresnel {}, scale {:e}, translate {:?}: {} self-hits, {} shadow self-hits, {} paths cut at depth {}",
+        "numerics: ray offset {}, sphere hit {}, Fresnel {}, render space {}, scale {:e}, translate {:?}: {} self-hits, {} shadow self-hits, {} paths cut at depth {}",
         options.numerics.ray_offset.name(),
         options.numerics.sphere_hit.name(),
         options.numerics.fresnel.name(),
+        options.numerics.render_space.name(),
         options.stress.scale,
         options.stress.translate,
         f.self_hits,

@@ -341,7 +341,7 @@ fn error_vs_spp(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
 /// The numerical knobs and stress transform of a run, as one comparable text (empty parts for
 /// reports from before they were recorded).
 fn numerics_key(r: &RunRecord) -> String {
-    ["ray_offset", "sphere_hit", "fresnel", "scale", "translate"]
+    ["ray_offset", "sphere_hit", "fresnel", "render_space", "scale", "translate"]
         .map(|k| r.options.get(k).map_or(String::new(), Value::to_string))
         .join(" ")
 }

@@ -38,6 +38,8 @@
 //! - `ray_offset`: `"tmin"` (the book's 1e-3), `"tmin=VALUE"` (VALUE finite and ≥ 0) or
 //!   `"robust"`; label `ray-offset=robust`, `ray-offset=tmin=1e-4`.
 //! - `sphere_hit`: `"book"` or `"stable"` (default); label `sphere-hit=book`.
+//! - `render_space`: `"camera"` (default: the scene moved in f64 so the camera is at the origin
+//!   before it is stored in f32) or `"world"`; label `render-space=world`.
 //! - `fresnel`: `"schlick"` (default) or `"exact"`; label `fresnel=exact`.
 //! - `scale`: a number > 0 inside f32's range (default 1); label `scale=1e-4`.
 //! - `translate`: a number D, meaning (D, D, D), or an array `[x, y, z]` (default 0); each
@@ -81,6 +83,7 @@ use crate::input_error::InputError;
 use crate::light_options::{LightOptions, LightSampling, LightSelect};
 use crate::method::{Method, MethodOptions};
 use crate::numerics::{Fresnel, NumericOptions, RayOffset, SphereHit};
+use crate::render_space::RenderSpace;
 use crate::scene::stress::StressTransform;
 use crate::scene::Scene;
 use crate::settings::{Accel, RenderSettings};
@@ -138,17 +141,27 @@ pub const KNOBS: &[&str] = &[
     "scale",
     "translate",
     "chunk_pools",
+    "render_space",
 ];
 /// Every method's knobs: how next-event estimation samples lights, the numerical choices and the
 /// stress transforms.
-const CPU_KNOBS: &[&str] =
-    &["light_sampling", "light_select", "ray_offset", "sphere_hit", "fresnel", "scale", "translate"];
+const CPU_KNOBS: &[&str] = &[
+    "light_sampling",
+    "light_select",
+    "ray_offset",
+    "sphere_hit",
+    "fresnel",
+    "render_space",
+    "scale",
+    "translate",
+];
 const MEGAKERNEL_KNOBS: &[&str] = &[
     "light_sampling",
     "light_select",
     "ray_offset",
     "sphere_hit",
     "fresnel",
+    "render_space",
     "scale",
     "translate",
     "workgroup_size",
@@ -163,6 +176,7 @@ const WAVEFRONT_KNOBS: &[&str] = &[
     "ray_offset",
     "sphere_hit",
     "fresnel",
+    "render_space",
     "scale",
     "translate",
     "workgroup_size",
@@ -184,6 +198,7 @@ const LIGHT_SAMPLINGS: &[&str] = &["area", "solid-angle"];
 const LIGHT_SELECTS: &[&str] = &["uniform", "power"];
 const SPHERE_HITS: &[&str] = &["book", "stable"];
 const FRESNELS: &[&str] = &["schlick", "exact"];
+const RENDER_SPACES: &[&str] = &["camera", "world"];
 /// What `translate` takes, for its errors.
 const TRANSLATE_FORMS: &str = "expected a number D (the translation (D, D, D)) or an array [x, y, z]; \
 a list of these is a sweep, except that an array of exactly three numbers is one vector [x, y, z] \
@@ -602,6 +617,8 @@ impl Cx {
         let ray_offset = self.knob(o, &opt_path("ray_offset"), "ray_offset", |v, p| self.ray_offset(v, p))?;
         let sphere_hit = self.knob(o, &opt_path("sphere_hit"), "sphere_hit", |v, p| self.sphere_hit(v, p))?;
         let fresnel = self.knob(o, &opt_path("fresnel"), "fresnel", |v, p| self.fresnel(v, p))?;
+        let render_space =
+            self.knob(o, &opt_path("render_space"), "render_space", |v, p| self.render_space(v, p))?;
         let scale = self.knob(o, &opt_path("scale"), "scale", |v, p| self.scale(v, p))?;
         let translate = self.translate_knob(o, &opt_path("translate"))?;
         let wg =
@@ -780,6 +797,10 @@ impl Cx {
             o.numerics.fresnel = f;
             format!("fresnel={}", f.name())
         });
+        expand(&mut variants, &render_space, numerics.render_space, labelled, |o, &r| {
+            o.numerics.render_space = r;
+            format!("render-space={}", r.name())
+        });
         expand(&mut variants, &scale, stress.scale, labelled, |o, &s| {
             o.stress.scale = s;
             format!("scale={}", compact(s))
@@ -834,6 +855,9 @@ impl Cx {
             fresnel: self
                 .optional(o, "fresnel", |v, _| self.fresnel(v, "reference.fresnel"))?
                 .unwrap_or_default(),
+            // The reference is the untransformed scene: where it is rendered hardly matters, and
+            // cpu-f64 always renders in camera space.
+            render_space: Default::default(),
         };
         let spp_value = self.field(o, "reference", "spp")?;
         if spp_value.as_str() == Some("match") {
@@ -1001,6 +1025,14 @@ impl Cx {
 
     fn sphere_hit(&self, v: &Value, path: &str) -> Res<SphereHit> {
         Ok(if self.choice(v, path, SPHERE_HITS)? == "book" { SphereHit::Book } else { SphereHit::Stable })
+    }
+
+    fn render_space(&self, v: &Value, path: &str) -> Res<RenderSpace> {
+        Ok(if self.choice(v, path, RENDER_SPACES)? == "world" {
+            RenderSpace::World
+        } else {
+            RenderSpace::Camera
+        })
     }
 
     fn fresnel(&self, v: &Value, path: &str) -> Res<Fresnel> {

@@ -286,6 +286,7 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
     // Every method's numerical knobs and stress transform.
     let common = serde_json::json!({
         "ray_offset": o.numerics.ray_offset,
+        "render_space": o.numerics.render_space,
         "sphere_hit": o.numerics.sphere_hit,
         "fresnel": o.numerics.fresnel,
         "scale": o.stress.scale,

@@ -9,6 +9,7 @@ use crate::common;
 use std::process::Command;
 use wavetrace::method::{render, Method, MethodOptions, RenderOutput};
 use wavetrace::numerics::{Fresnel, NumericOptions, RayOffset, SphereHit};
+use wavetrace::render_space::RenderSpace;
 use wavetrace::scene::stress::StressTransform;
 use wavetrace::scene::{builtin, Background, Material, NamedMaterial, Scene, Sphere};
 use wavetrace::settings::{Accel, RenderSettings};
@@ -32,9 +33,20 @@ fn run(method: Method, scene: &Scene, s: &RenderSettings, o: &MethodOptions) -> 
     try_run(method, scene, s, o).unwrap()
 }
 
+/// The knobs in world space, where the stress transform's scene is stored in f32 as moved (the
+/// tests below measure the methods' arithmetic there; camera space has its own tests).
 fn options(ray_offset: RayOffset, sphere_hit: SphereHit, stress: StressTransform) -> MethodOptions {
+    in_space(RenderSpace::World, ray_offset, sphere_hit, stress)
+}
+
+fn in_space(
+    space: RenderSpace,
+    ray_offset: RayOffset,
+    sphere_hit: SphereHit,
+    stress: StressTransform,
+) -> MethodOptions {
     MethodOptions {
-        numerics: NumericOptions { ray_offset, sphere_hit, fresnel: Fresnel::Schlick },
+        numerics: NumericOptions { ray_offset, sphere_hit, fresnel: Fresnel::Schlick, render_space: space },
         stress,
         ..Default::default()
     }
@@ -135,6 +147,7 @@ fn every_knob_repeats_bit_identically() {
             ray_offset: RayOffset::Robust,
             sphere_hit: SphereHit::Book,
             fresnel: Fresnel::Exact,
+            render_space: RenderSpace::World,
         },
         stress: StressTransform { scale: 1e-2, translate: [3.0, -2.0, 1e3] },
         ..Default::default()
@@ -160,6 +173,83 @@ fn exact_fresnel_agrees_across_methods() {
     for m in methods {
         let (ok, why) = agrees(&run(m, &scene, &s, &o), &reference);
         assert!(ok, "{} with exact Fresnel: {why}", m.name());
+    }
+}
+
+/// Camera space (issue 28): the scene moved in f64 so that the camera is at the origin before it
+/// is stored in f32. Far from the origin, along the diagonal and off it, every method with the
+/// robust settings agrees with the untransformed scene and no ray hits the surface it leaves.
+#[test]
+fn camera_space_holds_far_from_the_origin_on_every_method() {
+    let s = settings(16);
+    let far = [[1e6; 3], [1e7; 3], [3e6, -2e6, 1e6]];
+    let methods = with_gpu_methods(vec![Method::Cpu, Method::CpuF64]);
+    for name in ["three-spheres", "cornell"] {
+        let scene = builtin::by_name(name).unwrap();
+        let reference = run(Method::CpuF64, &scene, &s, &MethodOptions::default());
+        for translate in far {
+            let stress = StressTransform { translate, ..Default::default() };
+            for &m in &methods {
+                let o = in_space(RenderSpace::Camera, RayOffset::Robust, SphereHit::Stable, stress);
+                let out = run(m, &scene, &s, &o);
+                let (ok, why) = agrees(&out, &reference);
+                eprintln!("{name} {} camera at {translate:?}: {why}, {:?}", m.name(), out.failures);
+                assert!(ok, "{name} {} in camera space at {translate:?}: {why}", m.name());
+                let f = out.failures;
+                assert_eq!(f.self_hits + f.shadow_self_hits, 0, "{name} {} at {translate:?}", m.name());
+            }
+        }
+    }
+}
+
+/// The negative control: the same test in world space fails for the f32 methods at 1e7 (the f32
+/// spacing there, 1.0, is the size of three-spheres' spheres; at 1e6, spaced 0.0625, it still
+/// passes this bar), so the test above can tell.
+#[test]
+fn world_space_fails_the_same_test_far_from_the_origin() {
+    let scene = builtin::by_name("three-spheres").unwrap();
+    let s = settings(16);
+    let reference = run(Method::CpuF64, &scene, &s, &MethodOptions::default());
+    let stress = StressTransform { translate: [1e7; 3], ..Default::default() };
+    for m in with_gpu_methods(vec![Method::Cpu]) {
+        let out =
+            run(m, &scene, &s, &in_space(RenderSpace::World, RayOffset::Robust, SphereHit::Stable, stress));
+        let (ok, why) = agrees(&out, &reference);
+        eprintln!("{} world at 1e7: {why}, {:?}", m.name(), out.failures);
+        assert!(!ok, "{} in world space at 1e7 passed: the test cannot tell ({why})", m.name());
+    }
+}
+
+/// Near the origin the two spaces render the same image up to rounding, on every method.
+#[test]
+fn camera_and_world_space_agree_near_the_origin() {
+    let scene = builtin::by_name("rtiow-final").unwrap();
+    let s = settings(8);
+    for m in with_gpu_methods(vec![Method::Cpu]) {
+        let o = |space| in_space(space, RayOffset::Robust, SphereHit::Stable, StressTransform::default());
+        let world = run(m, &scene, &s, &o(RenderSpace::World));
+        let camera = run(m, &scene, &s, &o(RenderSpace::Camera));
+        assert_ne!(world.film, camera.film, "{}: moved, so rounded differently", m.name());
+        let (ok, why) = agrees(&camera, &world);
+        assert!(ok, "{}: {why}", m.name());
+    }
+}
+
+/// The f32-range refusal looks at the space that is rendered: a scene 2e19 from the origin
+/// (coordinates whose squares overflow f32) is refused in world space and rendered in camera
+/// space, where its coordinates are small. (In f64, where the host moves it, 2e19 is spaced 4096
+/// apart: the move keeps what f64 kept of the scene, no more.)
+#[test]
+fn the_range_refusal_looks_at_the_rendered_space() {
+    let scene = builtin::by_name("three-spheres").unwrap();
+    let s = RenderSettings { width: 8, height: 8, spp: 1, ..settings(1) };
+    let stress = StressTransform { translate: [2e19; 3], ..Default::default() };
+    for m in with_gpu_methods(vec![Method::Cpu]) {
+        let world = in_space(RenderSpace::World, RayOffset::Robust, SphereHit::Stable, stress);
+        let e = try_run(m, &scene, &s, &world).expect_err("refused in world space").to_string();
+        assert!(e.contains("overflows f32"), "{}: {e}", m.name());
+        let camera = in_space(RenderSpace::Camera, RayOffset::Robust, SphereHit::Stable, stress);
+        try_run(m, &scene, &s, &camera).unwrap_or_else(|e| panic!("{}: camera space refused: {e}", m.name()));
     }
 }
 
