@@ -1,7 +1,7 @@
 //! Runs an experiment: every planned run (or a shard's share) in turn, each as warm-up renders,
 //! timed repetitions (GPU methods without per-pass timestamps), one render with per-pass
-//! timestamps for the per-pass table, and an optional instrumented render, then its image, error against the
-//! reference and record. `report.json` is rewritten atomically after every run; a run that fails
+//! timestamps for the per-pass table, and an optional instrumented render, then its image, error
+//! against the reference and record. `report.json` is rewritten atomically after every run; a run that fails
 //! is recorded with its error and the others go on.
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -324,7 +324,7 @@ fn measure(
     };
 
     // Per-pass timestamps are a profiler: on some drivers each one waits for the work before it
-    // (llvmpipe: a wavefront frame of 23,500 passes took 3.7-3.9 s with them, 1.5-1.9 s
+    // (llvmpipe: a wavefront frame of 23,500 passes took 2.7-4.0 s with them, 1.5-1.9 s
     // without), which charges the method with the most passes. So the timed repetitions run
     // without them, and one more repetition, not timed, gives the per-pass table.
     let profile = ctx.is_some_and(|c| c.summary.timestamps) && variant.options.timing == Timing::Passes;
