@@ -341,7 +341,7 @@ fn error_vs_spp(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
 /// The numerical knobs and stress transform of a run, as one comparable text (empty parts for
 /// reports from before they were recorded).
 fn numerics_key(r: &RunRecord) -> String {
-    ["ray_offset", "sphere_hit", "fresnel", "render_space", "scale", "translate"]
+    ["ray_offset", "sphere_hit", "fresnel", "scale", "translate", "render_space"]
         .map(|k| r.options.get(k).map_or(String::new(), Value::to_string))
         .join(" ")
 }
@@ -392,12 +392,40 @@ const STRESS_AXES: [StressAxis; 2] = [
 /// secondary plus shadow rays, as counts + 1 (so that none sits at 1 on the log axis) against it.
 /// Returns (file-name part, chart) pairs.
 fn stability(runs: &[&RunRecord], group: &str) -> Vec<(String, LineChart)> {
+    // Runs in both render spaces: one set of charts per space, named by it (`translate-camera`),
+    // so that each line is one method variant and the legend need not name the space.
+    let space = |r: &RunRecord| r.options.get("render_space").and_then(Value::as_str).map(str::to_owned);
+    let spaces: BTreeSet<String> = runs.iter().filter_map(|r| space(r)).collect();
+    if spaces.len() < 2 {
+        return stability_charts(runs, group, "");
+    }
+    let mut out = Vec::new();
+    for s in &spaces {
+        let of: Vec<&RunRecord> = runs.iter().copied().filter(|r| space(r).as_ref() == Some(s)).collect();
+        for (key, chart) in stability_charts(&of, &format!("{group}, {s} space"), "render-space=") {
+            let key = match key.split_once('-') {
+                Some((axis, rest)) => format!("{axis}-{s}-{rest}"),
+                None => format!("{key}-{s}"),
+            };
+            out.push((key, chart));
+        }
+    }
+    out
+}
+
+/// [`stability`] over runs of one render space; `drop` is a label part (besides the stress
+/// axis's) left out of series names, or "".
+fn stability_charts(runs: &[&RunRecord], group: &str, drop: &str) -> Vec<(String, LineChart)> {
     let varying = Varying::of(runs);
     let spps = several_spps(runs);
     let mut out = Vec::new();
     for axis in &STRESS_AXES {
         let name = |r: &RunRecord| {
-            let label: Vec<&str> = r.label.split(' ').filter(|p| !p.starts_with(axis.label_prefix)).collect();
+            let label: Vec<&str> = r
+                .label
+                .split(' ')
+                .filter(|p| !p.starts_with(axis.label_prefix) && (drop.is_empty() || !p.starts_with(drop)))
+                .collect();
             let spp = if spps { format!(" {}spp", r.spp) } else { String::new() };
             format!("{}{spp}{}", label.join(" "), varying.suffix(r))
         };
