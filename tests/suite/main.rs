@@ -17,6 +17,7 @@ mod layout;
 mod lights;
 mod megakernel;
 mod metrics;
+mod render_space;
 mod repository;
 mod resume;
 mod sampling;
