@@ -10,4 +10,16 @@ export WAVETRACE_REQUIRE_GPU=1
 # In-process GPU tests open Vulkan without the binary's main(), which is what turns Mesa's
 # device-selection layer off on headless machines (src/gpu/headless.rs): do it for them.
 if [ -z "${XDG_RUNTIME_DIR:-}" ]; then export NODEVICE_SELECT=${NODEVICE_SELECT:-1}; fi
-cargo test --profile ci --locked "$@"
+# Checks an adapter could not run (tests/suite/common: `skipped`) are listed by name at the end,
+# never counted silently as passed (cargo hides a passing test's output).
+skipped="${CARGO_TARGET_DIR:-target}/tmp/skipped-checks.txt"
+rm -f "$skipped"
+status=0
+cargo test --profile ci --locked "$@" || status=$?
+if [ -s "$skipped" ]; then
+    echo "Checks skipped on this adapter ($(wc -l <"$skipped")):"
+    sort -u "$skipped"
+else
+    echo "No checks skipped."
+fi
+exit "$status"

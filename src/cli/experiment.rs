@@ -78,6 +78,11 @@ pub struct MergeArgs {
     /// Where the merged report goes.
     #[arg(long)]
     pub out: PathBuf,
+    /// Exit 0 even when some of the config's runs are in no shard (unfinished or lost shards):
+    /// without it such a merge still writes its report (status "incomplete") but fails, so that
+    /// a job script checking the exit status does not go on too early.
+    #[arg(long)]
+    pub allow_incomplete: bool,
 }
 
 #[derive(clap::Args, Debug)]
@@ -92,7 +97,17 @@ pub fn run(c: ExperimentCommand) -> Result<()> {
         ExperimentCommand::Run(a) => run_config(a),
         ExperimentCommand::Merge(a) => {
             let report = merge::merge(&a.dirs, &a.out)?;
-            finish(&report, &a.out)
+            finish(&report, &a.out)?;
+            if !report.missing_runs.is_empty() && !a.allow_incomplete {
+                bail!(
+                    "the merge is incomplete: {} of {} runs are in no shard (by index: {:?}); \
+                     wait for the shards to finish, or pass --allow-incomplete",
+                    report.missing_runs.len(),
+                    report.runs_planned,
+                    report.missing_runs
+                );
+            }
+            Ok(())
         }
         ExperimentCommand::Report(a) => {
             let report = outputs::redraw(&a.dir)?;

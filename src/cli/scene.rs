@@ -19,9 +19,16 @@ pub enum SceneCommand {
 pub fn run(cmd: SceneCommand) -> anyhow::Result<()> {
     match cmd {
         SceneCommand::List => {
+            use std::io::Write;
+            let mut out = std::io::stdout().lock();
             for (name, about) in builtin::list() {
                 let primitives = builtin::by_name(name).map_or(0, |s| s.primitive_count());
-                println!("{name:16} {primitives:6} primitives  {about}");
+                match writeln!(out, "{name:16} {primitives:6} primitives  {about}") {
+                    // `wavetrace scene list | head`: the reader has all it wanted (println! would
+                    // panic here).
+                    Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => return Ok(()),
+                    r => r?,
+                }
             }
             Ok(())
         }

@@ -660,7 +660,9 @@ fn light_knobs_sweep_on_every_method_and_reach_the_records() {
     let csv = std::fs::read_to_string(dir.join("out").join("runs.csv")).unwrap();
     let header = csv.lines().next().unwrap();
     assert!(header.contains(",light_sampling,light_select,"), "{header}");
-    // Different estimators, same image: the variants agree within their noise and the reference.
+    // Every variant was compared with the reference. That the estimators converge to the same
+    // image is lights.rs's light_strategies_converge_to_the_same_image (z-tests at 128 spp); at
+    // this test's 2 spp a bias of a few percent is far below the noise, so only this is asserted.
     let relmse: Vec<f64> = report.runs.iter().map(|r| r.error_metrics.as_ref().unwrap().relmse).collect();
     assert!(relmse.iter().all(|e| e.is_finite() && *e > 0.0), "{relmse:?}");
 }

@@ -56,3 +56,21 @@ pub fn bin() -> std::path::PathBuf {
 pub fn tmp() -> std::path::PathBuf {
     std::env::var_os("WAVETRACE_TEST_TMP").map_or_else(|| env!("CARGO_TARGET_TMPDIR").into(), Into::into)
 }
+
+/// A check this adapter cannot run (it lacks a feature, or the check is about another driver):
+/// never a silent pass. Prints `SKIPPED: <check>: <why>` and appends the line to
+/// `skipped-checks.txt` in the test scratch directory, which scripts/test.sh prints after the
+/// run (cargo captures a passing test's output). `WAVETRACE_FORBID_SKIPS` makes it a failure.
+pub fn skipped(check: &str, why: &str) {
+    use std::io::Write;
+    let line = format!("SKIPPED: {check}: {why}");
+    eprintln!("{line}");
+    assert!(std::env::var_os("WAVETRACE_FORBID_SKIPS").is_none(), "{line} (WAVETRACE_FORBID_SKIPS is set)");
+    let path = tmp().join(SKIPPED_FILE);
+    if let Ok(mut f) = std::fs::OpenOptions::new().create(true).append(true).open(&path) {
+        let _ = writeln!(f, "{line}");
+    }
+}
+
+/// Where [`skipped`] lists the checks a run skipped (under [`tmp`]).
+pub const SKIPPED_FILE: &str = "skipped-checks.txt";
