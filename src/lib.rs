@@ -22,6 +22,7 @@ pub mod metrics;
 pub mod numerics;
 pub mod packed_scene;
 pub mod progress;
+pub mod replay;
 pub mod report;
 pub mod rng;
 pub mod scene;
