@@ -244,7 +244,7 @@ mod tests {
             .filter_map(|l| l.strip_prefix("const "))
             .filter_map(|l| {
                 let (name, rest) = l.split_once(':')?;
-                let v = rest.split('=').nth(1)?.trim().trim_end_matches(|c| c == ';' || c == 'u');
+                let v = rest.split('=').nth(1)?.trim();
                 Some((name, v.split(';').next()?.trim_end_matches('u').parse().ok()?))
             })
             .collect();

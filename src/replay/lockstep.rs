@@ -52,12 +52,12 @@ impl SlotCounts {
 
 /// One lane: its events and how far the replay has run them.
 pub struct Lane<'a> {
-    pub events: &'a [u16],
+    pub events: &'a [u32],
     pub at: usize,
 }
 
 impl Lane<'_> {
-    pub fn next(&self) -> Option<u16> {
+    pub fn next(&self) -> Option<u32> {
         self.events.get(self.at).copied()
     }
 }
@@ -70,7 +70,7 @@ pub fn traverse(all: &mut [Lane], lanes: &[usize], first: u32, width: u32, count
     let mut running: Vec<usize> = lanes.to_vec();
     while !running.is_empty() {
         let (mut inner, mut leaf) = (0, 0);
-        let mut positions = [0usize; 16];
+        let mut positions = [0usize; 24];
         running.retain(|&l| {
             let lane = &mut all[l];
             match lane.next().filter(|&e| is_step(e)) {
@@ -78,7 +78,7 @@ pub fn traverse(all: &mut [Lane], lanes: &[usize], first: u32, width: u32, count
                 Some(mask) => {
                     leaf += 1;
                     for (p, n) in positions.iter_mut().enumerate() {
-                        *n += usize::from(mask >> p & 1);
+                        *n += (mask >> p & 1) as usize;
                     }
                 }
                 None => return false,

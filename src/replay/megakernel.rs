@@ -59,7 +59,7 @@ pub fn replay(
     let counts = blocks
         .par_iter()
         .enumerate()
-        .filter(|(i, _)| *i as u64 % every == 0)
+        .filter(|(i, _)| (*i as u64).is_multiple_of(every))
         .map(|(_, &(d, first))| block(scene, &camera, settings, &plan[d], first, widths))
         .reduce(
             || widths.iter().map(|_| SlotCounts::new()).collect(),
@@ -113,7 +113,7 @@ fn block(
 /// One subgroup's paths through the megakernel's bounce loop (shaders/shared/integrator.wgsl),
 /// in lockstep: every instrumented block counted with the lanes that run it.
 pub fn subgroup(lanes: &mut [Lane], width: u32, counts: &mut SlotCounts) {
-    let at = |lanes: &[Lane], l: usize, e: u16| lanes[l].next() == Some(e);
+    let at = |lanes: &[Lane], l: usize, e: u32| lanes[l].next() == Some(e);
     loop {
         let alive: Vec<usize> = (0..lanes.len()).filter(|&l| at(lanes, l, CLOSEST)).collect();
         if alive.is_empty() {

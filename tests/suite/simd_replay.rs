@@ -112,3 +112,24 @@ fn megakernel_replay_matches_the_device() {
         }
     }
 }
+
+/// `wavetrace replay` refuses widths no subgroup has, saying why, and runs without a GPU.
+#[test]
+fn replay_cli_refuses_bad_widths() {
+    for bad in ["0", "24", "256"] {
+        let out = std::process::Command::new(common::bin())
+            .args(["replay", "--scene", "three-spheres", "--width", "8", "--height", "8", "--spp", "1"])
+            .args(["--simd-width", bad])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains("power of two from 1 to 128"), "{bad}: {err}");
+    }
+    let out = std::process::Command::new(common::bin())
+        .args(["replay", "--scene", "three-spheres", "--width", "8", "--height", "8", "--spp", "1"])
+        .args(["--simd-width", "4,32"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success() && text.contains("W=4") && text.contains("W=32"), "{text}");
+}
