@@ -18,6 +18,9 @@
 #                       the three wavefront schedules (device/headline.json) 5.3e9  ~1 min
 #   simd                SIMD efficiency at the device's width, 4 scenes, every GPU method
 #                       (device/simd.json, instrumented)                     0.15e9 <1 min
+#   simd-replay         the naive megakernel's device counters (--instrument) beside the CPU
+#                       lockstep replay at the device's subgroup width (issue 25), 4 scenes
+#                       (report.json: both, per slot)                       tiny   <1 min
 #   regeneration        regeneration.json (160x90 to 1200x675, 4 to 64 spp)  6.1e9  ~1-2 min
 #   regeneration-1080p  1920x1080 at 16 and 64 spp (device/regeneration_1080p.json)
 #                                                                            13.3e9 ~2-3 min
@@ -56,6 +59,7 @@ steps_table() {
 tests
 headline device/headline.json
 simd device/simd.json
+simd-replay
 regeneration regeneration.json
 regeneration-1080p device/regeneration_1080p.json
 baselines baselines.json
@@ -74,7 +78,7 @@ out=${OUT:-out/device}
 steps=()
 while [ $# -gt 0 ]; do
   case "$1" in
-    --list) steps_table | awk '{ printf "%-24s %s\n", $1, ($2 == "" ? "(test suite)" : "experiments/" $2) }'; exit 0 ;;
+    --list) steps_table | awk '{ printf "%-24s %s\n", $1, ($2 != "" ? "experiments/" $2 : $1 == "tests" ? "(test suite)" : "(render + replay)") }'; exit 0 ;;
     --scale) scale=${2:?--scale needs full or tiny}; shift 2 ;;
     --out) out=${2:?--out needs a directory}; shift 2 ;;
     -h | --help) sed -n '2,/^set -uo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
@@ -209,6 +213,34 @@ for step in "${steps[@]}"; do
       grep -E '^test result|^failures:|^    [a-z_:]+$|panicked' "$dir/tests.log" | tee -a "$log"
       [ $rc = 0 ] || { say "FAILED: tests (exit $rc; tests.log in the archive)"; failed=1; }
     fi
+  elif [ "$step" = simd-replay ]; then
+    # Issue 25: the device's counters against the replay at the device's width (32 lanes on
+    # NVIDIA), naive megakernel, same frames; report.json holds both per scene, per slot.
+    sg=$(sed -n 's/^ *subgroups: *yes, size \([0-9]*\)\.\.=\([0-9]*\).*/\1 \2/p' <<<"$info")
+    read -r sg_min sg_max <<<"$sg"
+    size=(--width 160 --height 90 --spp 16)
+    [ "$scale" = tiny ] && size=(--width 32 --height 18 --spp 2)
+    rc=0
+    if [ -z "$sg_min" ] || [ "$sg_min" != "$sg_max" ]; then
+      say "FAILED: simd-replay: the device's subgroup width is not one fixed size ($sg)"; rc=1
+    else
+      echo '{' > "$dir/report.json"
+      sep=
+      for sc in "rtiow-final --nee off" "cornell --nee on" "spheres-64 --nee off" "spheres-8 --nee off"; do
+        read -r name nee_flag nee <<<"$sc"
+        timeout --kill-after=10 "$left" "$bin" render --scene "$name" --method megakernel --instrument \
+          "${size[@]}" $nee_flag "$nee" --out "$dir/$name.exr" --report "$dir/$name.device.json" >> "$dir/step.log" 2>&1 || rc=$?
+        timeout --kill-after=10 "$left" "$bin" replay --scene "$name" "${size[@]}" $nee_flag "$nee" \
+          --simd-width "$sg_min" --json "$dir/$name.replay.json" >> "$dir/step.log" 2>&1 || rc=$?
+        rm -f "$dir/$name.exr"
+        printf '%s"%s": {"device": %s, "replay": %s}\n' "$sep" "$name" \
+          "$(cat "$dir/$name.device.json" 2>/dev/null || echo null)" "$(cat "$dir/$name.replay.json" 2>/dev/null || echo null)" >> "$dir/report.json"
+        sep=,
+      done
+      echo '}' >> "$dir/report.json"
+    fi
+    tail -n 3 "$dir/step.log" | tee -a "$log"
+    [ $rc = 0 ] || { say "FAILED: simd-replay (exit $rc; step.log in the archive)"; failed=1; }
   else
     cfg="$configs/$(config_of "$step")"
     timeout --kill-after=10 "$left" "$bin" experiment run "$cfg" --out "$dir" --resume \

@@ -23,6 +23,7 @@ pub mod numerics;
 pub mod packed_scene;
 pub mod progress;
 pub mod render_space;
+pub mod replay;
 pub mod report;
 pub mod rng;
 pub mod scene;

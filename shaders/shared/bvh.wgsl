@@ -1,5 +1,6 @@
 // Closest-hit and any-hit BVH traversal; twin of src/cpu/bvh.rs (same stack, same child order).
-// Needs `nodes` and `primitives` bound (shared/scene.wgsl).
+// Needs `nodes` and `primitives` bound (shared/scene.wgsl), and instrument.wgsl included by the
+// entry (its step counters; the caller names the traversal with instrument_traversal).
 
 // Matches bvh::MAX_DEPTH: the builder never makes a deeper tree.
 const BVH_STACK: u32 = 64u;
@@ -72,10 +73,12 @@ fn traverse(ray: Ray, t_min: f32, t_max: f32, any_hit: bool, skip: u32) -> Hit {
     loop {
         let n = nodes[current];
         if n.count > 0u {
+            instrument_step(TRAVERSE_LEAF);
             for (var slot = n.left_or_first; slot < n.left_or_first + n.count; slot++) {
                 if slot == skip {
                     continue;
                 }
+                instrument_step(TRAVERSE_PRIMITIVE);
                 let t = hit_primitive(slot, ray, t_min, closest);
                 if t >= 0.0 {
                     closest = t;
@@ -86,6 +89,7 @@ fn traverse(ray: Ray, t_min: f32, t_max: f32, any_hit: bool, skip: u32) -> Hit {
                 }
             }
         } else {
+            instrument_step(TRAVERSE_INNER);
             let a = current + 1u;
             let b = n.left_or_first;
             let ta = hit_box(nodes[a], ray.origin, inv, t_min, closest);

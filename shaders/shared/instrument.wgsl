@@ -9,3 +9,7 @@
 fn instrument_begin() {}
 
 fn instrument(pass_id: u32) {}
+
+fn instrument_traversal(first_slot: u32) {}
+
+fn instrument_step(kind: u32) {}

@@ -15,4 +15,16 @@ const PASS_SHADE_EMISSIVE: u32 = 11u;
 const PASS_SHADE: u32 = 12u;
 const PASS_MEGAKERNEL_SHADOW: u32 = 13u;     // the megakernel's shadow rays (--nee on)
 const PASS_SHADOW: u32 = 14u;
-const PASS_SLOTS: u32 = 15u;
+// Inside the BVH traversal loop (shared/bvh.wgsl): the first of three slots per traversal, one
+// per step kind (TRAVERSE_*), counted at every loop iteration, so lanes that left the loop early
+// weigh as idle for every step the others still take (work-weighted, unlike the points above).
+const PASS_MEGAKERNEL_TRAVERSE: u32 = 15u;        // the megakernel's (and tail's) closest hit
+const PASS_MEGAKERNEL_SHADOW_TRAVERSE: u32 = 18u; // its shadow rays' any hit
+const PASS_INTERSECT_TRAVERSE: u32 = 21u;
+const PASS_SHADOW_TRAVERSE: u32 = 24u;
+const PASS_SLOTS: u32 = 27u;
+
+// Step kinds, added to a traversal's first slot.
+const TRAVERSE_INNER: u32 = 0u;     // an inner node: both children's boxes
+const TRAVERSE_LEAF: u32 = 1u;      // a leaf node
+const TRAVERSE_PRIMITIVE: u32 = 2u; // one primitive test in a leaf

@@ -16,6 +16,19 @@ const SIMD_SLOT_WORDS: u32 = 6u;
 // This invocation's subgroup width, set once at the top of each instrumented entry point.
 var<private> subgroup_width: u32 = 0u;
 
+// The traversal the next BVH steps belong to (its first slot), set by the caller before each
+// closest_hit / occluder, since one traversal loop serves every pass.
+var<private> traversal_slot: u32 = 0u;
+
+fn instrument_traversal(first_slot: u32) {
+    traversal_slot = first_slot;
+}
+
+// One traversal step of kind TRAVERSE_*: called inside the loop, once per iteration per lane.
+fn instrument_step(kind: u32) {
+    instrument(traversal_slot + kind);
+}
+
 fn instrument_begin(width: u32) {
     subgroup_width = width;
 }

@@ -26,6 +26,7 @@ fn trace_bounce(path: ptr<function, TracedPath>, pixel: u32, sample: u32, bounce
     let ray = (*path).ray;
     let throughput = (*path).throughput;
     (*path).rays += 1u;
+    instrument_traversal(PASS_MEGAKERNEL_TRAVERSE);
     let hit = closest_hit(ray, frame.t_min);
     if hit.prim == NO_HIT {
         (*path).radiance += throughput * background(ray.dir);
@@ -74,6 +75,7 @@ fn trace_bounce(path: ptr<function, TracedPath>, pixel: u32, sample: u32, bounce
             instrument(PASS_MEGAKERNEL_SHADOW);
             (*path).rays += 1u;
             let shadow_ray = Ray(origin, shadow.ray.dir);
+            instrument_traversal(PASS_MEGAKERNEL_SHADOW_TRAVERSE);
             let blocker = occluder(shadow_ray, frame.t_min, shadow.t_max, shadow.light);
             if blocker.prim == NO_HIT {
                 (*path).radiance += throughput * s.attenuation * shadow.weight;

@@ -31,6 +31,7 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_par
     }
     instrument(PASS_INTERSECT);
     let ray = Ray(path_origin[slot].xyz, dir.xyz);
+    instrument_traversal(PASS_INTERSECT_TRAVERSE);
     let hit = closest_hit(ray, frame.t_min);
     if hit.prim == NO_HIT {
         radiance[slot] += vec4<f32>(path_throughput[slot].xyz * background(ray.dir), 0.0);

@@ -27,6 +27,7 @@ fn shadow(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*
     let r = shadow_ray[slot];
     var add = vec4<f32>(0.0, 0.0, 0.0, 1.0); // one more ray traced
     let ray = Ray(path_origin[slot].xyz, r.xyz);
+    instrument_traversal(PASS_SHADOW_TRAVERSE);
     let blocker = occluder(ray, frame.t_min, r.w, light - 1u);
     if blocker.prim == NO_HIT {
         add += vec4<f32>(w.xyz, 0.0);

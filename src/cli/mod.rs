@@ -4,6 +4,7 @@ pub mod compare;
 pub mod experiment;
 pub mod info;
 pub mod render;
+pub mod replay;
 pub mod scene;
 
 use clap::{Parser, Subcommand};
@@ -45,6 +46,8 @@ pub enum Command {
     /// Run experiment configs into JSON reports, EXRs, charts and HTML; merge shards; re-draw.
     #[command(subcommand)]
     Experiment(experiment::ExperimentCommand),
+    /// Replay a frame's paths in SIMD lockstep at several widths (no GPU): predicted efficiency.
+    Replay(replay::ReplayArgs),
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
@@ -54,5 +57,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Scene(c) => scene::run(c),
         Command::Compare(a) => compare::run(a),
         Command::Experiment(c) => experiment::run(c),
+        Command::Replay(a) => replay::run(a),
     }
 }

@@ -1,6 +1,7 @@
 //! Closest-hit and any-hit BVH traversal; twin of `shaders/shared/bvh.wgsl` (same stack, same
 //! child order).
 
+use super::observe::PathObserver;
 use super::{primitive::hit as hit_primitive, ray::Ray, real::Real, vec3::V3};
 use crate::bvh::MAX_DEPTH;
 use crate::layout::{BvhNode, PrimitiveRecord};
@@ -51,7 +52,21 @@ pub fn closest_hit<T: Real>(
     t_min: T,
     sphere: SphereHit,
 ) -> Option<Hit<T>> {
-    traverse(nodes, prims, ray, t_min, T::infinity(), false, NO_SKIP, sphere)
+    traverse(nodes, prims, ray, t_min, T::infinity(), false, NO_SKIP, sphere, &mut ())
+}
+
+/// [`closest_hit`], reporting its steps to `observer`.
+#[inline(always)]
+pub fn closest_hit_observed<T: Real>(
+    nodes: &[BvhNode],
+    prims: &[PrimitiveRecord],
+    ray: &Ray<T>,
+    t_min: T,
+    sphere: SphereHit,
+    observer: &mut impl PathObserver,
+) -> Option<Hit<T>> {
+    observer.traversal(false);
+    traverse(nodes, prims, ray, t_min, T::infinity(), false, NO_SKIP, sphere, observer)
 }
 
 /// No primitive skipped (`traverse`'s `skip`).
@@ -68,7 +83,22 @@ pub fn occluder<T: Real>(
     skip: u32,
     sphere: SphereHit,
 ) -> Option<Hit<T>> {
-    traverse(nodes, prims, ray, t_min, t_max, true, skip, sphere)
+    traverse(nodes, prims, ray, t_min, t_max, true, skip, sphere, &mut ())
+}
+
+/// [`occluder`], reporting its steps to `observer`.
+#[inline(always)]
+pub fn occluder_observed<T: Real>(
+    nodes: &[BvhNode],
+    prims: &[PrimitiveRecord],
+    ray: &Ray<T>,
+    (t_min, t_max): (T, T),
+    skip: u32,
+    sphere: SphereHit,
+    observer: &mut impl PathObserver,
+) -> Option<Hit<T>> {
+    observer.traversal(true);
+    traverse(nodes, prims, ray, t_min, t_max, true, skip, sphere, observer)
 }
 
 /// Whether [`occluder`] finds anything, spheres met by the stable formula.
@@ -98,6 +128,7 @@ fn traverse<T: Real>(
     any_hit: bool,
     skip: u32,
     sphere: SphereHit,
+    observer: &mut impl PathObserver,
 ) -> Option<Hit<T>> {
     let inv = safe_inverse(ray.dir);
     let mut closest = t_max;
@@ -109,19 +140,24 @@ fn traverse<T: Real>(
     loop {
         let n = &nodes[current as usize];
         if n.count > 0 {
+            let mut tested = 0u32;
             for slot in n.left_or_first..n.left_or_first + n.count {
                 if slot == skip {
                     continue;
                 }
+                tested |= 1 << (slot - n.left_or_first);
                 if let Some(t) = hit_primitive(&prims[slot as usize], ray, t_min, closest, sphere) {
                     closest = t;
                     hit = Some(Hit { t, prim: slot });
                     if any_hit {
+                        observer.leaf(tested);
                         return hit;
                     }
                 }
             }
+            observer.leaf(tested);
         } else {
+            observer.inner();
             let (a, b) = (current + 1, n.left_or_first);
             let ta = hit_box(&nodes[a as usize], ray.origin, inv, t_min, closest);
             let tb = hit_box(&nodes[b as usize], ray.origin, inv, t_min, closest);

@@ -1,8 +1,9 @@
 //! One path from camera to light: the book's `ray_color` as a loop; twin of the megakernel's
 //! `trace_path` in `shaders/megakernel.wgsl`.
 
-use super::bvh::{closest_hit, occluder};
+use super::bvh::{closest_hit_observed, occluder_observed};
 use super::light::{diffuse_pdf, emission_weight, next_event};
+use super::observe::PathObserver;
 use super::offset::{is_self_hit, spawn_origin, surface_point, NO_ORIGIN};
 use super::{background::background, camera::Camera, material::scatter};
 use super::{primitive::outward_normal, ray::Ray, real::Real, vec3::V3};
@@ -31,6 +32,20 @@ pub fn trace_path<T: Real>(
     y: u32,
     sample: u32,
 ) -> PathSample<T> {
+    trace_path_observed(scene, camera, settings, x, y, sample, &mut ())
+}
+
+/// [`trace_path`], reporting each block the path runs to `observer` (the SIMD replay's recorder).
+#[inline(always)]
+pub fn trace_path_observed<T: Real>(
+    scene: &PackedScene,
+    camera: &Camera<T>,
+    settings: &RenderSettings,
+    x: u32,
+    y: u32,
+    sample: u32,
+    observer: &mut impl PathObserver,
+) -> PathSample<T> {
     let (seed, max_depth) = (settings.seed, settings.max_depth);
     let pixel = y * settings.width + x;
     let mut ray = camera.ray(x, y, uniform4(pixel, sample, 0, Purpose::Camera, seed));
@@ -47,13 +62,15 @@ pub fn trace_path<T: Real>(
     let mut from = NO_ORIGIN;
     for bounce in 0..max_depth {
         out.rays += 1;
-        let Some(hit) = closest_hit(&scene.nodes, &scene.primitives, &ray, t_min, sphere) else {
+        let Some(hit) = closest_hit_observed(&scene.nodes, &scene.primitives, &ray, t_min, sphere, observer)
+        else {
             out.radiance = out.radiance + throughput.mul_elem(background(&scene.background, ray.dir));
             return out;
         };
         out.failures.self_hits += is_self_hit(&scene.primitives, from, hit.prim, &ray, hit.t) as u64;
         let prim = &scene.primitives[hit.prim as usize];
         let material = &scene.materials[prim.material as usize];
+        observer.hit(material.kind);
         let sp = surface_point(prim, &ray, hit.t, robust);
         let p = sp.p;
         if material.kind == material_kind::EMISSIVE {
@@ -83,13 +100,14 @@ pub fn trace_path<T: Real>(
             if let Some(mut shadow) = next_event(scene, p, normal, u) {
                 out.rays += 1;
                 shadow.ray.origin = origin;
-                let blocker = occluder(
+                let blocker = occluder_observed(
                     &scene.nodes,
                     &scene.primitives,
                     &shadow.ray,
                     (t_min, shadow.t_max),
                     shadow.light,
                     sphere,
+                    observer,
                 );
                 match blocker {
                     None => {

@@ -8,6 +8,7 @@ pub mod camera;
 pub mod integrator;
 pub mod light;
 pub mod material;
+pub mod observe;
 pub mod offset;
 pub mod planar;
 pub mod primitive;

@@ -54,6 +54,7 @@ pub fn page(report: &ExperimentReport, charts: &[Chart], dir: &Path) -> String {
     }
     environments(&mut h, report);
     runs_table(&mut h, report);
+    super::simd_html::simd_table(&mut h, report);
     memory_table(&mut h, report);
     h.push_str("<h2>Charts</h2>\n");
     if charts.is_empty() {

@@ -27,6 +27,7 @@ pub mod reference;
 pub mod report;
 pub mod resume;
 pub mod runner;
+pub mod simd_html;
 pub mod tidy;
 
 pub use crate::input_error::InputError;

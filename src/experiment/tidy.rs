@@ -6,6 +6,7 @@
 //! Missing values are empty cells; numbers are written as Rust prints them (shortest text that
 //! reads back to the same f64, `.` as decimal point whatever the locale, `1e-7` for small ones).
 
+use crate::gpu::instrument::FRAME_KEY;
 use crate::gpu::memory::MemoryCategory;
 use crate::gpu::timing::FRAME_LABEL;
 use std::collections::BTreeSet;
@@ -176,6 +177,8 @@ fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
         rcol("iterations", |r| r.iterations.and_then(int)),
         rcol("idle_iterations", |r| r.idle_iterations.and_then(int)),
         rcol("intersect_occupancy", |r| r.intersect_occupancy.map(float)),
+        // Instrumented runs only: the work-weighted frame figure (nvprof's counterpart).
+        rcol(FRAME_KEY, |r| r.simd.as_ref().and_then(|s| s.get(FRAME_KEY)).map(|e| float(e.efficiency))),
         rcol("invalid_samples", |r| r.invalid_samples.and_then(int)),
         rcol("self_hits", |r| r.self_hits.and_then(int)),
         rcol("shadow_self_hits", |r| r.shadow_self_hits.and_then(int)),

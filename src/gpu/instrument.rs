@@ -3,6 +3,17 @@
 //! figure is right on drivers that pick the width per pipeline). Shaders write the counters
 //! in their `.instrumented` variants (`shaders/shared/instrument_on.wgsl`); timing runs use the
 //! plain variants and carry no counters.
+//!
+//! Two kinds of slot. The *entry points* (the first 15: a pass's body after its early returns,
+//! the top of a megakernel bounce, a material branch) count each subgroup once per arrival. The
+//! *traversal steps* (`*_traverse_{inner,leaf,primitive}`) count inside the BVH loop, once per
+//! iteration, so a lane whose ray finished early counts idle for every step its neighbours
+//! still take. [`work_weighted`] pools them per pass (`work:<pass>`) and over the frame
+//! ([`FRAME_KEY`]): active lane-iterations ÷ (width × subgroup-iterations issued), every
+//! instrumented block weighted by how often it ran. That frame figure is the counterpart of
+//! nvprof's `warp_execution_efficiency` (Nsight Compute: average active threads per warp ÷
+//! warp size), which weights by executed *instructions*: ours weights by executed blocks, and
+//! the traversal blocks dominate both.
 
 use super::buffers::{read_back, storage_entry, storage_zeroed};
 use super::context::GpuContext;
@@ -11,7 +22,7 @@ use anyhow::{bail, Result};
 use std::collections::BTreeMap;
 
 /// Slot names, in the order of `shaders/shared/instrument_ids.wgsl`.
-pub const SLOTS: [&str; 15] = [
+pub const SLOTS: [&str; 27] = [
     "megakernel_bounce",
     "megakernel_material",
     "megakernel_lambertian",
@@ -27,7 +38,46 @@ pub const SLOTS: [&str; 15] = [
     "shade",
     "megakernel_shadow",
     "shadow",
+    "megakernel_traverse_inner",
+    "megakernel_traverse_leaf",
+    "megakernel_traverse_primitive",
+    "megakernel_shadow_traverse_inner",
+    "megakernel_shadow_traverse_leaf",
+    "megakernel_shadow_traverse_primitive",
+    "intersect_traverse_inner",
+    "intersect_traverse_leaf",
+    "intersect_traverse_primitive",
+    "shadow_traverse_inner",
+    "shadow_traverse_leaf",
+    "shadow_traverse_primitive",
 ];
+
+/// Slots before this one are entry points, counted once per arrival; from it on, traversal
+/// steps counted per loop iteration.
+pub const FIRST_STEP_SLOT: usize = 15;
+
+/// The frame-level work-weighted figure's key: the counterpart of nvprof's warp execution
+/// efficiency.
+pub const FRAME_KEY: &str = "warp_execution_efficiency";
+
+/// The prefix of a pass's work-weighted figure (`work:intersect`).
+pub const WORK_PREFIX: &str = "work:";
+
+/// The pass a slot's work belongs to: `megakernel` (in the wavefront, its tail), `generate`,
+/// `intersect`, `shade` (all material passes) or `shadow`.
+pub fn pass_of(slot: &str) -> &'static str {
+    if slot.starts_with("megakernel") {
+        "megakernel"
+    } else if slot.starts_with("shade") {
+        "shade"
+    } else if slot.starts_with("shadow") {
+        "shadow"
+    } else if slot.starts_with("intersect") {
+        "intersect"
+    } else {
+        "generate"
+    }
+}
 
 /// Words per slot in the counter buffer: active lanes, subgroups and available lanes, each a
 /// 64-bit count in two words (low, high), as `shaders/shared/instrument_on.wgsl` writes them.
@@ -76,8 +126,38 @@ impl SimdCounters {
     /// Efficiency of every slot that was reached.
     pub fn read(&self, ctx: &GpuContext) -> Result<BTreeMap<String, SimdEfficiency>> {
         let raw: Vec<u32> = read_back(ctx, &self.buffer, (SLOTS.len() * SLOT_WORDS * 4) as u64)?;
-        decode(&raw)
+        let mut out = decode(&raw)?;
+        out.extend(work_weighted(&raw));
+        Ok(out)
     }
+}
+
+/// Per pass (`work:<pass>`) and over the frame ([`FRAME_KEY`]): active lane-iterations over
+/// available lanes of every instrumented point, entry points and traversal steps pooled;
+/// `subgroups` is the subgroup-iterations issued. Only passes that ran appear.
+pub fn work_weighted(raw: &[u32]) -> BTreeMap<String, SimdEfficiency> {
+    let word = |i: usize| raw[i] as u64 | (raw[i + 1] as u64) << 32;
+    let mut pools: BTreeMap<String, (u64, u64, u64)> = BTreeMap::new();
+    for (i, name) in SLOTS.iter().enumerate() {
+        let base = i * SLOT_WORDS;
+        let (lanes, groups, available) = (word(base), word(base + 2), word(base + 4));
+        if groups == 0 {
+            continue;
+        }
+        for key in [format!("{WORK_PREFIX}{}", pass_of(name)), FRAME_KEY.to_string()] {
+            let p = pools.entry(key).or_default();
+            p.0 += lanes;
+            p.1 += groups;
+            p.2 += available;
+        }
+    }
+    pools
+        .into_iter()
+        .filter(|(_, p)| p.2 > 0)
+        .map(|(k, (lanes, groups, available))| {
+            (k, SimdEfficiency { efficiency: lanes as f64 / available as f64, subgroups: groups })
+        })
+        .collect()
 }
 
 /// Efficiency of every slot that was reached, from the counter words.
@@ -130,5 +210,65 @@ mod tests {
         set(&mut raw, 0, 10);
         set(&mut raw, 2, 1);
         assert!(decode(&raw).unwrap_err().to_string().contains("megakernel_bounce"));
+    }
+
+    /// The pooled figures add lanes and widths, not efficiencies: a pass whose traversal runs
+    /// many half-empty steps weighs by them, beside its entry point's single full arrival.
+    #[test]
+    fn work_weighted_pools_points_by_iterations() {
+        let mut raw = vec![0u32; SLOTS.len() * SLOT_WORDS];
+        let mut put = |slot: &str, lanes: u32, groups: u32, width: u32| {
+            let base = SLOTS.iter().position(|s| *s == slot).unwrap() * SLOT_WORDS;
+            raw[base] = lanes;
+            raw[base + 2] = groups;
+            raw[base + 4] = groups * width;
+        };
+        put("intersect", 8, 1, 8); // entry: full
+        put("intersect_traverse_inner", 12, 3, 8); // 3 steps, half empty
+        put("shade_metal", 2, 1, 8);
+        let w = work_weighted(&raw);
+        assert_eq!(w["work:intersect"], SimdEfficiency { efficiency: 20.0 / 32.0, subgroups: 4 });
+        assert_eq!(w["work:shade"], SimdEfficiency { efficiency: 0.25, subgroups: 1 });
+        assert_eq!(w[FRAME_KEY], SimdEfficiency { efficiency: 22.0 / 40.0, subgroups: 5 });
+        assert!(!w.contains_key("work:megakernel"));
+    }
+
+    /// The slot order here is the one the shaders index: every `PASS_*` constant of
+    /// instrument_ids.wgsl names the slot at its index, and traversals take three slots in
+    /// `TRAVERSE_*` order.
+    #[test]
+    fn slots_match_the_shader_ids() {
+        let ids = include_str!("../../shaders/shared/instrument_ids.wgsl");
+        let consts: BTreeMap<&str, usize> = ids
+            .lines()
+            .filter_map(|l| l.strip_prefix("const "))
+            .filter_map(|l| {
+                let (name, rest) = l.split_once(':')?;
+                let v = rest.split('=').nth(1)?.trim();
+                Some((name, v.split(';').next()?.trim_end_matches('u').parse().ok()?))
+            })
+            .collect();
+        assert_eq!(consts["PASS_SLOTS"], SLOTS.len());
+        let mut checked = 0;
+        for (name, &i) in &consts {
+            let Some(pass) = name.strip_prefix("PASS_").filter(|p| *p != "SLOTS") else { continue };
+            let pass = pass.to_lowercase();
+            match pass.strip_suffix("_traverse") {
+                Some(t) => {
+                    for (k, kind) in ["inner", "leaf", "primitive"].iter().enumerate() {
+                        let kind_const = format!("TRAVERSE_{}", kind.to_uppercase());
+                        assert_eq!(consts[kind_const.as_str()], k);
+                        assert_eq!(SLOTS[i + k], format!("{t}_traverse_{kind}"), "{name}");
+                    }
+                    assert!(i >= FIRST_STEP_SLOT);
+                }
+                None => {
+                    assert_eq!(SLOTS[i], pass, "{name}");
+                    assert!(i < FIRST_STEP_SLOT);
+                }
+            }
+            checked += 1;
+        }
+        assert_eq!(checked, FIRST_STEP_SLOT + (SLOTS.len() - FIRST_STEP_SLOT) / 3);
     }
 }

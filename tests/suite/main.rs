@@ -25,6 +25,7 @@ mod resume;
 mod sampling;
 mod scale;
 mod scene_format;
+mod simd_replay;
 mod stability;
 mod stage_cache;
 mod tidy;

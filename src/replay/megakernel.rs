@@ -1,0 +1,141 @@
+//! The naive megakernel replayed: one lane per path sample in dispatch order (invocation i of a
+//! dispatch takes pixel `pixel_offset + i % pixel_count`, sample `sample_start + i /
+//! pixel_count`, as `shaders/megakernel.wgsl`), W consecutive invocations per subgroup, the
+//! last subgroup of a dispatch partial; each subgroup runs the bounce loop in lockstep.
+
+use super::lockstep::{slot, traverse, Lane, SlotCounts};
+use super::recorder::{is_hit, Recorder, CLOSEST, SHADOW};
+use super::width::MAX_WIDTH;
+use crate::camera::CameraFrame;
+use crate::cpu::{camera::Camera, integrator::trace_path_observed};
+use crate::gpu::dispatch_plan;
+use crate::layout::DispatchParams;
+use crate::packed_scene::PackedScene;
+use crate::settings::RenderSettings;
+use rayon::prelude::*;
+
+/// What the replay simulates of the megakernel's launch.
+#[derive(Clone, Copy, Debug)]
+pub struct Launch {
+    /// Most path samples per dispatch (`MegakernelOptions::samples_per_dispatch`).
+    pub samples_per_dispatch: u64,
+    /// Most threads per dispatch (workgroups per dimension × workgroup size).
+    pub max_threads: u32,
+    /// Replay one block of MAX_WIDTH invocations in `every` (1: the whole frame): systematic
+    /// sampling of whole blocks, each replayed exactly, so a subgroup is never cut.
+    pub every: u64,
+}
+
+/// The replay of a frame at each width: slot counts, and the dispatches and blocks replayed.
+pub struct Replayed {
+    pub counts: Vec<(u32, SlotCounts)>,
+    pub dispatches: usize,
+    pub blocks: u64,
+    pub blocks_replayed: u64,
+}
+
+/// Replays the naive megakernel at every width in `widths` (checked by `width::check`).
+pub fn replay(
+    scene: &PackedScene,
+    frame: &CameraFrame,
+    settings: &RenderSettings,
+    widths: &[u32],
+    launch: Launch,
+) -> Replayed {
+    let camera = Camera::<f32>::new(frame);
+    let pixels = settings.width * settings.height;
+    let plan = dispatch_plan::plan(pixels, settings.spp, launch.samples_per_dispatch, launch.max_threads);
+    // (dispatch, first invocation) of every block; blocks never span dispatches.
+    let blocks: Vec<(usize, u64)> = plan
+        .iter()
+        .enumerate()
+        .flat_map(|(d, p)| {
+            let n = p.pixel_count as u64 * p.sample_count as u64;
+            (0..n.div_ceil(MAX_WIDTH as u64)).map(move |b| (d, b * MAX_WIDTH as u64))
+        })
+        .collect();
+    let every = launch.every.max(1);
+    let total = blocks.len() as u64;
+    let counts = blocks
+        .par_iter()
+        .enumerate()
+        .filter(|(i, _)| (*i as u64).is_multiple_of(every))
+        .map(|(_, &(d, first))| block(scene, &camera, settings, &plan[d], first, widths))
+        .reduce(
+            || widths.iter().map(|_| SlotCounts::new()).collect(),
+            |mut a, b| {
+                a.iter_mut().zip(&b).for_each(|(a, b)| a.add(b));
+                a
+            },
+        );
+    Replayed {
+        counts: widths.iter().copied().zip(counts).collect(),
+        dispatches: plan.len(),
+        blocks: total,
+        blocks_replayed: total.div_ceil(every),
+    }
+}
+
+/// Records the paths of MAX_WIDTH invocations from `first` and replays them at every width.
+fn block(
+    scene: &PackedScene,
+    camera: &Camera<f32>,
+    settings: &RenderSettings,
+    d: &DispatchParams,
+    first: u64,
+    widths: &[u32],
+) -> Vec<SlotCounts> {
+    let n = d.pixel_count as u64 * d.sample_count as u64;
+    let mut rec = Recorder::default();
+    let mut spans = Vec::with_capacity(MAX_WIDTH as usize);
+    for i in first..(first + MAX_WIDTH as u64).min(n) {
+        let pixel = d.pixel_offset + (i % d.pixel_count as u64) as u32;
+        let sample = d.sample_start + (i / d.pixel_count as u64) as u32;
+        let start = rec.events.len();
+        let (x, y) = (pixel % settings.width, pixel / settings.width);
+        trace_path_observed(scene, camera, settings, x, y, sample, &mut rec);
+        spans.push(start..rec.events.len());
+    }
+    widths
+        .iter()
+        .map(|&w| {
+            let mut counts = SlotCounts::new();
+            for group in spans.chunks(w as usize) {
+                let mut lanes: Vec<Lane> =
+                    group.iter().map(|s| Lane { events: &rec.events[s.clone()], at: 0 }).collect();
+                subgroup(&mut lanes, w, &mut counts);
+            }
+            counts
+        })
+        .collect()
+}
+
+/// One subgroup's paths through the megakernel's bounce loop (shaders/shared/integrator.wgsl),
+/// in lockstep: every instrumented block counted with the lanes that run it.
+pub fn subgroup(lanes: &mut [Lane], width: u32, counts: &mut SlotCounts) {
+    let at = |lanes: &[Lane], l: usize, e: u32| lanes[l].next() == Some(e);
+    loop {
+        let alive: Vec<usize> = (0..lanes.len()).filter(|&l| at(lanes, l, CLOSEST)).collect();
+        if alive.is_empty() {
+            return;
+        }
+        counts.count(slot("megakernel_bounce"), alive.len(), width);
+        alive.iter().for_each(|&l| lanes[l].at += 1);
+        traverse(lanes, &alive, slot("megakernel_traverse_inner"), width, counts);
+        let hit: Vec<usize> =
+            alive.iter().copied().filter(|&l| lanes[l].next().is_some_and(is_hit)).collect();
+        counts.count(slot("megakernel_material"), hit.len(), width);
+        let mut kinds = [0usize; 4];
+        for &l in &hit {
+            kinds[((lanes[l].next().unwrap() & 0xff) as usize).min(3)] += 1;
+            lanes[l].at += 1;
+        }
+        for (k, name) in ["lambertian", "metal", "dielectric", "emissive"].iter().enumerate() {
+            counts.count(slot(&format!("megakernel_{name}")), kinds[k], width);
+        }
+        let shadow: Vec<usize> = hit.iter().copied().filter(|&l| at(lanes, l, SHADOW)).collect();
+        counts.count(slot("megakernel_shadow"), shadow.len(), width);
+        shadow.iter().for_each(|&l| lanes[l].at += 1);
+        traverse(lanes, &shadow, slot("megakernel_shadow_traverse_inner"), width, counts);
+    }
+}

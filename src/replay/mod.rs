@@ -1,0 +1,15 @@
+//! The lockstep SIMD replay (issue 25): the CPU reference records what each path does, block by
+//! block (traversal steps by kind, material, shadow traversal); the replay groups those paths
+//! into subgroups of W lanes as a GPU method groups its threads and runs them in lockstep,
+//! reconverging at the end of every loop and branch, counting the same slots as the device's
+//! `--instrument` counters (`src/gpu/instrument.rs`). At W = the device's subgroup width it
+//! reproduces the device's figures (tests/suite/simd_replay.rs); at other widths it predicts
+//! them, with no GPU. Aila & Laine (2009) ran the same kind of simulator for traversal alone.
+//!
+//! Done: the naive megakernel (one thread per sample, dispatch order). Not yet: the
+//! regenerating megakernel and the wavefront's queues.
+
+pub mod lockstep;
+pub mod megakernel;
+pub mod recorder;
+pub mod width;
