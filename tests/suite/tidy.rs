@@ -128,6 +128,10 @@ pub fn assert_tidy(dir: &Path) -> (Vec<String>, Vec<Vec<String>>) {
             "indirect_validation",
             "reference",
             "efficiency",
+            "empty_dispatches",
+            "iterations",
+            "idle_iterations",
+            "intersect_occupancy",
         ]
         .iter()
         .map(|k| (k.to_string(), &r[*k]))
@@ -138,6 +142,13 @@ pub fn assert_tidy(dir: &Path) -> (Vec<String>, Vec<Vec<String>>) {
             }
         }
         expected.push(("pool_size_used".into(), &r["pool_size"]));
+        // GPU memory: one column per category (empty where the run has none), total and peak.
+        for category in wavetrace::gpu::memory::MemoryCategory::ALL {
+            let key = category.key();
+            expected.push((format!("memory_{key}"), &r["memory"]["by_category"][key]));
+        }
+        expected.push(("memory_total".into(), &r["memory"]["total"]));
+        expected.push(("memory_peak".into(), &r["memory"]["peak"]));
         for k in ["exr", "png", "error_map"] {
             expected.push((k.into(), &r["images"][k]));
         }
