@@ -46,6 +46,10 @@ fn main() {
                     if p.ends_with(h.file) {
                         p = root.join(h.swap);
                     }
+                    // The coherence counters ride on the instrument variant, where included.
+                    if h.file == INSTRUMENT.file && p.ends_with(COHERENCE.file) {
+                        p = root.join(COHERENCE.swap);
+                    }
                 }
                 // Entry points hand their subgroup width to `instrument_begin` (instrument.wgsl).
                 std::fs::read_to_string(&p).map_err(|e| e.to_string()).map(|s| {
@@ -94,6 +98,7 @@ struct Hook {
 }
 
 const INSTRUMENT: Hook = Hook { file: "shared/instrument.wgsl", swap: "shared/instrument_on.wgsl" };
+const COHERENCE: Hook = Hook { file: "shared/coherence.wgsl", swap: "shared/coherence_on.wgsl" };
 const APPEND: Hook = Hook { file: "shared/append.wgsl", swap: "shared/append_subgroup.wgsl" };
 
 fn validate(src: &str) -> Result<(), String> {

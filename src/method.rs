@@ -3,7 +3,7 @@
 use crate::camera::CameraFrame;
 use crate::cpu;
 use crate::film::Film;
-use crate::gpu::instrument::SimdEfficiency;
+use crate::gpu::instrument::{Coherence, SimdEfficiency};
 use crate::gpu::megakernel::{self, MegakernelOptions};
 use crate::gpu::memory::GpuMemory;
 use crate::gpu::timing::{Measure, Timing, Timings};
@@ -95,6 +95,8 @@ pub struct RenderOutput {
     pub pool: Option<u32>,
     /// Paths per queue per bounce (wavefront, waves with compaction only).
     pub histogram: Option<QueueHistogram>,
+    /// The intersect pass's coherence per iteration bucket (wavefront, `--instrument`).
+    pub coherence: Option<Vec<Coherence>>,
     /// The wavefront's schedule and what it cost (wavefront only).
     pub schedule: Option<ScheduleStats>,
     /// Self-hits and paths cut by the depth limit (NaN/Inf samples: `film.invalid_samples()`).
@@ -114,6 +116,7 @@ impl RenderOutput {
             memory: Some(r.memory),
             pool: None,
             histogram: None,
+            coherence: None,
             schedule: None,
             failures: r.failures,
         }
@@ -172,6 +175,7 @@ pub fn render(
                 memory: None,
                 pool: None,
                 histogram: None,
+                coherence: None,
                 schedule: None,
                 failures,
             })
@@ -203,6 +207,7 @@ pub fn render(
             Ok(RenderOutput {
                 pool: Some(r.pool),
                 histogram: r.histogram,
+                coherence: r.coherence,
                 schedule: Some(r.schedule),
                 ..RenderOutput::from_gpu(r.render)
             })

@@ -2,7 +2,7 @@
 //! figure can be traced back to its run.
 
 use crate::gpu::context::AdapterSummary;
-use crate::gpu::instrument::SimdEfficiency;
+use crate::gpu::instrument::{Coherence, SimdEfficiency};
 use crate::gpu::memory::GpuMemory;
 use crate::gpu::timing::{PassTime, TimeSource};
 use crate::gpu::wavefront::{QueueHistogram, ScheduleStats};
@@ -123,6 +123,9 @@ pub struct RunReport {
     pub queue_histogram: Option<QueueHistogram>,
     /// SIMD efficiency (active / available subgroup lanes) per pass or point (`--instrument`).
     pub simd: Option<BTreeMap<String, SimdEfficiency>>,
+    /// The intersect pass's coherence per iteration bucket (wavefront, `--instrument`; issue 26).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coherence: Option<Vec<Coherence>>,
     /// Whether wgpu inserted its validation dispatch before every indirect dispatch
     /// (`InstanceFlags::VALIDATION_INDIRECT_CALL`, wgpu #5714).
     pub indirect_validation: Option<bool>,
@@ -182,6 +185,7 @@ impl RunReport {
             passes_per_bounce: out.timings.as_ref().map(|t| t.per_bounce.clone()).unwrap_or_default(),
             queue_histogram: out.histogram.clone(),
             simd: out.simd.clone(),
+            coherence: out.coherence.clone(),
             indirect_validation: adapter.map(|a| a.indirect_validation),
         }
     }

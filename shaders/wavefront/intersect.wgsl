@@ -5,6 +5,7 @@
 #include "shared/scene.wgsl"
 #include "shared/path_state.wgsl"
 #include "shared/instrument.wgsl"
+#include "shared/coherence.wgsl"
 
 override WORKGROUP_SIZE: u32 = 64u;
 
@@ -30,6 +31,7 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_par
         return;
     }
     instrument(PASS_INTERSECT);
+    instrument_coherence(slot);
     let ray = Ray(path_origin[slot].xyz, dir.xyz);
     instrument_traversal(PASS_INTERSECT_TRAVERSE);
     let hit = closest_hit(ray, frame.t_min);

@@ -352,6 +352,19 @@ pub fn print_pass_table(t: &Timings, r: &RunReport) {
             println!("{point:<24} {:>11} {:>8} {:>7} {:>5.1}%", "", "", "", 100.0 * e.efficiency);
         }
     }
+    if let Some(c) = r.coherence.as_ref().filter(|c| !c.is_empty()) {
+        // Issue 26: how scattered the intersect pass's subgroups are, by iteration.
+        println!(
+            "{:<24} {:>11} {:>8} {:>9} {:>12}",
+            "intersect coherence", "subgroups", "lanes", "lines", "pixel spread"
+        );
+        for b in c {
+            println!(
+                "  from iteration {:<7} {:>11} {:>8.2} {:>9.2} {:>12.1}",
+                b.first_iteration, b.subgroups, b.lanes, b.lines, b.pixel_spread
+            );
+        }
+    }
     if let Some(h) = &r.queue_histogram {
         // The shadow column only with --nee on in a scene with lights.
         let shadow = !h.shadow.is_empty();

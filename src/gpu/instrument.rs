@@ -83,6 +83,57 @@ pub fn pass_of(slot: &str) -> &'static str {
 /// 64-bit count in two words (low, high), as `shaders/shared/instrument_on.wgsl` writes them.
 const SLOT_WORDS: usize = 6;
 
+/// Iteration buckets of the coherence counters (`shaders/shared/coherence_on.wgsl`): iterations
+/// 0..7 one each, then one per power of two from 8 on, the last open-ended.
+pub const COHERENCE_BUCKETS: usize = 16;
+/// Words per coherence bucket: subgroups, lanes, lines, spread; each 64-bit (low, high).
+const COHERENCE_WORDS: usize = 8;
+const BUFFER_BYTES: u64 = ((SLOTS.len() * SLOT_WORDS + COHERENCE_BUCKETS * COHERENCE_WORDS) * 4) as u64;
+
+/// Memory and image coherence of the intersect pass's subgroups over a range of iterations
+/// (issue 26): with waves the iteration is the bounce; regenerating, refills happen every
+/// iteration, so late buckets show what many refills did to the pool's order.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Coherence {
+    /// First iteration of the bucket.
+    pub first_iteration: u32,
+    pub subgroups: u64,
+    /// Mean active lanes per subgroup.
+    pub lanes: f64,
+    /// Mean distinct 64-byte lines per subgroup load of a 16-byte-per-slot path array (1 when
+    /// four consecutive slots share a line; one per lane when scattered).
+    pub lines: f64,
+    /// Mean half-perimeter, in pixels, of the box around a subgroup's lanes' pixels.
+    pub pixel_spread: f64,
+}
+
+/// First iteration of coherence bucket `b`.
+pub fn coherence_bucket_start(b: usize) -> u32 {
+    if b < 8 {
+        b as u32
+    } else {
+        1 << (b - 5)
+    }
+}
+
+/// The buckets reached, from the coherence counter words.
+pub fn decode_coherence(raw: &[u32]) -> Vec<Coherence> {
+    let word = |i: usize| raw[i] as u64 | (raw[i + 1] as u64) << 32;
+    (0..COHERENCE_BUCKETS)
+        .filter_map(|b| {
+            let base = b * COHERENCE_WORDS;
+            let groups = word(base);
+            (groups > 0).then(|| Coherence {
+                first_iteration: coherence_bucket_start(b),
+                subgroups: groups,
+                lanes: word(base + 2) as f64 / groups as f64,
+                lines: word(base + 4) as f64 / groups as f64,
+                pixel_spread: word(base + 6) as f64 / groups as f64,
+            })
+        })
+        .collect()
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SimdEfficiency {
     /// Active lanes / available lanes, in [0, 1].
@@ -107,12 +158,7 @@ impl SimdCounters {
         }
         let buffer = memory.track(
             MemoryCategory::Instrumentation,
-            storage_zeroed(
-                ctx,
-                "simd counters",
-                (SLOTS.len() * SLOT_WORDS * 4) as u64,
-                wgpu::BufferUsages::COPY_SRC,
-            )?,
+            storage_zeroed(ctx, "simd counters", BUFFER_BYTES, wgpu::BufferUsages::COPY_SRC)?,
         );
         let layout = ctx.bind_group_layout("simd counters", &[storage_entry(0, false)]);
         let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -125,10 +171,17 @@ impl SimdCounters {
 
     /// Efficiency of every slot that was reached.
     pub fn read(&self, ctx: &GpuContext) -> Result<BTreeMap<String, SimdEfficiency>> {
-        let raw: Vec<u32> = read_back(ctx, &self.buffer, (SLOTS.len() * SLOT_WORDS * 4) as u64)?;
-        let mut out = decode(&raw)?;
-        out.extend(work_weighted(&raw));
+        let raw: Vec<u32> = read_back(ctx, &self.buffer, BUFFER_BYTES)?;
+        let slots = &raw[..SLOTS.len() * SLOT_WORDS];
+        let mut out = decode(slots)?;
+        out.extend(work_weighted(slots));
         Ok(out)
+    }
+
+    /// The coherence counters of the wavefront's intersect pass, per iteration bucket reached.
+    pub fn read_coherence(&self, ctx: &GpuContext) -> Result<Vec<Coherence>> {
+        let raw: Vec<u32> = read_back(ctx, &self.buffer, BUFFER_BYTES)?;
+        Ok(decode_coherence(&raw[SLOTS.len() * SLOT_WORDS..]))
     }
 }
 
@@ -270,5 +323,24 @@ mod tests {
             checked += 1;
         }
         assert_eq!(checked, FIRST_STEP_SLOT + (SLOTS.len() - FIRST_STEP_SLOT) / 3);
+    }
+
+    /// Bucket starts match the shader's buckets (8..15 is bucket 8, 1024.. is bucket 15), and
+    /// means divide by the bucket's own subgroups.
+    #[test]
+    fn coherence_buckets_and_means() {
+        let starts: Vec<u32> = (0..COHERENCE_BUCKETS).map(coherence_bucket_start).collect();
+        assert_eq!(starts, [0, 1, 2, 3, 4, 5, 6, 7, 8, 16, 32, 64, 128, 256, 512, 1024]);
+        let mut raw = vec![0u32; COHERENCE_BUCKETS * COHERENCE_WORDS];
+        let b = 9 * COHERENCE_WORDS;
+        raw[b] = 4;
+        raw[b + 2] = 32;
+        raw[b + 4] = 12;
+        raw[b + 6] = 2;
+        raw[b + 7] = 1; // 2^32 + 2 pixels of spread
+        let c = decode_coherence(&raw);
+        assert_eq!(c.len(), 1);
+        assert_eq!((c[0].first_iteration, c[0].subgroups, c[0].lanes, c[0].lines), (16, 4, 8.0, 3.0));
+        assert_eq!(c[0].pixel_spread, ((1u64 << 32) + 2) as f64 / 4.0);
     }
 }

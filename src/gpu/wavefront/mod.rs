@@ -50,7 +50,7 @@ use super::buffers::{read_back, storage_zeroed, Staging};
 use super::context::GpuContext;
 use super::dispatch_plan::DispatchUniforms;
 use super::gpu_render::GpuRender;
-use super::instrument::SimdCounters;
+use super::instrument::{Coherence, SimdCounters};
 use super::loop_limit::check_loop_limit;
 use super::memory::{MemoryCategory, MemoryLedger};
 use super::scene_buffers::SceneBuffers;
@@ -255,6 +255,8 @@ pub struct WavefrontRender {
     /// Per-bounce queue sizes (waves with compaction; regenerating mixes bounces in a queue).
     pub histogram: Option<QueueHistogram>,
     pub schedule: ScheduleStats,
+    /// The intersect pass's coherence per iteration bucket (`--instrument`).
+    pub coherence: Option<Vec<Coherence>>,
 }
 
 /// The passes of a render, recorded per share and per iteration.
@@ -537,6 +539,7 @@ pub fn render(
     let data: Vec<FilmPixel> = read_back(ctx, &film, film_bytes)?;
     let film = Film::from_gpu(settings.width, settings.height, settings.spp, &data);
     let simd = b.simd.as_ref().map(|s| s.read(ctx)).transpose()?;
+    let coherence = b.simd.as_ref().map(|s| s.read_coherence(ctx)).transpose()?;
     let failures = b.scene.read_failures(ctx)?;
     Ok(WavefrontRender {
         render: GpuRender {
@@ -553,6 +556,7 @@ pub fn render(
         pool,
         histogram,
         schedule: stats,
+        coherence,
     })
 }
 
