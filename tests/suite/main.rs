@@ -22,6 +22,7 @@ mod resume;
 mod sampling;
 mod scale;
 mod scene_format;
+mod slurm;
 mod stability;
 mod stage_cache;
 mod tidy;
