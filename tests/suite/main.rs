@@ -7,6 +7,7 @@ mod common;
 mod agreement;
 mod chart;
 mod cli;
+mod docs;
 mod edge_cases;
 mod experiment;
 mod film;
