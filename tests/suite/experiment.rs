@@ -527,6 +527,7 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
         [
             "baselines.json",
             "cpu_vs_gpu.json",
+            "device/fixed_costs.json",
             "device/headline.json",
             "device/regeneration_1080p.json",
             "device/seeds_1080p.json",
@@ -535,6 +536,7 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
             "light_sampling.json",
             "material_cost.json",
             "megakernel_vs_wavefront.json",
+            "my_scene.json",
             "nee.json",
             "pool_memory.json",
             "precision.json",
