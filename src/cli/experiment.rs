@@ -2,31 +2,62 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
 
 use crate::experiment::plan::{self, Shard};
 use crate::experiment::report::{ExperimentReport, RunStatus};
 use crate::experiment::resume::Resume;
 use crate::experiment::runner::{self, RunnerOptions};
-use crate::experiment::{merge, outputs, ExperimentConfig};
+use crate::experiment::{markdown, merge, outputs, ExperimentConfig};
 
-const EXAMPLES: &str = "\
+/// `wavetrace experiment --help`: one line per subcommand.
+pub const EXAMPLES: &str = "\
 Examples:
   wavetrace experiment run experiments/quick.json                 # -> out/quick/report.html
-  wavetrace experiment run experiments/cpu_vs_gpu.json --out results/cpu_vs_gpu
   wavetrace experiment run experiments/quick.json --list          # the runs, without running
-  wavetrace experiment run sweep.json --out shards/$SLURM_ARRAY_TASK_ID --shard $SLURM_ARRAY_TASK_ID/8
-  wavetrace experiment run sweep.json --out results/sweep --resume  # after a kill or preemption
-  wavetrace experiment merge shards/* --out results/sweep
-  wavetrace experiment report out/quick                           # re-draw charts, HTML and CSV
+  wavetrace experiment merge shards/* --out results/sweep         # shards of one config -> one report
+  wavetrace experiment report out/quick --markdown                # the results as a Markdown page
 
-Writes into the output directory: report.json (schema wavetrace-experiment-report/1, see the
-README), runs.csv and passes.csv (tidy tables of it), report.html, charts/*.svg,
-images/RUN.exr|.png|-error.png, references/*.png.
+Configs: docs/cli-and-configs.md. Outputs (report.json, runs.csv, passes.csv): docs/outputs.md.
+Each subcommand's --help has its own examples.";
+
+const RUN_EXAMPLES: &str = "\
+Examples:
+  wavetrace experiment run experiments/quick.json                 # -> out/quick/report.html
+  wavetrace experiment run experiments/my_scene.json --out out/my_scene
+  wavetrace experiment run experiments/quick.json --list          # the runs, without running
+  wavetrace experiment run sweep.json --out results/sweep --resume  # after a kill or preemption
+  wavetrace experiment run sweep.json --out shards/$SLURM_ARRAY_TASK_ID \\
+      --shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT --resume   # see scripts/slurm/
+
+Writes into the output directory: report.json (schema wavetrace-experiment-report/1, described in
+docs/outputs.md and experiments/report.schema.json), runs.csv and passes.csv (tidy tables of it),
+report.html, charts/*.svg, images/RUN.exr|.png|-error.png, references/*.png.
 --resume keeps the runs an interrupted attempt in --out finished (same config, build and shard,
 else it refuses and says what differs), runs failed runs again and renders the rest; with no
 report.json there yet it starts afresh, so a requeued batch job can always pass it.
 Exits with status 1 when any run failed (the report records why).";
+
+const MERGE_EXAMPLES: &str = "\
+Examples:
+  wavetrace experiment merge shards/* --out results/sweep
+  wavetrace experiment merge shards/0 shards/1 shards/2 --out results/partial  # missing runs listed
+
+The shards must come from one config; a run found in two shards is refused. The merged report
+keeps each shard's environment, lists runs no shard had in missing_runs (status incomplete),
+copies the images and re-draws charts, report.html, runs.csv and passes.csv. scripts/slurm/
+submits a sharded job array and this merge after it.";
+
+const REPORT_EXAMPLES: &str = "\
+Examples:
+  wavetrace experiment report out/quick                           # re-draw charts, HTML and CSV
+  wavetrace experiment report out/quick --markdown                # results page on stdout
+  wavetrace experiment report experiments/results/llvmpipe-2core/quick --markdown \\
+      --out docs/results/llvmpipe-2core/quick.md
+
+--markdown writes a results page (tables of every run, the build and device from the report's own
+environment records) and leaves the directory untouched; without it, charts/*.svg, report.html,
+runs.csv and passes.csv are re-drawn from report.json.";
 
 #[derive(clap::Subcommand, Debug)]
 pub enum ExperimentCommand {
@@ -39,7 +70,7 @@ pub enum ExperimentCommand {
 }
 
 #[derive(clap::Args, Debug)]
-#[command(after_help = EXAMPLES)]
+#[command(after_help = RUN_EXAMPLES)]
 pub struct RunArgs {
     /// Experiment config (JSON, "schema": "wavetrace-experiment/1").
     pub config: PathBuf,
@@ -70,7 +101,7 @@ pub struct RunArgs {
 }
 
 #[derive(clap::Args, Debug)]
-#[command(after_help = EXAMPLES)]
+#[command(after_help = MERGE_EXAMPLES)]
 pub struct MergeArgs {
     /// Output directories of `experiment run --shard`.
     #[arg(required = true)]
@@ -86,10 +117,17 @@ pub struct MergeArgs {
 }
 
 #[derive(clap::Args, Debug)]
-#[command(after_help = EXAMPLES)]
+#[command(after_help = REPORT_EXAMPLES)]
 pub struct ReportArgs {
     /// A directory holding report.json.
     pub dir: PathBuf,
+    /// Write a Markdown results page from report.json (to stdout, or --out) instead of
+    /// re-drawing the directory's charts, HTML and CSV.
+    #[arg(long)]
+    pub markdown: bool,
+    /// With --markdown: the page's file (links to charts are made relative to it).
+    #[arg(long, requires = "markdown", value_name = "FILE")]
+    pub out: Option<PathBuf>,
 }
 
 pub fn run(c: ExperimentCommand) -> Result<()> {
@@ -109,6 +147,7 @@ pub fn run(c: ExperimentCommand) -> Result<()> {
             }
             Ok(())
         }
+        ExperimentCommand::Report(a) if a.markdown => markdown_page(&a),
         ExperimentCommand::Report(a) => {
             let report = outputs::redraw(&a.dir)?;
             println!("{}", a.dir.join(outputs::HTML_FILE).display());
@@ -116,6 +155,45 @@ pub fn run(c: ExperimentCommand) -> Result<()> {
             Ok(())
         }
     }
+}
+
+/// `experiment report DIR --markdown [--out FILE]`: the results page, from report.json alone.
+fn markdown_page(a: &ReportArgs) -> Result<()> {
+    let report = ExperimentReport::read(&a.dir)?;
+    let source = a.dir.to_string_lossy().trim_end_matches('/').to_string();
+    match &a.out {
+        None => {
+            print!("{}", markdown::page(&report, &source, &format!("{source}/")));
+            Ok(())
+        }
+        Some(file) => {
+            let from = file.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+            std::fs::create_dir_all(from).with_context(|| format!("creating {}", from.display()))?;
+            let prefix = relative_path(from, &a.dir)
+                .with_context(|| format!("relating {} to {}", a.dir.display(), file.display()))?;
+            let text = markdown::page(&report, &source, &prefix);
+            crate::image_io::write_file_atomically(file, text.as_bytes())
+                .with_context(|| format!("writing {}", file.display()))?;
+            println!("{}", file.display());
+            Ok(())
+        }
+    }
+}
+
+/// The path from directory `from` to directory `to`, with a trailing `/` ("" when they are one).
+fn relative_path(from: &Path, to: &Path) -> Result<String> {
+    let (from, to) = (std::fs::canonicalize(from)?, std::fs::canonicalize(to)?);
+    let (a, b): (Vec<_>, Vec<_>) = (from.components().collect(), to.components().collect());
+    let common = a.iter().zip(&b).take_while(|(x, y)| x == y).count();
+    let mut out = String::new();
+    for _ in common..a.len() {
+        out.push_str("../");
+    }
+    for c in &b[common..] {
+        out.push_str(&c.as_os_str().to_string_lossy());
+        out.push('/');
+    }
+    Ok(out)
 }
 
 fn run_config(a: RunArgs) -> Result<()> {

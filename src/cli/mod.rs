@@ -21,9 +21,24 @@ Examples:
   wavetrace compare test.exr reference.exr --json
   wavetrace experiment run experiments/quick.json     # -> out/quick/report.html
 
-Environment:
-  RUST_LOG=info|debug    logging (e.g. adapter choice, dispatch plan)
-  WGPU_BACKEND=vulkan    restrict the adapters considered to one backend";
+Environment (docs/cli.md#environment-variables has the full table):
+  RUST_LOG=info|debug                 logging (adapter choice, dispatch plan, loop-cap estimate)
+  WGPU_BACKEND=vulkan                 consider only this backend's adapters (vulkan, metal, dx12, gl)
+  NODEVICE_SELECT=1                   turn Mesa's Vulkan device-selection layer off (set for you
+                                      where XDG_RUNTIME_DIR is unset: headless machines)
+  WGPU_VALIDATION_INDIRECT_CALL=1     turn wgpu's indirect-dispatch validation back on (off by
+                                      default; reports record it as indirect_validation)
+  WAVETRACE_CACHE=DIR                 experiment run: where rendered references are cached (--cache)
+Tests, benches and scripts:
+  WAVETRACE_REQUIRE_GPU=1             GPU tests fail instead of skipping without an adapter (CI=1 too)
+  WAVETRACE_ADAPTER=SUBSTR            the adapter the tests and benches open
+  WAVETRACE_BENCH_SCENE, WAVETRACE_BENCH_NEE=on     cargo bench --bench gpu_frame's scene and NEE
+  WAVETRACE_PROFILE=release|ci        the cargo profile scripts/setup.sh builds
+  WAVETRACE_DEVICE_BUDGET=SECONDS     scripts/device_figures.sh: time this call may spend [540]
+  WAVETRACE_DEVICE_WORK=DIR           scripts/device_figures.sh: reports kept between calls
+  WAVETRACE_DEVICE_ALLOW_SOFTWARE=1   scripts/device_figures.sh: accept a software adapter
+  WAVETRACE_DEVICE_PROFILE=release|ci scripts/device_prepare.sh and device_dry_run.sh: the build
+  WAVETRACE_DEVICE_LOADER=skip        scripts/device_prepare.sh: do not download the Vulkan loader";
 
 #[derive(Parser, Debug)]
 #[command(name = "wavetrace", version, about = "Megakernel vs wavefront GPU path tracing: a research testbed", after_help = EXAMPLES)]
@@ -39,12 +54,12 @@ pub enum Command {
     /// List GPU adapters, the one chosen and why, and the features and limits that matter.
     Info(info::InfoArgs),
     /// List or export the built-in scenes.
-    #[command(subcommand)]
+    #[command(subcommand, after_help = scene::EXAMPLES)]
     Scene(scene::SceneCommand),
     /// Error metrics (MSE, relMSE, SMAPE, MAPE, FLIP) of a test EXR against a reference EXR.
     Compare(compare::CompareArgs),
     /// Run experiment configs into JSON reports, EXRs, charts and HTML; merge shards; re-draw.
-    #[command(subcommand)]
+    #[command(subcommand, after_help = experiment::EXAMPLES)]
     Experiment(experiment::ExperimentCommand),
     /// Replay a frame's paths in SIMD lockstep at several widths (no GPU): predicted efficiency.
     Replay(replay::ReplayArgs),

@@ -2,9 +2,22 @@
 
 use crate::scene::{builtin, export};
 
+/// `wavetrace scene --help`.
+pub const EXAMPLES: &str = "\
+Examples:
+  wavetrace scene list                                   # the built-in scenes
+  wavetrace scene export three-spheres > my_scene.json   # a starting point to edit
+  wavetrace render --scene my_scene.json --method wavefront --out mine.exr --png mine.png
+
+The scene format (wavetrace-scene/1) is described in docs/cli-and-configs.md#scene-files;
+experiments/scenes/my_scene.json is a small example.";
+
 #[derive(clap::Subcommand, Debug)]
 pub enum SceneCommand {
     /// List the built-in scenes.
+    #[command(
+        after_help = "Examples:\n  wavetrace scene list\n  wavetrace render --scene cornell --method megakernel --out cornell.exr\n\nspheres-N takes any N from 1 to 1000000 (e.g. spheres-100000) and rtiow-heavy-O any O from 1 to 16."
+    )]
     List,
     /// Print a built-in scene as JSON (loadable again with `--scene FILE`).
     #[command(
@@ -43,5 +56,19 @@ pub fn run(cmd: SceneCommand) -> anyhow::Result<()> {
             println!("{}", export::to_json(&scene));
             Ok(())
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// `scene list --help` states the families' ranges: they must be the code's.
+    #[test]
+    fn list_help_states_the_families_ranges() {
+        use clap::CommandFactory;
+        let mut cli = crate::cli::Cli::command();
+        let list = cli.find_subcommand_mut("scene").unwrap().find_subcommand_mut("list").unwrap();
+        let help = list.render_long_help().to_string();
+        assert!(help.contains(&format!("1 to {}", crate::scene::builtin::SPHERES_MAX)), "{help}");
+        assert!(help.contains(&format!("1 to {}", crate::scene::texture::MAX_OCTAVES)), "{help}");
     }
 }

@@ -20,6 +20,7 @@ pub mod config;
 pub mod error_map;
 pub mod gpu_slot;
 pub mod html;
+pub mod markdown;
 pub mod merge;
 pub mod outputs;
 pub mod plan;

@@ -557,6 +557,7 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
             "light_sampling.json",
             "material_cost.json",
             "megakernel_vs_wavefront.json",
+            "my_scene.json",
             "nee.json",
             "pool_memory.json",
             "precision.json",
