@@ -11,21 +11,9 @@ use wavetrace::film::Film;
 use wavetrace::method::Method;
 use wavetrace::scene::{builtin, Material, Scene, Texture};
 
-/// The fraction of pixels whose three channel means agree within 1e-3 relative (1e-6 absolute
-/// near black), and the images' relative mean difference.
+/// The same-sample bar's counts, 1e-3 absolute near black.
 fn paired(a: &Film, b: &Film) -> (f64, f64) {
-    assert_eq!((a.width, a.height, a.spp), (b.width, b.height, b.spp));
-    let close = a
-        .pixels
-        .iter()
-        .zip(&b.pixels)
-        .filter(|(p, q)| {
-            let (m, n) = (p.mean(), q.mean());
-            (0..3).all(|c| (m[c] - n[c]).abs() <= 1e-3 * m[c].abs().max(n[c].abs()).max(1e-3))
-        })
-        .count();
-    let frac = close as f64 / a.pixels.len() as f64;
-    (frac, (a.image_mean() - b.image_mean()).abs() / b.image_mean())
+    common::same_sample_agreement(a, b, 1e-3)
 }
 
 /// Every metal's albedo times `k`.

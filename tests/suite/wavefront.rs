@@ -43,17 +43,7 @@ fn all_knobs() -> Vec<WavefrontOptions> {
 
 /// The bar: ≥ 99.5% of pixels within 1e-3 relative (per channel), means within 0.1%.
 fn assert_match(what: &str, a: &Film, b: &Film) {
-    let close = a
-        .pixels
-        .iter()
-        .zip(&b.pixels)
-        .filter(|(p, q)| {
-            let (m, n) = (p.mean(), q.mean());
-            (0..3).all(|c| (m[c] - n[c]).abs() <= 1e-3 * m[c].abs().max(n[c].abs()).max(1e-6))
-        })
-        .count();
-    let frac = close as f64 / a.pixels.len() as f64;
-    let mean_diff = (a.image_mean() - b.image_mean()).abs() / b.image_mean();
+    let (frac, mean_diff) = common::same_sample_agreement(a, b, 1e-6);
     eprintln!("{what}: {frac:.4} of pixels within 1e-3, means differ by {mean_diff:.2e}");
     assert!(frac >= 0.995, "{what}: only {frac:.4} of pixels match");
     assert!(mean_diff <= 1e-3, "{what}: means differ by {mean_diff}");

@@ -74,3 +74,22 @@ pub fn skipped(check: &str, why: &str) {
 
 /// Where [`skipped`] lists the checks a run skipped (under [`tmp`]).
 pub const SKIPPED_FILE: &str = "skipped-checks.txt";
+
+/// Same-sample agreement of two films: the fraction of pixels whose three channel means agree
+/// within 1e-3 relative (relative to the larger, floored at `floor` near black), and the images'
+/// relative mean difference. The bar for methods that trace the same paths (wavefront.rs,
+/// paired.rs).
+pub fn same_sample_agreement(a: &wavetrace::film::Film, b: &wavetrace::film::Film, floor: f64) -> (f64, f64) {
+    assert_eq!((a.width, a.height, a.spp), (b.width, b.height, b.spp));
+    let close = a
+        .pixels
+        .iter()
+        .zip(&b.pixels)
+        .filter(|(p, q)| {
+            let (m, n) = (p.mean(), q.mean());
+            (0..3).all(|c| (m[c] - n[c]).abs() <= 1e-3 * m[c].abs().max(n[c].abs()).max(floor))
+        })
+        .count();
+    let frac = close as f64 / a.pixels.len() as f64;
+    (frac, (a.image_mean() - b.image_mean()).abs() / b.image_mean())
+}
