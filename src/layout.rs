@@ -182,7 +182,8 @@ pub struct WaveUniform {
     pub chunk: u32,
     /// Regenerating: chunks in the sample ring (0 in waves).
     pub ring: u32,
-    pub pad0: u32,
+    /// 0: queues in arrival order; 1: in slot order (`--queue-order`).
+    pub order: u32,
     pub pad1: u32,
 }
 

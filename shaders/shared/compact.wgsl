@@ -2,8 +2,12 @@
 // the queue positions the previous pass processed (COUNTER_POSITIONS, dispatched indirectly), from
 // the queue each position asked for in `next_queue`: cost follows the live paths, not the pool.
 // Three passes: per-workgroup scan, scan of the workgroup totals (a workgroup per 1,024 of them),
-// scatter. Lanes of a vec4 count up to four queues at once (the
-// material queues after intersect; lane 0 = the next ray queue after shade).
+// scatter. Lanes of a vec4 count up to four queues at once (the material queues after intersect;
+// lane 0 = the next ray queue after shade).
+// In slot order (`--queue-order slot`) `next_queue` is indexed by slot: the scan after intersect
+// still covers the ray queue's positions (stable, so the material queues keep the ray queue's
+// slot order), but the scan after shade covers every slot of the pool, so the next ray queue
+// comes out in slot order, with the free list (lane 1) and the shadow queue (lane 2).
 // These are the passes' bodies: the entry files (wavefront/compact.wgsl, without subgroups, and
 // wavefront/compact_subgroup.wgsl) each define `scan_workgroup(lid, lanes)`, an inclusive scan of
 // `scratch`, include this, and wrap the bodies in entry points. Rust side: src/gpu/wavefront/compact.rs.
@@ -20,29 +24,84 @@ struct Lanes {
 
 // false: building the material queues (after intersect); true: the next ray queue (after shade).
 override TARGET_RAYS: bool = false;
+// The render has a shadow pass (`--nee on`, a scene with lights): in slot order the scan after
+// shade also builds the shadow queue from the pending flags.
+override SHADOW_QUEUE: bool = false;
 
 fn one_hot(q: u32) -> vec4<u32> {
     if q == DEAD {
         return vec4<u32>(0u);
     }
-    return vec4<u32>(vec4<u32>(0u, 1u, 2u, 3u) == vec4<u32>(lane_of(q)));
+    return vec4<u32>(vec4<u32>(0u, 1u, 2u, 3u) == vec4<u32>(q - QUEUE_MATERIAL_0));
 }
 
-fn lane_of(q: u32) -> u32 {
-    return select(q - QUEUE_MATERIAL_0, 0u, q < QUEUE_MATERIAL_0);
+// The slot at scan position `p`: as the producing pass recorded it (arrival order); in slot
+// order the intersected ray queue's p-th entry (after intersect) or p itself (after shade).
+fn slot_at(p: u32) -> u32 {
+    if !slot_order() {
+        return scan_slot[p];
+    }
+    if TARGET_RAYS {
+        return p;
+    }
+    return queues[(QUEUE_RAY_0 + current_bounce() % 2u) * wave.pool + p];
+}
+
+// The queues position `p` goes to, one lane each: the material queues (after intersect); the
+// next ray queue in lane 0 (after shade) and, in slot order, the free list (regenerate: every
+// slot holding no path) in lane 1 and the shadow queue (a pending shadow ray) in lane 2. A slot
+// can go to both the ray and the shadow queue.
+fn scan_flags(p: u32) -> vec4<u32> {
+    if !TARGET_RAYS {
+        return one_hot(next_queue[select(p, slot_at(p), slot_order())]);
+    }
+    let q = next_queue[p];
+    var f = vec4<u32>(u32(q != DEAD), 0u, 0u, 0u);
+    if slot_order() {
+        f.y = u32(REGENERATE && q == DEAD);
+        f.z = u32(SHADOW_QUEUE && bitcast<u32>(shadow_weight[p].w) != 0u);
+    }
+    return f;
+}
+
+// The queue lane `k` of the flags builds (DEAD: none).
+fn lane_queue(k: u32) -> u32 {
+    if !TARGET_RAYS {
+        return QUEUE_MATERIAL_0 + k;
+    }
+    switch k {
+        case 0u: {
+            return QUEUE_RAY_0 + (current_bounce() + 1u) % 2u;
+        }
+        case 1u: {
+            return select(DEAD, QUEUE_FREE, REGENERATE && slot_order());
+        }
+        case 2u: {
+            return select(DEAD, QUEUE_SHADOW, SHADOW_QUEUE && slot_order());
+        }
+        default: {
+            return DEAD;
+        }
+    }
+}
+
+// Position `p`'s flags, none past the positions this scan covers.
+fn flags_at(p: u32) -> vec4<u32> {
+    if p < atomicLoad(&counters[COUNTER_POSITIONS]) {
+        return scan_flags(p);
+    }
+    return vec4<u32>(0u);
 }
 
 fn compact_scan_main(gid: vec3<u32>, lid: u32, wid: vec3<u32>, lanes: Lanes) {
     let p = gid.x;
-    var q = DEAD;
-    if p < atomicLoad(&counters[COUNTER_POSITIONS]) {
-        q = next_queue[p];
-    }
-    let v = one_hot(q);
+    let v = flags_at(p);
     scratch[lid] = v;
     scan_workgroup(lid, lanes);
-    if q != DEAD {
-        scan_offset[p] = (scratch[lid] - v)[lane_of(q)];
+    // Each lane's offset within the workgroup, below SCAN_WG = 256: a byte each.
+    if any(v != vec4<u32>(0u)) {
+        let offset = scratch[lid] - v;
+        scan_offset[p] = offset.x | (offset.y << 8u) | (offset.z << 16u) | (offset.w << 24u);
     }
     if lid == SCAN_WG - 1u {
         block_sums[wid.x] = scratch[lid];
@@ -102,12 +161,10 @@ fn compact_blocks_main(lid: u32, wid: vec3<u32>, lanes: Lanes) {
         workgroupBarrier();
     }
     if lid == 0u && end == blocks {
-        let bounce = current_bounce();
-        if TARGET_RAYS {
-            atomicStore(&counters[QUEUE_RAY_0 + (bounce + 1u) % 2u], running.x);
-        } else {
-            for (var k = 0u; k < 4u; k++) {
-                atomicStore(&counters[QUEUE_MATERIAL_0 + k], running[k]);
+        for (var k = 0u; k < 4u; k++) {
+            let q = lane_queue(k);
+            if q != DEAD {
+                atomicStore(&counters[q], running[k]);
             }
         }
     }
@@ -115,13 +172,17 @@ fn compact_blocks_main(lid: u32, wid: vec3<u32>, lanes: Lanes) {
 
 fn compact_scatter_main(gid: vec3<u32>, wid: vec3<u32>) {
     let p = gid.x;
-    if p >= atomicLoad(&counters[COUNTER_POSITIONS]) {
+    let v = flags_at(p);
+    if all(v == vec4<u32>(0u)) {
         return;
     }
-    let q = next_queue[p];
-    if q == DEAD {
-        return;
+    let slot = slot_at(p);
+    let packed = scan_offset[p];
+    let offset = block_sums[block_prefix_base() + wid.x]
+        + (vec4<u32>(packed) >> vec4<u32>(0u, 8u, 16u, 24u)) % 256u;
+    for (var k = 0u; k < 4u; k++) {
+        if v[k] != 0u {
+            queues[lane_queue(k) * wave.pool + offset[k]] = slot;
+        }
     }
-    let offset = block_sums[block_prefix_base() + wid.x];
-    queues[q * wave.pool + offset[lane_of(q)] + scan_offset[p]] = scan_slot[p];
 }

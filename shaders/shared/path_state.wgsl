@@ -68,7 +68,9 @@ struct Wave {
     // (regenerate) Samples per chunk of the sample ring, and chunks in the ring.
     chunk: u32,
     ring: u32,
-    pad0: u32,
+    // 0: queues in the order their paths arrive; 1: every queue in slot order (`--queue-order`),
+    // built by the scan over the pool's slots (compaction 2 only).
+    order: u32,
     pad1: u32,
 }
 
@@ -87,7 +89,9 @@ struct Wave {
 @group(1) @binding(6) var<storage, read_write> queues: array<u32>;
 @group(1) @binding(7) var<storage, read_write> counters: array<atomic<u32>>;
 // Scan compaction, indexed by the producing pass's queue position (so a scan covers only the
-// paths just processed): the queue each goes to next (or DEAD), its slot, and offsets.
+// paths just processed) or, in slot order, by slot (the scan covers the pool): the queue each
+// goes to next (or DEAD), its slot, and offsets. In slot order every slot's entry always says
+// where its path goes next, DEAD for a slot holding no path.
 @group(1) @binding(8) var<storage, read_write> next_queue: array<u32>;
 @group(1) @binding(9) var<storage, read_write> scan_offset: array<u32>;
 @group(1) @binding(10) var<storage, read_write> block_sums: array<vec4<u32>>;
@@ -178,9 +182,25 @@ fn store_sample(slot: u32) {
 // shared/append_subgroup.wgsl, one atomic per subgroup and queue (`--append`).
 #include "shared/append.wgsl"
 
-// (regenerate) `slot` is on no queue and traces nothing: the next refill may take it.
+// Whether every queue is kept in slot order (`--queue-order slot`): the scans run over the
+// pool's slots, so a subgroup's lanes read neighbouring path states whatever order the paths
+// arrived in, and the free list (regenerate) and the shadow queue come out of the same scan.
+fn slot_order() -> bool {
+    return wave.order == 1u;
+}
+
+// (regenerate) `slot` is on no queue and traces nothing: the next refill may take it. In slot
+// order the scan after shade lists every free slot itself.
 fn free_slot(slot: u32) {
-    append(QUEUE_FREE, slot);
+    if !slot_order() {
+        append(QUEUE_FREE, slot);
+    }
+}
+
+// Where the scan compaction keeps what it knows of `slot`, processed at queue position
+// `position`: the position (arrival order) or the slot itself (slot order).
+fn scan_index(slot: u32, position: u32) -> u32 {
+    return select(position, slot, slot_order());
 }
 
 // Puts `slot`, processed at scan position `position`, on queue `q`: appended atomically, or
@@ -189,24 +209,28 @@ fn enqueue(q: u32, slot: u32, position: u32) {
     if wave.compaction == 1u {
         append(q, slot);
     } else if wave.compaction == 2u {
-        next_queue[position] = q;
-        scan_slot[position] = slot;
+        let p = scan_index(slot, position);
+        next_queue[p] = q;
+        if !slot_order() {
+            scan_slot[p] = slot;
+        }
     }
 }
 
 // Puts `slot`'s shadow ray on the shadow queue: appended atomically with either compaction
-// method (a path can go to both the next ray queue and this one, which a scan's single target per
-// position cannot express); without compaction the pending flag alone marks it.
+// method in arrival order (a path can go to both the next ray queue and this one, which a scan's
+// single target per position cannot express); in slot order the scan after shade finds the
+// pending flag; without compaction the pending flag alone marks it.
 fn enqueue_shadow(slot: u32) {
-    if wave.compaction != 0u {
+    if wave.compaction != 0u && !slot_order() {
         append(QUEUE_SHADOW, slot);
     }
 }
 
-// The path processed at scan position `position` has ended: the scan skips it.
-fn retire(position: u32) {
+// The path in `slot`, processed at scan position `position`, has ended: the scan skips it.
+fn retire(slot: u32, position: u32) {
     if wave.compaction == 2u {
-        next_queue[position] = DEAD;
+        next_queue[scan_index(slot, position)] = DEAD;
     }
 }
 

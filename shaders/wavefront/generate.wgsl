@@ -26,6 +26,9 @@ fn generate(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_para
     instrument(PASS_GENERATE);
     start_path(slot, slot);
     queues[QUEUE_RAY_0 * wave.pool + slot] = slot;
+    if wave.compaction == 2u && slot_order() {
+        next_queue[slot] = DEAD; // intersect sets it: until then the slot goes nowhere
+    }
 }
 
 // Slot `slot` starts tracing sample `l` of the share: its camera ray, at bounce 0.
@@ -69,12 +72,16 @@ fn regenerate_init(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_si
     }
     queues[QUEUE_FREE * wave.pool + slot] = slot;
     path_dir[slot].w = bitcast<f32>(DEAD);
+    if wave.compaction == 2u && slot_order() {
+        next_queue[slot] = DEAD; // no path: the scans skip it, and list it as free
+    }
     if NEE {
         shadow_weight[slot] = vec4<f32>(0.0);
     }
 }
 
-// The refill: thread i starts sample (base + i) in the i-th free slot and queues its camera ray
+// The refill: thread i starts sample (base + i) in the i-th free slot (in slot order, the i-th
+// lowest, so consecutive samples land in ascending slots) and queues its camera ray
 // for the coming iteration in the i-th ray-queue entry queue_setup_regenerate reserved (which
 // also sized the pass and took the samples).
 @compute @workgroup_size(WORKGROUP_SIZE)
@@ -87,8 +94,10 @@ fn regenerate(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_pa
     instrument(PASS_GENERATE);
     let slot = queues[QUEUE_FREE * wave.pool + atomicLoad(&counters[COUNTER_FREE_BASE]) + gid.x];
     start_path(slot, base + gid.x);
-    if wave.compaction != 0u {
-        let q = QUEUE_RAY_0 + (current_bounce() + 1u) % 2u;
+    let q = QUEUE_RAY_0 + (current_bounce() + 1u) % 2u;
+    if wave.compaction == 2u && slot_order() {
+        next_queue[slot] = q; // the scan after this pass lists it, in slot order
+    } else if wave.compaction != 0u {
         queues[q * wave.pool + atomicLoad(&counters[COUNTER_REFILL_QUEUED]) + gid.x] = slot;
     }
 }

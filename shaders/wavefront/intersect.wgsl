@@ -24,7 +24,7 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_par
         // The tail finished this path after it was queued: off the queue now, so free.
         path_dir[slot].w = bitcast<f32>(DEAD);
         free_slot(slot);
-        retire(gid.x);
+        retire(slot, gid.x);
         if wave.compaction != 0u {
             atomicSub(&counters[COUNTER_INTERSECTED], 1u); // queued, but no ray traced
         }
@@ -38,7 +38,7 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_par
     if hit.prim == NO_HIT {
         radiance[slot] += vec4<f32>(path_throughput[slot].xyz * background(ray.dir), 0.0);
         path_dir[slot].w = bitcast<f32>(DEAD);
-        retire(gid.x);
+        retire(slot, gid.x);
         finish_path(slot, path_bounce(slot));
         return;
     }

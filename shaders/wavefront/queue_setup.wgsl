@@ -61,12 +61,15 @@ fn queue_setup_regenerate() {
     atomicStore(&counters[COUNTER_REGEN_BASE], next);
     atomicStore(&counters[COUNTER_NEXT_SAMPLE], next + n);
     // The free queue is a stack: the refill takes its top n entries, and paths ending later push
-    // from there again, so slots the ring's end left idle stay free for the next refill.
-    atomicStore(&counters[COUNTER_FREE_BASE], free - n);
+    // from there again, so slots the ring's end left idle stay free for the next refill. In slot
+    // order the last scan after shade listed the free slots afresh, in ascending order (slots
+    // freed since wait for the next list), and the refill takes the lowest n.
+    atomicStore(&counters[COUNTER_FREE_BASE], select(free - n, 0u, slot_order()));
     atomicStore(&counters[QUEUE_FREE], free - n);
     // The refill's entries on the coming iteration's ray queue (filled by the last shade passes,
-    // so its count is final here): one reservation instead of an atomic append per new path.
-    if wave.compaction != 0u {
+    // so its count is final here): one reservation instead of an atomic append per new path. In
+    // slot order the refill runs before the scan that builds that queue, and marks its slots.
+    if wave.compaction != 0u && !slot_order() {
         let q = QUEUE_RAY_0 + (current_bounce() + 1u) % 2u;
         let queued = atomicLoad(&counters[q]);
         atomicStore(&counters[COUNTER_REFILL_QUEUED], queued);
@@ -122,8 +125,8 @@ fn queue_setup_shade() {
         atomicStore(&counters[COUNTER_SHADE_BASE + k], positions);
         positions += n;
     }
-    // A scan after shade covers the material queues laid end to end.
-    set_compact_args(positions);
+    // A scan after shade covers the material queues laid end to end; in slot order, every slot.
+    set_compact_args(select(positions, pool_slots(), slot_order()));
     atomicStore(&counters[QUEUE_RAY_0 + (bounce + 1u) % 2u], 0u);
     atomicStore(&counters[QUEUE_SHADOW], 0u);
 }

@@ -50,7 +50,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         }
         radiance[slot] += vec4<f32>(throughput * material.color * w, 0.0);
         path_dir[slot].w = bitcast<f32>(DEAD);
-        retire(position);
+        retire(slot, position);
         finish_path(slot, bounce);
         return;
     }
@@ -65,7 +65,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
             count_failure(FAILURE_DEPTH_CUT);
         }
         path_dir[slot].w = bitcast<f32>(DEAD);
-        retire(position);
+        retire(slot, position);
         finish_path(slot, bounce);
         return;
     }

@@ -4,7 +4,9 @@ use crate::gpu::buffers::human_bytes;
 use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::memory::{GpuMemory, MemoryCategory};
 use crate::gpu::timing::{TimeSource, Timing, Timings, FRAME_LABEL};
-use crate::gpu::wavefront::{Append, Compaction, Scan, Schedule, ShadePasses, Tail, WavefrontOptions};
+use crate::gpu::wavefront::{
+    Append, Compaction, QueueOrder, Scan, Schedule, ShadePasses, Tail, WavefrontOptions,
+};
 use crate::gpu::GpuContext;
 use crate::image_io::{self, RgbImage};
 use crate::light_options::{LightOptions, LightSampling, LightSelect};
@@ -168,6 +170,11 @@ pub struct RenderArgs {
     /// adapter has subgroups: `auto`) or one per lane.
     #[arg(long, value_enum, default_value_t = Append::Auto)]
     pub append: Append,
+    /// Wavefront, --compaction-method scan: keep every queue in the order its paths arrived, or
+    /// in slot order (each scan covers the pool; a subgroup reads neighbouring path states, and
+    /// regenerated samples fill the lowest free slots).
+    #[arg(long, value_enum, default_value_t = QueueOrder::Arrival)]
+    pub queue_order: QueueOrder,
     /// GPU methods: count SIMD efficiency per pass with subgroup operations (adds atomics: use
     /// separate runs for timing).
     #[arg(long)]
@@ -237,6 +244,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             chunk_pools: a.chunk_pools,
             scan: a.scan,
             append: a.append,
+            queue_order: a.queue_order,
         },
         instrument: a.instrument,
         timing: a.timing,

@@ -78,7 +78,9 @@ use serde_json::{Map, Value};
 
 use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::timing::Timing;
-use crate::gpu::wavefront::{Append, Compaction, Scan, Schedule, ShadePasses, Tail, WavefrontOptions};
+use crate::gpu::wavefront::{
+    Append, Compaction, QueueOrder, Scan, Schedule, ShadePasses, Tail, WavefrontOptions,
+};
 use crate::input_error::InputError;
 use crate::light_options::{LightOptions, LightSampling, LightSelect};
 use crate::method::{Method, MethodOptions};
@@ -142,6 +144,7 @@ pub const KNOBS: &[&str] = &[
     "translate",
     "chunk_pools",
     "render_space",
+    "queue_order",
 ];
 /// Every method's knobs: how next-event estimation samples lights, the numerical choices and the
 /// stress transforms.
@@ -190,10 +193,12 @@ const WAVEFRONT_KNOBS: &[&str] = &[
     "chunk_pools",
     "scan",
     "append",
+    "queue_order",
     "timing",
 ];
 const SCANS: &[&str] = &["auto", "subgroup", "workgroup"];
 const APPENDS: &[&str] = &["auto", "lane", "subgroup"];
+const QUEUE_ORDERS: &[&str] = &["arrival", "slot"];
 const LIGHT_SAMPLINGS: &[&str] = &["area", "solid-angle"];
 const LIGHT_SELECTS: &[&str] = &["uniform", "power"];
 const SPHERE_HITS: &[&str] = &["book", "stable"];
@@ -683,6 +688,13 @@ impl Cx {
                 _ => Append::Auto,
             })
         })?;
+        let queue_order = self.knob(o, &opt_path("queue_order"), "queue_order", |v, p| {
+            Ok(if self.choice(v, p, QUEUE_ORDERS)? == "slot" {
+                QueueOrder::Slot
+            } else {
+                QueueOrder::Arrival
+            })
+        })?;
         let timing = self.knob(o, &opt_path("timing"), "timing", |v, p| {
             Ok(if self.choice(v, p, TIMINGS)? == "frame" { Timing::Frame } else { Timing::Passes })
         })?;
@@ -690,6 +702,13 @@ impl Cx {
             return self.err(
                 &opt_path("tail"),
                 "\"megakernel\" finishes regenerated paths: it needs \"schedule\": \"regenerate\"",
+            );
+        }
+
+        if queue_order.values.contains(&QueueOrder::Slot) && !compaction.values.contains(&Compaction::Scan) {
+            return self.err(
+                &opt_path("queue_order"),
+                "\"slot\" order is built by the scan over the pool's slots: it needs \"compaction\": \"scan\"",
             );
         }
 
@@ -779,6 +798,10 @@ impl Cx {
             o.wavefront.append = a;
             format!("append={}", kebab(&a))
         });
+        expand(&mut variants, &queue_order, wf.queue_order, labelled, |o, &q| {
+            o.wavefront.queue_order = q;
+            format!("queue-order={}", kebab(&q))
+        });
         expand(&mut variants, &timing, Timing::Passes, labelled, |o, &t| {
             o.timing = t;
             format!("timing={}", kebab(&t))
@@ -813,6 +836,10 @@ impl Cx {
         // would not run.
         variants
             .retain(|(o, _)| o.wavefront.tail == Tail::Off || o.wavefront.schedule == Schedule::Regenerate);
+        // Likewise slot order, which only the scan builds.
+        variants.retain(|(o, _)| {
+            o.wavefront.queue_order == QueueOrder::Arrival || o.wavefront.compaction == Compaction::Scan
+        });
         // Likewise chunk sizes, which only the regenerating wavefront has.
         variants.retain(|(o, _)| {
             o.wavefront.chunk_pools == wf.chunk_pools || o.wavefront.schedule == Schedule::Regenerate

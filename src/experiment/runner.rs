@@ -280,6 +280,7 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
             "chunk_pools": o.wavefront.chunk_pools,
             "scan": o.wavefront.scan,
             "append": o.wavefront.append,
+            "queue_order": o.wavefront.queue_order,
             "timing": o.timing,
         }),
     };

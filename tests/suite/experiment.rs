@@ -453,6 +453,21 @@ fn bad_configs_name_the_file_the_field_and_the_reason() {
             "must be in 1..=1024",
         ),
         (
+            "slot-order-without-scan",
+            Box::new(|c| c["methods"][1]["queue_order"] = "slot".into()),
+            "methods[1].queue_order",
+            "needs \"compaction\": \"scan\"",
+        ),
+        (
+            "bad-queue-order",
+            Box::new(|c| {
+                c["methods"][1]["queue_order"] = "sorted".into();
+                c["methods"][1]["compaction"] = "scan".into();
+            }),
+            "methods[1].queue_order",
+            "\"arrival\" or \"slot\"",
+        ),
+        (
             "cpu-knob",
             Box::new(|c| c["methods"][0]["compaction"] = "scan".into()),
             "methods[0].compaction",

@@ -115,7 +115,7 @@ fn wave() {
         WaveUniform,
         "Wave",
         shaders::INTERSECT.plain,
-        [compaction, per_material, pool, shade_mask, chunk, ring, pad0, pad1]
+        [compaction, per_material, pool, shade_mask, chunk, ring, order, pad1]
     );
 }
 

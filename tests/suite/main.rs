@@ -8,6 +8,7 @@ mod agreement;
 mod chart;
 mod cli;
 mod cli_paths;
+mod coherence;
 mod docs;
 mod edge_cases;
 mod experiment;

@@ -17,14 +17,17 @@
 //!                                           needs them back, or the share's last paths
 //!      accumulate_range                     complete chunks → film, in sample order
 //!      and move the refill limit to the ring's new end)
-//!     [queue_setup_regenerate, regenerate]  (regenerate) next samples into the free slots
+//!     [queue_setup_regenerate, regenerate]  (regenerate, arrival order) next samples into the
+//!                                           free slots
 //!     queue_setup_intersect                 ray queue count → intersect's indirect args
 //!     intersect                             closest hits; escaped rays add the background
 //!     [compact_scan, _blocks, _scatter]     (scan method) build the material queues
 //!     queue_setup_shade                     material queue counts → shade passes' args
 //!     shade_<kind> for each kind used       scatter; survivors → next ray queue;
 //!                                           (--nee on) diffuse hits → shadow queue
-//!     [compact_scan, _blocks, _scatter]     (scan method) build the next ray queue
+//!     [queue_setup_regenerate, regenerate]  (regenerate, --queue-order slot) the refill, here
+//!     [compact_scan, _blocks, _scatter]     (scan method) build the next ray queue (slot order:
+//!                                           over every slot, with the free list and shadow queue)
 //!     [queue_setup_shadow, shadow]          (--nee on, scene has lights) shadow rays
 //! accumulate                                (waves) the wave's radiance → film, in sample order
 //! ```
@@ -39,6 +42,7 @@ pub mod compact;
 pub mod generate;
 pub mod intersect;
 pub mod path_state;
+pub mod queue_order;
 pub mod queue_setup;
 pub mod schedule;
 pub mod shade;
@@ -69,6 +73,7 @@ use path_state::{
     schedule_word as word, PathState, PoolLayout, COUNTER_STATS, LARGEST_BINDING_PER_PATH, QUEUE_COUNT,
     QUEUE_SHADOW,
 };
+pub use queue_order::QueueOrder;
 pub use schedule::{Schedule, ScheduleStats};
 use std::time::Instant;
 pub use tail::Tail;
@@ -119,6 +124,8 @@ pub struct WavefrontOptions {
     pub scan: Scan,
     /// How passes append paths to queues.
     pub append: Append,
+    /// The order of the paths in each queue (slot order needs the scan compaction).
+    pub queue_order: QueueOrder,
 }
 
 impl Default for WavefrontOptions {
@@ -135,6 +142,7 @@ impl Default for WavefrontOptions {
             chunk_pools: schedule::CHUNK_POOLS,
             scan: Scan::Auto,
             append: Append::Auto,
+            queue_order: QueueOrder::Arrival,
         }
     }
 }
@@ -269,6 +277,8 @@ struct Stages {
     shadow: Option<shadow::Shadow>,
     tail: Option<tail::TailPass>,
     regenerate: bool,
+    /// `--queue-order slot`.
+    slot_order: bool,
 }
 
 impl Stages {
@@ -276,7 +286,11 @@ impl Stages {
     /// share has samples left to start) and then a bounce of every path in the pool, whatever
     /// its depth.
     fn record_iteration(&self, wave: &mut WaveRecorder<'_>, i: u32, refill: bool) {
-        if self.regenerate && refill {
+        // In slot order the refill comes before the scan that builds the next ray queue, so that
+        // the new paths take their places in slot order too (it starts samples in the slots the
+        // previous iteration's scan listed as free).
+        let refill = self.regenerate && refill;
+        if refill && !self.slot_order {
             self.queue_setup.record_regenerate(wave, i);
             self.generate.record_refill(wave, i);
         }
@@ -287,6 +301,10 @@ impl Stages {
         }
         self.queue_setup.record_shade(wave, i);
         self.shade.record(wave, i);
+        if refill && self.slot_order {
+            self.queue_setup.record_regenerate(wave, i);
+            self.generate.record_refill(wave, i);
+        }
         if let Some(compact) = &self.compact {
             compact.record(wave, i, Target::NextRayQueue);
         }
@@ -325,6 +343,7 @@ pub fn render(
     schedule::check_sync_every(opts.sync_every)?;
     schedule::check_chunk_pools(opts.chunk_pools)?;
     tail::check_threshold(opts.tail_threshold)?;
+    opts.queue_order.check(opts.compaction)?;
     let subgroup_scan = opts.scan.uses_subgroups(ctx)?;
     let subgroup_append = opts.append.uses_subgroups(ctx)?;
     let regenerate = opts.schedule == Schedule::Regenerate;
@@ -354,7 +373,7 @@ pub fn render(
         shade_mask: if per_material { kinds.iter().fold(0, |m, k| m | 1 << k) } else { 1 },
         chunk: if regenerate { ring.chunk } else { 0 },
         ring: if regenerate { ring.ring } else { 0 },
-        pad0: 0,
+        order: opts.queue_order.word(),
         pad1: 0,
     };
     let stats_bounces = if regenerate { 1 } else { settings.max_depth.min(STATS_BOUNCES) };
@@ -383,13 +402,14 @@ pub fn render(
         intersect: intersect::Intersect::new(ctx, &b, wg, instrument)?,
         shade: shade::Shade::new(ctx, &b, shade_kinds, wg, instrument)?,
         compact: (opts.compaction == Compaction::Scan)
-            .then(|| compact::Compact::new(ctx, &b, subgroup_scan))
+            .then(|| compact::Compact::new(ctx, &b, subgroup_scan, has_shadow_pass))
             .transpose()?,
         shadow: has_shadow_pass.then(|| shadow::Shadow::new(ctx, &b, wg, instrument)).transpose()?,
         tail: (opts.tail == Tail::Megakernel)
             .then(|| tail::TailPass::new(ctx, &b, wg, instrument))
             .transpose()?,
         regenerate,
+        slot_order: opts.queue_order == QueueOrder::Slot,
     };
     let samples = if regenerate { &b.state.samples } else { &b.state.radiance };
     let accumulate = Accumulate::new(ctx, samples, &film, &params, regenerate)?;

@@ -1,0 +1,101 @@
+//! Queue order (issue 26, `--queue-order`): slot order changes which lanes run together, never
+//! what a sample computes, so every combination gives the waves' film bit for bit; it is refused
+//! where it cannot be built; and it does what it is for, measured by the coherence counters.
+
+use crate::common;
+
+use wavetrace::gpu::wavefront::{Compaction, QueueOrder, Schedule, Tail, WavefrontOptions};
+use wavetrace::method::{render, Method, MethodOptions, RenderOutput};
+use wavetrace::scene::builtin;
+use wavetrace::settings::{Accel, RenderSettings};
+
+fn settings(spp: u32, nee: bool) -> RenderSettings {
+    RenderSettings { width: 40, height: 24, spp, max_depth: 12, seed: 5, accel: Accel::Bvh, nee }
+}
+
+fn run(
+    scene: &str,
+    s: &RenderSettings,
+    wf: WavefrontOptions,
+    instrument: bool,
+) -> anyhow::Result<RenderOutput> {
+    let scene = builtin::by_name(scene).unwrap();
+    let opts = MethodOptions { wavefront: wf, instrument, ..Default::default() };
+    render(Method::Wavefront, &scene, s, &opts, common::gpu(), &|_| {})
+}
+
+/// Slot order with waves and regeneration, with and without the tail and NEE (the shadow queue
+/// then comes out of the scan too), with a pool small enough for many refills and a ring of two
+/// chunks (refills stop at its end): the same film as waves in arrival order, bit for bit.
+#[test]
+fn slot_order_gives_the_waves_film() {
+    let Some(_) = common::gpu() else { return };
+    for (scene, nee) in [("cornell", true), ("rtiow-final", false)] {
+        let s = settings(8, nee);
+        let base =
+            WavefrontOptions { pool_size: Some(1500), compaction: Compaction::Scan, ..Default::default() };
+        let waves = run(scene, &s, base, false).unwrap().film;
+        assert!(waves.image_mean() > 0.0, "{scene}: a black film proves nothing");
+        let cases = [
+            (Schedule::Waves, Tail::Off, 8),
+            (Schedule::Regenerate, Tail::Off, 8),
+            (Schedule::Regenerate, Tail::Megakernel, 8),
+            (Schedule::Regenerate, Tail::Off, 2),
+        ];
+        for (schedule, tail, chunk_pools) in cases {
+            let wf = WavefrontOptions { schedule, tail, chunk_pools, queue_order: QueueOrder::Slot, ..base };
+            let out = run(scene, &s, wf, false).unwrap();
+            assert_eq!(out.film, waves, "{scene} nee={nee} {schedule:?} {tail:?} chunk_pools={chunk_pools}");
+            if schedule == Schedule::Regenerate {
+                let st = out.schedule.unwrap();
+                assert!(st.iterations > 12, "{scene}: the pool was refilled ({} iterations)", st.iterations);
+            }
+        }
+    }
+}
+
+/// Slot order is what the scan over the slots builds: with atomic appends or no queues it is
+/// refused, naming the knob and what it needs, before anything runs.
+#[test]
+fn slot_order_needs_the_scan() {
+    let Some(_) = common::gpu() else { return };
+    for compaction in [Compaction::Atomic, Compaction::Off] {
+        let wf = WavefrontOptions { compaction, queue_order: QueueOrder::Slot, ..Default::default() };
+        let err = run("three-spheres", &settings(1, false), wf, false).unwrap_err().to_string();
+        assert!(err.contains("--queue-order slot") && err.contains("scan"), "{err}");
+    }
+}
+
+/// What slot order is for: regenerating, arrival order scatters the lanes of an intersect
+/// subgroup over the pool (every lane its own 64-byte line of path state once refills have
+/// shuffled the slots), and slot order brings them back together. Compared over the iterations
+/// after the first eight (the refills' steady state), on the intersect pass's coherence counters.
+#[test]
+fn slot_order_reads_fewer_path_state_lines() {
+    let Some(ctx) = common::gpu() else { return };
+    if !ctx.summary.subgroups {
+        common::skipped(
+            "coherence::slot_order_reads_fewer_path_state_lines",
+            "the coherence counters need subgroup operations",
+        );
+        return;
+    }
+    let s = RenderSettings { width: 64, height: 48, spp: 16, ..settings(16, false) };
+    let lines = |queue_order| {
+        let wf = WavefrontOptions {
+            pool_size: Some(4096),
+            compaction: Compaction::Scan,
+            schedule: Schedule::Regenerate,
+            queue_order,
+            ..Default::default()
+        };
+        let c = run("rtiow-final", &s, wf, true).unwrap().coherence.unwrap();
+        let steady: Vec<_> = c.iter().filter(|b| b.first_iteration >= 8 && b.subgroups > 0).collect();
+        let subgroups: u64 = steady.iter().map(|b| b.subgroups).sum();
+        assert!(subgroups > 1000, "{queue_order:?}: {subgroups} subgroups after iteration 8");
+        steady.iter().map(|b| b.lines * b.subgroups as f64).sum::<f64>() / subgroups as f64
+    };
+    let (arrival, slot) = (lines(QueueOrder::Arrival), lines(QueueOrder::Slot));
+    eprintln!("lines per intersect subgroup from iteration 8: arrival {arrival:.2}, slot {slot:.2}");
+    assert!(slot < 0.75 * arrival, "slot order {slot:.2} lines vs arrival {arrival:.2}");
+}
