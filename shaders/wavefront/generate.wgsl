@@ -94,10 +94,8 @@ fn regenerate(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_pa
     instrument(PASS_GENERATE);
     let slot = queues[QUEUE_FREE * wave.pool + atomicLoad(&counters[COUNTER_FREE_BASE]) + gid.x];
     start_path(slot, base + gid.x);
-    let q = QUEUE_RAY_0 + (current_bounce() + 1u) % 2u;
-    if wave.compaction == 2u && slot_order() {
-        next_queue[slot] = q; // the scan after this pass lists it, in slot order
-    } else if wave.compaction != 0u {
+    if wave.compaction != 0u {
+        let q = QUEUE_RAY_0 + (current_bounce() + 1u) % 2u;
         queues[q * wave.pool + atomicLoad(&counters[COUNTER_REFILL_QUEUED]) + gid.x] = slot;
     }
 }

@@ -62,14 +62,13 @@ fn queue_setup_regenerate() {
     atomicStore(&counters[COUNTER_NEXT_SAMPLE], next + n);
     // The free queue is a stack: the refill takes its top n entries, and paths ending later push
     // from there again, so slots the ring's end left idle stay free for the next refill. In slot
-    // order the last scan after shade listed the free slots afresh, in ascending order (slots
-    // freed since wait for the next list), and the refill takes the lowest n.
+    // order the scan after shade has just listed the free slots afresh, in ascending order, and
+    // the refill takes the lowest n.
     atomicStore(&counters[COUNTER_FREE_BASE], select(free - n, 0u, slot_order()));
     atomicStore(&counters[QUEUE_FREE], free - n);
     // The refill's entries on the coming iteration's ray queue (filled by the last shade passes,
-    // so its count is final here): one reservation instead of an atomic append per new path. In
-    // slot order the refill runs before the scan that builds that queue, and marks its slots.
-    if wave.compaction != 0u && !slot_order() {
+    // so its count is final here): one reservation instead of an atomic append per new path.
+    if wave.compaction != 0u {
         let q = QUEUE_RAY_0 + (current_bounce() + 1u) % 2u;
         let queued = atomicLoad(&counters[q]);
         atomicStore(&counters[COUNTER_REFILL_QUEUED], queued);

@@ -17,15 +17,14 @@
 //!                                           needs them back, or the share's last paths
 //!      accumulate_range                     complete chunks → film, in sample order
 //!      and move the refill limit to the ring's new end)
-//!     [queue_setup_regenerate, regenerate]  (regenerate, arrival order) next samples into the
-//!                                           free slots
+//!     [queue_setup_regenerate, regenerate]  (regenerate) next samples into the free slots
+//!                                           (slot order: the lowest, in ascending order)
 //!     queue_setup_intersect                 ray queue count → intersect's indirect args
 //!     intersect                             closest hits; escaped rays add the background
 //!     [compact_scan, _blocks, _scatter]     (scan method) build the material queues
 //!     queue_setup_shade                     material queue counts → shade passes' args
 //!     shade_<kind> for each kind used       scatter; survivors → next ray queue;
 //!                                           (--nee on) diffuse hits → shadow queue
-//!     [queue_setup_regenerate, regenerate]  (regenerate, --queue-order slot) the refill, here
 //!     [compact_scan, _blocks, _scatter]     (scan method) build the next ray queue (slot order:
 //!                                           over every slot, with the free list and shadow queue)
 //!     [queue_setup_shadow, shadow]          (--nee on, scene has lights) shadow rays
@@ -277,8 +276,6 @@ struct Stages {
     shadow: Option<shadow::Shadow>,
     tail: Option<tail::TailPass>,
     regenerate: bool,
-    /// `--queue-order slot`.
-    slot_order: bool,
 }
 
 impl Stages {
@@ -286,11 +283,7 @@ impl Stages {
     /// share has samples left to start) and then a bounce of every path in the pool, whatever
     /// its depth.
     fn record_iteration(&self, wave: &mut WaveRecorder<'_>, i: u32, refill: bool) {
-        // In slot order the refill comes before the scan that builds the next ray queue, so that
-        // the new paths take their places in slot order too (it starts samples in the slots the
-        // previous iteration's scan listed as free).
-        let refill = self.regenerate && refill;
-        if refill && !self.slot_order {
+        if self.regenerate && refill {
             self.queue_setup.record_regenerate(wave, i);
             self.generate.record_refill(wave, i);
         }
@@ -301,10 +294,6 @@ impl Stages {
         }
         self.queue_setup.record_shade(wave, i);
         self.shade.record(wave, i);
-        if refill && self.slot_order {
-            self.queue_setup.record_regenerate(wave, i);
-            self.generate.record_refill(wave, i);
-        }
         if let Some(compact) = &self.compact {
             compact.record(wave, i, Target::NextRayQueue);
         }
@@ -409,7 +398,6 @@ pub fn render(
             .then(|| tail::TailPass::new(ctx, &b, wg, instrument))
             .transpose()?,
         regenerate,
-        slot_order: opts.queue_order == QueueOrder::Slot,
     };
     let samples = if regenerate { &b.state.samples } else { &b.state.radiance };
     let accumulate = Accumulate::new(ctx, samples, &film, &params, regenerate)?;
