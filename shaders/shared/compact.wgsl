@@ -5,9 +5,10 @@
 // scatter. Lanes of a vec4 count up to four queues at once (the material queues after intersect;
 // lane 0 = the next ray queue after shade).
 // In slot order (`--queue-order slot`) `next_queue` is indexed by slot: the scan after intersect
-// still covers the ray queue's positions (stable, so the material queues keep the ray queue's
-// slot order), but the scan after shade covers every slot of the pool, so the next ray queue
-// comes out in slot order, with the free list (lane 1) and the shadow queue (lane 2).
+// (scan method only) still covers the ray queue's positions (stable, so the material queues keep
+// the ray queue's slot order), but the scan after shade (either method) covers every slot of the
+// pool, so the next ray queue comes out in slot order, with the free list (lane 1) and the
+// shadow queue (lane 2).
 // These are the passes' bodies: the entry files (wavefront/compact.wgsl, without subgroups, and
 // wavefront/compact_subgroup.wgsl) each define `scan_workgroup(lid, lanes)`, an inclusive scan of
 // `scratch`, include this, and wrap the bodies in entry points. Rust side: src/gpu/wavefront/compact.rs.
@@ -24,9 +25,6 @@ struct Lanes {
 
 // false: building the material queues (after intersect); true: the next ray queue (after shade).
 override TARGET_RAYS: bool = false;
-// The render has a shadow pass (`--nee on`, a scene with lights): in slot order the scan after
-// shade also builds the shadow queue from the pending flags.
-override SHADOW_QUEUE: bool = false;
 
 fn one_hot(q: u32) -> vec4<u32> {
     if q == DEAD {
@@ -59,7 +57,7 @@ fn scan_flags(p: u32) -> vec4<u32> {
     var f = vec4<u32>(u32(q != DEAD), 0u, 0u, 0u);
     if slot_order() {
         f.y = u32(REGENERATE && q == DEAD);
-        f.z = u32(SHADOW_QUEUE && bitcast<u32>(shadow_weight[p].w) != 0u);
+        f.z = u32(q != DEAD && (q & SHADOW_PENDING) != 0u);
     }
     return f;
 }
@@ -77,7 +75,7 @@ fn lane_queue(k: u32) -> u32 {
             return select(DEAD, QUEUE_FREE, REGENERATE && slot_order());
         }
         case 2u: {
-            return select(DEAD, QUEUE_SHADOW, SHADOW_QUEUE && slot_order());
+            return select(DEAD, QUEUE_SHADOW, slot_order());
         }
         default: {
             return DEAD;

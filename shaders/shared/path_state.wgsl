@@ -68,8 +68,8 @@ struct Wave {
     // (regenerate) Samples per chunk of the sample ring, and chunks in the ring.
     chunk: u32,
     ring: u32,
-    // 0: queues in the order their paths arrive; 1: every queue in slot order (`--queue-order`),
-    // built by the scan over the pool's slots (compaction 2 only).
+    // 0: queues in the order their paths arrive; 1: slot order (`--queue-order slot`): the ray
+    // queue, free list and shadow queue built by a scan over the pool's slots.
     order: u32,
     pad1: u32,
 }
@@ -89,9 +89,10 @@ struct Wave {
 @group(1) @binding(6) var<storage, read_write> queues: array<u32>;
 @group(1) @binding(7) var<storage, read_write> counters: array<atomic<u32>>;
 // Scan compaction, indexed by the producing pass's queue position (so a scan covers only the
-// paths just processed) or, in slot order, by slot (the scan covers the pool): the queue each
-// goes to next (or DEAD), its slot, and offsets. In slot order every slot's entry always says
-// where its path goes next, DEAD for a slot holding no path.
+// paths just processed) or, in slot order, by slot: the queue each goes to next (or DEAD), its
+// slot, and offsets. In slot order (either compaction method) every slot's entry says, when the
+// scan after shade runs, where its path goes next (DEAD for a slot holding no path), with
+// SHADOW_PENDING set when it also has a shadow ray queued.
 @group(1) @binding(8) var<storage, read_write> next_queue: array<u32>;
 @group(1) @binding(9) var<storage, read_write> scan_offset: array<u32>;
 @group(1) @binding(10) var<storage, read_write> block_sums: array<vec4<u32>>;
@@ -182,12 +183,17 @@ fn store_sample(slot: u32) {
 // shared/append_subgroup.wgsl, one atomic per subgroup and queue (`--append`).
 #include "shared/append.wgsl"
 
-// Whether every queue is kept in slot order (`--queue-order slot`): the scans run over the
-// pool's slots, so a subgroup's lanes read neighbouring path states whatever order the paths
-// arrived in, and the free list (regenerate) and the shadow queue come out of the same scan.
+// Whether queues are kept in slot order (`--queue-order slot`): the scan after shade runs over
+// the pool's slots, so the ray queue lists its paths by slot and a subgroup's lanes read
+// neighbouring path states whatever order the paths arrived in; the free list (regenerate) and
+// the shadow queue come out of the same scan. The material queues keep the ray queue's order
+// (the stable scan) or its subgroups' runs (atomic appends).
 fn slot_order() -> bool {
     return wave.order == 1u;
 }
+
+// In slot order, next_queue's flag for a path that also has a shadow ray queued.
+const SHADOW_PENDING: u32 = 0x100u;
 
 // (regenerate) `slot` is on no queue and traces nothing: the next refill may take it. In slot
 // order the scan after shade lists every free slot itself.
@@ -201,6 +207,17 @@ fn free_slot(slot: u32) {
 // `position`: the position (arrival order) or the slot itself (slot order).
 fn scan_index(slot: u32, position: u32) -> u32 {
     return select(position, slot, slot_order());
+}
+
+// Puts `slot`, processed at scan position `position`, on the next iteration's ray queue, and
+// says whether it has a shadow ray queued too (`queue_shadow` queued it).
+fn enqueue_ray(slot: u32, position: u32, shadow: bool) {
+    let q = QUEUE_RAY_0 + (current_bounce() + 1u) % 2u;
+    if slot_order() {
+        next_queue[slot] = select(q, q | SHADOW_PENDING, shadow);
+    } else {
+        enqueue(q, slot, position);
+    }
 }
 
 // Puts `slot`, processed at scan position `position`, on queue `q`: appended atomically, or
@@ -219,8 +236,8 @@ fn enqueue(q: u32, slot: u32, position: u32) {
 
 // Puts `slot`'s shadow ray on the shadow queue: appended atomically with either compaction
 // method in arrival order (a path can go to both the next ray queue and this one, which a scan's
-// single target per position cannot express); in slot order the scan after shade finds the
-// pending flag; without compaction the pending flag alone marks it.
+// single target per position cannot express); in slot order `enqueue_ray` flags it for the scan;
+// without compaction the pending shadow weight alone marks it.
 fn enqueue_shadow(slot: u32) {
     if wave.compaction != 0u && !slot_order() {
         append(QUEUE_SHADOW, slot);
@@ -229,8 +246,10 @@ fn enqueue_shadow(slot: u32) {
 
 // The path in `slot`, processed at scan position `position`, has ended: the scan skips it.
 fn retire(slot: u32, position: u32) {
-    if wave.compaction == 2u {
-        next_queue[scan_index(slot, position)] = DEAD;
+    if slot_order() {
+        next_queue[slot] = DEAD;
+    } else if wave.compaction == 2u {
+        next_queue[position] = DEAD;
     }
 }
 

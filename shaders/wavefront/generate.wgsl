@@ -26,7 +26,7 @@ fn generate(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_para
     instrument(PASS_GENERATE);
     start_path(slot, slot);
     queues[QUEUE_RAY_0 * wave.pool + slot] = slot;
-    if wave.compaction == 2u && slot_order() {
+    if slot_order() {
         next_queue[slot] = DEAD; // intersect sets it: until then the slot goes nowhere
     }
 }
@@ -72,7 +72,7 @@ fn regenerate_init(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_si
     }
     queues[QUEUE_FREE * wave.pool + slot] = slot;
     path_dir[slot].w = bitcast<f32>(DEAD);
-    if wave.compaction == 2u && slot_order() {
+    if slot_order() {
         next_queue[slot] = DEAD; // no path: the scans skip it, and list it as free
     }
     if NEE {

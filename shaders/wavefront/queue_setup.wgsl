@@ -40,11 +40,11 @@ fn count_dispatches(threads: u32, dispatches: u32) {
     }
 }
 
-// The scan passes (compact_scan and compact_scatter, indirect) over `positions`.
-fn set_compact_args(positions: u32) {
+// The scan passes (compact_scan and compact_scatter, indirect) over `positions`, if `recorded`.
+fn set_compact_args(positions: u32, recorded: bool) {
     atomicStore(&counters[COUNTER_POSITIONS], positions);
     set_group_args(ARGS_COMPACT, positions, SCAN_WG);
-    if wave.compaction == 2u {
+    if recorded {
         count_dispatches(positions, 2u);
     }
 }
@@ -99,8 +99,8 @@ fn queue_setup_intersect() {
         atomicAdd(&counters[COUNTER_IDLE], 1u);
     }
     record(bounce, QUEUE_RAY_0, n);
-    // A scan after intersect covers the ray queue's positions.
-    set_compact_args(n);
+    // A scan after intersect (scan method) covers the ray queue's positions.
+    set_compact_args(n, wave.compaction == 2u);
     for (var k = 0u; k < 4u; k++) {
         atomicStore(&counters[QUEUE_MATERIAL_0 + k], 0u);
     }
@@ -124,8 +124,13 @@ fn queue_setup_shade() {
         atomicStore(&counters[COUNTER_SHADE_BASE + k], positions);
         positions += n;
     }
-    // A scan after shade covers the material queues laid end to end; in slot order, every slot.
-    set_compact_args(select(positions, pool_slots(), slot_order()));
+    // A scan after shade covers the material queues laid end to end (scan method); in slot
+    // order (either method), every slot.
+    if slot_order() {
+        set_compact_args(pool_slots(), true);
+    } else {
+        set_compact_args(positions, wave.compaction == 2u);
+    }
     atomicStore(&counters[QUEUE_RAY_0 + (bounce + 1u) % 2u], 0u);
     atomicStore(&counters[QUEUE_SHADOW], 0u);
 }

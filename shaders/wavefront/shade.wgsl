@@ -74,6 +74,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     let lights_sampled = NEE && material.kind == MATERIAL_LAMBERTIAN
         && bounce + 2u <= frame.max_depth;
     var bsdf_pdf = 0.0;
+    var shadow_queued = false;
     if lights_sampled {
         bsdf_pdf = diffuse_pdf(dot(normal, s.dir));
         let u_light = uniform4(slot_pixel(slot), slot_sample(slot), bounce, PURPOSE_LIGHT, frame.seed);
@@ -83,6 +84,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
             // w: the light's slot + 1 (0: no shadow ray pending), as bits.
             shadow_weight[slot] = vec4<f32>(throughput * s.attenuation * shadow.weight, bitcast<f32>(shadow.light + 1u));
             enqueue_shadow(slot);
+            shadow_queued = true;
         }
     }
     // Both rays leave to the side the normal faces: the shadow ray starts here too.
@@ -94,7 +96,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         path_sample[slot].y = bounce + 1u;
     }
     // The next iteration's ray queue (iterations and bounces coincide only in waves).
-    enqueue(QUEUE_RAY_0 + (current_bounce() + 1u) % 2u, slot, position);
+    enqueue_ray(slot, position, shadow_queued);
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)

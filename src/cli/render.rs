@@ -170,9 +170,9 @@ pub struct RenderArgs {
     /// adapter has subgroups: `auto`) or one per lane.
     #[arg(long, value_enum, default_value_t = Append::Auto)]
     pub append: Append,
-    /// Wavefront, --compaction-method scan: keep every queue in the order its paths arrived, or
-    /// in slot order (each scan covers the pool; a subgroup reads neighbouring path states, and
-    /// regenerated samples fill the lowest free slots).
+    /// Wavefront: keep queues in the order their paths arrived, or build the ray queue in slot
+    /// order by a scan over the pool (a subgroup reads neighbouring path states; regenerated
+    /// samples fill the lowest free slots), with either compaction method.
     #[arg(long, value_enum, default_value_t = QueueOrder::Arrival)]
     pub queue_order: QueueOrder,
     /// GPU methods: count SIMD efficiency per pass with subgroup operations (adds atomics: use

@@ -705,10 +705,12 @@ impl Cx {
             );
         }
 
-        if queue_order.values.contains(&QueueOrder::Slot) && !compaction.values.contains(&Compaction::Scan) {
+        if queue_order.values.contains(&QueueOrder::Slot)
+            && compaction.values.iter().all(|&c| c == Compaction::Off)
+        {
             return self.err(
                 &opt_path("queue_order"),
-                "\"slot\" order is built by the scan over the pool's slots: it needs \"compaction\": \"scan\"",
+                "\"slot\" orders the queues, and \"compaction\": \"off\" has none: it needs \"atomic\" or \"scan\"",
             );
         }
 
@@ -836,9 +838,9 @@ impl Cx {
         // would not run.
         variants
             .retain(|(o, _)| o.wavefront.tail == Tail::Off || o.wavefront.schedule == Schedule::Regenerate);
-        // Likewise slot order, which only the scan builds.
+        // Likewise slot order, which needs queues.
         variants.retain(|(o, _)| {
-            o.wavefront.queue_order == QueueOrder::Arrival || o.wavefront.compaction == Compaction::Scan
+            o.wavefront.queue_order == QueueOrder::Arrival || o.wavefront.compaction != Compaction::Off
         });
         // Likewise chunk sizes, which only the regenerating wavefront has.
         variants.retain(|(o, _)| {

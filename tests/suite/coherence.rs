@@ -1,6 +1,7 @@
 //! Queue order (issue 26, `--queue-order`): slot order changes which lanes run together, never
 //! what a sample computes, so every combination gives the waves' film bit for bit; it is refused
-//! where it cannot be built; and it does what it is for, measured by the coherence counters.
+//! where there are no queues to order; and it does what it is for, measured by the coherence
+//! counters.
 
 use crate::common;
 
@@ -24,46 +25,51 @@ fn run(
     render(Method::Wavefront, &scene, s, &opts, common::gpu(), &|_| {})
 }
 
-/// Slot order with waves and regeneration, with and without the tail and NEE (the shadow queue
-/// then comes out of the scan too), with a pool small enough for many refills and a ring of two
-/// chunks (refills stop at its end): the same film as waves in arrival order, bit for bit.
+/// Slot order with both compaction methods, waves and regeneration, with and without the tail
+/// and NEE (the shadow queue then comes out of the scan too), with a pool small enough for many
+/// refills and a ring of two chunks (refills stop at its end): the same film as waves in arrival
+/// order, bit for bit.
 #[test]
 fn slot_order_gives_the_waves_film() {
     let Some(_) = common::gpu() else { return };
     for (scene, nee) in [("cornell", true), ("rtiow-final", false)] {
         let s = settings(8, nee);
-        let base =
-            WavefrontOptions { pool_size: Some(1500), compaction: Compaction::Scan, ..Default::default() };
+        let base = WavefrontOptions { pool_size: Some(1500), ..Default::default() };
         let waves = run(scene, &s, base, false).unwrap().film;
         assert!(waves.image_mean() > 0.0, "{scene}: a black film proves nothing");
         let cases = [
-            (Schedule::Waves, Tail::Off, 8),
-            (Schedule::Regenerate, Tail::Off, 8),
-            (Schedule::Regenerate, Tail::Megakernel, 8),
-            (Schedule::Regenerate, Tail::Off, 2),
+            (Compaction::Scan, Schedule::Waves, Tail::Off, 8),
+            (Compaction::Scan, Schedule::Regenerate, Tail::Off, 8),
+            (Compaction::Scan, Schedule::Regenerate, Tail::Megakernel, 8),
+            (Compaction::Scan, Schedule::Regenerate, Tail::Off, 2),
+            (Compaction::Atomic, Schedule::Waves, Tail::Off, 8),
+            (Compaction::Atomic, Schedule::Regenerate, Tail::Off, 2),
+            (Compaction::Atomic, Schedule::Regenerate, Tail::Megakernel, 8),
         ];
-        for (schedule, tail, chunk_pools) in cases {
-            let wf = WavefrontOptions { schedule, tail, chunk_pools, queue_order: QueueOrder::Slot, ..base };
+        for (compaction, schedule, tail, chunk_pools) in cases {
+            let order = QueueOrder::Slot;
+            let wf = WavefrontOptions { compaction, schedule, tail, chunk_pools, queue_order: order, ..base };
             let out = run(scene, &s, wf, false).unwrap();
-            assert_eq!(out.film, waves, "{scene} nee={nee} {schedule:?} {tail:?} chunk_pools={chunk_pools}");
+            let what =
+                format!("{scene} nee={nee} {compaction:?} {schedule:?} {tail:?} chunk_pools={chunk_pools}");
+            assert_eq!(out.film, waves, "{what}");
             if schedule == Schedule::Regenerate {
                 let st = out.schedule.unwrap();
-                assert!(st.iterations > 12, "{scene}: the pool was refilled ({} iterations)", st.iterations);
+                assert!(st.iterations > 12, "{what}: the pool was refilled ({} iterations)", st.iterations);
             }
         }
     }
 }
 
-/// Slot order is what the scan over the slots builds: with atomic appends or no queues it is
-/// refused, naming the knob and what it needs, before anything runs.
+/// Slot order orders queues: without compaction (no queues) it is refused, naming the knob and
+/// what it needs, before anything runs.
 #[test]
-fn slot_order_needs_the_scan() {
+fn slot_order_needs_queues() {
     let Some(_) = common::gpu() else { return };
-    for compaction in [Compaction::Atomic, Compaction::Off] {
-        let wf = WavefrontOptions { compaction, queue_order: QueueOrder::Slot, ..Default::default() };
-        let err = run("three-spheres", &settings(1, false), wf, false).unwrap_err().to_string();
-        assert!(err.contains("--queue-order slot") && err.contains("scan"), "{err}");
-    }
+    let wf =
+        WavefrontOptions { compaction: Compaction::Off, queue_order: QueueOrder::Slot, ..Default::default() };
+    let err = run("three-spheres", &settings(1, false), wf, false).unwrap_err().to_string();
+    assert!(err.contains("--queue-order slot") && err.contains("--compaction on"), "{err}");
 }
 
 /// What slot order is for: regenerating, arrival order scatters the lanes of an intersect
@@ -81,21 +87,23 @@ fn slot_order_reads_fewer_path_state_lines() {
         return;
     }
     let s = RenderSettings { width: 64, height: 48, spp: 16, ..settings(16, false) };
-    let lines = |queue_order| {
-        let wf = WavefrontOptions {
-            pool_size: Some(4096),
-            compaction: Compaction::Scan,
-            schedule: Schedule::Regenerate,
-            queue_order,
-            ..Default::default()
+    for compaction in [Compaction::Atomic, Compaction::Scan] {
+        let lines = |queue_order| {
+            let wf = WavefrontOptions {
+                pool_size: Some(4096),
+                compaction,
+                schedule: Schedule::Regenerate,
+                queue_order,
+                ..Default::default()
+            };
+            let c = run("rtiow-final", &s, wf, true).unwrap().coherence.unwrap();
+            let steady: Vec<_> = c.iter().filter(|b| b.first_iteration >= 8 && b.subgroups > 0).collect();
+            let subgroups: u64 = steady.iter().map(|b| b.subgroups).sum();
+            assert!(subgroups > 1000, "{queue_order:?}: {subgroups} subgroups after iteration 8");
+            steady.iter().map(|b| b.lines * b.subgroups as f64).sum::<f64>() / subgroups as f64
         };
-        let c = run("rtiow-final", &s, wf, true).unwrap().coherence.unwrap();
-        let steady: Vec<_> = c.iter().filter(|b| b.first_iteration >= 8 && b.subgroups > 0).collect();
-        let subgroups: u64 = steady.iter().map(|b| b.subgroups).sum();
-        assert!(subgroups > 1000, "{queue_order:?}: {subgroups} subgroups after iteration 8");
-        steady.iter().map(|b| b.lines * b.subgroups as f64).sum::<f64>() / subgroups as f64
-    };
-    let (arrival, slot) = (lines(QueueOrder::Arrival), lines(QueueOrder::Slot));
-    eprintln!("lines per intersect subgroup from iteration 8: arrival {arrival:.2}, slot {slot:.2}");
-    assert!(slot < 0.75 * arrival, "slot order {slot:.2} lines vs arrival {arrival:.2}");
+        let (arrival, slot) = (lines(QueueOrder::Arrival), lines(QueueOrder::Slot));
+        eprintln!("{compaction:?}: lines per intersect subgroup from iteration 8: arrival {arrival:.2}, slot {slot:.2}");
+        assert!(slot < 0.75 * arrival, "{compaction:?}: slot order {slot:.2} lines vs arrival {arrival:.2}");
+    }
 }

@@ -453,10 +453,13 @@ fn bad_configs_name_the_file_the_field_and_the_reason() {
             "must be in 1..=1024",
         ),
         (
-            "slot-order-without-scan",
-            Box::new(|c| c["methods"][1]["queue_order"] = "slot".into()),
+            "slot-order-without-queues",
+            Box::new(|c| {
+                c["methods"][1]["queue_order"] = "slot".into();
+                c["methods"][1]["compaction"] = "off".into();
+            }),
             "methods[1].queue_order",
-            "needs \"compaction\": \"scan\"",
+            "needs \"atomic\" or \"scan\"",
         ),
         (
             "bad-queue-order",

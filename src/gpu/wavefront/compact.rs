@@ -56,18 +56,12 @@ pub struct Compact {
 }
 
 impl Compact {
-    /// `shadow`: the render has a shadow pass, whose queue the scan after shade builds in slot
-    /// order.
-    pub fn new(ctx: &GpuContext, b: &Bindings, subgroups: bool, shadow: bool) -> Result<Self> {
+    pub fn new(ctx: &GpuContext, b: &Bindings, subgroups: bool) -> Result<Self> {
         let source = if subgroups { shaders::COMPACT_SUBGROUP } else { shaders::COMPACT };
         let module = ctx.shader(label::COMPACT_SCAN, source)?;
         let layouts = &b.layouts()[..2];
         let build = |rays: bool| -> Result<[Stage; 3]> {
-            let c = [
-                ("TARGET_RAYS", rays as u32 as f64),
-                ("REGENERATE", b.regenerate as u32 as f64),
-                ("SHADOW_QUEUE", shadow as u32 as f64),
-            ];
+            let c = [("TARGET_RAYS", rays as u32 as f64), ("REGENERATE", b.regenerate as u32 as f64)];
             Ok([
                 Stage::new(ctx, label::COMPACT_SCAN, &module, layouts, &c)?,
                 Stage::new(ctx, label::COMPACT_BLOCKS, &module, layouts, &c)?,

@@ -272,7 +272,10 @@ struct Stages {
     queue_setup: queue_setup::QueueSetup,
     intersect: intersect::Intersect,
     shade: shade::Shade,
+    /// The scan passes: after intersect with the scan method, after shade with it or in slot
+    /// order.
     compact: Option<compact::Compact>,
+    scan_materials: bool,
     shadow: Option<shadow::Shadow>,
     tail: Option<tail::TailPass>,
     regenerate: bool,
@@ -289,7 +292,7 @@ impl Stages {
         }
         self.queue_setup.record_intersect(wave, i);
         self.intersect.record(wave, i);
-        if let Some(compact) = &self.compact {
+        if let Some(compact) = self.compact.as_ref().filter(|_| self.scan_materials) {
             compact.record(wave, i, Target::MaterialQueues);
         }
         self.queue_setup.record_shade(wave, i);
@@ -306,7 +309,8 @@ impl Stages {
     /// Passes one iteration records, to keep each submission within the timer's capacity.
     fn per_iteration(&self) -> usize {
         3 + self.shade.passes()
-            + if self.compact.is_some() { 6 } else { 0 }
+            + if self.compact.is_some() { 3 } else { 0 }
+            + if self.scan_materials { 3 } else { 0 }
             + if self.shadow.is_some() { 2 } else { 0 }
             + if self.regenerate { 2 } else { 0 }
     }
@@ -368,8 +372,10 @@ pub fn render(
     let stats_bounces = if regenerate { 1 } else { settings.max_depth.min(STATS_BOUNCES) };
     let frame = scene.frame_uniform(camera, settings);
     let has_shadow_pass = settings.nee && !scene.lights.is_empty();
+    // The scan passes: the scan method's, or slot order's over the pool after shade.
+    let uses_scan = opts.compaction == Compaction::Scan || opts.queue_order == QueueOrder::Slot;
     let layout = PoolLayout {
-        scan: opts.compaction == Compaction::Scan,
+        scan: uses_scan,
         shadow: has_shadow_pass,
         ring_samples: regenerate.then_some(ring.samples() as u64),
     };
@@ -390,13 +396,12 @@ pub fn render(
         queue_setup: queue_setup::QueueSetup::new(ctx, &b, wg)?,
         intersect: intersect::Intersect::new(ctx, &b, wg, instrument)?,
         shade: shade::Shade::new(ctx, &b, shade_kinds, wg, instrument)?,
-        compact: (opts.compaction == Compaction::Scan)
-            .then(|| compact::Compact::new(ctx, &b, subgroup_scan, has_shadow_pass))
-            .transpose()?,
+        compact: uses_scan.then(|| compact::Compact::new(ctx, &b, subgroup_scan)).transpose()?,
         shadow: has_shadow_pass.then(|| shadow::Shadow::new(ctx, &b, wg, instrument)).transpose()?,
         tail: (opts.tail == Tail::Megakernel)
             .then(|| tail::TailPass::new(ctx, &b, wg, instrument))
             .transpose()?,
+        scan_materials: opts.compaction == Compaction::Scan,
         regenerate,
     };
     let samples = if regenerate { &b.state.samples } else { &b.state.radiance };
@@ -412,7 +417,7 @@ pub fn render(
     let mut timer = GpuTimer::new(ctx, measure.timing, &mut memory);
     let mut histogram = (opts.compaction != Compaction::Off && !regenerate).then(QueueHistogram::default);
     let mut stats = ScheduleStats::new(opts.schedule, opts.sync_every, pool);
-    stats.subgroup_scan = (opts.compaction == Compaction::Scan).then_some(subgroup_scan);
+    stats.subgroup_scan = uses_scan.then_some(subgroup_scan);
     stats.subgroup_append = subgroup_append;
     let mut done = 0u64;
     for (w, d) in shares.iter().enumerate() {

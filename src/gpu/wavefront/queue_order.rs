@@ -2,10 +2,12 @@
 //! lists its paths as the producing pass met them (atomic appends, or the scan over the previous
 //! queue's positions), so after a few bounces, and at once after regeneration's refills,
 //! neighbouring lanes of a pass read path states scattered over the whole pool: every lane its
-//! own cache line. In slot order every scan runs over the pool's slots instead, so each queue
-//! lists its paths by slot and a subgroup reads neighbouring states; the same scan lists the free
+//! own cache line. In slot order the ray queue is built after shade by a scan over the pool's
+//! slots (with either compaction method), so it lists its paths by slot and a subgroup reads
+//! neighbouring states; the material queues keep that order (the scan method's stable scan) or
+//! its subgroups' runs (atomic appends, aggregated per subgroup). The same scan lists the free
 //! slots in ascending order (the refill then starts consecutive samples in ascending slots) and
-//! the pending shadow rays. The price: each scan covers the pool, not only the paths just
+//! the pending shadow rays. The price: that scan covers the pool, not only the paths just
 //! processed.
 
 use super::Compaction;
@@ -17,7 +19,7 @@ pub enum QueueOrder {
     /// As the producing pass met the paths (the scan keeps the previous queue's order).
     #[default]
     Arrival,
-    /// By slot: every queue built by a scan over the pool (needs the scan compaction).
+    /// By slot: the ray queue built by a scan over the pool's slots (needs queues).
     Slot,
 }
 
@@ -30,13 +32,10 @@ impl QueueOrder {
         }
     }
 
-    /// Slot order is what the scan builds: with atomic appends the order is the hardware's.
+    /// Slot order orders queues: without compaction there are none.
     pub fn check(self, compaction: Compaction) -> Result<()> {
-        if self == QueueOrder::Slot && compaction != Compaction::Scan {
-            bail!(
-                "--queue-order slot builds every queue with a scan over the pool's slots: it needs \
-                 --compaction on --compaction-method scan (atomic appends leave the order to the hardware)"
-            );
+        if self == QueueOrder::Slot && compaction == Compaction::Off {
+            bail!("--queue-order slot orders the queues, and --compaction off has none: use --compaction on");
         }
         Ok(())
     }
