@@ -3,6 +3,7 @@
 //! execution efficiency and the subgroup-iterations an ideal W-lane machine issues.
 
 use super::render::OnOff;
+use crate::chart::{LineChart, Series};
 use crate::gpu::instrument::FRAME_KEY;
 use crate::gpu::megakernel::{MegakernelOptions, DEFAULT_THREADS_DISCRETE};
 use crate::gpu::wavefront::{Compaction, ShadePasses, DEFAULT_POOL};
@@ -25,6 +26,15 @@ pub enum ReplayMethod {
 }
 
 impl ReplayMethod {
+    /// The label charts give it.
+    fn label(self) -> &'static str {
+        match self {
+            ReplayMethod::Megakernel => "naive megakernel",
+            ReplayMethod::Regenerate => "regenerating megakernel",
+            ReplayMethod::Wavefront => "wavefront (waves)",
+        }
+    }
+
     fn name(self) -> &'static str {
         match self {
             ReplayMethod::Megakernel => "megakernel",
@@ -94,6 +104,10 @@ pub struct ReplayArgs {
     /// Write the figures as JSON here.
     #[arg(long)]
     pub json: Option<std::path::PathBuf>,
+    /// Draw the frame-level warp execution efficiency against width, one line per method, as
+    /// an SVG chart here.
+    #[arg(long)]
+    pub chart: Option<std::path::PathBuf>,
 }
 
 pub fn run(a: ReplayArgs) -> Result<()> {
@@ -145,6 +159,7 @@ pub fn run(a: ReplayArgs) -> Result<()> {
         a.scene, a.width, a.height, a.spp, settings.nee, settings.max_depth
     );
     let mut methods = serde_json::Map::new();
+    let mut series = Vec::new();
     let mut naive_issued: Option<Vec<u64>> = None;
     for &m in &a.methods {
         let start = Instant::now();
@@ -194,9 +209,11 @@ pub fn run(a: ReplayArgs) -> Result<()> {
             naive_issued = Some(issued.clone());
         }
         let mut per_width = serde_json::Map::new();
+        let mut line = Series { name: m.label().to_string(), points: Vec::new() };
         for (i, (w, c)) in counts.iter().enumerate() {
             let e = c.efficiencies()?;
             let frame_eff = e.get(FRAME_KEY).map_or(0.0, |f| f.efficiency);
+            line.points.push((f64::from(*w), frame_eff * 100.0));
             // The naive megakernel's issued subgroup-iterations over this method's: the speed-up
             // an ideal W-lane machine would show, were every block equally costly.
             let speedup = naive_issued.as_ref().map(|n| n[i] as f64 / issued[i].max(1) as f64);
@@ -216,6 +233,7 @@ pub fn run(a: ReplayArgs) -> Result<()> {
                 serde_json::json!({ "issued": issued[i], "predicted_speedup_over_naive": speedup, "simd": e }),
             );
         }
+        series.push(line);
         about["seconds"] = seconds.into();
         about["widths"] = per_width.into();
         methods.insert(m.name().to_string(), about);
@@ -226,6 +244,21 @@ pub fn run(a: ReplayArgs) -> Result<()> {
             "max_depth": a.max_depth, "nee": settings.nee, "accel": format!("{:?}", a.accel), "methods": methods,
         });
         std::fs::write(path, serde_json::to_string_pretty(&doc)?)?;
+    }
+    if let Some(path) = &a.chart {
+        let nee = if settings.nee { ", NEE" } else { "" };
+        let chart = LineChart {
+            title: format!(
+                "{} {}x{}x{}{nee}: predicted warp execution efficiency (lockstep replay)",
+                a.scene, a.width, a.height, a.spp
+            ),
+            x_label: "SIMD width (lanes)".into(),
+            y_label: "work-weighted SIMD efficiency (%)".into(),
+            x_log: true,
+            series,
+            ..Default::default()
+        };
+        std::fs::write(path, chart.to_svg())?;
     }
     Ok(())
 }

@@ -207,3 +207,71 @@ fn replay_cli_refuses_bad_widths() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success() && text.contains("W=4") && text.contains("W=32"), "{text}");
 }
+
+/// With a thread per sample, every persistent thread starts one path at the first iteration and
+/// none after: the regenerating megakernel's replay is the naive one's, block for block. Fewer
+/// threads keep lanes busy: fewer subgroup-iterations issued.
+#[test]
+fn regenerating_with_a_thread_per_sample_replays_as_the_naive_megakernel() {
+    use wavetrace::replay::{megakernel, regenerate};
+    let s = settings(true);
+    let scene = builtin::by_name("cornell").unwrap();
+    let opts = MethodOptions::default();
+    let (packed, frame) = wavetrace::method::prepare(Method::Megakernel, &scene, &s, &opts).unwrap();
+    let widths = [8, 32];
+    let mk = &opts.megakernel;
+    let naive_launch =
+        megakernel::Launch { samples_per_dispatch: mk.samples_per_dispatch, max_threads: 1 << 20, every: 1 };
+    let naive = megakernel::replay(&packed, &frame, &s, &widths, naive_launch);
+    let launch = |threads| regenerate::Launch {
+        samples_per_dispatch: mk.samples_per_dispatch,
+        threads,
+        workgroup_size: 64,
+        paths_per_thread: None,
+        resident: None,
+    };
+    let samples = s.sample_count() as u32;
+    let same = regenerate::replay(&packed, &frame, &s, &widths, launch(samples)).unwrap();
+    let fewer = regenerate::replay(&packed, &frame, &s, &widths, launch(64)).unwrap();
+    let issued = |c: &wavetrace::replay::lockstep::SlotCounts| c.slots.iter().map(|s| s[1]).sum::<u64>();
+    for (i, w) in widths.iter().enumerate() {
+        assert_eq!(naive.counts[i].1.slots, same.counts[i].1.slots, "W={w}");
+        assert!(issued(&fewer.counts[i].1) < issued(&naive.counts[i].1), "W={w}");
+    }
+}
+
+/// The replay's options refuse what they cannot mean, saying why, and a run writes every
+/// method's figures.
+#[test]
+fn replay_cli_refuses_bad_options_and_writes_every_method() {
+    let run = |extra: &[&str]| {
+        std::process::Command::new(common::bin())
+            .args(["replay", "--scene", "three-spheres", "--width", "8", "--height", "8", "--spp", "1"])
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    for (bad, says) in [
+        (&["--every", "4"][..], "--methods megakernel or --every 1"),
+        (&["--paths-per-thread", "0"][..], "--paths-per-thread"),
+        (&["--paths-per-thread", "many"][..], "`llvmpipe`"),
+        (&["--methods", "megakernel,bogus"][..], "bogus"),
+        (&["--resident-subgroups", "0"][..], "resident-subgroups"),
+    ] {
+        let out = run(bad);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains(says), "{bad:?}: {err}");
+    }
+    let json = std::env::temp_dir().join(format!("wavetrace-replay-{}.json", std::process::id()));
+    let out = run(&["--simd-width", "8,32", "--threads", "16", "--json", json.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    std::fs::remove_file(&json).ok();
+    for m in ["megakernel", "regenerate", "wavefront"] {
+        for w in ["8", "32"] {
+            let e = &doc["methods"][m]["widths"][w]["simd"]["warp_execution_efficiency"]["efficiency"];
+            assert!(e.as_f64().is_some_and(|e| e > 0.0 && e <= 1.0), "{m} W={w}: {e}");
+        }
+    }
+    assert_eq!(doc["methods"]["megakernel"]["widths"]["8"]["predicted_speedup_over_naive"], 1.0);
+}
