@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Issue 25: the lockstep SIMD replay of every GPU method (naive megakernel, regenerating
-# megakernel, wavefront per pass) at 8, 16, 32 and 64 lanes on the scenes the issue names, with
+# megakernel, wavefront per pass with waves and regenerating) at 8, 16, 32 and 64 lanes on the scenes the issue names, with
 # the software driver's measured frame time of each method beside the predicted speed-ups.
 # Written to experiments/results/<device>/simd_width/: per scene NAME.json/.txt (replay), NAME.svg
 # (efficiency against width), NAME.times.json (llvmpipe frame seconds); summary.md for all.
@@ -20,7 +20,7 @@ replay() { local name=$1; shift; nice -n 19 "$BIN" replay --simd-width "$W" --js
 times() {
   local name=$1; shift
   local m out=()
-  for m in "megakernel --schedule waves" "megakernel --schedule regenerate" "wavefront --schedule waves"; do
+  for m in "megakernel --schedule waves" "megakernel --schedule regenerate" "wavefront --schedule waves" "wavefront --schedule regenerate"; do
     # shellcheck disable=SC2086
     nice -n 19 "$BIN" render "$@" --method $m --out "$TMP/img.exr" --report "$TMP/run.json" > /dev/null 2>&1
     out+=("$(jq -c --arg m "$m" '{method: $m, frame_seconds, wall_seconds, adapter: .adapter.name}' "$TMP/run.json")")
@@ -58,7 +58,7 @@ replay spheres-8-brute-every16 --methods megakernel --scene spheres-8 --accel no
   for name in "${NAMES[@]}"; do
     jq -r --slurpfile t "$OUT/$name.times.json" --arg name "$name" '
       . as $r | ($t[0][0].frame_seconds) as $naive
-      | ["megakernel", "regenerate", "wavefront"] | to_entries[] | .key as $i | .value as $m
+      | ["megakernel", "regenerate", "wavefront", "wavefront-regenerate"] | to_entries[] | .key as $i | .value as $m
       | $r.methods[$m] as $x | ($t[0][$i].frame_seconds) as $s
       | def e(w): ($x.widths[w].simd.warp_execution_efficiency.efficiency * 100 * 100 | round / 100 | tostring) + "%";
         def p(w): ($x.widths[w].predicted_speedup_over_naive * 100 | round / 100 | tostring) + "x";

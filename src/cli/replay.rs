@@ -6,6 +6,7 @@ use super::render::OnOff;
 use crate::chart::{LineChart, Series};
 use crate::gpu::instrument::FRAME_KEY;
 use crate::gpu::megakernel::{MegakernelOptions, DEFAULT_THREADS_DISCRETE};
+use crate::gpu::schedule::Schedule;
 use crate::gpu::wavefront::{Compaction, ShadePasses, DEFAULT_POOL};
 use crate::replay::lockstep::SlotCounts;
 use crate::replay::{megakernel, regenerate, wavefront, width};
@@ -23,6 +24,8 @@ pub enum ReplayMethod {
     Regenerate,
     /// The wavefront, per pass (`--method wavefront --schedule waves`).
     Wavefront,
+    /// The regenerating wavefront, per pass (`--method wavefront --schedule regenerate`).
+    WavefrontRegenerate,
 }
 
 impl ReplayMethod {
@@ -32,6 +35,7 @@ impl ReplayMethod {
             ReplayMethod::Megakernel => "naive megakernel",
             ReplayMethod::Regenerate => "regenerating megakernel",
             ReplayMethod::Wavefront => "wavefront (waves)",
+            ReplayMethod::WavefrontRegenerate => "wavefront (regenerate)",
         }
     }
 
@@ -40,6 +44,7 @@ impl ReplayMethod {
             ReplayMethod::Megakernel => "megakernel",
             ReplayMethod::Regenerate => "regenerate",
             ReplayMethod::Wavefront => "wavefront",
+            ReplayMethod::WavefrontRegenerate => "wavefront-regenerate",
         }
     }
 }
@@ -71,7 +76,12 @@ pub struct ReplayArgs {
     #[arg(long, default_value = "8,16,32,64")]
     pub simd_width: String,
     /// Methods to replay, comma-separated.
-    #[arg(long, value_enum, value_delimiter = ',', default_value = "megakernel,regenerate,wavefront")]
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "megakernel,regenerate,wavefront,wavefront-regenerate"
+    )]
     pub methods: Vec<ReplayMethod>,
     /// Naive megakernel: replay one block of 128 invocations in N (systematic sample of whole
     /// blocks; 1: all). The other methods group paths across the whole dispatch: they need 1.
@@ -91,7 +101,7 @@ pub struct ReplayArgs {
     /// given; llvmpipe runs one per worker thread).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub resident_subgroups: Option<u32>,
-    /// Wavefront: paths in flight per wave.
+    /// Wavefront: paths in flight (per wave; the regenerating pool).
     #[arg(long, default_value_t = DEFAULT_POOL, value_parser = clap::value_parser!(u32).range(1..))]
     pub pool_size: u32,
     /// Wavefront: queue order. `atomic` is replayed in `scan` order (the atomics' order is the
@@ -148,7 +158,9 @@ pub fn run(a: ReplayArgs) -> Result<()> {
             _ => bail!("--paths-per-thread {s:?}: expected a whole number of at least 1, or `llvmpipe`"),
         },
     };
-    if a.compaction == Compaction::Atomic && a.methods.contains(&ReplayMethod::Wavefront) {
+    let wavefront =
+        a.methods.iter().any(|m| matches!(m, ReplayMethod::Wavefront | ReplayMethod::WavefrontRegenerate));
+    if a.compaction == Compaction::Atomic && wavefront {
         eprintln!(
             "notice: --compaction atomic leaves queue order to the device's atomics; the replay uses the scan's order"
         );
@@ -191,13 +203,19 @@ pub fn run(a: ReplayArgs) -> Result<()> {
                 });
                 (r.counts, about)
             }
-            ReplayMethod::Wavefront => {
-                let launch =
-                    wavefront::Launch { pool: a.pool_size, compaction: a.compaction, shade: a.shade };
+            ReplayMethod::Wavefront | ReplayMethod::WavefrontRegenerate => {
+                let schedule =
+                    if m == ReplayMethod::Wavefront { Schedule::Waves } else { Schedule::Regenerate };
+                let launch = wavefront::Launch {
+                    pool: a.pool_size,
+                    compaction: a.compaction,
+                    shade: a.shade,
+                    schedule,
+                };
                 let r = wavefront::replay(&packed, &frame, &settings, &widths, launch)?;
                 let about = serde_json::json!({
-                    "dispatches": r.dispatches, "waves": r.waves, "pool": a.pool_size,
-                    "compaction": a.compaction, "shade": a.shade,
+                    "dispatches": r.dispatches, "shares": r.waves, "pool": a.pool_size,
+                    "compaction": a.compaction, "shade": a.shade, "schedule": schedule,
                 });
                 (r.counts, about)
             }

@@ -113,6 +113,7 @@ fn assert_replay_matches(label: &str, method: Method, opts: &MethodOptions) {
                     pool: opts.wavefront.pool_size.unwrap_or(wavetrace::gpu::wavefront::DEFAULT_POOL),
                     compaction: opts.wavefront.compaction,
                     shade: opts.wavefront.shade,
+                    schedule: opts.wavefront.schedule,
                 };
                 wavefront::replay(&packed, &frame, &s, &[w], launch).unwrap().counts
             }
@@ -185,6 +186,17 @@ fn wavefront_replay_matches_the_device() {
     assert_replay_matches("wavefront", Method::Wavefront, &opts);
     opts.wavefront.shade = wavetrace::gpu::wavefront::ShadePasses::Single;
     assert_replay_matches("wavefront single shade", Method::Wavefront, &opts);
+}
+
+/// The regenerating wavefront: a pool of a sixth of the samples, refilled every iteration, the
+/// refills at the ray queue's end.
+#[test]
+fn regenerating_wavefront_replay_matches_the_device() {
+    let mut opts = MethodOptions { instrument: true, ..Default::default() };
+    opts.wavefront.compaction = wavetrace::gpu::wavefront::Compaction::Scan;
+    opts.wavefront.schedule = Schedule::Regenerate;
+    opts.wavefront.pool_size = Some(128);
+    assert_replay_matches("wavefront regenerate", Method::Wavefront, &opts);
 }
 
 /// `wavetrace replay` refuses widths no subgroup has, saying why, and runs without a GPU.
