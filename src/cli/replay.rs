@@ -29,13 +29,13 @@ pub enum ReplayMethod {
 }
 
 impl ReplayMethod {
-    /// The label charts give it.
+    /// The label charts give it (short: the legend cuts long ones).
     fn label(self) -> &'static str {
         match self {
-            ReplayMethod::Megakernel => "naive megakernel",
-            ReplayMethod::Regenerate => "regenerating megakernel",
+            ReplayMethod::Megakernel => "megakernel (naive)",
+            ReplayMethod::Regenerate => "megakernel (regen.)",
             ReplayMethod::Wavefront => "wavefront (waves)",
-            ReplayMethod::WavefrontRegenerate => "wavefront (regenerate)",
+            ReplayMethod::WavefrontRegenerate => "wavefront (regen.)",
         }
     }
 
