@@ -2,7 +2,7 @@
 //! CPU, for each GPU method: work-weighted efficiency per block and pass, the frame's warp
 //! execution efficiency and the subgroup-iterations an ideal W-lane machine issues.
 
-use super::render::OnOff;
+use super::render::{CompactionMethod, OnOff};
 use crate::chart::{LineChart, Series};
 use crate::gpu::instrument::FRAME_KEY;
 use crate::gpu::megakernel::{MegakernelOptions, DEFAULT_THREADS_DISCRETE};
@@ -104,10 +104,13 @@ pub struct ReplayArgs {
     /// Wavefront: paths in flight (per wave; the regenerating pool).
     #[arg(long, default_value_t = DEFAULT_POOL, value_parser = clap::value_parser!(u32).range(1..))]
     pub pool_size: u32,
-    /// Wavefront: queue order. `atomic` is replayed in `scan` order (the atomics' order is the
-    /// device's to pick).
-    #[arg(long, value_enum, default_value_t = Compaction::Scan)]
-    pub compaction: Compaction,
+    /// Wavefront: keep queues dense (`off`: every pass runs over the whole pool), as `render`.
+    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    pub compaction: OnOff,
+    /// Wavefront: how compaction builds queues, hence their order. `atomic` is replayed in
+    /// `scan` order (the atomics' order is the device's to pick).
+    #[arg(long, value_enum, default_value_t = CompactionMethod::Scan)]
+    pub compaction_method: CompactionMethod,
     /// Wavefront: one shade pass per material kind, or one over every hit.
     #[arg(long, value_enum, default_value_t = ShadePasses::PerMaterial)]
     pub shade: ShadePasses,
@@ -158,9 +161,14 @@ pub fn run(a: ReplayArgs) -> Result<()> {
             _ => bail!("--paths-per-thread {s:?}: expected a whole number of at least 1, or `llvmpipe`"),
         },
     };
+    let compaction = match (a.compaction, a.compaction_method) {
+        (OnOff::Off, _) => Compaction::Off,
+        (OnOff::On, CompactionMethod::Atomic) => Compaction::Atomic,
+        (OnOff::On, CompactionMethod::Scan) => Compaction::Scan,
+    };
     let wavefront =
         a.methods.iter().any(|m| matches!(m, ReplayMethod::Wavefront | ReplayMethod::WavefrontRegenerate));
-    if a.compaction == Compaction::Atomic && wavefront {
+    if compaction == Compaction::Atomic && wavefront {
         eprintln!(
             "notice: --compaction atomic leaves queue order to the device's atomics; the replay uses the scan's order"
         );
@@ -206,16 +214,11 @@ pub fn run(a: ReplayArgs) -> Result<()> {
             ReplayMethod::Wavefront | ReplayMethod::WavefrontRegenerate => {
                 let schedule =
                     if m == ReplayMethod::Wavefront { Schedule::Waves } else { Schedule::Regenerate };
-                let launch = wavefront::Launch {
-                    pool: a.pool_size,
-                    compaction: a.compaction,
-                    shade: a.shade,
-                    schedule,
-                };
+                let launch = wavefront::Launch { pool: a.pool_size, compaction, shade: a.shade, schedule };
                 let r = wavefront::replay(&packed, &frame, &settings, &widths, launch)?;
                 let about = serde_json::json!({
                     "dispatches": r.dispatches, "shares": r.waves, "pool": a.pool_size,
-                    "compaction": a.compaction, "shade": a.shade, "schedule": schedule,
+                    "compaction": compaction, "shade": a.shade, "schedule": schedule,
                 });
                 (r.counts, about)
             }

@@ -4,10 +4,10 @@
 //! runs one thread per queue entry, W consecutive entries per subgroup, the last subgroup of
 //! every dispatch partial, and counts the slots `--instrument` counts.
 //!
-//! Queue order is the one `--compaction scan` leaves, which is stable over the producing pass's
+//! Queue order is the one `--compaction-method scan` leaves, which is stable over the producing pass's
 //! positions: intersect's positions in order → each material queue; shade's positions (material
 //! queues laid end to end in kind order) → the next ray queue and, in the same order, the shadow
-//! queue (appended atomically on the device, see below). `--compaction atomic` leaves whatever
+//! queue (appended atomically on the device, see below). `--compaction-method atomic` leaves whatever
 //! order the atomics run in, which no replay can know: it is modelled by the scan's order, which
 //! atomics aggregated per subgroup approach when subgroups append in dispatch order. With
 //! `--compaction off` every pass runs over the whole wave, one thread per path, and the lanes
@@ -68,7 +68,7 @@ pub fn replay(
     if regenerate && launch.compaction == Compaction::Off {
         bail!(
             "replay of the regenerating wavefront: --compaction off runs passes over the pool by slot, which \
-             follows the free list's atomic order; replay it with --compaction scan"
+             follows the free list's atomic order; replay it with --compaction on"
         );
     }
     let camera = Camera::<f32>::new(frame);
