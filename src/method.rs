@@ -124,15 +124,15 @@ impl RenderOutput {
 }
 
 /// Renders `scene` with `method`. `on_progress` receives the number of path samples finished.
-pub fn render(
+/// The scene as `method` renders it: moved into render space with the stress transform, packed
+/// with the light and numerics options, and its camera frame. The SIMD replay records its paths
+/// on this, so that they are the device's paths.
+pub fn prepare(
     method: Method,
     scene: &Scene,
     settings: &RenderSettings,
     options: &MethodOptions,
-    gpu: Option<&GpuContext>,
-    on_progress: &(dyn Fn(u64) + Sync),
-) -> Result<RenderOutput> {
-    settings.validate().map_err(anyhow::Error::msg)?;
+) -> Result<(PackedScene, CameraFrame)> {
     // The stress transform and the move into render space, as one f64 transform before the
     // scene is stored in f32. cpu-f64, the ground truth, always renders camera-relative: its
     // stand-in for a scene kept in f64 end to end (in f64, rendering about the camera differs
@@ -145,6 +145,19 @@ pub fn render(
         .with_numerics(options.numerics)
         .with_stress(transform);
     let camera = CameraFrame::new(&scene.camera, settings.width, settings.height);
+    Ok((packed, camera))
+}
+
+pub fn render(
+    method: Method,
+    scene: &Scene,
+    settings: &RenderSettings,
+    options: &MethodOptions,
+    gpu: Option<&GpuContext>,
+    on_progress: &(dyn Fn(u64) + Sync),
+) -> Result<RenderOutput> {
+    settings.validate().map_err(anyhow::Error::msg)?;
+    let (packed, camera) = prepare(method, scene, settings, options)?;
     // A scene whose f32 arithmetic would overflow renders silently wrong: refuse it instead.
     if method != Method::CpuF64 {
         crate::arithmetic_range::check_f32(&packed, &camera)

@@ -1,16 +1,53 @@
 //! `wavetrace replay`: the lockstep SIMD replay (src/replay/) of a frame at several widths, on the
-//! CPU: work-weighted efficiency per block and pass, the frame's warp execution efficiency and
-//! the subgroup-iterations an ideal W-lane machine issues.
+//! CPU, for each GPU method: work-weighted efficiency per block and pass, the frame's warp
+//! execution efficiency and the subgroup-iterations an ideal W-lane machine issues.
 
-use super::render::OnOff;
-use crate::camera::CameraFrame;
-use crate::packed_scene::PackedScene;
-use crate::replay::megakernel::{replay, Launch};
-use crate::replay::width;
+use super::render::{CompactionMethod, OnOff};
+use crate::chart::{LineChart, Series};
+use crate::gpu::instrument::FRAME_KEY;
+use crate::gpu::megakernel::{MegakernelOptions, DEFAULT_THREADS_DISCRETE};
+use crate::gpu::schedule::Schedule;
+use crate::gpu::wavefront::{Compaction, ShadePasses, DEFAULT_POOL};
+use crate::replay::lockstep::SlotCounts;
+use crate::replay::{megakernel, regenerate, wavefront, width};
 use crate::scene::Scene;
 use crate::settings::{Accel, RenderSettings};
-use anyhow::Result;
+use anyhow::{bail, Result};
 use std::time::Instant;
+
+/// The methods the replay groups lanes as.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ReplayMethod {
+    /// The naive megakernel: one thread per sample (`--method megakernel --schedule waves`).
+    Megakernel,
+    /// The regenerating megakernel: persistent threads (`--method megakernel --schedule regenerate`).
+    Regenerate,
+    /// The wavefront, per pass (`--method wavefront --schedule waves`).
+    Wavefront,
+    /// The regenerating wavefront, per pass (`--method wavefront --schedule regenerate`).
+    WavefrontRegenerate,
+}
+
+impl ReplayMethod {
+    /// The label charts give it (short: the legend cuts long ones).
+    fn label(self) -> &'static str {
+        match self {
+            ReplayMethod::Megakernel => "megakernel (naive)",
+            ReplayMethod::Regenerate => "megakernel (regen.)",
+            ReplayMethod::Wavefront => "wavefront (waves)",
+            ReplayMethod::WavefrontRegenerate => "wavefront (regen.)",
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            ReplayMethod::Megakernel => "megakernel",
+            ReplayMethod::Regenerate => "regenerate",
+            ReplayMethod::Wavefront => "wavefront",
+            ReplayMethod::WavefrontRegenerate => "wavefront-regenerate",
+        }
+    }
+}
 
 #[derive(clap::Args, Debug)]
 #[command(
@@ -32,21 +69,58 @@ pub struct ReplayArgs {
     pub seed: u32,
     #[arg(long, value_enum, default_value_t = OnOff::Off)]
     pub nee: OnOff,
-    /// `none`: every primitive tested in one loop, as the seeds' CUDA ports did (at most 32).
+    /// `none`: every primitive tested in one loop, as the seeds' CUDA ports did (at most 24).
     #[arg(long, value_enum, default_value_t = Accel::Bvh)]
     pub accel: Accel,
     /// Subgroup widths to replay: powers of two from 1 to 128, comma-separated.
     #[arg(long, default_value = "8,16,32,64")]
     pub simd_width: String,
-    /// Replay one block of 128 invocations in N (systematic sample of whole blocks; 1: all).
+    /// Methods to replay, comma-separated.
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "megakernel,regenerate,wavefront,wavefront-regenerate"
+    )]
+    pub methods: Vec<ReplayMethod>,
+    /// Naive megakernel: replay one block of 128 invocations in N (systematic sample of whole
+    /// blocks; 1: all). The other methods group paths across the whole dispatch: they need 1.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
     pub every: u64,
     /// Megakernel threads per workgroup (the device's dispatch shape).
     #[arg(long, default_value_t = 64)]
     pub workgroup_size: u32,
+    /// Regenerating megakernel: persistent threads (rounded up to whole workgroups).
+    #[arg(long, default_value_t = DEFAULT_THREADS_DISCRETE, value_parser = clap::value_parser!(u32).range(1..))]
+    pub threads: u32,
+    /// Regenerating megakernel: most paths a thread starts per launch, a number or `llvmpipe`
+    /// (the cap the software driver's loop limit sets); unlimited when not given.
+    #[arg(long)]
+    pub paths_per_thread: Option<String>,
+    /// Regenerating megakernel: subgroups running at once, taking samples in turn (all when not
+    /// given; llvmpipe runs one per worker thread).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub resident_subgroups: Option<u32>,
+    /// Wavefront: paths in flight (per wave; the regenerating pool).
+    #[arg(long, default_value_t = DEFAULT_POOL, value_parser = clap::value_parser!(u32).range(1..))]
+    pub pool_size: u32,
+    /// Wavefront: keep queues dense (`off`: every pass runs over the whole pool), as `render`.
+    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    pub compaction: OnOff,
+    /// Wavefront: how compaction builds queues, hence their order. `atomic` is replayed in
+    /// `scan` order (the atomics' order is the device's to pick).
+    #[arg(long, value_enum, default_value_t = CompactionMethod::Scan)]
+    pub compaction_method: CompactionMethod,
+    /// Wavefront: one shade pass per material kind, or one over every hit.
+    #[arg(long, value_enum, default_value_t = ShadePasses::PerMaterial)]
+    pub shade: ShadePasses,
     /// Write the figures as JSON here.
     #[arg(long)]
     pub json: Option<std::path::PathBuf>,
+    /// Draw the frame-level warp execution efficiency against width, one line per method, as
+    /// an SVG chart here.
+    #[arg(long)]
+    pub chart: Option<std::path::PathBuf>,
 }
 
 pub fn run(a: ReplayArgs) -> Result<()> {
@@ -62,48 +136,155 @@ pub fn run(a: ReplayArgs) -> Result<()> {
         nee: a.nee == OnOff::On,
     };
     settings.validate().map_err(anyhow::Error::msg)?;
-    let packed = PackedScene::new(&scene, settings.accel);
-    // The recorder keeps a leaf's tested positions in 24 bits.
-    if let Some(n) = packed.nodes.iter().map(|n| n.count).max().filter(|&n| n > 24) {
-        anyhow::bail!(
-            "replay: a leaf of {n} primitives (at most 24; --accel none needs a scene of 24 or fewer)"
+    if a.workgroup_size == 0 {
+        bail!("--workgroup-size must be at least 1");
+    }
+    if a.every > 1 && a.methods.iter().any(|m| *m != ReplayMethod::Megakernel) {
+        bail!(
+            "--every {} samples blocks of the naive megakernel's dispatch; the regenerating megakernel and the \
+             wavefront group paths across the whole dispatch: give --methods megakernel or --every 1",
+            a.every
         );
     }
-    let frame = CameraFrame::new(&scene.camera, settings.width, settings.height);
-    let defaults = crate::gpu::megakernel::MegakernelOptions::default();
-    let launch = Launch {
-        samples_per_dispatch: defaults.samples_per_dispatch,
-        max_threads: 65535u32.saturating_mul(a.workgroup_size),
-        every: a.every,
+    // The paths the GPU methods trace: the scene in their render space, default options.
+    let (packed, frame) =
+        crate::method::prepare(crate::method::Method::Megakernel, &scene, &settings, &Default::default())?;
+    // The recorder keeps a leaf's tested positions in 24 bits.
+    if let Some(n) = packed.nodes.iter().map(|n| n.count).max().filter(|&n| n > 24) {
+        bail!("replay: a leaf of {n} primitives (at most 24; --accel none needs a scene of 24 or fewer)");
+    }
+    let paths_per_thread = match a.paths_per_thread.as_deref() {
+        None => None,
+        Some("llvmpipe") => Some(crate::gpu::loop_limit::capped_paths_per_thread(&packed, &settings)),
+        Some(s) => match s.parse::<u32>() {
+            Ok(n) if n > 0 => Some(n),
+            _ => bail!("--paths-per-thread {s:?}: expected a whole number of at least 1, or `llvmpipe`"),
+        },
     };
-    let start = Instant::now();
-    let r = replay(&packed, &frame, &settings, &widths, launch);
-    let seconds = start.elapsed().as_secs_f64();
-    println!(
-        "naive megakernel, {} {}x{}x{} nee={}: {} dispatches, {} of {} blocks of 128 invocations replayed, {seconds:.2} s",
-        a.scene, a.width, a.height, a.spp, settings.nee, r.dispatches, r.blocks_replayed, r.blocks
-    );
-    let mut json = serde_json::Map::new();
-    for (w, counts) in &r.counts {
-        let e = counts.efficiencies()?;
-        let issued: u64 = counts.slots.iter().map(|s| s[1]).sum();
-        let frame = e.get(crate::gpu::instrument::FRAME_KEY).map_or(0.0, |f| f.efficiency);
-        println!(
-            "W={w:<4} warp execution efficiency {:>6.2}%  subgroup-iterations issued {issued}",
-            frame * 100.0
+    let compaction = match (a.compaction, a.compaction_method) {
+        (OnOff::Off, _) => Compaction::Off,
+        (OnOff::On, CompactionMethod::Atomic) => Compaction::Atomic,
+        (OnOff::On, CompactionMethod::Scan) => Compaction::Scan,
+    };
+    let wavefront =
+        a.methods.iter().any(|m| matches!(m, ReplayMethod::Wavefront | ReplayMethod::WavefrontRegenerate));
+    if compaction == Compaction::Atomic && wavefront {
+        eprintln!(
+            "notice: --compaction atomic leaves queue order to the device's atomics; the replay uses the scan's order"
         );
-        for (k, v) in &e {
-            println!("    {k:<40} {:>7.2}%  {:>12}", v.efficiency * 100.0, v.subgroups);
+    }
+    let defaults = MegakernelOptions::default();
+    println!(
+        "{} {}x{}x{} nee={} max_depth={}",
+        a.scene, a.width, a.height, a.spp, settings.nee, settings.max_depth
+    );
+    let mut methods = serde_json::Map::new();
+    let mut series = Vec::new();
+    let mut naive_issued: Option<Vec<u64>> = None;
+    for &m in &a.methods {
+        let start = Instant::now();
+        let (counts, mut about) = match m {
+            ReplayMethod::Megakernel => {
+                let launch = megakernel::Launch {
+                    samples_per_dispatch: defaults.samples_per_dispatch,
+                    max_threads: 65535u32.saturating_mul(a.workgroup_size),
+                    every: a.every,
+                };
+                let r = megakernel::replay(&packed, &frame, &settings, &widths, launch);
+                let about = serde_json::json!({
+                    "dispatches": r.dispatches, "every": a.every, "blocks": r.blocks, "blocks_replayed": r.blocks_replayed,
+                });
+                (r.counts, about)
+            }
+            ReplayMethod::Regenerate => {
+                let launch = regenerate::Launch {
+                    samples_per_dispatch: defaults.samples_per_dispatch,
+                    threads: a.threads,
+                    workgroup_size: a.workgroup_size,
+                    paths_per_thread,
+                    resident: a.resident_subgroups,
+                };
+                let r = regenerate::replay(&packed, &frame, &settings, &widths, launch)?;
+                let about = serde_json::json!({
+                    "dispatches": r.dispatches, "threads": a.threads, "paths_per_thread": paths_per_thread,
+                    "resident_subgroups": a.resident_subgroups,
+                });
+                (r.counts, about)
+            }
+            ReplayMethod::Wavefront | ReplayMethod::WavefrontRegenerate => {
+                let schedule =
+                    if m == ReplayMethod::Wavefront { Schedule::Waves } else { Schedule::Regenerate };
+                let launch = wavefront::Launch { pool: a.pool_size, compaction, shade: a.shade, schedule };
+                let r = wavefront::replay(&packed, &frame, &settings, &widths, launch)?;
+                let about = serde_json::json!({
+                    "dispatches": r.dispatches, "shares": r.waves, "pool": a.pool_size,
+                    "compaction": compaction, "shade": a.shade, "schedule": schedule,
+                });
+                (r.counts, about)
+            }
+        };
+        let seconds = start.elapsed().as_secs_f64();
+        println!("{}: {about}, {seconds:.2} s", m.name());
+        let issued: Vec<u64> = counts.iter().map(|(_, c)| issued(c)).collect();
+        if m == ReplayMethod::Megakernel {
+            naive_issued = Some(issued.clone());
         }
-        json.insert(w.to_string(), serde_json::to_value(&e)?);
+        let mut per_width = serde_json::Map::new();
+        let mut line = Series { name: m.label().to_string(), points: Vec::new() };
+        for (i, (w, c)) in counts.iter().enumerate() {
+            let e = c.efficiencies()?;
+            let frame_eff = e.get(FRAME_KEY).map_or(0.0, |f| f.efficiency);
+            line.points.push((f64::from(*w), frame_eff * 100.0));
+            // The naive megakernel's issued subgroup-iterations over this method's: the speed-up
+            // an ideal W-lane machine would show, were every block equally costly.
+            let speedup = naive_issued.as_ref().map(|n| n[i] as f64 / issued[i].max(1) as f64);
+            println!(
+                "  W={w:<4} warp execution efficiency {:>6.2}%  subgroup-iterations issued {}{}",
+                frame_eff * 100.0,
+                issued[i],
+                speedup.map_or(String::new(), |s| format!(
+                    "  predicted speed-up over the naive megakernel {s:.2}x"
+                ))
+            );
+            for (k, v) in &e {
+                println!("      {k:<40} {:>7.2}%  {:>12}", v.efficiency * 100.0, v.subgroups);
+            }
+            per_width.insert(
+                w.to_string(),
+                serde_json::json!({ "issued": issued[i], "predicted_speedup_over_naive": speedup, "simd": e }),
+            );
+        }
+        series.push(line);
+        about["seconds"] = seconds.into();
+        about["widths"] = per_width.into();
+        methods.insert(m.name().to_string(), about);
     }
     if let Some(path) = &a.json {
         let doc = serde_json::json!({
-            "method": "megakernel", "commit": env!("WAVETRACE_GIT_COMMIT"), "scene": a.scene, "width": a.width, "height": a.height, "spp": a.spp,
-            "nee": settings.nee, "accel": format!("{:?}", a.accel), "every": a.every, "dispatches": r.dispatches, "seconds": seconds,
-            "widths": json,
+            "commit": env!("WAVETRACE_GIT_COMMIT"), "scene": a.scene, "width": a.width, "height": a.height, "spp": a.spp,
+            "max_depth": a.max_depth, "nee": settings.nee, "accel": format!("{:?}", a.accel), "methods": methods,
         });
         std::fs::write(path, serde_json::to_string_pretty(&doc)?)?;
     }
+    if let Some(path) = &a.chart {
+        let nee = if settings.nee { ", NEE" } else { "" };
+        let chart = LineChart {
+            title: format!(
+                "{} {}x{}x{}{nee}: predicted warp execution efficiency (lockstep replay)",
+                a.scene, a.width, a.height, a.spp
+            ),
+            x_label: "SIMD width (lanes)".into(),
+            y_label: "work-weighted SIMD efficiency (%)".into(),
+            x_log: true,
+            series,
+            ..Default::default()
+        };
+        std::fs::write(path, chart.to_svg())?;
+    }
     Ok(())
+}
+
+/// Subgroup-iterations issued over every slot.
+fn issued(c: &SlotCounts) -> u64 {
+    c.slots.iter().map(|s| s[1]).sum()
 }

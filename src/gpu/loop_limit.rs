@@ -62,9 +62,11 @@ pub fn check_loop_limit(ctx: &GpuContext, scene: &PackedScene, settings: &Render
 /// twice as many nodes, rather than the deepest BVH the builder allows. The shader reports a
 /// thread the cap ended anyway (`WORK_CUT`), and the render fails rather than return it.
 pub fn paths_per_thread(ctx: &GpuContext, scene: &PackedScene, settings: &RenderSettings) -> Option<u32> {
-    if !has_loop_limit(ctx) {
-        return None;
-    }
+    has_loop_limit(ctx).then(|| capped_paths_per_thread(scene, settings))
+}
+
+/// [`paths_per_thread`] on a driver that caps loops: also the SIMD replay's model of llvmpipe.
+pub fn capped_paths_per_thread(scene: &PackedScene, settings: &RenderSettings) -> u32 {
     let traversals = if settings.nee && !scene.lights.is_empty() { 2 } else { 1 };
     let depth = scene.bvh_depth();
     let traversal = 2 * depth as u64 + scene.largest_leaf() as u64;
@@ -75,7 +77,7 @@ pub fn paths_per_thread(ctx: &GpuContext, scene: &PackedScene, settings: &Render
         depth,
         scene.largest_leaf()
     );
-    Some(paths)
+    paths
 }
 
 /// The largest `paths` with `(paths × max_depth + 1) × (1 + per_bounce) ≤ limit`, at least 1.

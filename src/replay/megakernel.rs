@@ -4,10 +4,11 @@
 //! last subgroup of a dispatch partial; each subgroup runs the bounce loop in lockstep.
 
 use super::lockstep::{slot, traverse, Lane, SlotCounts};
-use super::recorder::{is_hit, Recorder, CLOSEST, SHADOW};
+use super::paths::Paths;
+use super::recorder::{is_hit, CLOSEST, SHADOW};
 use super::width::MAX_WIDTH;
 use crate::camera::CameraFrame;
-use crate::cpu::{camera::Camera, integrator::trace_path_observed};
+use crate::cpu::camera::Camera;
 use crate::gpu::dispatch_plan;
 use crate::layout::DispatchParams;
 use crate::packed_scene::PackedScene;
@@ -86,24 +87,14 @@ fn block(
     widths: &[u32],
 ) -> Vec<SlotCounts> {
     let n = d.pixel_count as u64 * d.sample_count as u64;
-    let mut rec = Recorder::default();
-    let mut spans = Vec::with_capacity(MAX_WIDTH as usize);
-    for i in first..(first + MAX_WIDTH as u64).min(n) {
-        let pixel = d.pixel_offset + (i % d.pixel_count as u64) as u32;
-        let sample = d.sample_start + (i / d.pixel_count as u64) as u32;
-        let start = rec.events.len();
-        let (x, y) = (pixel % settings.width, pixel / settings.width);
-        trace_path_observed(scene, camera, settings, x, y, sample, &mut rec);
-        spans.push(start..rec.events.len());
-    }
+    let paths = Paths::record(scene, camera, settings, d, first..(first + MAX_WIDTH as u64).min(n));
     widths
         .iter()
         .map(|&w| {
             let mut counts = SlotCounts::new();
-            for group in spans.chunks(w as usize) {
-                let mut lanes: Vec<Lane> =
-                    group.iter().map(|s| Lane { events: &rec.events[s.clone()], at: 0 }).collect();
-                subgroup(&mut lanes, w, &mut counts);
+            let mut lanes = paths.lanes();
+            for group in lanes.chunks_mut(w as usize) {
+                subgroup(group, w, &mut counts);
             }
             counts
         })
@@ -113,29 +104,32 @@ fn block(
 /// One subgroup's paths through the megakernel's bounce loop (shaders/shared/integrator.wgsl),
 /// in lockstep: every instrumented block counted with the lanes that run it.
 pub fn subgroup(lanes: &mut [Lane], width: u32, counts: &mut SlotCounts) {
-    let at = |lanes: &[Lane], l: usize, e: u32| lanes[l].next() == Some(e);
-    loop {
-        let alive: Vec<usize> = (0..lanes.len()).filter(|&l| at(lanes, l, CLOSEST)).collect();
-        if alive.is_empty() {
-            return;
-        }
-        counts.count(slot("megakernel_bounce"), alive.len(), width);
-        alive.iter().for_each(|&l| lanes[l].at += 1);
-        traverse(lanes, &alive, slot("megakernel_traverse_inner"), width, counts);
-        let hit: Vec<usize> =
-            alive.iter().copied().filter(|&l| lanes[l].next().is_some_and(is_hit)).collect();
-        counts.count(slot("megakernel_material"), hit.len(), width);
-        let mut kinds = [0usize; 4];
-        for &l in &hit {
-            kinds[((lanes[l].next().unwrap() & 0xff) as usize).min(3)] += 1;
-            lanes[l].at += 1;
-        }
-        for (k, name) in ["lambertian", "metal", "dielectric", "emissive"].iter().enumerate() {
-            counts.count(slot(&format!("megakernel_{name}")), kinds[k], width);
-        }
-        let shadow: Vec<usize> = hit.iter().copied().filter(|&l| at(lanes, l, SHADOW)).collect();
-        counts.count(slot("megakernel_shadow"), shadow.len(), width);
-        shadow.iter().for_each(|&l| lanes[l].at += 1);
-        traverse(lanes, &shadow, slot("megakernel_shadow_traverse_inner"), width, counts);
+    let mut alive: Vec<usize> = (0..lanes.len()).filter(|&l| lanes[l].next() == Some(CLOSEST)).collect();
+    while !alive.is_empty() {
+        alive = bounce(lanes, &alive, width, counts);
     }
+}
+
+/// One bounce (`trace_bounce`) of the lanes `alive`, each at its bounce's CLOSEST event, in
+/// lockstep; returns the lanes whose path goes on (at their next CLOSEST).
+pub fn bounce(lanes: &mut [Lane], alive: &[usize], width: u32, counts: &mut SlotCounts) -> Vec<usize> {
+    let at = |lanes: &[Lane], l: usize, e: u32| lanes[l].next() == Some(e);
+    counts.count(slot("megakernel_bounce"), alive.len(), width);
+    alive.iter().for_each(|&l| lanes[l].at += 1);
+    traverse(lanes, alive, slot("megakernel_traverse_inner"), width, counts);
+    let hit: Vec<usize> = alive.iter().copied().filter(|&l| lanes[l].next().is_some_and(is_hit)).collect();
+    counts.count(slot("megakernel_material"), hit.len(), width);
+    let mut kinds = [0usize; 4];
+    for &l in &hit {
+        kinds[((lanes[l].next().unwrap() & 0xff) as usize).min(3)] += 1;
+        lanes[l].at += 1;
+    }
+    for (k, name) in ["lambertian", "metal", "dielectric", "emissive"].iter().enumerate() {
+        counts.count(slot(&format!("megakernel_{name}")), kinds[k], width);
+    }
+    let shadow: Vec<usize> = hit.iter().copied().filter(|&l| at(lanes, l, SHADOW)).collect();
+    counts.count(slot("megakernel_shadow"), shadow.len(), width);
+    shadow.iter().for_each(|&l| lanes[l].at += 1);
+    traverse(lanes, &shadow, slot("megakernel_shadow_traverse_inner"), width, counts);
+    hit.into_iter().filter(|&l| at(lanes, l, CLOSEST)).collect()
 }

@@ -6,10 +6,15 @@
 //! reproduces the device's figures (tests/suite/simd_replay.rs); at other widths it predicts
 //! them, with no GPU. Aila & Laine (2009) ran the same kind of simulator for traversal alone.
 //!
-//! Done: the naive megakernel (one thread per sample, dispatch order). Not yet: the
-//! regenerating megakernel and the wavefront's queues.
+//! Methods: the naive megakernel (one thread per sample, dispatch order), the regenerating
+//! megakernel (persistent threads taking samples) and the wavefront with `--schedule waves`
+//! (per pass, queue order as the scan compaction leaves it). Not yet: the regenerating
+//! wavefront's refills.
 
 pub mod lockstep;
 pub mod megakernel;
+pub mod paths;
 pub mod recorder;
+pub mod regenerate;
+pub mod wavefront;
 pub mod width;

@@ -77,40 +77,126 @@ fn traversal_steps_are_counted_and_pooled() {
     }
 }
 
-/// The replay at the device's subgroup width reproduces the device's counters within 3
-/// percentage points, slot by slot and pooled, for the naive megakernel with and without NEE.
-#[test]
-fn megakernel_replay_matches_the_device() {
-    use wavetrace::camera::CameraFrame;
-    use wavetrace::packed_scene::PackedScene;
-    use wavetrace::replay::megakernel::{replay, Launch};
+/// The scenes the replay is validated on: a BVH over many spheres and four materials, an area
+/// light with NEE, a triangle mesh with lambertian, metal and emissive materials, and a sphere
+/// grid.
+fn validation_scenes() -> Vec<(&'static str, wavetrace::scene::Scene, bool)> {
+    let mesh =
+        wavetrace::scene::Scene::resolve(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/scenes/mesh_box.json"))
+            .expect("tests/scenes/mesh_box.json loads");
+    vec![
+        ("rtiow-final", builtin::by_name("rtiow-final").unwrap(), false),
+        ("cornell", builtin::by_name("cornell").unwrap(), true),
+        ("mesh_box", mesh, true),
+        ("spheres-64", builtin::by_name("spheres-64").unwrap(), false),
+    ]
+}
+
+/// The device's counters for `method` beside the replay's at the device's subgroup width, on
+/// every validation scene: the same slots reached, each within 3 percentage points, pooled
+/// figures included. None where the driver picks the width per pipeline (nothing to replay).
+fn assert_replay_matches(label: &str, method: Method, opts: &MethodOptions) {
+    use wavetrace::replay::{megakernel, regenerate, wavefront};
     let Some(ctx) = common::gpu() else { return };
     let w = ctx.summary.subgroup_min_size;
     if !ctx.summary.subgroups || w != ctx.summary.subgroup_max_size {
         return; // a width the driver picks per pipeline cannot be replayed as one
     }
-    for (scene, nee) in [("rtiow-final", false), ("cornell", true), ("spheres-64", false)] {
+    for (scene, scene_data, nee) in validation_scenes() {
         let s = settings(nee);
-        let scene_data = builtin::by_name(scene).unwrap();
-        let opts = MethodOptions { instrument: true, ..Default::default() };
-        let device =
-            render(Method::Megakernel, &scene_data, &s, &opts, Some(ctx), &|_| {}).unwrap().simd.unwrap();
-        let packed = PackedScene::new(&scene_data, s.accel);
-        let frame = CameraFrame::new(&scene_data.camera, s.width, s.height);
-        let launch = Launch {
-            samples_per_dispatch: opts.megakernel.samples_per_dispatch,
-            max_threads: 65535 * opts.megakernel.workgroup_size,
-            every: 1,
+        let device = render(method, &scene_data, &s, opts, Some(ctx), &|_| {}).unwrap().simd.unwrap();
+        let (packed, frame) = wavetrace::method::prepare(method, &scene_data, &s, opts).unwrap();
+        let mk = &opts.megakernel;
+        let counts = match (method, label) {
+            (Method::Wavefront, _) => {
+                let launch = wavefront::Launch {
+                    pool: opts.wavefront.pool_size.unwrap_or(wavetrace::gpu::wavefront::DEFAULT_POOL),
+                    compaction: opts.wavefront.compaction,
+                    shade: opts.wavefront.shade,
+                    schedule: opts.wavefront.schedule,
+                };
+                wavefront::replay(&packed, &frame, &s, &[w], launch).unwrap().counts
+            }
+            (_, "regenerate") => {
+                let launch = regenerate::Launch {
+                    samples_per_dispatch: mk.samples_per_dispatch,
+                    threads: mk.threads.unwrap(),
+                    workgroup_size: mk.workgroup_size,
+                    paths_per_thread: wavetrace::gpu::loop_limit::paths_per_thread(ctx, &packed, &s),
+                    resident: Some(LLVMPIPE_RESIDENT),
+                };
+                regenerate::replay(&packed, &frame, &s, &[w], launch).unwrap().counts
+            }
+            _ => {
+                let launch = megakernel::Launch {
+                    samples_per_dispatch: mk.samples_per_dispatch,
+                    max_threads: 65535 * mk.workgroup_size,
+                    every: 1,
+                };
+                megakernel::replay(&packed, &frame, &s, &[w], launch).counts
+            }
         };
-        let r = replay(&packed, &frame, &s, &[w], launch);
-        let replayed = r.counts[0].1.efficiencies().unwrap();
+        let replayed = counts[0].1.efficiencies().unwrap();
         let keys = |m: &std::collections::BTreeMap<String, _>| m.keys().cloned().collect::<Vec<_>>();
-        assert_eq!(keys(&device), keys(&replayed), "{scene}: the same blocks run");
+        assert_eq!(keys(&device), keys(&replayed), "{scene} {label}: the same blocks run");
         for (k, d) in &device {
             let r = replayed[k];
-            assert!((d.efficiency - r.efficiency).abs() <= 0.03, "{scene} {k}: device {d:?} replay {r:?}");
+            eprintln!(
+                "| {scene}{} | {label} | {k} | {:.2}% | {:.2}% | {} | {} |",
+                if nee { " NEE" } else { "" },
+                d.efficiency * 100.0,
+                r.efficiency * 100.0,
+                d.subgroups,
+                r.subgroups
+            );
+            assert!(
+                (d.efficiency - r.efficiency).abs() <= 0.03,
+                "{scene} {label} {k}: device {d:?} replay {r:?}"
+            );
         }
     }
+}
+
+/// Subgroups of the regenerating megakernel that llvmpipe runs at once. It runs a workgroup's
+/// subgroups one after the other, each to its end (no barrier to switch at); on these tiny
+/// launches the device's counters equal the replay's with one subgroup at a time, subgroup
+/// counts included, run after run (two at a time moves small slots by up to 4 points).
+const LLVMPIPE_RESIDENT: u32 = 1;
+
+/// The naive megakernel: one lane per sample in dispatch order.
+#[test]
+fn megakernel_replay_matches_the_device() {
+    let opts = MethodOptions { instrument: true, ..Default::default() };
+    assert_replay_matches("megakernel", Method::Megakernel, &opts);
+}
+
+/// The regenerating megakernel: persistent threads taking samples per subgroup.
+#[test]
+fn regenerate_replay_matches_the_device() {
+    let (_, _, opts) = methods().into_iter().find(|m| m.0 == "regenerate").unwrap();
+    assert_replay_matches("regenerate", Method::Megakernel, &opts);
+}
+
+/// The wavefront per pass, in the deterministic scan order, one shade pass per material and
+/// one over every hit.
+#[test]
+fn wavefront_replay_matches_the_device() {
+    let mut opts = MethodOptions { instrument: true, ..Default::default() };
+    opts.wavefront.compaction = wavetrace::gpu::wavefront::Compaction::Scan;
+    assert_replay_matches("wavefront", Method::Wavefront, &opts);
+    opts.wavefront.shade = wavetrace::gpu::wavefront::ShadePasses::Single;
+    assert_replay_matches("wavefront single shade", Method::Wavefront, &opts);
+}
+
+/// The regenerating wavefront: a pool of a sixth of the samples, refilled every iteration, the
+/// refills at the ray queue's end.
+#[test]
+fn regenerating_wavefront_replay_matches_the_device() {
+    let mut opts = MethodOptions { instrument: true, ..Default::default() };
+    opts.wavefront.compaction = wavetrace::gpu::wavefront::Compaction::Scan;
+    opts.wavefront.schedule = Schedule::Regenerate;
+    opts.wavefront.pool_size = Some(128);
+    assert_replay_matches("wavefront regenerate", Method::Wavefront, &opts);
 }
 
 /// `wavetrace replay` refuses widths no subgroup has, saying why, and runs without a GPU.
@@ -132,4 +218,72 @@ fn replay_cli_refuses_bad_widths() {
         .unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success() && text.contains("W=4") && text.contains("W=32"), "{text}");
+}
+
+/// With a thread per sample, every persistent thread starts one path at the first iteration and
+/// none after: the regenerating megakernel's replay is the naive one's, block for block. Fewer
+/// threads keep lanes busy: fewer subgroup-iterations issued.
+#[test]
+fn regenerating_with_a_thread_per_sample_replays_as_the_naive_megakernel() {
+    use wavetrace::replay::{megakernel, regenerate};
+    let s = settings(true);
+    let scene = builtin::by_name("cornell").unwrap();
+    let opts = MethodOptions::default();
+    let (packed, frame) = wavetrace::method::prepare(Method::Megakernel, &scene, &s, &opts).unwrap();
+    let widths = [8, 32];
+    let mk = &opts.megakernel;
+    let naive_launch =
+        megakernel::Launch { samples_per_dispatch: mk.samples_per_dispatch, max_threads: 1 << 20, every: 1 };
+    let naive = megakernel::replay(&packed, &frame, &s, &widths, naive_launch);
+    let launch = |threads| regenerate::Launch {
+        samples_per_dispatch: mk.samples_per_dispatch,
+        threads,
+        workgroup_size: 64,
+        paths_per_thread: None,
+        resident: None,
+    };
+    let samples = s.sample_count() as u32;
+    let same = regenerate::replay(&packed, &frame, &s, &widths, launch(samples)).unwrap();
+    let fewer = regenerate::replay(&packed, &frame, &s, &widths, launch(64)).unwrap();
+    let issued = |c: &wavetrace::replay::lockstep::SlotCounts| c.slots.iter().map(|s| s[1]).sum::<u64>();
+    for (i, w) in widths.iter().enumerate() {
+        assert_eq!(naive.counts[i].1.slots, same.counts[i].1.slots, "W={w}");
+        assert!(issued(&fewer.counts[i].1) < issued(&naive.counts[i].1), "W={w}");
+    }
+}
+
+/// The replay's options refuse what they cannot mean, saying why, and a run writes every
+/// method's figures.
+#[test]
+fn replay_cli_refuses_bad_options_and_writes_every_method() {
+    let run = |extra: &[&str]| {
+        std::process::Command::new(common::bin())
+            .args(["replay", "--scene", "three-spheres", "--width", "8", "--height", "8", "--spp", "1"])
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    for (bad, says) in [
+        (&["--every", "4"][..], "--methods megakernel or --every 1"),
+        (&["--paths-per-thread", "0"][..], "--paths-per-thread"),
+        (&["--paths-per-thread", "many"][..], "`llvmpipe`"),
+        (&["--methods", "megakernel,bogus"][..], "bogus"),
+        (&["--resident-subgroups", "0"][..], "resident-subgroups"),
+    ] {
+        let out = run(bad);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains(says), "{bad:?}: {err}");
+    }
+    let json = std::env::temp_dir().join(format!("wavetrace-replay-{}.json", std::process::id()));
+    let out = run(&["--simd-width", "8,32", "--threads", "16", "--json", json.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    std::fs::remove_file(&json).ok();
+    for m in ["megakernel", "regenerate", "wavefront"] {
+        for w in ["8", "32"] {
+            let e = &doc["methods"][m]["widths"][w]["simd"]["warp_execution_efficiency"]["efficiency"];
+            assert!(e.as_f64().is_some_and(|e| e > 0.0 && e <= 1.0), "{m} W={w}: {e}");
+        }
+    }
+    assert_eq!(doc["methods"]["megakernel"]["widths"]["8"]["predicted_speedup_over_naive"], 1.0);
 }
