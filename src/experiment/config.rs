@@ -198,7 +198,7 @@ const WAVEFRONT_KNOBS: &[&str] = &[
 ];
 const SCANS: &[&str] = &["auto", "subgroup", "workgroup"];
 const APPENDS: &[&str] = &["auto", "lane", "subgroup"];
-const QUEUE_ORDERS: &[&str] = &["arrival", "slot"];
+const QUEUE_ORDERS: &[&str] = &["auto", "arrival", "slot"];
 const LIGHT_SAMPLINGS: &[&str] = &["area", "solid-angle"];
 const LIGHT_SELECTS: &[&str] = &["uniform", "power"];
 const SPHERE_HITS: &[&str] = &["book", "stable"];
@@ -689,10 +689,10 @@ impl Cx {
             })
         })?;
         let queue_order = self.knob(o, &opt_path("queue_order"), "queue_order", |v, p| {
-            Ok(if self.choice(v, p, QUEUE_ORDERS)? == "slot" {
-                QueueOrder::Slot
-            } else {
-                QueueOrder::Arrival
+            Ok(match self.choice(v, p, QUEUE_ORDERS)? {
+                "slot" => QueueOrder::Slot,
+                "arrival" => QueueOrder::Arrival,
+                _ => QueueOrder::Auto,
             })
         })?;
         let timing = self.knob(o, &opt_path("timing"), "timing", |v, p| {
@@ -840,7 +840,7 @@ impl Cx {
             .retain(|(o, _)| o.wavefront.tail == Tail::Off || o.wavefront.schedule == Schedule::Regenerate);
         // Likewise slot order, which needs queues.
         variants.retain(|(o, _)| {
-            o.wavefront.queue_order == QueueOrder::Arrival || o.wavefront.compaction != Compaction::Off
+            o.wavefront.queue_order != QueueOrder::Slot || o.wavefront.compaction != Compaction::Off
         });
         // Likewise chunk sizes, which only the regenerating wavefront has.
         variants.retain(|(o, _)| {

@@ -107,3 +107,25 @@ fn slot_order_reads_fewer_path_state_lines() {
         assert!(slot < 0.75 * arrival, "{compaction:?}: slot order {slot:.2} lines vs arrival {arrival:.2}");
     }
 }
+
+/// `--queue-order auto` (the default) takes slot order only when regenerating a job of at least
+/// AUTO_SLOT_POOLS pools with queues, as measured; the run's schedule says which it took.
+#[test]
+fn auto_order_follows_the_measurement() {
+    use wavetrace::gpu::wavefront::queue_order::AUTO_SLOT_POOLS;
+    let Some(_) = common::gpu() else { return };
+    let s = settings(8, false);
+    let samples = 40 * 24 * 8;
+    let slot_order = |schedule, compaction, pool: u32| {
+        let wf = WavefrontOptions { pool_size: Some(pool), schedule, compaction, ..Default::default() };
+        assert_eq!(wf.queue_order, QueueOrder::Auto, "auto is the default");
+        run("three-spheres", &s, wf, false).unwrap().schedule.unwrap().slot_order
+    };
+    let many = (samples / (AUTO_SLOT_POOLS as u32 + 1)).max(1);
+    let few = samples / 2;
+    assert!(slot_order(Schedule::Regenerate, Compaction::Atomic, many));
+    assert!(slot_order(Schedule::Regenerate, Compaction::Scan, many));
+    assert!(!slot_order(Schedule::Regenerate, Compaction::Atomic, few), "two pools: arrival");
+    assert!(!slot_order(Schedule::Waves, Compaction::Atomic, many), "waves: arrival");
+    assert!(!slot_order(Schedule::Regenerate, Compaction::Off, many), "no queues: arrival");
+}

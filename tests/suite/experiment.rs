@@ -468,7 +468,7 @@ fn bad_configs_name_the_file_the_field_and_the_reason() {
                 c["methods"][1]["compaction"] = "scan".into();
             }),
             "methods[1].queue_order",
-            "\"arrival\" or \"slot\"",
+            "\"auto\", \"arrival\" or \"slot\"",
         ),
         (
             "cpu-knob",

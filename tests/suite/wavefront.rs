@@ -247,11 +247,22 @@ fn regenerate_keeps_the_pool_full() {
     if common::gpu().is_none() {
         return;
     }
+    use wavetrace::gpu::wavefront::QueueOrder;
     let s = settings(16); // 15 360 samples: 7.5 pools of 2048
     let base = WavefrontOptions { pool_size: Some(2048), ..Default::default() };
     let w = run_wavefront("rtiow-final", &s, base);
-    let r = run_wavefront("rtiow-final", &s, regenerating(base));
+    // The schedule alone: slot order (auto's choice on this job) adds three scan passes an
+    // iteration, checked below.
+    let r = run_wavefront(
+        "rtiow-final",
+        &s,
+        WavefrontOptions { queue_order: QueueOrder::Arrival, ..regenerating(base) },
+    );
+    let slot = run_wavefront("rtiow-final", &s, regenerating(base)).schedule.unwrap();
+    assert!(slot.slot_order);
     let (ws, rs) = (w.schedule.unwrap(), r.schedule.unwrap());
+    assert_eq!(slot.dispatches, rs.dispatches + 3 * slot.iterations, "{slot:?} vs {rs:?}");
+    assert!(slot.dispatches * 3 < ws.dispatches);
     eprintln!("waves: {ws:?}\nregenerate: {rs:?}");
     assert!(rs.intersect_occupancy > 3.0 * ws.intersect_occupancy, "{rs:?} vs {ws:?}");
     assert!(rs.dispatches * 4 < ws.dispatches, "{} vs {} dispatches", rs.dispatches, ws.dispatches);

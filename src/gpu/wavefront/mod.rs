@@ -141,7 +141,7 @@ impl Default for WavefrontOptions {
             chunk_pools: schedule::CHUNK_POOLS,
             scan: Scan::Auto,
             append: Append::Auto,
-            queue_order: QueueOrder::Arrival,
+            queue_order: QueueOrder::Auto,
         }
     }
 }
@@ -337,6 +337,7 @@ pub fn render(
     schedule::check_chunk_pools(opts.chunk_pools)?;
     tail::check_threshold(opts.tail_threshold)?;
     opts.queue_order.check(opts.compaction)?;
+    let queue_order = opts.queue_order.resolve(opts.schedule, opts.compaction, settings.sample_count(), pool);
     let subgroup_scan = opts.scan.uses_subgroups(ctx)?;
     let subgroup_append = opts.append.uses_subgroups(ctx)?;
     let regenerate = opts.schedule == Schedule::Regenerate;
@@ -366,14 +367,14 @@ pub fn render(
         shade_mask: if per_material { kinds.iter().fold(0, |m, k| m | 1 << k) } else { 1 },
         chunk: if regenerate { ring.chunk } else { 0 },
         ring: if regenerate { ring.ring } else { 0 },
-        order: opts.queue_order.word(),
+        order: queue_order.word(),
         pad1: 0,
     };
     let stats_bounces = if regenerate { 1 } else { settings.max_depth.min(STATS_BOUNCES) };
     let frame = scene.frame_uniform(camera, settings);
     let has_shadow_pass = settings.nee && !scene.lights.is_empty();
     // The scan passes: the scan method's, or slot order's over the pool after shade.
-    let uses_scan = opts.compaction == Compaction::Scan || opts.queue_order == QueueOrder::Slot;
+    let uses_scan = opts.compaction == Compaction::Scan || queue_order == QueueOrder::Slot;
     let layout = PoolLayout {
         scan: uses_scan,
         shadow: has_shadow_pass,
@@ -419,6 +420,7 @@ pub fn render(
     let mut stats = ScheduleStats::new(opts.schedule, opts.sync_every, pool);
     stats.subgroup_scan = uses_scan.then_some(subgroup_scan);
     stats.subgroup_append = subgroup_append;
+    stats.slot_order = queue_order == QueueOrder::Slot;
     let mut done = 0u64;
     for (w, d) in shares.iter().enumerate() {
         let paths = d.pixel_count * d.sample_count;

@@ -10,26 +10,50 @@
 //! the pending shadow rays. The price: that scan covers the pool, not only the paths just
 //! processed.
 
-use super::Compaction;
+use super::{Compaction, Schedule};
 use anyhow::{bail, Result};
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum QueueOrder {
-    /// As the producing pass met the paths (the scan keeps the previous queue's order).
+    /// Slot order when regenerating with queues a job of at least [`AUTO_SLOT_POOLS`] pools,
+    /// arrival order otherwise: what measured faster (experiments/queue_order.json): the
+    /// pool-wide scan pays where many refills scatter the pool, and only costs where waves empty
+    /// it or a job barely refills it.
     #[default]
+    Auto,
+    /// As the producing pass met the paths (the scan keeps the previous queue's order).
     Arrival,
     /// By slot: the ray queue built by a scan over the pool's slots (needs queues).
     Slot,
 }
 
+/// `auto` takes slot order for regenerating jobs of at least this many pools of samples. On
+/// llvmpipe (experiments/results/llvmpipe-2core/queue_order) slot order lost at 1.4 pools
+/// (400x225x16) and won at 12.4 (1200x675x16) on every scene with atomic appends; 4 lies
+/// between, not measured itself.
+pub const AUTO_SLOT_POOLS: u64 = 4;
+
 impl QueueOrder {
-    /// The `order` word of the shaders' `Wave` uniform.
-    pub fn word(self) -> u32 {
+    /// The order a render uses, `Arrival` or `Slot`, with this schedule and compaction, for a
+    /// job of `samples` samples on a pool of `pool` slots.
+    pub fn resolve(self, schedule: Schedule, compaction: Compaction, samples: u64, pool: u32) -> QueueOrder {
         match self {
-            QueueOrder::Arrival => 0,
-            QueueOrder::Slot => 1,
+            QueueOrder::Auto
+                if schedule == Schedule::Regenerate
+                    && compaction != Compaction::Off
+                    && samples >= AUTO_SLOT_POOLS * pool as u64 =>
+            {
+                QueueOrder::Slot
+            }
+            QueueOrder::Auto => QueueOrder::Arrival,
+            order => order,
         }
+    }
+
+    /// The `order` word of the shaders' `Wave` uniform, for a resolved order.
+    pub fn word(self) -> u32 {
+        (self == QueueOrder::Slot) as u32
     }
 
     /// Slot order orders queues: without compaction there are none.

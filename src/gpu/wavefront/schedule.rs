@@ -268,6 +268,9 @@ pub struct ScheduleStats {
     pub subgroup_scan: Option<bool>,
     /// Whether queue appends were aggregated per subgroup (`--append`).
     pub subgroup_append: bool,
+    /// Whether the ray queue was kept in slot order (`--queue-order`, `auto` resolved).
+    #[serde(default)]
+    pub slot_order: bool,
     #[serde(skip)]
     intersected: u64,
     #[serde(skip)]
@@ -289,6 +292,7 @@ impl ScheduleStats {
             tail_paths: 0,
             subgroup_scan: None,
             subgroup_append: false,
+            slot_order: false,
             intersected: 0,
             pool,
         }
