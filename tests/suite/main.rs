@@ -20,6 +20,7 @@ mod lights;
 mod megakernel;
 mod metrics;
 mod paired;
+mod reference_cache;
 mod render_space;
 mod repository;
 mod resume;
