@@ -11,6 +11,7 @@ mod cli_paths;
 mod docs;
 mod edge_cases;
 mod experiment;
+mod exr_third_party;
 mod film;
 mod gpu_rng;
 mod image_io;
