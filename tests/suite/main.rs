@@ -23,6 +23,7 @@ mod metrics;
 mod paired;
 mod reference_cache;
 mod render_space;
+mod report_page;
 mod repository;
 mod resume;
 mod sampling;
