@@ -7,6 +7,10 @@ cd "$(dirname "$0")/.."
 export WAVETRACE_PROFILE=ci
 source scripts/setup.sh
 export WAVETRACE_REQUIRE_GPU=1
+# A third-party EXR reader (the OpenEXR project's Python bindings, in a venv under target/) for
+# tests/suite/exr_third_party.rs: our EXRs must read the same in it.
+WAVETRACE_EXR_PYTHON=$(bash scripts/exr_reader.sh)
+export WAVETRACE_EXR_PYTHON
 # In-process GPU tests open Vulkan without the binary's main(), which is what turns Mesa's
 # device-selection layer off on headless machines (src/gpu/headless.rs): do it for them.
 if [ -z "${XDG_RUNTIME_DIR:-}" ]; then export NODEVICE_SELECT=${NODEVICE_SELECT:-1}; fi

@@ -15,6 +15,7 @@
 //!   charts/*.svg, report.html              re-drawable from report.json (`experiment report`)
 //! ```
 
+pub mod cache_lock;
 pub mod charts;
 pub mod config;
 pub mod error_map;

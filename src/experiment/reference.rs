@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 
+use super::cache_lock;
 use super::config::{ExperimentConfig, ReferenceSamples, ReferenceSpec};
 use super::gpu_slot::GpuSlot;
 use super::plan::file_safe;
@@ -115,17 +116,37 @@ impl References {
             git_commit: None,
             png: None,
         };
-        if path.exists() {
-            match image_io::read_exr(&path) {
-                Ok((image, attrs)) if (image.width, image.height) == (width, height) => {
-                    log::info!("reference {key}: from the cache {}", path.display());
-                    record.git_commit = attribute(&attrs, "wavetrace.git_commit");
-                    return Ok(Reference { image, record });
-                }
-                // A damaged or foreign cache file is replaced, not trusted.
-                _ => log::warn!("reference cache file {} is unreadable; rendering it again", path.display()),
+        // Shards sharing the cache render a missing entry once: the first claims it, the others
+        // wait for its lock to go (or go stale) and then read the entry (cache_lock.rs).
+        std::fs::create_dir_all(&self.cache_dir)
+            .with_context(|| format!("creating the reference cache {}", self.cache_dir.display()))?;
+        let lock_path = cache_lock::lock_path(&path);
+        let mut waited = false;
+        let _lock = loop {
+            if let Some(image) = from_cache(&path, width, height, &mut record) {
+                log::info!("reference {key}: from the cache {}", path.display());
+                return Ok(Reference { image, record });
             }
-        }
+            let claim = cache_lock::try_claim(&lock_path, cache_lock::STALE_AFTER)
+                .with_context(|| format!("claiming the reference cache entry {}", lock_path.display()))?;
+            match claim {
+                // Finished by another between the look above and the claim: read it.
+                cache_lock::Claim::Mine(lock) => match from_cache(&path, width, height, &mut record) {
+                    Some(image) => return Ok(Reference { image, record }),
+                    None => break lock,
+                },
+                cache_lock::Claim::Held(holder) => {
+                    if !waited {
+                        eprintln!(
+                            "reference {key}: waiting for {} ({holder}), which is rendering it",
+                            lock_path.display()
+                        );
+                        waited = true;
+                    }
+                    std::thread::sleep(LOCK_POLL);
+                }
+            }
+        };
         eprintln!("rendering reference {key} ({} at {spp} spp)", method.name());
         let ctx = if method.needs_gpu() { Some(gpu.get()?) } else { None };
         let progress = Progress::new(settings.sample_count(), &format!("reference {}", scene.name));
@@ -134,13 +155,41 @@ impl References {
         progress.finish();
         let report = RunReport::new(scene, method, settings, options, ctx.map(|c| &c.summary), &out);
         let image = RgbImage { width, height, data: out.film.mean_rgb() };
-        std::fs::create_dir_all(&self.cache_dir)
-            .with_context(|| format!("creating the reference cache {}", self.cache_dir.display()))?;
         image_io::write_exr(&path, &image, &report.exr_attributes())?;
         record.cached = false;
         record.render_seconds = out.wall_seconds;
         record.git_commit = Some(report.build.git_commit.to_string());
         Ok(Reference { image, record })
+    }
+}
+
+/// How often a shard waiting for another's reference looks again.
+const LOCK_POLL: std::time::Duration = std::time::Duration::from_millis(250);
+
+/// The cached entry at `path` if it is a readable EXR of the right size (its commit into
+/// `record`); a damaged or foreign file is said to be so and left to be rendered again.
+fn from_cache(path: &Path, width: u32, height: u32, record: &mut ReferenceRecord) -> Option<RgbImage> {
+    if !path.exists() {
+        return None;
+    }
+    match image_io::read_exr(path) {
+        Ok((image, attrs)) if (image.width, image.height) == (width, height) => {
+            record.git_commit = attribute(&attrs, "wavetrace.git_commit");
+            Some(image)
+        }
+        Ok((image, _)) => {
+            eprintln!(
+                "reference cache file {} is {}x{}, not {width}x{height}; rendering it again",
+                path.display(),
+                image.width,
+                image.height
+            );
+            None
+        }
+        Err(e) => {
+            eprintln!("reference cache file {} is unreadable ({e}); rendering it again", path.display());
+            None
+        }
     }
 }
 

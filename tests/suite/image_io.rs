@@ -319,39 +319,3 @@ fn png_pixels_follow_the_srgb_curve() {
     assert_eq!(png.get_pixel(2, 1).0, [0, 0, 255]);
     assert_eq!(png.get_pixel(0, 1).0, [0, 0, 0]);
 }
-
-/// Writes `fixture.exr` and `fixture.json` (expected values as f32 bit patterns, and the
-/// attributes) for `scripts/check_exr_oiio.py` into `$WAVETRACE_OIIO_FIXTURE_DIR`, or a
-/// directory under cargo's scratch directory:
-/// `cargo test --release --test image_io -- --ignored --nocapture oiio_fixture`
-#[test]
-#[ignore = "writes a fixture for an external check with OpenImageIO"]
-fn oiio_fixture() {
-    let dir = match std::env::var_os("WAVETRACE_OIIO_FIXTURE_DIR") {
-        Some(dir) => PathBuf::from(dir),
-        None => scratch_dir("oiio_fixture"),
-    };
-    fs::create_dir_all(&dir).unwrap();
-    let image = test_image();
-    let attributes = attrs(&[
-        ("wavetrace.method", "megakernel"),
-        ("wavetrace.spp", "64"),
-        ("wavetrace.seed", "7"),
-        ("wavetrace.scene", "cornell ✓"),
-        ("wavetrace.render_time_s", "1.25"),
-    ]);
-    let exr_path = dir.join("fixture.exr");
-    write_exr(&exr_path, &image, &attributes).unwrap();
-    let (_, read_back) = read_exr(&exr_path).unwrap();
-    let json = serde_json::json!({
-        "width": image.width,
-        "height": image.height,
-        "rgb_f32_bits": image.data.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
-        "attributes": read_back
-            .into_iter()
-            .map(|(k, v)| (k, serde_json::Value::String(v)))
-            .collect::<serde_json::Map<_, _>>(),
-    });
-    fs::write(dir.join("fixture.json"), serde_json::to_string_pretty(&json).unwrap()).unwrap();
-    println!("wrote {}", exr_path.display());
-}
