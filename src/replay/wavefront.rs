@@ -4,7 +4,8 @@
 //! runs one thread per queue entry, W consecutive entries per subgroup, the last subgroup of
 //! every dispatch partial, and counts the slots `--instrument` counts.
 //!
-//! Queue order is the one `--compaction-method scan` leaves, which is stable over the producing pass's
+//! Queue order is arrival order (`--queue-order arrival`; slot order, which `auto` takes for big
+//! regenerating jobs, is not replayed), the one `--compaction-method scan` leaves, which is stable over the producing pass's
 //! positions: intersect's positions in order → each material queue; shade's positions (material
 //! queues laid end to end in kind order) → the next ray queue and, in the same order, the shadow
 //! queue (appended atomically on the device, see below). `--compaction-method atomic` leaves whatever

@@ -196,6 +196,8 @@ fn regenerating_wavefront_replay_matches_the_device() {
     opts.wavefront.compaction = wavetrace::gpu::wavefront::Compaction::Scan;
     opts.wavefront.schedule = Schedule::Regenerate;
     opts.wavefront.pool_size = Some(128);
+    // The replay models arrival order; `auto` would take slot order on this job of 6 pools.
+    opts.wavefront.queue_order = wavetrace::gpu::wavefront::QueueOrder::Arrival;
     assert_replay_matches("wavefront regenerate", Method::Wavefront, &opts);
 }
 
