@@ -210,7 +210,7 @@ fn scan_index(slot: u32, position: u32) -> u32 {
 }
 
 // Puts `slot`, processed at scan position `position`, on the next iteration's ray queue, and
-// says whether it has a shadow ray queued too (`queue_shadow` queued it).
+// says whether it has a shadow ray queued too (`enqueue_shadow` queued it).
 fn enqueue_ray(slot: u32, position: u32, shadow: bool) {
     let q = QUEUE_RAY_0 + (current_bounce() + 1u) % 2u;
     if slot_order() {
