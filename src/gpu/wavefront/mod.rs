@@ -25,8 +25,9 @@
 //!     queue_setup_shade                     material queue counts → shade passes' args
 //!     shade_<kind> for each kind used       scatter; survivors → next ray queue;
 //!                                           (--nee on) diffuse hits → shadow queue
-//!     [compact_scan, _blocks, _scatter]     (scan method) build the next ray queue (slot order:
-//!                                           over every slot, with the free list and shadow queue)
+//!     [compact_scan, _blocks, _scatter]     (scan method, or slot order with either method) build
+//!                                           the next ray queue (slot order: over every slot, with
+//!                                           the free list and the shadow queue)
 //!     [queue_setup_shadow, shadow]          (--nee on, scene has lights) shadow rays
 //! accumulate                                (waves) the wave's radiance → film, in sample order
 //! ```
@@ -123,7 +124,8 @@ pub struct WavefrontOptions {
     pub scan: Scan,
     /// How passes append paths to queues.
     pub append: Append,
-    /// The order of the paths in each queue (slot order needs the scan compaction).
+    /// The order of the paths in each queue (slot order needs queues; `auto` takes it for
+    /// regenerating jobs of several pools).
     pub queue_order: QueueOrder,
 }
 
