@@ -141,6 +141,71 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
         md.push('\n');
     }
 
+    let profiled: Vec<&RunRecord> = report
+        .runs
+        .iter()
+        .filter(|r| r.method == "wavefront" && r.passes.contains_key("intersect"))
+        .collect();
+    if !profiled.is_empty() {
+        md.push_str("## Where the wavefront's time goes\n\n");
+        md.push_str(
+            "GPU seconds by pass group in the profiled render (per-pass timestamps, the median \
+             repetition where every repetition was profiled), and intersect time per sample: the \
+             variants of one job trace the same paths, so it compares what their intersect passes \
+             pay for the same rays.\n\n",
+        );
+        md.push_str("| # | scene | job | variant | intersect | shade | shadow | compaction | (re)generate | tail | other | sum | intersect ns per sample |\n");
+        md.push_str(
+            "| ---: | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
+        );
+        for r in profiled {
+            let g = pass_groups(r);
+            let sum: f64 = g.iter().sum();
+            let cells: Vec<String> = g.iter().map(|&t| sig(t)).collect();
+            let per_sample =
+                if r.samples > 0 { format!("{:.0}", 1e9 * g[0] / r.samples as f64) } else { "–".into() };
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {} | {} | {} | {per_sample} |",
+                r.index,
+                r.scene,
+                job_text(r),
+                cell(&r.label),
+                cells.join(" | "),
+                sig(sum)
+            );
+        }
+        md.push('\n');
+    }
+
+    let per_bounce: Vec<(&RunRecord, Vec<String>)> =
+        report.runs.iter().filter_map(|r| Some((r, intersect_ns_per_ray(r)?))).collect();
+    if !per_bounce.is_empty() {
+        md.push_str("## Intersect time per ray by bounce\n\n");
+        md.push_str(
+            "Waves only, where bounce k is one queue: the intersect passes' GPU time at bounce k over \
+             the rays in that queue (ns; thousands of rays in brackets).\n\n",
+        );
+        let _ = writeln!(
+            md,
+            "| # | scene | job | variant | {} |",
+            BOUNCE_COLUMNS.iter().map(|b| format!("bounce {b}")).collect::<Vec<_>>().join(" | ")
+        );
+        let _ = writeln!(md, "| ---: | --- | --- | --- |{}", " ---: |".repeat(BOUNCE_COLUMNS.len()));
+        for (r, cells) in per_bounce {
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {} | {} |",
+                r.index,
+                r.scene,
+                job_text(r),
+                cell(&r.label),
+                cells.join(" | ")
+            );
+        }
+        md.push('\n');
+    }
+
     let simd: Vec<&RunRecord> =
         report.runs.iter().filter(|r| r.simd.as_ref().is_some_and(|s| !s.is_empty())).collect();
     if !simd.is_empty() {
@@ -208,6 +273,47 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
         md.push('\n');
     }
     md
+}
+
+/// Columns of the per-bounce intersect table.
+const BOUNCE_COLUMNS: [usize; 7] = [0, 1, 2, 4, 8, 16, 32];
+
+/// A wavefront run's pass seconds in groups: intersect, shade, shadow, compaction, (re)generate,
+/// tail, other (queue set-up, accumulation and the rest).
+fn pass_groups(r: &RunRecord) -> [f64; 7] {
+    let mut g = [0.0; 7];
+    for (label, p) in &r.passes {
+        let i = match label.as_str() {
+            "intersect" => 0,
+            l if l.starts_with("shade") => 1,
+            "shadow" => 2,
+            l if l.starts_with("compact") => 3,
+            "generate" | "regenerate" | "regenerate_init" => 4,
+            "tail" => 5,
+            _ => 6,
+        };
+        g[i] += p.seconds.median;
+    }
+    g
+}
+
+/// ns per ray of the intersect passes at [`BOUNCE_COLUMNS`], for a run whose bounces are queues
+/// (waves with a queue histogram and per-bounce pass times).
+fn intersect_ns_per_ray(r: &RunRecord) -> Option<Vec<String>> {
+    let rays = &r.queue_histogram.as_ref()?.rays;
+    let seconds = r.passes_per_bounce.get("intersect")?;
+    if r.options.get("schedule").and_then(Value::as_str).is_some_and(|s| s != "waves") || rays.is_empty() {
+        return None;
+    }
+    Some(
+        BOUNCE_COLUMNS
+            .iter()
+            .map(|&b| match (rays.get(b), seconds.get(b)) {
+                (Some(&n), Some(&t)) if n > 0 => format!("{:.0} ({})", 1e9 * t / n as f64, n.div_ceil(1000)),
+                _ => "–".into(),
+            })
+            .collect(),
+    )
 }
 
 /// Job → the fastest megakernel variant's `seconds` for that job.
@@ -327,5 +433,32 @@ mod tests {
         assert_eq!(short_commit("d63389c063de110e867b7126a294275bb27bcb88-dirty"), "d63389c063-dirty");
         let b = serde_json::json!({"version": "0.1.0", "git_commit": "abc123-dirty"});
         assert_eq!(build_text(&b), "wavetrace 0.1.0, commit abc123 (modified tree)");
+    }
+
+    /// Pass labels fall into their groups, and the per-bounce table divides each bounce's
+    /// intersect time by that bounce's rays, for waves only.
+    #[test]
+    fn pass_groups_and_time_per_ray() {
+        let mut r: RunRecord = serde_json::from_value(serde_json::json!({
+            "index": 0, "id": "x", "environment": 0, "scene": "s", "width": 2, "height": 2, "spp": 1,
+            "max_depth": 5, "nee": false, "seed": 0, "accel": "bvh", "method": "wavefront",
+            "label": "waves", "options": {"schedule": "waves"}, "status": "ok", "warmup": 0,
+            "repetitions": 1, "samples": 4,
+            "passes": {
+                "intersect": {"seconds": {"median": 2.0, "min": 2.0, "max": 2.0, "values": [2.0]}, "passes": 2},
+                "shade_metal": {"seconds": {"median": 1.0, "min": 1.0, "max": 1.0, "values": [1.0]}, "passes": 2},
+                "shade_lambertian": {"seconds": {"median": 0.5, "min": 0.5, "max": 0.5, "values": [0.5]}, "passes": 2},
+                "compact_scan": {"seconds": {"median": 0.25, "min": 0.25, "max": 0.25, "values": [0.25]}, "passes": 2},
+                "queue_setup_shade": {"seconds": {"median": 0.125, "min": 0.125, "max": 0.125, "values": [0.125]}, "passes": 2}
+            },
+            "passes_per_bounce": {"intersect": [3e-6, 0.5e-6]},
+            "queue_histogram": {"rays": [1000, 250], "materials": [[], [], [], []]}
+        }))
+        .unwrap();
+        assert_eq!(pass_groups(&r), [2.0, 1.5, 0.0, 0.25, 0.0, 0.0, 0.125]);
+        let cells = intersect_ns_per_ray(&r).unwrap();
+        assert_eq!(&cells[..3], ["3 (1)".to_string(), "2 (1)".into(), "–".into()]);
+        r.options = serde_json::json!({"schedule": "regenerate"});
+        assert!(intersect_ns_per_ray(&r).is_none());
     }
 }

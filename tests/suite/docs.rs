@@ -283,7 +283,9 @@ fn the_readme_own_scene_commands_run() {
     sh(&commands[1].replacen("wavetrace", &crate::common::bin().display().to_string(), 1));
     // 3. The page: one row per method variant, each with its speed-up over the fastest megakernel.
     let page = sh(&commands[2].replacen("wavetrace", &crate::common::bin().display().to_string(), 1));
-    let rows: Vec<&str> = page.lines().filter(|l| l.contains("24×16×2")).collect();
+    let table = &page[page.find("## Time and error").unwrap()..];
+    let table = &table[..table[3..].find("\n## ").map_or(table.len(), |e| e + 3)];
+    let rows: Vec<&str> = table.lines().filter(|l| l.contains("24×16×2")).collect();
     let methods = config["methods"].as_array().unwrap().len();
     assert_eq!(rows.len(), methods, "{page}");
     assert!(rows.iter().all(|r| r.contains('×') && r.ends_with("| ok |")), "{page}");
