@@ -18,7 +18,7 @@
 #                       the three wavefront schedules (device/headline.json) 5.3e9  ~1 min
 #   simd                SIMD efficiency at the device's width, 4 scenes, every GPU method
 #                       (device/simd.json, instrumented)                     0.15e9 <1 min
-#   simd-replay         the naive megakernel's device counters (--instrument) beside the CPU
+#   simd-replay         every GPU method's device counters (--instrument) beside the CPU
 #                       lockstep replay at the device's subgroup width (issue 25), 4 scenes
 #                       (report.json: both, per slot)                       tiny   <1 min
 #   regeneration        regeneration.json (160x90 to 1200x675, 4 to 64 spp)  6.1e9  ~1-2 min
@@ -169,7 +169,7 @@ done
 pack() {
   local step=$1 dir=$work/$1
   cp "$work/machine.txt" "$out/info.txt" "$dir/" 2>/dev/null
-  (cd "$dir" && find . -maxdepth 2 \( -name '*.json' -o -name '*.csv' -o -name '*.svg' -o -name '*.txt' -o -name '*.log' \) \
+  (cd "$dir" && find . -maxdepth 2 \( -name '*.json' -o -name '*.csv' -o -name '*.svg' -o -name '*.txt' -o -name '*.log' -o -name '*.md' \) \
     ! -path './images/*' ! -path './references/*' -print0 | sort -z | tar --null -czf "$out/$step.tar.gz" -T -)
   local size
   size=$(stat -c %s "$out/$step.tar.gz")
@@ -219,11 +219,22 @@ for step in "${steps[@]}"; do
     fi
   elif [ "$step" = simd-replay ]; then
     # Issue 25: the device's counters against the replay at the device's width (32 lanes on
-    # NVIDIA), naive megakernel, same frames; report.json holds both per scene, per slot.
+    # NVIDIA), every GPU method on the same frames; report.json holds both per scene, per method,
+    # per slot, and simd_replay_compare.py prints them side by side. The wavefronts use the scan
+    # (a deterministic queue order the replay follows) and a pool of 32,768 so the regenerating
+    # one refills 7 times; it keeps arrival order, which is what the replay models. The
+    # regenerating megakernel runs 16,384 threads (about 14 samples each at full size); its
+    # sample hand-out is the GPU scheduler's, and the replay assumes every subgroup resident,
+    # taking samples in turn (a GPU's case). On llvmpipe (the dry run) it runs 256 threads, as
+    # tests/suite/simd_replay.rs does: llvmpipe runs them one subgroup at a time, each thread up
+    # to its loop limit's paths, and the replay is told so.
     sg=$(sed -n 's/^ *subgroups: *yes, size \([0-9]*\)\.\.=\([0-9]*\).*/\1 \2/p' <<<"$info")
     read -r sg_min sg_max <<<"$sg"
     size=(--width 160 --height 90 --spp 16)
     [ "$scale" = tiny ] && size=(--width 32 --height 18 --spp 2)
+    wf=(--compaction-method scan --pool-size 32768)
+    regen=(--threads 16384)
+    grep -q llvmpipe <<<"$info" && regen=(--threads 256 --resident-subgroups 1 --paths-per-thread llvmpipe)
     rc=0
     if [ -z "$sg_min" ] || [ "$sg_min" != "$sg_max" ]; then
       say "FAILED: simd-replay: the device's subgroup width is not one fixed size ($sg)"; rc=1
@@ -232,16 +243,28 @@ for step in "${steps[@]}"; do
       sep=
       for sc in "rtiow-final --nee off" "cornell --nee on" "spheres-64 --nee off" "spheres-8 --nee off"; do
         read -r name nee_flag nee <<<"$sc"
-        timeout --kill-after=10 "$left" "$bin" render --scene "$name" --method megakernel --instrument \
-          "${size[@]}" $nee_flag "$nee" --out "$dir/$name.exr" --report "$dir/$name.device.json" >> "$dir/step.log" 2>&1 || rc=$?
-        timeout --kill-after=10 "$left" "$bin" replay --scene "$name" "${size[@]}" $nee_flag "$nee" \
-          --simd-width "$sg_min" --json "$dir/$name.replay.json" >> "$dir/step.log" 2>&1 || rc=$?
-        rm -f "$dir/$name.exr"
-        printf '%s"%s": {"device": %s, "replay": %s}\n' "$sep" "$name" \
-          "$(cat "$dir/$name.device.json" 2>/dev/null || echo null)" "$(cat "$dir/$name.replay.json" 2>/dev/null || echo null)" >> "$dir/report.json"
+        device=
+        for m in "megakernel --method megakernel" \
+                 "regenerate --method megakernel --schedule regenerate ${regen[*]:0:2}" \
+                 "wavefront --method wavefront ${wf[*]}" \
+                 "wavefront-regenerate --method wavefront --schedule regenerate --queue-order arrival ${wf[*]}"; do
+          read -r label args <<<"$m"
+          # shellcheck disable=SC2086 # $args is a list of flags
+          timeout --kill-after=10 "$left" "$bin" render --scene "$name" $args --instrument "${size[@]}" \
+            $nee_flag "$nee" --out "$dir/$name.exr" --report "$dir/$name.$label.json" >> "$dir/step.log" 2>&1 || rc=$?
+          device="$device${device:+,}\"$label\": $(cat "$dir/$name.$label.json" 2>/dev/null || echo null)"
+          rm -f "$dir/$name.exr" "$dir/$name.$label.json"
+        done
+        timeout --kill-after=10 "$left" "$bin" replay --scene "$name" "${size[@]}" $nee_flag "$nee" "${wf[@]}" \
+          "${regen[@]}" --simd-width "$sg_min" --json "$dir/$name.replay.json" >> "$dir/step.log" 2>&1 || rc=$?
+        printf '%s"%s": {"device": {%s}, "replay": %s}\n' "$sep" "$name" "$device" \
+          "$(cat "$dir/$name.replay.json" 2>/dev/null || echo null)" >> "$dir/report.json"
+        rm -f "$dir/$name.replay.json"
         sep=,
       done
       echo '}' >> "$dir/report.json"
+      python3 scripts/simd_replay_compare.py "$dir/report.json" > "$dir/comparison.md" 2>> "$dir/step.log" || rc=$?
+      tail -n 4 "$dir/comparison.md" | tee -a "$log"
     fi
     tail -n 3 "$dir/step.log" | tee -a "$log"
     [ $rc = 0 ] || { say "FAILED: simd-replay (exit $rc; step.log in the archive)"; failed=1; }
