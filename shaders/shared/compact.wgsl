@@ -8,7 +8,8 @@
 // (scan method only) still covers the ray queue's positions (stable, so the material queues keep
 // the ray queue's slot order), but the scan after shade (either method) covers every slot of the
 // pool, so the next ray queue comes out in slot order, with the free list (lane 1) and the
-// shadow queue (lane 2).
+// shadow queue (lane 2); keyed by depth (`slot-depth`), lane 3 lists the paths on their first
+// bounce, placed after lane 0's in the same ray queue.
 // These are the passes' bodies: the entry files (wavefront/compact.wgsl, without subgroups, and
 // wavefront/compact_subgroup.wgsl) each define `scan_workgroup(lid, lanes)`, an inclusive scan of
 // `scratch`, include this, and wrap the bodies in entry points. Rust side: src/gpu/wavefront/compact.rs.
@@ -59,10 +60,14 @@ fn scan_flags(p: u32) -> vec4<u32> {
         f.y = u32(REGENERATE && q == DEAD);
         f.z = u32(q != DEAD && (q & SHADOW_PENDING) != 0u);
     }
+    if depth_key() && q != DEAD && (q & FIRST_BOUNCE) != 0u {
+        f = vec4<u32>(0u, f.y, f.z, 1u);
+    }
     return f;
 }
 
-// The queue lane `k` of the flags builds (DEAD: none).
+// The queue lane `k` of the flags builds (DEAD: none). Keyed by depth, lanes 0 and 3 both build
+// the next ray queue: lane 3's paths (first bounce) after lane 0's.
 fn lane_queue(k: u32) -> u32 {
     if !TARGET_RAYS {
         return QUEUE_MATERIAL_0 + k;
@@ -78,9 +83,20 @@ fn lane_queue(k: u32) -> u32 {
             return select(DEAD, QUEUE_SHADOW, slot_order());
         }
         default: {
-            return DEAD;
+            return select(DEAD, QUEUE_RAY_0 + (current_bounce() + 1u) % 2u, depth_key());
         }
     }
+}
+
+// Keyed by depth, where lane 3's run starts in the ray queue: after every lane-0 path (the last
+// block's exclusive prefix plus its own total, both still in `block_sums` after the block pass).
+fn lane_base() -> vec4<u32> {
+    if !TARGET_RAYS || !depth_key() {
+        return vec4<u32>(0u);
+    }
+    let blocks = (atomicLoad(&counters[COUNTER_POSITIONS]) + SCAN_WG - 1u) / SCAN_WG;
+    let last = blocks - 1u;
+    return vec4<u32>(0u, 0u, 0u, block_sums[block_prefix_base() + last].x + block_sums[last].x);
 }
 
 // Position `p`'s flags, none past the positions this scan covers.
@@ -159,10 +175,16 @@ fn compact_blocks_main(lid: u32, wid: vec3<u32>, lanes: Lanes) {
         workgroupBarrier();
     }
     if lid == 0u && end == blocks {
+        // Keyed by depth, the ray queue holds lanes 0 and 3.
+        var count = running;
+        if TARGET_RAYS && depth_key() {
+            count.x += count.w;
+            count.w = count.x;
+        }
         for (var k = 0u; k < 4u; k++) {
             let q = lane_queue(k);
             if q != DEAD {
-                atomicStore(&counters[q], running[k]);
+                atomicStore(&counters[q], count[k]);
             }
         }
     }
@@ -176,7 +198,7 @@ fn compact_scatter_main(gid: vec3<u32>, wid: vec3<u32>) {
     }
     let slot = slot_at(p);
     let packed = scan_offset[p];
-    let offset = block_sums[block_prefix_base() + wid.x]
+    let offset = lane_base() + block_sums[block_prefix_base() + wid.x]
         + (vec4<u32>(packed) >> vec4<u32>(0u, 8u, 16u, 24u)) % 256u;
     for (var k = 0u; k < 4u; k++) {
         if v[k] != 0u {

@@ -69,7 +69,9 @@ struct Wave {
     chunk: u32,
     ring: u32,
     // 0: queues in the order their paths arrive; 1: slot order (`--queue-order slot`): the ray
-    // queue, free list and shadow queue built by a scan over the pool's slots.
+    // queue, free list and shadow queue built by a scan over the pool's slots; 2: slot order
+    // keyed by depth (`slot-depth`): the ray queue lists the paths on their first bounce after
+    // the others.
     order: u32,
     pad1: u32,
 }
@@ -189,11 +191,21 @@ fn store_sample(slot: u32) {
 // the shadow queue come out of the same scan. The material queues keep the ray queue's order
 // (the stable scan) or its subgroups' runs (atomic appends).
 fn slot_order() -> bool {
-    return wave.order == 1u;
+    return wave.order != 0u;
 }
 
-// In slot order, next_queue's flag for a path that also has a shadow ray queued.
+// Whether the scan after shade keys the ray queue by depth (`--queue-order slot-depth`): the
+// paths about to trace their first bounce after the camera ray (the children of the last
+// refill, in ascending slots: consecutive samples) form one run after the others, as they do
+// in a wave, rather than being interleaved by slot with paths at every depth.
+fn depth_key() -> bool {
+    return wave.order == 2u;
+}
+
+// In slot order, next_queue's flags for a path that also has a shadow ray queued, and for one
+// whose next ray is its first bounce (depth key).
 const SHADOW_PENDING: u32 = 0x100u;
+const FIRST_BOUNCE: u32 = 0x200u;
 
 // (regenerate) `slot` is on no queue and traces nothing: the next refill may take it. In slot
 // order the scan after shade lists every free slot itself.
@@ -210,11 +222,12 @@ fn scan_index(slot: u32, position: u32) -> u32 {
 }
 
 // Puts `slot`, processed at scan position `position`, on the next iteration's ray queue, and
-// says whether it has a shadow ray queued too (`enqueue_shadow` queued it).
-fn enqueue_ray(slot: u32, position: u32, shadow: bool) {
+// says whether it has a shadow ray queued too (`enqueue_shadow` queued it) and whether the ray is
+// the path's first bounce after the camera ray.
+fn enqueue_ray(slot: u32, position: u32, shadow: bool, first_bounce: bool) {
     let q = QUEUE_RAY_0 + (current_bounce() + 1u) % 2u;
     if slot_order() {
-        next_queue[slot] = select(q, q | SHADOW_PENDING, shadow);
+        next_queue[slot] = q | select(0u, SHADOW_PENDING, shadow) | select(0u, FIRST_BOUNCE, first_bounce);
     } else {
         enqueue(q, slot, position);
     }

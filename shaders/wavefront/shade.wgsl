@@ -96,7 +96,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         path_sample[slot].y = bounce + 1u;
     }
     // The next iteration's ray queue (iterations and bounces coincide only in waves).
-    enqueue_ray(slot, position, shadow_queued);
+    enqueue_ray(slot, position, shadow_queued, bounce == 0u);
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)

@@ -172,8 +172,9 @@ pub struct RenderArgs {
     pub append: Append,
     /// Wavefront: keep queues in the order their paths arrived, or build the ray queue in slot
     /// order by a scan over the pool (a subgroup reads neighbouring path states; regenerated
-    /// samples fill the lowest free slots), with either compaction method; `auto`: slot order
-    /// when regenerating a job of at least 4 pools of samples, arrival order otherwise.
+    /// samples fill the lowest free slots), with either compaction method, optionally keyed by
+    /// depth (`slot-depth`: a refill's first bounces in one run, as in a wave); `auto`: slot
+    /// order when regenerating a job of at least 4 pools of samples, arrival order otherwise.
     #[arg(long, value_enum, default_value_t = QueueOrder::Auto)]
     pub queue_order: QueueOrder,
     /// GPU methods: count SIMD efficiency per pass with subgroup operations (adds atomics: use

@@ -198,7 +198,7 @@ const WAVEFRONT_KNOBS: &[&str] = &[
 ];
 const SCANS: &[&str] = &["auto", "subgroup", "workgroup"];
 const APPENDS: &[&str] = &["auto", "lane", "subgroup"];
-const QUEUE_ORDERS: &[&str] = &["auto", "arrival", "slot"];
+const QUEUE_ORDERS: &[&str] = &["auto", "arrival", "slot", "slot-depth"];
 const LIGHT_SAMPLINGS: &[&str] = &["area", "solid-angle"];
 const LIGHT_SELECTS: &[&str] = &["uniform", "power"];
 const SPHERE_HITS: &[&str] = &["book", "stable"];
@@ -691,6 +691,7 @@ impl Cx {
         let queue_order = self.knob(o, &opt_path("queue_order"), "queue_order", |v, p| {
             Ok(match self.choice(v, p, QUEUE_ORDERS)? {
                 "slot" => QueueOrder::Slot,
+                "slot-depth" => QueueOrder::SlotDepth,
                 "arrival" => QueueOrder::Arrival,
                 _ => QueueOrder::Auto,
             })
@@ -705,13 +706,16 @@ impl Cx {
             );
         }
 
-        if queue_order.values.contains(&QueueOrder::Slot)
-            && compaction.values.iter().all(|&c| c == Compaction::Off)
-        {
-            return self.err(
-                &opt_path("queue_order"),
-                "\"slot\" orders the queues, and \"compaction\": \"off\" has none: it needs \"atomic\" or \"scan\"",
-            );
+        if let Some(slot) = queue_order.values.iter().find(|q| q.is_slot()) {
+            if compaction.values.iter().all(|&c| c == Compaction::Off) {
+                return self.err(
+                    &opt_path("queue_order"),
+                    &format!(
+                        "\"{}\" orders the queues, and \"compaction\": \"off\" has none: it needs \"atomic\" or \"scan\"",
+                        slot.name()
+                    ),
+                );
+            }
         }
 
         if chunk_pools.values.iter().any(|&c| c != WavefrontOptions::default().chunk_pools)
@@ -839,9 +843,8 @@ impl Cx {
         variants
             .retain(|(o, _)| o.wavefront.tail == Tail::Off || o.wavefront.schedule == Schedule::Regenerate);
         // Likewise slot order, which needs queues.
-        variants.retain(|(o, _)| {
-            o.wavefront.queue_order != QueueOrder::Slot || o.wavefront.compaction != Compaction::Off
-        });
+        variants
+            .retain(|(o, _)| !o.wavefront.queue_order.is_slot() || o.wavefront.compaction != Compaction::Off);
         // Likewise chunk sizes, which only the regenerating wavefront has.
         variants.retain(|(o, _)| {
             o.wavefront.chunk_pools == wf.chunk_pools || o.wavefront.schedule == Schedule::Regenerate

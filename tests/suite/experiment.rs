@@ -463,13 +463,22 @@ fn bad_configs_name_the_file_the_field_and_the_reason() {
             "needs \"atomic\" or \"scan\"",
         ),
         (
+            "slot-depth-order-without-queues",
+            Box::new(|c| {
+                c["methods"][1]["queue_order"] = "slot-depth".into();
+                c["methods"][1]["compaction"] = "off".into();
+            }),
+            "methods[1].queue_order",
+            "\"slot-depth\" orders the queues",
+        ),
+        (
             "bad-queue-order",
             Box::new(|c| {
                 c["methods"][1]["queue_order"] = "sorted".into();
                 c["methods"][1]["compaction"] = "scan".into();
             }),
             "methods[1].queue_order",
-            "\"auto\", \"arrival\" or \"slot\"",
+            "\"auto\", \"arrival\", \"slot\" or \"slot-depth\"",
         ),
         (
             "cpu-knob",

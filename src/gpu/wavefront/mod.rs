@@ -376,7 +376,7 @@ pub fn render(
     let frame = scene.frame_uniform(camera, settings);
     let has_shadow_pass = settings.nee && !scene.lights.is_empty();
     // The scan passes: the scan method's, or slot order's over the pool after shade.
-    let uses_scan = opts.compaction == Compaction::Scan || queue_order == QueueOrder::Slot;
+    let uses_scan = opts.compaction == Compaction::Scan || queue_order.is_slot();
     let layout = PoolLayout {
         scan: uses_scan,
         shadow: has_shadow_pass,
@@ -422,7 +422,7 @@ pub fn render(
     let mut stats = ScheduleStats::new(opts.schedule, opts.sync_every, pool);
     stats.subgroup_scan = uses_scan.then_some(subgroup_scan);
     stats.subgroup_append = subgroup_append;
-    stats.slot_order = queue_order == QueueOrder::Slot;
+    stats.slot_order = queue_order.is_slot();
     let mut done = 0u64;
     for (w, d) in shares.iter().enumerate() {
         let paths = d.pixel_count * d.sample_count;

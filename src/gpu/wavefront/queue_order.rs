@@ -16,7 +16,7 @@ use anyhow::{bail, Result};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum QueueOrder {
-    /// Slot order when regenerating with queues a job of at least [`AUTO_SLOT_POOLS`] pools,
+    /// Slot order when regenerating with queues a job of at least 4 pools (AUTO_SLOT_POOLS),
     /// arrival order otherwise: what measured faster (experiments/queue_order.json): the
     /// pool-wide scan pays where many refills scatter the pool, and only costs where waves empty
     /// it or a job barely refills it.
@@ -26,6 +26,10 @@ pub enum QueueOrder {
     Arrival,
     /// By slot: the ray queue built by a scan over the pool's slots (needs queues).
     Slot,
+    /// By slot, keyed by depth: the same scan lists the paths about to trace their first bounce
+    /// after the camera ray (the last refill's children: consecutive samples) in one run after
+    /// the others, as a wave would, rather than interleaved with paths at every depth.
+    SlotDepth,
 }
 
 /// `auto` takes slot order for regenerating jobs of at least this many pools of samples. On
@@ -53,13 +57,35 @@ impl QueueOrder {
 
     /// The `order` word of the shaders' `Wave` uniform, for a resolved order.
     pub fn word(self) -> u32 {
-        (self == QueueOrder::Slot) as u32
+        match self {
+            QueueOrder::Slot => 1,
+            QueueOrder::SlotDepth => 2,
+            QueueOrder::Auto | QueueOrder::Arrival => 0,
+        }
+    }
+
+    /// Whether the ray queue is built by the scan over the pool's slots (either key).
+    pub fn is_slot(self) -> bool {
+        matches!(self, QueueOrder::Slot | QueueOrder::SlotDepth)
+    }
+
+    /// The knob's value as users write it.
+    pub fn name(self) -> &'static str {
+        match self {
+            QueueOrder::Auto => "auto",
+            QueueOrder::Arrival => "arrival",
+            QueueOrder::Slot => "slot",
+            QueueOrder::SlotDepth => "slot-depth",
+        }
     }
 
     /// Slot order orders queues: without compaction there are none.
     pub fn check(self, compaction: Compaction) -> Result<()> {
-        if self == QueueOrder::Slot && compaction == Compaction::Off {
-            bail!("--queue-order slot orders the queues, and --compaction off has none: use --compaction on");
+        if self.is_slot() && compaction == Compaction::Off {
+            bail!(
+                "--queue-order {} orders the queues, and --compaction off has none: use --compaction on",
+                self.name()
+            );
         }
         Ok(())
     }
