@@ -41,7 +41,7 @@ Exits with status 1 when any run failed (the report records why).";
 const MERGE_EXAMPLES: &str = "\
 Examples:
   wavetrace experiment merge shards/* --out results/sweep
-  wavetrace experiment merge shards/0 shards/1 shards/2 --out results/partial  # missing runs listed
+  wavetrace experiment merge shards/0 shards/1 --out results/partial --allow-incomplete  # missing runs listed
 
 The shards must come from one config; a run found in two shards is refused. The merged report
 keeps each shard's environment, lists runs no shard had in missing_runs (status incomplete),

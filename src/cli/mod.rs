@@ -21,7 +21,7 @@ Examples:
   wavetrace compare test.exr reference.exr --json
   wavetrace experiment run experiments/quick.json     # -> out/quick/report.html
 
-Environment (docs/cli.md#environment-variables has the full table):
+Environment (docs/cli-and-configs.md#environment-variables has the full table):
   RUST_LOG=info|debug                 logging (adapter choice, dispatch plan, loop-cap estimate)
   WGPU_BACKEND=vulkan                 consider only this backend's adapters (vulkan, metal, dx12, gl)
   NODEVICE_SELECT=1                   turn Mesa's Vulkan device-selection layer off (set for you
