@@ -710,7 +710,7 @@ impl Cx {
             if compaction.values.iter().all(|&c| c == Compaction::Off) {
                 return self.err(
                     &opt_path("queue_order"),
-                    &format!(
+                    format!(
                         "\"{}\" orders the queues, and \"compaction\": \"off\" has none: it needs \"atomic\" or \"scan\"",
                         slot.name()
                     ),
