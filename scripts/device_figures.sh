@@ -222,19 +222,20 @@ for step in "${steps[@]}"; do
     # NVIDIA), every GPU method on the same frames; report.json holds both per scene, per method,
     # per slot, and simd_replay_compare.py prints them side by side. The wavefronts use the scan
     # (a deterministic queue order the replay follows) and a pool of 32,768 so the regenerating
-    # one refills 7 times; it keeps arrival order, which is what the replay models. The
+    # one refills 7 times, in the order `auto` gives both (slot order, 7 pools). The
     # regenerating megakernel runs 16,384 threads (about 14 samples each at full size); its
     # sample hand-out is the GPU scheduler's, and the replay assumes every subgroup resident,
-    # taking samples in turn (a GPU's case). On llvmpipe (the dry run) it runs 256 threads, as
-    # tests/suite/simd_replay.rs does: llvmpipe runs them one subgroup at a time, each thread up
-    # to its loop limit's paths, and the replay is told so.
+    # taking samples in turn (a GPU's case). On llvmpipe (the dry run) it runs one workgroup of
+    # 64 threads, as tests/suite/simd_replay.rs does, so llvmpipe's worker threads do not
+    # interleave the hand-out: one subgroup at a time, each thread up to its loop limit's
+    # paths, and the replay is told so.
     sg=$(sed -n 's/^ *subgroups: *yes, size \([0-9]*\)\.\.=\([0-9]*\).*/\1 \2/p' <<<"$info")
     read -r sg_min sg_max <<<"$sg"
     size=(--width 160 --height 90 --spp 16)
     [ "$scale" = tiny ] && size=(--width 32 --height 18 --spp 2)
     wf=(--compaction-method scan --pool-size 32768)
     regen=(--threads 16384)
-    grep -q llvmpipe <<<"$info" && regen=(--threads 256 --resident-subgroups 1 --paths-per-thread llvmpipe)
+    grep -q llvmpipe <<<"$info" && regen=(--threads 64 --resident-subgroups 1 --paths-per-thread llvmpipe)
     rc=0
     if [ -z "$sg_min" ] || [ "$sg_min" != "$sg_max" ]; then
       say "FAILED: simd-replay: the device's subgroup width is not one fixed size ($sg)"; rc=1
@@ -247,7 +248,7 @@ for step in "${steps[@]}"; do
         for m in "megakernel --method megakernel" \
                  "regenerate --method megakernel --schedule regenerate ${regen[*]:0:2}" \
                  "wavefront --method wavefront ${wf[*]}" \
-                 "wavefront-regenerate --method wavefront --schedule regenerate --queue-order arrival ${wf[*]}"; do
+                 "wavefront-regenerate --method wavefront --schedule regenerate ${wf[*]}"; do
           read -r label args <<<"$m"
           # shellcheck disable=SC2086 # $args is a list of flags
           timeout --kill-after=10 "$left" "$bin" render --scene "$name" $args --instrument "${size[@]}" \

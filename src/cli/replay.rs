@@ -7,7 +7,7 @@ use crate::chart::{LineChart, Series};
 use crate::gpu::instrument::FRAME_KEY;
 use crate::gpu::megakernel::{MegakernelOptions, DEFAULT_THREADS_DISCRETE};
 use crate::gpu::schedule::Schedule;
-use crate::gpu::wavefront::{Compaction, ShadePasses, DEFAULT_POOL};
+use crate::gpu::wavefront::{Compaction, QueueOrder, ShadePasses, DEFAULT_POOL};
 use crate::replay::lockstep::SlotCounts;
 use crate::replay::{megakernel, regenerate, wavefront, width};
 use crate::scene::Scene;
@@ -114,6 +114,9 @@ pub struct ReplayArgs {
     /// Wavefront: one shade pass per material kind, or one over every hit.
     #[arg(long, value_enum, default_value_t = ShadePasses::PerMaterial)]
     pub shade: ShadePasses,
+    /// Wavefront: the queues' order, as `render` (`auto` resolved as the device resolves it).
+    #[arg(long, value_enum, default_value_t = QueueOrder::Auto)]
+    pub queue_order: QueueOrder,
     /// Write the figures as JSON here.
     #[arg(long)]
     pub json: Option<std::path::PathBuf>,
@@ -214,11 +217,18 @@ pub fn run(a: ReplayArgs) -> Result<()> {
             ReplayMethod::Wavefront | ReplayMethod::WavefrontRegenerate => {
                 let schedule =
                     if m == ReplayMethod::Wavefront { Schedule::Waves } else { Schedule::Regenerate };
-                let launch = wavefront::Launch { pool: a.pool_size, compaction, shade: a.shade, schedule };
+                let launch = wavefront::Launch {
+                    pool: a.pool_size,
+                    compaction,
+                    shade: a.shade,
+                    schedule,
+                    queue_order: a.queue_order,
+                };
                 let r = wavefront::replay(&packed, &frame, &settings, &widths, launch)?;
                 let about = serde_json::json!({
                     "dispatches": r.dispatches, "shares": r.waves, "pool": a.pool_size,
                     "compaction": compaction, "shade": a.shade, "schedule": schedule,
+                    "queue_order": r.queue_order.name(),
                 });
                 (r.counts, about)
             }

@@ -4,9 +4,9 @@
 //! runs one thread per queue entry, W consecutive entries per subgroup, the last subgroup of
 //! every dispatch partial, and counts the slots `--instrument` counts.
 //!
-//! Queue order is arrival order (`--queue-order arrival`; slot order, which `auto` takes for big
-//! regenerating jobs, is not replayed), the one `--compaction-method scan` leaves, which is stable over the producing pass's
-//! positions: intersect's positions in order → each material queue; shade's positions (material
+//! Queue order is arrival order (`--queue-order arrival`) or slot order (`slot`, `slot-depth`;
+//! see [`Wave::regenerate`]). Arrival order is the one `--compaction-method scan` leaves, which
+//! is stable over the producing pass's positions: intersect's positions in order → each material queue; shade's positions (material
 //! queues laid end to end in kind order) → the next ray queue and, in the same order, the shadow
 //! queue (appended atomically on the device, see below). `--compaction-method atomic` leaves whatever
 //! order the atomics run in, which no replay can know: it is modelled by the scan's order, which
@@ -22,7 +22,7 @@ use crate::camera::CameraFrame;
 use crate::cpu::camera::Camera;
 use crate::gpu::schedule::Schedule;
 use crate::gpu::wavefront::schedule::{shares, CHUNK_POOLS};
-use crate::gpu::wavefront::{Compaction, ShadePasses};
+use crate::gpu::wavefront::{Compaction, QueueOrder, ShadePasses};
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
@@ -38,6 +38,8 @@ pub struct Launch {
     pub shade: ShadePasses,
     /// `waves`, or `regenerate`: refills into the free slots every iteration.
     pub schedule: Schedule,
+    /// The order of the queues (`auto` resolved as the device resolves it).
+    pub queue_order: QueueOrder,
 }
 
 /// The replay at each width: slot counts; per pass, dispatches recorded and how many were
@@ -46,6 +48,8 @@ pub struct Replayed {
     pub counts: Vec<(u32, SlotCounts)>,
     pub dispatches: BTreeMap<String, Dispatches>,
     pub waves: usize,
+    /// The queue order replayed (`auto` resolved).
+    pub queue_order: QueueOrder,
 }
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
@@ -74,6 +78,8 @@ pub fn replay(
     }
     let camera = Camera::<f32>::new(frame);
     let pool = launch.pool.min(u32::try_from(settings.sample_count()).unwrap_or(u32::MAX));
+    launch.queue_order.check(launch.compaction)?;
+    let order = launch.queue_order.resolve(launch.schedule, launch.compaction, settings.sample_count(), pool);
     let plan =
         shares(launch.schedule, settings.width * settings.height, settings.spp, pool, settings.max_depth);
     // The sample ring's refill limit binds only when a share holds more samples than the ring
@@ -99,12 +105,17 @@ pub fn replay(
         let per_width: Vec<(SlotCounts, BTreeMap<String, Dispatches>)> = widths
             .par_iter()
             .map(|&w| {
+                let lanes = paths.lanes();
+                let n = lanes.len();
                 let mut wave = Wave {
-                    lanes: paths.lanes(),
+                    lanes,
                     width: w,
                     counts: SlotCounts::new(),
                     dispatches: BTreeMap::new(),
                     compaction: launch.compaction != Compaction::Off,
+                    // In waves, slot l traces sample l.
+                    slot_of: if order.is_slot() { (0..n).collect() } else { Vec::new() },
+                    first_bounce: vec![false; if order == QueueOrder::SlotDepth { n } else { 0 }],
                 };
                 if regenerate {
                     wave.regenerate(pool as usize, &kinds, launch.shade, shadow_pass);
@@ -123,7 +134,12 @@ pub fn replay(
             e.empty += n.empty;
         }
     }
-    Ok(Replayed { counts: widths.iter().copied().zip(counts).collect(), dispatches, waves: plan.len() })
+    Ok(Replayed {
+        counts: widths.iter().copied().zip(counts).collect(),
+        dispatches,
+        waves: plan.len(),
+        queue_order: order,
+    })
 }
 
 /// One wave's paths at one width.
@@ -134,6 +150,11 @@ struct Wave<'a> {
     dispatches: BTreeMap<String, Dispatches>,
     /// Whether passes run over queues (scan or atomic) rather than the whole wave.
     compaction: bool,
+    /// Slot order: each lane's slot in the pool (empty in arrival order).
+    slot_of: Vec<usize>,
+    /// Keyed by depth: whether the lane's path was started by the last refill (its next ray is
+    /// its first bounce); empty without the key.
+    first_bounce: Vec<bool>,
 }
 
 impl Wave<'_> {
@@ -150,15 +171,30 @@ impl Wave<'_> {
 
     /// `--schedule regenerate`: before every iteration the refill starts the next samples in
     /// the slots free (the pool less the paths still queued), appended at the ray queue's end
-    /// in sample order; iterations go on until every path has ended. Which slot a refill takes
-    /// (the free list is a stack) does not move a lane in a compacted queue.
+    /// in sample order; iterations go on until every path has ended. In arrival order which slot
+    /// a refill takes (the free list is a stack) does not move a lane in a compacted queue. In
+    /// slot order it does: the refill takes the lowest free slots in ascending order (the scan's
+    /// free list), and the next ray queue and the shadow queue list their paths by slot; keyed
+    /// by depth, the last refill's paths (about to trace their first bounce) after the others.
     fn regenerate(&mut self, pool: usize, kinds: &[u32], shade: ShadePasses, shadow_pass: bool) {
         let n = self.lanes.len();
+        let slot_order = !self.slot_of.is_empty();
+        let mut free: std::collections::BTreeSet<usize> =
+            if slot_order { (0..pool).collect() } else { Default::default() };
         let (mut next, mut rays) = (0, Vec::new());
         loop {
-            if next < n {
-                let refill: Vec<usize> = (next..n.min(next + pool - rays.len())).collect();
-                next += refill.len();
+            let refill: Vec<usize> = (next..n.min(next + pool - rays.len())).collect();
+            next += refill.len();
+            if !self.first_bounce.is_empty() {
+                rays.iter().for_each(|&l: &usize| self.first_bounce[l] = false);
+                refill.iter().for_each(|&l| self.first_bounce[l] = true);
+            }
+            if slot_order {
+                for &l in &refill {
+                    self.slot_of[l] = free.pop_first().expect("a free slot for every refill");
+                }
+            }
+            if !refill.is_empty() {
                 let threads: Vec<Option<usize>> = refill.iter().map(|&l| Some(l)).collect();
                 self.pass("generate", &threads, |_, _| {});
                 rays.extend(refill);
@@ -166,8 +202,25 @@ impl Wave<'_> {
             if rays.is_empty() {
                 return;
             }
-            rays = self.iteration(&rays, kinds, shade, shadow_pass);
+            let before = rays;
+            rays = self.iteration(&before, kinds, shade, shadow_pass);
+            if slot_order {
+                // The slots of the paths that ended are free for the next refill.
+                let mut live = vec![false; n];
+                rays.iter().for_each(|&l| live[l] = true);
+                free.extend(before.iter().filter(|&&l| !live[l]).map(|&l| self.slot_of[l]));
+            }
         }
+    }
+
+    /// In slot order, `queue` as the scan over the pool lists it: by slot; keyed by depth
+    /// (`first_key`), the paths on their first bounce after the others.
+    fn slot_sort(&self, queue: &mut [usize], first_key: bool) {
+        if self.slot_of.is_empty() {
+            return;
+        }
+        let key = |l: usize| (first_key && self.first_bounce.get(l) == Some(&true), self.slot_of[l]);
+        queue.sort_by_key(|&l| key(l));
     }
 
     /// One iteration over the ray queue `rays`: intersect, shade pass by pass, shadow; returns
@@ -215,6 +268,8 @@ impl Wave<'_> {
                 }
             }
         }
+        self.slot_sort(&mut shadow, false);
+        self.slot_sort(&mut next, true);
         if shadow_pass {
             let queue = self.queue(&shadow);
             self.pass("shadow", &queue, |wave, active| {

@@ -142,6 +142,9 @@ fn the_depth_key_keeps_first_bounces_together() {
                 ..Default::default()
             };
             let out = run("three-spheres", &s, wf, true).unwrap();
+            let st = out.schedule.unwrap();
+            assert!(st.slot_order, "{queue_order:?}: the run reports slot order");
+            assert_eq!(st.depth_key, queue_order == QueueOrder::SlotDepth, "the run reports the key");
             let c = out.coherence.unwrap();
             let steady: Vec<_> = c.iter().filter(|b| b.first_iteration >= 8 && b.subgroups > 0).collect();
             let subgroups: u64 = steady.iter().map(|b| b.subgroups).sum();

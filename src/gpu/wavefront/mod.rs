@@ -423,6 +423,7 @@ pub fn render(
     stats.subgroup_scan = uses_scan.then_some(subgroup_scan);
     stats.subgroup_append = subgroup_append;
     stats.slot_order = queue_order.is_slot();
+    stats.depth_key = queue_order == QueueOrder::SlotDepth;
     let mut done = 0u64;
     for (w, d) in shares.iter().enumerate() {
         let paths = d.pixel_count * d.sample_count;

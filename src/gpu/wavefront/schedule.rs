@@ -271,6 +271,9 @@ pub struct ScheduleStats {
     /// Whether the ray queue was kept in slot order (`--queue-order`, `auto` resolved).
     #[serde(default)]
     pub slot_order: bool,
+    /// Whether that slot order was keyed by depth (`slot-depth`).
+    #[serde(default)]
+    pub depth_key: bool,
     #[serde(skip)]
     intersected: u64,
     #[serde(skip)]
@@ -293,6 +296,7 @@ impl ScheduleStats {
             subgroup_scan: None,
             subgroup_append: false,
             slot_order: false,
+            depth_key: false,
             intersected: 0,
             pool,
         }
