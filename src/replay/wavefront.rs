@@ -6,11 +6,12 @@
 //!
 //! Queue order is arrival order (`--queue-order arrival`) or slot order (`slot`, `slot-depth`;
 //! see [`Wave::regenerate`]). Arrival order is the one `--compaction-method scan` leaves, which
-//! is stable over the producing pass's positions: intersect's positions in order → each material queue; shade's positions (material
-//! queues laid end to end in kind order) → the next ray queue and, in the same order, the shadow
-//! queue (appended atomically on the device, see below). `--compaction-method atomic` leaves whatever
-//! order the atomics run in, which no replay can know: it is modelled by the scan's order, which
-//! atomics aggregated per subgroup approach when subgroups append in dispatch order. With
+//! is stable over the producing pass's positions: intersect's positions in order → each
+//! material queue; shade's positions (material queues laid end to end in kind order) → the next
+//! ray queue and, in the same order, the shadow queue (appended atomically on the device, see
+//! below). `--compaction-method atomic` leaves whatever order the atomics run in, which no
+//! replay can know: it is modelled by the scan's order, which atomics aggregated per subgroup
+//! approach when subgroups append in dispatch order. With
 //! `--compaction off` every pass runs over the whole wave, one thread per path, and the lanes
 //! whose path is not in that pass's queue idle. `--schedule regenerate`: see
 //! [`Wave::regenerate`] (no megakernel tail; the sample ring's refill limit is not modelled).
