@@ -20,13 +20,13 @@
 #                       (device/simd.json, instrumented)                     0.15e9 <1 min
 #   simd-replay         every GPU method's device counters (--instrument) beside the CPU
 #                       lockstep replay at the device's subgroup width (issue 25), 4 scenes
-#                       (report.json: both, per slot)                       tiny   <1 min
+#                       (report.json: both, per slot; comparison.md)        tiny   <1 min
 #   regeneration        regeneration.json (160x90 to 1200x675, 4 to 64 spp)  6.1e9  ~1-2 min
 #   regeneration-1080p  1920x1080 at 16 and 64 spp (device/regeneration_1080p.json)
 #                                                                            13.3e9 ~2-3 min
-#   queue-order         arrival against slot queue order (issue 26), waves and regenerate +
-#                       tail, 5 scenes at 1920x1080 x16 and x64 (device/queue_order.json)
-#                                                                            33e9   ~5-6 min
+#   queue-order         arrival against slot queue order, keyed by depth or not (issue 26),
+#                       waves and regenerate + tail, 5 scenes at 1920x1080 x16 and x64
+#                       (device/queue_order.json)                            40e9   ~6-7 min
 #   baselines           baselines.json (1280x720 and 1080p, NEE, threads sweep) 5.8e9 ~1 min
 #   seeds               rtiow-final 1920x1080x500, each GPU method once      5.2e9  ~1 min
 #   fixed-costs         queue appends per lane against per subgroup, rtiow-final and mesh-room
