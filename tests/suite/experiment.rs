@@ -593,6 +593,7 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
             "queue_order.json",
             "quick.json",
             "regeneration.json",
+            "regeneration_1080p.json",
             "scene_scale.json",
             "speed_vs_accuracy.json",
             "stability_distance.json",
