@@ -707,7 +707,8 @@ impl Cx {
         }
 
         if let Some(slot) = queue_order.values.iter().find(|q| q.is_slot()) {
-            if compaction.values.iter().all(|&c| c == Compaction::Off) {
+            // Not given means the default, atomic appends: only an explicit "off" everywhere lacks queues.
+            if !compaction.values.is_empty() && compaction.values.iter().all(|&c| c == Compaction::Off) {
                 return self.err(
                     &opt_path("queue_order"),
                     format!(
