@@ -183,6 +183,8 @@ impl Wave<'_> {
         let mut free: std::collections::BTreeSet<usize> =
             if slot_order { (0..pool).collect() } else { Default::default() };
         let (mut next, mut rays) = (0, Vec::new());
+        // Slot order: which lanes are still queued after an iteration (reset after each use).
+        let mut live = vec![false; if slot_order { n } else { 0 }];
         loop {
             let refill: Vec<usize> = (next..n.min(next + pool - rays.len())).collect();
             next += refill.len();
@@ -207,9 +209,9 @@ impl Wave<'_> {
             rays = self.iteration(&before, kinds, shade, shadow_pass);
             if slot_order {
                 // The slots of the paths that ended are free for the next refill.
-                let mut live = vec![false; n];
                 rays.iter().for_each(|&l| live[l] = true);
                 free.extend(before.iter().filter(|&&l| !live[l]).map(|&l| self.slot_of[l]));
+                rays.iter().for_each(|&l| live[l] = false);
             }
         }
     }

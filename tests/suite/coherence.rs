@@ -5,6 +5,7 @@
 
 use crate::common;
 
+use wavetrace::gpu::instrument::Coherence;
 use wavetrace::gpu::wavefront::{Compaction, QueueOrder, Schedule, Tail, WavefrontOptions};
 use wavetrace::method::{render, Method, MethodOptions, RenderOutput};
 use wavetrace::scene::builtin;
@@ -77,6 +78,15 @@ fn slot_order_needs_queues() {
     }
 }
 
+/// The mean of a coherence counter per intersect subgroup over the iterations after the first
+/// eight (the refills' steady state), weighted by subgroups; enough subgroups to mean something.
+fn steady_mean(c: &[Coherence], counter: impl Fn(&Coherence) -> f64, what: &str) -> f64 {
+    let steady: Vec<_> = c.iter().filter(|b| b.first_iteration >= 8 && b.subgroups > 0).collect();
+    let subgroups: u64 = steady.iter().map(|b| b.subgroups).sum();
+    assert!(subgroups > 1000, "{what}: {subgroups} subgroups after iteration 8");
+    steady.iter().map(|b| counter(b) * b.subgroups as f64).sum::<f64>() / subgroups as f64
+}
+
 /// What slot order is for: regenerating, arrival order scatters the lanes of an intersect
 /// subgroup over the pool (every lane its own 64-byte line of path state once refills have
 /// shuffled the slots), and slot order brings them back together. Compared over the iterations
@@ -102,10 +112,7 @@ fn slot_order_reads_fewer_path_state_lines() {
                 ..Default::default()
             };
             let c = run("rtiow-final", &s, wf, true).unwrap().coherence.unwrap();
-            let steady: Vec<_> = c.iter().filter(|b| b.first_iteration >= 8 && b.subgroups > 0).collect();
-            let subgroups: u64 = steady.iter().map(|b| b.subgroups).sum();
-            assert!(subgroups > 1000, "{queue_order:?}: {subgroups} subgroups after iteration 8");
-            steady.iter().map(|b| b.lines * b.subgroups as f64).sum::<f64>() / subgroups as f64
+            steady_mean(&c, |b| b.lines, &format!("{queue_order:?}"))
         };
         let (arrival, slot) = (lines(QueueOrder::Arrival), lines(QueueOrder::Slot));
         eprintln!("{compaction:?}: lines per intersect subgroup from iteration 8: arrival {arrival:.2}, slot {slot:.2}");
@@ -145,12 +152,8 @@ fn the_depth_key_keeps_first_bounces_together() {
             let st = out.schedule.unwrap();
             assert!(st.slot_order, "{queue_order:?}: the run reports slot order");
             assert_eq!(st.depth_key, queue_order == QueueOrder::SlotDepth, "the run reports the key");
-            let c = out.coherence.unwrap();
-            let steady: Vec<_> = c.iter().filter(|b| b.first_iteration >= 8 && b.subgroups > 0).collect();
-            let subgroups: u64 = steady.iter().map(|b| b.subgroups).sum();
-            assert!(subgroups > 1000, "{queue_order:?}: {subgroups} subgroups after iteration 8");
             let spread =
-                steady.iter().map(|b| b.pixel_spread * b.subgroups as f64).sum::<f64>() / subgroups as f64;
+                steady_mean(&out.coherence.unwrap(), |b| b.pixel_spread, &format!("{queue_order:?}"));
             (spread, out.simd.unwrap()["work:intersect"].efficiency)
         };
         let ((slot, slot_simd), (depth, depth_simd)) =

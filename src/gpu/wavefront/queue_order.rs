@@ -70,13 +70,9 @@ impl QueueOrder {
     }
 
     /// The knob's value as users write it.
-    pub fn name(self) -> &'static str {
-        match self {
-            QueueOrder::Auto => "auto",
-            QueueOrder::Arrival => "arrival",
-            QueueOrder::Slot => "slot",
-            QueueOrder::SlotDepth => "slot-depth",
-        }
+    pub fn name(self) -> String {
+        use clap::ValueEnum;
+        self.to_possible_value().expect("every order has a value").get_name().to_owned()
     }
 
     /// Slot order orders queues: without compaction there are none.
