@@ -182,9 +182,16 @@ pub struct WaveUniform {
     pub chunk: u32,
     /// Regenerating: chunks in the sample ring (0 in waves).
     pub ring: u32,
-    /// 0: queues in arrival order; 1: in slot order (`--queue-order`).
+    /// 0: queues in arrival order; 1: in slot order; 2: slot order keyed by depth
+    /// (`--queue-order`).
     pub order: u32,
+    /// Regenerating: a refill runs only when at most this many paths are live
+    /// (`--refill-below` × pool; the pool: every iteration).
+    pub refill_live: u32,
+    /// Regenerating: 1 to compact the live states before each refill (`--compact-states on`).
+    pub compact_states: u32,
     pub pad1: u32,
+    pub pad2: u32,
 }
 
 /// WGSL: `Range` in `shaders/accumulate.wgsl`: the samples l in `first .. first + count` of a

@@ -40,7 +40,13 @@ const COUNTER_FILL_LIMIT: u32 = COUNTER_SHADE_BASE + 11u;  // refills start samp
 const COUNTER_TAIL_BOUND: u32 = COUNTER_SHADE_BASE + 12u;  // the tail finishes the paths of samples below this
 const COUNTER_FREE_BASE: u32 = COUNTER_SHADE_BASE + 13u;   // (regenerate) first free-queue entry of this refill
 const COUNTER_CLAMPED: u32 = COUNTER_SHADE_BASE + 14u;     // indirect arguments clamped to the adapter's limit (a bug if > 0)
-const COUNTER_RING_0: u32 = COUNTER_SHADE_BASE + 15u;      // + ring chunk: its samples finished
+// (regenerate, --compact-states on) States moved and compactions run, summed over a share; the
+// free slots at the refill; compactions whose free list and ray queue disagreed (a bug if > 0).
+const COUNTER_STATES_MOVED: u32 = COUNTER_SHADE_BASE + 15u;
+const COUNTER_COMPACTIONS: u32 = COUNTER_SHADE_BASE + 16u;
+const COUNTER_COMPACT_FREE: u32 = COUNTER_SHADE_BASE + 17u;
+const COUNTER_COMPACT_MISMATCH: u32 = COUNTER_SHADE_BASE + 18u;
+const COUNTER_RING_0: u32 = COUNTER_SHADE_BASE + 19u;      // + ring chunk: its samples finished
 // Indirect-dispatch argument slots (3 words each) in queue_setup's `indirect`.
 const ARGS_INTERSECT: u32 = 0u;
 const ARGS_SHADE_0: u32 = 1u;       // + material kind
@@ -48,6 +54,8 @@ const ARGS_COMPACT: u32 = 5u;       // the scan passes over the positions just p
 const ARGS_SHADOW: u32 = 6u;
 const ARGS_REGENERATE: u32 = 7u;
 const ARGS_TAIL: u32 = 8u;
+const ARGS_COMPACT_STATES_FIND: u32 = 9u;  // (--compact-states on) the find pass, then the move pass
+const ARGS_COMPACT_STATES_MOVE: u32 = 10u;
 
 // A path that no pass should touch again.
 const DEAD: u32 = 0xffffffffu;
@@ -73,7 +81,14 @@ struct Wave {
     // keyed by depth (`slot-depth`): the ray queue lists the paths on their first bounce after
     // the others.
     order: u32,
+    // (regenerate) A refill runs only when at most this many paths are live (`--refill-below` ×
+    // pool; the pool itself: every iteration).
+    refill_live: u32,
+    // (regenerate) 1: compact the live states below the live count before each refill
+    // (`--compact-states on`).
+    compact_states: u32,
     pad1: u32,
+    pad2: u32,
 }
 
 @group(1) @binding(0) var<uniform> dispatch: Dispatch;

@@ -50,12 +50,15 @@ fn set_compact_args(positions: u32, recorded: bool) {
 }
 
 // (regenerate) Before the refill: as many of the share's next samples as there are free slots,
-// up to the sample ring's end.
+// up to the sample ring's end, once at most `wave.refill_live` paths are live (`--refill-below`).
 @compute @workgroup_size(1)
 fn queue_setup_regenerate() {
     let next = atomicLoad(&counters[COUNTER_NEXT_SAMPLE]);
     let free = atomicLoad(&counters[QUEUE_FREE]);
-    let n = min(free, atomicLoad(&counters[COUNTER_FILL_LIMIT]) - next);
+    var n = min(free, atomicLoad(&counters[COUNTER_FILL_LIMIT]) - next);
+    if wave.pool - free > wave.refill_live {
+        n = 0u; // too many paths still live: the refill waits for a larger batch
+    }
     set_args(ARGS_REGENERATE, n);
     count_dispatches(n, 1u);
     atomicStore(&counters[COUNTER_REGEN_BASE], next);
@@ -73,7 +76,31 @@ fn queue_setup_regenerate() {
         let queued = atomicLoad(&counters[q]);
         atomicStore(&counters[COUNTER_REFILL_QUEUED], queued);
         atomicStore(&counters[q], queued + n);
+        // --compact-states on: a refill first moves the live states below the live count
+        // (compact_states.wgsl), its find pass covering the ray queue and the free list; the
+        // lists it builds use the material queues, empty until queue_setup_intersect.
+        if wave.compact_states != 0u {
+            atomicStore(&counters[COUNTER_COMPACT_FREE], free);
+            atomicStore(&counters[QUEUE_MATERIAL_0], 0u);
+            atomicStore(&counters[QUEUE_MATERIAL_0 + 1u], 0u);
+            let threads = select(0u, max(queued, free), n > 0u);
+            set_args(ARGS_COMPACT_STATES_FIND, threads);
+            count_dispatches(threads, 1u);
+        }
     }
+}
+
+// (regenerate, --compact-states on) Before the move pass: one thread per state to move and per
+// free-list entry to rewrite, when this iteration refills.
+@compute @workgroup_size(1)
+fn queue_setup_compact_states() {
+    var threads = 0u;
+    if atomicLoad(&counters[COUNTER_NEXT_SAMPLE]) > atomicLoad(&counters[COUNTER_REGEN_BASE]) {
+        let movers = atomicLoad(&counters[QUEUE_MATERIAL_0 + 1u]);
+        threads = max(movers, atomicLoad(&counters[COUNTER_COMPACT_FREE]));
+    }
+    set_args(ARGS_COMPACT_STATES_MOVE, threads);
+    count_dispatches(threads, 1u);
 }
 
 fn record(bounce: u32, q: u32, n: u32) {

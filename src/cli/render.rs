@@ -5,7 +5,7 @@ use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::memory::{GpuMemory, MemoryCategory};
 use crate::gpu::timing::{TimeSource, Timing, Timings, FRAME_LABEL};
 use crate::gpu::wavefront::{
-    Append, Compaction, QueueOrder, Scan, Schedule, ShadePasses, Tail, WavefrontOptions,
+    Append, CompactStates, Compaction, QueueOrder, Scan, Schedule, ShadePasses, Tail, WavefrontOptions,
 };
 use crate::gpu::GpuContext;
 use crate::image_io::{self, RgbImage};
@@ -177,6 +177,17 @@ pub struct RenderArgs {
     /// order when regenerating a job of at least 4 pools of samples, arrival order otherwise.
     #[arg(long, value_enum, default_value_t = QueueOrder::Auto)]
     pub queue_order: QueueOrder,
+    /// Wavefront, --schedule regenerate: refill the pool only once at most this fraction of it,
+    /// in (0, 1], is live (1: at every iteration, into whatever slots paths just left; less:
+    /// larger batches of consecutive samples, as Cycles schedules new work only when too few
+    /// paths are left).
+    #[arg(long, default_value_t = WavefrontOptions::default().refill_below)]
+    pub refill_below: f64,
+    /// Wavefront, --schedule regenerate: before each refill, move the live paths above the live
+    /// count into the free slots below it (Cycles' compact_states), so the refill's consecutive
+    /// samples take one contiguous run of slots. Needs --compaction on.
+    #[arg(long, value_enum, default_value_t = WavefrontOptions::default().compact_states)]
+    pub compact_states: CompactStates,
     /// GPU methods: count SIMD efficiency per pass with subgroup operations (adds atomics: use
     /// separate runs for timing).
     #[arg(long)]
@@ -247,6 +258,8 @@ pub fn run(a: RenderArgs) -> Result<()> {
             scan: a.scan,
             append: a.append,
             queue_order: a.queue_order,
+            refill_below: a.refill_below,
+            compact_states: a.compact_states,
         },
         instrument: a.instrument,
         timing: a.timing,

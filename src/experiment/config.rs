@@ -79,7 +79,7 @@ use serde_json::{Map, Value};
 use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::timing::Timing;
 use crate::gpu::wavefront::{
-    Append, Compaction, QueueOrder, Scan, Schedule, ShadePasses, Tail, WavefrontOptions,
+    Append, CompactStates, Compaction, QueueOrder, Scan, Schedule, ShadePasses, Tail, WavefrontOptions,
 };
 use crate::input_error::InputError;
 use crate::light_options::{LightOptions, LightSampling, LightSelect};
@@ -145,6 +145,8 @@ pub const KNOBS: &[&str] = &[
     "chunk_pools",
     "render_space",
     "queue_order",
+    "refill_below",
+    "compact_states",
 ];
 /// Every method's knobs: how next-event estimation samples lights, the numerical choices and the
 /// stress transforms.
@@ -194,10 +196,13 @@ const WAVEFRONT_KNOBS: &[&str] = &[
     "scan",
     "append",
     "queue_order",
+    "refill_below",
+    "compact_states",
     "timing",
 ];
 const SCANS: &[&str] = &["auto", "subgroup", "workgroup"];
 const APPENDS: &[&str] = &["auto", "lane", "subgroup"];
+const ON_OFF: &[&str] = &["off", "on"];
 const QUEUE_ORDERS: &[&str] = &["auto", "arrival", "slot", "slot-depth"];
 const LIGHT_SAMPLINGS: &[&str] = &["area", "solid-angle"];
 const LIGHT_SELECTS: &[&str] = &["uniform", "power"];
@@ -696,6 +701,16 @@ impl Cx {
                 _ => QueueOrder::Auto,
             })
         })?;
+        let refill_below =
+            self.knob(o, &opt_path("refill_below"), "refill_below", |v, p| match v.as_f64() {
+                Some(t) if t > 0.0 && t <= 1.0 => Ok(t),
+                _ => {
+                    self.err(p, format!("must be a live fraction of the pool in (0, 1], got {}", describe(v)))
+                }
+            })?;
+        let compact_states = self.knob(o, &opt_path("compact_states"), "compact_states", |v, p| {
+            Ok(if self.choice(v, p, ON_OFF)? == "on" { CompactStates::On } else { CompactStates::Off })
+        })?;
         let timing = self.knob(o, &opt_path("timing"), "timing", |v, p| {
             Ok(if self.choice(v, p, TIMINGS)? == "frame" { Timing::Frame } else { Timing::Passes })
         })?;
@@ -715,6 +730,30 @@ impl Cx {
                         "\"{}\" orders the queues, and \"compaction\": \"off\" has none: it needs \"atomic\" or \"scan\"",
                         slot.name()
                     ),
+                );
+            }
+        }
+
+        if refill_below.values.iter().any(|&r| r != WavefrontOptions::default().refill_below)
+            && !schedule.values.contains(&Schedule::Regenerate)
+        {
+            return self.err(
+                &opt_path("refill_below"),
+                "batched refills are the regenerating schedule's: it needs \"schedule\": \"regenerate\"",
+            );
+        }
+        if compact_states.values.contains(&CompactStates::On) {
+            if !schedule.values.contains(&Schedule::Regenerate) {
+                return self.err(
+                    &opt_path("compact_states"),
+                    "\"on\" compacts the pool before refills: it needs \"schedule\": \"regenerate\"",
+                );
+            }
+            if !compaction.values.is_empty() && compaction.values.iter().all(|&c| c == Compaction::Off) {
+                return self.err(
+                    &opt_path("compact_states"),
+                    "\"on\" rewrites the ray queue's entries of the paths it moves, and \"compaction\": \"off\" has \
+                     none: it needs \"atomic\" or \"scan\"",
                 );
             }
         }
@@ -809,6 +848,14 @@ impl Cx {
             o.wavefront.queue_order = q;
             format!("queue-order={}", kebab(&q))
         });
+        expand(&mut variants, &refill_below, wf.refill_below, labelled, |o, &r| {
+            o.wavefront.refill_below = r;
+            format!("refill-below={r}")
+        });
+        expand(&mut variants, &compact_states, wf.compact_states, labelled, |o, &c| {
+            o.wavefront.compact_states = c;
+            format!("compact-states={}", kebab(&c))
+        });
         expand(&mut variants, &timing, Timing::Passes, labelled, |o, &t| {
             o.timing = t;
             format!("timing={}", kebab(&t))
@@ -846,6 +893,13 @@ impl Cx {
         // Likewise slot order, which needs queues.
         variants
             .retain(|(o, _)| !o.wavefront.queue_order.is_slot() || o.wavefront.compaction != Compaction::Off);
+        // Likewise batched refills and state compaction (which also needs queues).
+        variants.retain(|(o, _)| {
+            let w = &o.wavefront;
+            (w.refill_below == wf.refill_below && w.compact_states == CompactStates::Off)
+                || (w.schedule == Schedule::Regenerate
+                    && (w.compact_states == CompactStates::Off || w.compaction != Compaction::Off))
+        });
         // Likewise chunk sizes, which only the regenerating wavefront has.
         variants.retain(|(o, _)| {
             o.wavefront.chunk_pools == wf.chunk_pools || o.wavefront.schedule == Schedule::Regenerate

@@ -278,8 +278,9 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
 /// Columns of the per-bounce intersect table.
 const BOUNCE_COLUMNS: [usize; 7] = [0, 1, 2, 4, 8, 16, 32];
 
-/// A wavefront run's pass seconds in groups: intersect, shade, shadow, compaction, (re)generate,
-/// tail, other (queue set-up, accumulation and the rest).
+/// A wavefront run's pass seconds in groups: intersect, shade, shadow, compaction (of queues),
+/// (re)generate (with the state compaction before refills), tail, other (queue set-up,
+/// accumulation and the rest).
 fn pass_groups(r: &RunRecord) -> [f64; 7] {
     let mut g = [0.0; 7];
     for (label, p) in &r.passes {
@@ -287,6 +288,7 @@ fn pass_groups(r: &RunRecord) -> [f64; 7] {
             "intersect" => 0,
             l if l.starts_with("shade") => 1,
             "shadow" => 2,
+            l if l.starts_with("compact_states") => 4,
             l if l.starts_with("compact") => 3,
             "generate" | "regenerate" | "regenerate_init" => 4,
             "tail" => 5,
@@ -449,13 +451,18 @@ mod tests {
                 "shade_metal": {"seconds": {"median": 1.0, "min": 1.0, "max": 1.0, "values": [1.0]}, "passes": 2},
                 "shade_lambertian": {"seconds": {"median": 0.5, "min": 0.5, "max": 0.5, "values": [0.5]}, "passes": 2},
                 "compact_scan": {"seconds": {"median": 0.25, "min": 0.25, "max": 0.25, "values": [0.25]}, "passes": 2},
-                "queue_setup_shade": {"seconds": {"median": 0.125, "min": 0.125, "max": 0.125, "values": [0.125]}, "passes": 2}
+                "queue_setup_shade": {"seconds": {"median": 0.125, "min": 0.125, "max": 0.125, "values": [0.125]}, "passes": 2},
+                "compact_states_move": {"seconds": {"median": 4.0, "min": 4.0, "max": 4.0, "values": [4.0]}, "passes": 2}
             },
             "passes_per_bounce": {"intersect": [3e-6, 0.5e-6]},
             "queue_histogram": {"rays": [1000, 250], "materials": [[], [], [], []]}
         }))
         .unwrap();
-        assert_eq!(pass_groups(&r), [2.0, 1.5, 0.0, 0.25, 0.0, 0.0, 0.125]);
+        assert_eq!(
+            pass_groups(&r),
+            [2.0, 1.5, 0.0, 0.25, 4.0, 0.0, 0.125],
+            "state compaction is the refill's"
+        );
         let cells = intersect_ns_per_ray(&r).unwrap();
         assert_eq!(&cells[..3], ["3 (1)".to_string(), "2 (1)".into(), "–".into()]);
         r.options = serde_json::json!({"schedule": "regenerate"});

@@ -281,6 +281,8 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
             "scan": o.wavefront.scan,
             "append": o.wavefront.append,
             "queue_order": o.wavefront.queue_order,
+            "refill_below": o.wavefront.refill_below,
+            "compact_states": o.wavefront.compact_states,
             "timing": o.timing,
         }),
     };

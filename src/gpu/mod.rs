@@ -32,6 +32,12 @@ pub mod label {
     pub const REGENERATE_INIT: &str = "regenerate_init";
     /// `--schedule regenerate`: sizes the refill from the free slots and the samples left.
     pub const QUEUE_SETUP_REGENERATE: &str = "queue_setup_regenerate";
+    /// `--compact-states on`: lists the live paths above the live count and the free slots below.
+    pub const COMPACT_STATES_FIND: &str = "compact_states_find";
+    /// `--compact-states on`: sizes the move pass.
+    pub const QUEUE_SETUP_COMPACT_STATES: &str = "queue_setup_compact_states";
+    /// `--compact-states on`: moves those paths into those slots before the refill.
+    pub const COMPACT_STATES_MOVE: &str = "compact_states_move";
     /// `--schedule regenerate`: starts new samples in the slots whose paths ended.
     pub const REGENERATE: &str = "regenerate";
     pub const QUEUE_SETUP_INTERSECT: &str = "queue_setup_intersect";

@@ -481,6 +481,46 @@ fn bad_configs_name_the_file_the_field_and_the_reason() {
             "\"auto\", \"arrival\", \"slot\" or \"slot-depth\"",
         ),
         (
+            "refill-below-without-regeneration",
+            Box::new(|c| c["methods"][1]["refill_below"] = 0.5.into()),
+            "methods[1].refill_below",
+            "needs \"schedule\": \"regenerate\"",
+        ),
+        (
+            "refill-below-zero",
+            Box::new(|c| {
+                c["methods"][1]["refill_below"] = 0.into();
+                c["methods"][1]["schedule"] = "regenerate".into();
+            }),
+            "methods[1].refill_below",
+            "in (0, 1], got 0",
+        ),
+        (
+            "compact-states-without-regeneration",
+            Box::new(|c| c["methods"][1]["compact_states"] = "on".into()),
+            "methods[1].compact_states",
+            "needs \"schedule\": \"regenerate\"",
+        ),
+        (
+            "compact-states-without-queues",
+            Box::new(|c| {
+                c["methods"][1]["compact_states"] = "on".into();
+                c["methods"][1]["schedule"] = "regenerate".into();
+                c["methods"][1]["compaction"] = "off".into();
+            }),
+            "methods[1].compact_states",
+            "needs \"atomic\" or \"scan\"",
+        ),
+        (
+            "bad-compact-states",
+            Box::new(|c| {
+                c["methods"][1]["compact_states"] = "yes".into();
+                c["methods"][1]["schedule"] = "regenerate".into();
+            }),
+            "methods[1].compact_states",
+            "\"off\" or \"on\"",
+        ),
+        (
             "cpu-knob",
             Box::new(|c| c["methods"][0]["compaction"] = "scan".into()),
             "methods[0].compaction",

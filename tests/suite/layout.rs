@@ -115,11 +115,77 @@ fn wave() {
         WaveUniform,
         "Wave",
         shaders::INTERSECT.plain,
-        [compaction, per_material, pool, shade_mask, chunk, ring, order, pad1]
+        [
+            compaction,
+            per_material,
+            pool,
+            shade_mask,
+            chunk,
+            ring,
+            order,
+            refill_live,
+            compact_states,
+            pad1,
+            pad2
+        ]
     );
 }
 
 #[test]
 fn accumulate_range() {
     check!(AccumulateRange, "Range", shaders::ACCUMULATE, [first, count, ring, pad]);
+}
+
+/// The value of WGSL `const name: u32` in `source`, as naga folds it.
+fn wgsl_u32(source: &str, name: &str) -> u64 {
+    let module = naga::front::wgsl::parse_str(source).expect("shader parses");
+    let (_, c) = module
+        .constants
+        .iter()
+        .find(|(_, c)| c.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("WGSL const {name} not found"));
+    match module.global_expressions[c.init] {
+        naga::Expression::Literal(naga::Literal::U32(v)) => v as u64,
+        ref e => panic!("{name} = {e:?}: not a folded u32"),
+    }
+}
+
+/// The counter words the host reads and writes, and the indirect-argument slots it dispatches
+/// from, are where the shaders keep them (shaders/shared/path_state.wgsl).
+#[test]
+fn path_state_counters_and_arguments() {
+    use wavetrace::gpu::wavefront::path_state::{self as ps, schedule_word as w};
+    let src = shaders::QUEUE_SETUP;
+    for (name, word) in [
+        ("COUNTER_NEXT_SAMPLE", w::NEXT_SAMPLE),
+        ("COUNTER_EMPTY", w::EMPTY),
+        ("COUNTER_INDIRECT", w::INDIRECT),
+        ("COUNTER_INTERSECTED", w::INTERSECTED),
+        ("COUNTER_IDLE", w::IDLE),
+        ("COUNTER_FILL_LIMIT", w::FILL_LIMIT),
+        ("COUNTER_TAIL_BOUND", w::TAIL_BOUND),
+        ("COUNTER_CLAMPED", w::CLAMPED),
+        ("COUNTER_STATES_MOVED", w::STATES_MOVED),
+        ("COUNTER_COMPACTIONS", w::COMPACTIONS),
+        ("COUNTER_COMPACT_FREE", w::COMPACT_FREE),
+        ("COUNTER_COMPACT_MISMATCH", w::COMPACT_MISMATCH),
+    ] {
+        assert_eq!(wgsl_u32(src, name), ps::COUNTER_SCHEDULE + word as u64, "{name}");
+    }
+    assert_eq!(wgsl_u32(src, "COUNTER_RING_0"), ps::COUNTER_RING, "COUNTER_RING_0");
+    assert_eq!(wgsl_u32(src, "COUNTER_STATS"), ps::COUNTER_STATS);
+    assert_eq!(wgsl_u32(src, "QUEUE_COUNT"), ps::QUEUE_COUNT);
+    assert_eq!(wgsl_u32(src, "QUEUE_SHADOW"), ps::QUEUE_SHADOW);
+    for (name, slot) in [
+        ("ARGS_INTERSECT", ps::ARGS_INTERSECT),
+        ("ARGS_SHADE_0", ps::ARGS_SHADE_0),
+        ("ARGS_COMPACT", ps::ARGS_COMPACT),
+        ("ARGS_SHADOW", ps::ARGS_SHADOW),
+        ("ARGS_REGENERATE", ps::ARGS_REGENERATE),
+        ("ARGS_TAIL", ps::ARGS_TAIL),
+        ("ARGS_COMPACT_STATES_FIND", ps::ARGS_COMPACT_STATES_FIND),
+        ("ARGS_COMPACT_STATES_MOVE", ps::ARGS_COMPACT_STATES_MOVE),
+    ] {
+        assert_eq!(wgsl_u32(src, name), slot, "{name}");
+    }
 }

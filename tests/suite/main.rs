@@ -24,6 +24,7 @@ mod megakernel;
 mod metrics;
 mod paired;
 mod reference_cache;
+mod refill;
 mod render_space;
 mod report_page;
 mod repository;

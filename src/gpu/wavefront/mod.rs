@@ -17,8 +17,11 @@
 //!                                           needs them back, or the share's last paths
 //!      accumulate_range                     complete chunks → film, in sample order
 //!      and move the refill limit to the ring's new end)
-//!     [queue_setup_regenerate, regenerate]  (regenerate) next samples into the free slots
-//!                                           (slot order: the lowest, in ascending order)
+//!     [queue_setup_regenerate,              (regenerate, once at most --refill-below × pool are
+//!      [compact_states_find,                 live) next samples into the free slots (slot order:
+//!       queue_setup_compact_states,          the lowest, in ascending order; --compact-states on:
+//!       compact_states_move]                 first move the live paths below the live count, so
+//!      regenerate]                           the samples take the slots from there on)
 //!     queue_setup_intersect                 ray queue count → intersect's indirect args
 //!     intersect                             closest hits; escaped rays add the background
 //!     [compact_scan, _blocks, _scatter]     (scan method) build the material queues
@@ -39,11 +42,13 @@
 
 pub mod append;
 pub mod compact;
+pub mod compact_states;
 pub mod generate;
 pub mod intersect;
 pub mod path_state;
 pub mod queue_order;
 pub mod queue_setup;
+pub mod refill;
 pub mod schedule;
 pub mod shade;
 pub mod shadow;
@@ -74,6 +79,7 @@ use path_state::{
     QUEUE_SHADOW,
 };
 pub use queue_order::QueueOrder;
+pub use refill::CompactStates;
 pub use schedule::{Schedule, ScheduleStats};
 use std::time::Instant;
 pub use tail::Tail;
@@ -127,6 +133,11 @@ pub struct WavefrontOptions {
     /// The order of the paths in each queue (slot order needs queues; `auto` takes it for
     /// regenerating jobs of several pools).
     pub queue_order: QueueOrder,
+    /// Regenerating: refill only once at most this fraction of the pool is live (1: every
+    /// iteration).
+    pub refill_below: f64,
+    /// Regenerating: compact the live states below the live count before each refill.
+    pub compact_states: CompactStates,
 }
 
 impl Default for WavefrontOptions {
@@ -144,6 +155,8 @@ impl Default for WavefrontOptions {
             scan: Scan::Auto,
             append: Append::Auto,
             queue_order: QueueOrder::Auto,
+            refill_below: refill::DEFAULT_REFILL_BELOW,
+            compact_states: CompactStates::Off,
         }
     }
 }
@@ -280,6 +293,8 @@ struct Stages {
     scan_materials: bool,
     shadow: Option<shadow::Shadow>,
     tail: Option<tail::TailPass>,
+    /// `--compact-states on`: before each refill.
+    compact_states: Option<compact_states::CompactStatesPasses>,
     regenerate: bool,
 }
 
@@ -290,6 +305,9 @@ impl Stages {
     fn record_iteration(&self, wave: &mut WaveRecorder<'_>, i: u32, refill: bool) {
         if self.regenerate && refill {
             self.queue_setup.record_regenerate(wave, i);
+            if let Some(c) = &self.compact_states {
+                c.record(wave, &self.queue_setup, i);
+            }
             self.generate.record_refill(wave, i);
         }
         self.queue_setup.record_intersect(wave, i);
@@ -315,6 +333,7 @@ impl Stages {
             + if self.scan_materials { 3 } else { 0 }
             + if self.shadow.is_some() { 2 } else { 0 }
             + if self.regenerate { 2 } else { 0 }
+            + if self.compact_states.is_some() { 3 } else { 0 }
     }
 }
 
@@ -339,6 +358,7 @@ pub fn render(
     schedule::check_chunk_pools(opts.chunk_pools)?;
     tail::check_threshold(opts.tail_threshold)?;
     opts.queue_order.check(opts.compaction)?;
+    refill::check(opts.refill_below, opts.compact_states, opts.schedule, opts.compaction)?;
     let queue_order = opts.queue_order.resolve(opts.schedule, opts.compaction, settings.sample_count(), pool);
     let subgroup_scan = opts.scan.uses_subgroups(ctx)?;
     let subgroup_append = opts.append.uses_subgroups(ctx)?;
@@ -370,7 +390,10 @@ pub fn render(
         chunk: if regenerate { ring.chunk } else { 0 },
         ring: if regenerate { ring.ring } else { 0 },
         order: queue_order.word(),
+        refill_live: refill::refill_live(opts.refill_below, pool),
+        compact_states: (opts.compact_states == CompactStates::On) as u32,
         pad1: 0,
+        pad2: 0,
     };
     let stats_bounces = if regenerate { 1 } else { settings.max_depth.min(STATS_BOUNCES) };
     let frame = scene.frame_uniform(camera, settings);
@@ -404,6 +427,9 @@ pub fn render(
         tail: (opts.tail == Tail::Megakernel)
             .then(|| tail::TailPass::new(ctx, &b, wg, instrument))
             .transpose()?,
+        compact_states: (opts.compact_states == CompactStates::On)
+            .then(|| compact_states::CompactStatesPasses::new(ctx, &b, wg))
+            .transpose()?,
         scan_materials: opts.compaction == Compaction::Scan,
         regenerate,
     };
@@ -424,6 +450,10 @@ pub fn render(
     stats.subgroup_append = subgroup_append;
     stats.slot_order = queue_order.is_slot();
     stats.depth_key = queue_order == QueueOrder::SlotDepth;
+    if regenerate {
+        stats.refill_below = Some(opts.refill_below);
+        stats.compact_states = Some(opts.compact_states == CompactStates::On);
+    }
     let mut done = 0u64;
     for (w, d) in shares.iter().enumerate() {
         let paths = d.pixel_count * d.sample_count;

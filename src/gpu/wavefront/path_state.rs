@@ -34,7 +34,14 @@ pub mod schedule_word {
     pub const TAIL_BOUND: usize = 8;
     /// Indirect arguments queue_setup clamped to the adapter's limit (shared/indirect_args.wgsl).
     pub const CLAMPED: usize = 10;
-    pub const WORDS: u64 = 11;
+    /// `--compact-states on`: states moved, and compactions run (summed over a share).
+    pub const STATES_MOVED: usize = 11;
+    pub const COMPACTIONS: usize = 12;
+    /// The free slots at the last refill (the state compaction's own; the host never reads it).
+    pub const COMPACT_FREE: usize = 13;
+    /// Compactions whose free list and ray queue disagreed (nothing moved; a bug if > 0).
+    pub const COMPACT_MISMATCH: usize = 14;
+    pub const WORDS: u64 = 15;
 }
 /// `COUNTER_RING_0`: the finished samples of each chunk of the sample ring.
 pub const COUNTER_RING: u64 = COUNTER_SCHEDULE + schedule_word::WORDS;
@@ -43,14 +50,16 @@ pub const MAX_RING_CHUNKS: u64 = 1024;
 /// Words of `counters`: header, histogram, shade positions, scheduling counters, ring counters.
 const COUNTER_WORDS: u64 = COUNTER_RING + MAX_RING_CHUNKS;
 /// Indirect-argument slots: intersect, one per material kind, the scan passes, the shadow pass,
-/// the refill, the tail.
-const ARGS_SLOTS: u64 = 9;
+/// the refill, the tail, the state compaction's two passes.
+const ARGS_SLOTS: u64 = 11;
 pub const ARGS_INTERSECT: u64 = 0;
 pub const ARGS_SHADE_0: u64 = 1;
 pub const ARGS_COMPACT: u64 = 5;
 pub const ARGS_SHADOW: u64 = 6;
 pub const ARGS_REGENERATE: u64 = 7;
 pub const ARGS_TAIL: u64 = 8;
+pub const ARGS_COMPACT_STATES_FIND: u64 = 9;
+pub const ARGS_COMPACT_STATES_MOVE: u64 = 10;
 /// Which per-slot buffers a render's pool holds beyond the path itself: a buffer no pass of
 /// the render reads is bound as one 16-byte element, so memory follows the scene and the knobs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

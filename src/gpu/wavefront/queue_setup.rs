@@ -8,6 +8,7 @@ use anyhow::Result;
 
 pub struct QueueSetup {
     before_regenerate: Stage,
+    before_compact_states: Stage,
     before_tail: Stage,
     before_intersect: Stage,
     before_shade: Stage,
@@ -28,6 +29,13 @@ impl QueueSetup {
         let layouts = &[b.layouts()[0], b.layouts()[1], &b.state.indirect_layout];
         Ok(Self {
             before_regenerate: Stage::new(ctx, label::QUEUE_SETUP_REGENERATE, &module, layouts, &constants)?,
+            before_compact_states: Stage::new(
+                ctx,
+                label::QUEUE_SETUP_COMPACT_STATES,
+                &module,
+                layouts,
+                &constants,
+            )?,
             before_tail: Stage::new(ctx, label::QUEUE_SETUP_TAIL, &module, layouts, &constants)?,
             before_intersect: Stage::new(ctx, label::QUEUE_SETUP_INTERSECT, &module, layouts, &constants)?,
             before_shade: Stage::new(ctx, label::QUEUE_SETUP_SHADE, &module, layouts, &constants)?,
@@ -37,6 +45,10 @@ impl QueueSetup {
 
     pub fn record_regenerate(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
         record(&self.before_regenerate, wave, bounce);
+    }
+
+    pub fn record_compact_states(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
+        record(&self.before_compact_states, wave, bounce);
     }
 
     pub fn record_tail(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {

@@ -274,6 +274,17 @@ pub struct ScheduleStats {
     /// Whether that slot order was keyed by depth (`slot-depth`).
     #[serde(default)]
     pub depth_key: bool,
+    /// Regenerating: the live fraction of the pool at or below which refills ran (`--refill-below`).
+    #[serde(default)]
+    pub refill_below: Option<f64>,
+    /// Regenerating: whether live states were compacted before refills (`--compact-states`).
+    #[serde(default)]
+    pub compact_states: Option<bool>,
+    /// Compactions run (refills with `--compact-states on`) and path states they moved.
+    #[serde(default)]
+    pub compactions: u64,
+    #[serde(default)]
+    pub states_moved: u64,
     #[serde(skip)]
     intersected: u64,
     #[serde(skip)]
@@ -297,6 +308,10 @@ impl ScheduleStats {
             subgroup_append: false,
             slot_order: false,
             depth_key: false,
+            refill_below: None,
+            compact_states: None,
+            compactions: 0,
+            states_moved: 0,
             intersected: 0,
             pool,
         }
@@ -329,7 +344,16 @@ impl ScheduleStats {
                 ctx.summary.max_compute_workgroups_per_dimension
             );
         }
+        if w(word::COMPACT_MISMATCH) > 0 {
+            bail!(
+                "{} state compactions found the free list and the ray queue disagreeing about the live \
+                 paths (nothing was moved; a bug, please report it with `wavetrace info`)",
+                w(word::COMPACT_MISMATCH)
+            );
+        }
         self.shares += units as u64;
+        self.compactions += w(word::COMPACTIONS);
+        self.states_moved += w(word::STATES_MOVED);
         self.iterations += iterations as u64;
         self.idle_iterations += w(word::IDLE);
         self.dispatches += dispatches;
