@@ -27,6 +27,9 @@
 #   queue-order         arrival against slot queue order, keyed by depth or not (issue 26),
 #                       waves and regenerate + tail, 5 scenes at 1920x1080 x16 and x64
 #                       (device/queue_order.json)                            40e9   ~6-7 min
+#   refill              batched refills and state compaction (issue 26: --refill-below,
+#                       --compact-states) against regenerate + tail's defaults and waves,
+#                       5 scenes at 1920x1080 x16 and x64 (device/refill.json) 27e9  ~4-5 min
 #   baselines           baselines.json (1280x720 and 1080p, NEE, threads sweep) 5.8e9 ~1 min
 #   seeds               rtiow-final 1920x1080x500, each GPU method once      5.2e9  ~1 min
 #   fixed-costs         queue appends per lane against per subgroup, rtiow-final and mesh-room
@@ -66,6 +69,7 @@ simd-replay
 regeneration regeneration.json
 regeneration-1080p device/regeneration_1080p.json
 queue-order device/queue_order.json
+refill device/refill.json
 baselines baselines.json
 seeds device/seeds_1080p.json
 fixed-costs device/fixed_costs.json
