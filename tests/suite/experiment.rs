@@ -493,7 +493,7 @@ fn bad_configs_name_the_file_the_field_and_the_reason() {
                 c["methods"][1]["schedule"] = "regenerate".into();
             }),
             "methods[1].refill_below",
-            "in (0, 1], got 0",
+            "in (0, 1], got a number (0)",
         ),
         (
             "compact-states-without-regeneration",
