@@ -1,6 +1,8 @@
 //! The documentation cannot go stale: every results page under docs/results/ is what
 //! `wavetrace experiment report DIR --markdown` writes from the committed report, and every
-//! committed report has its page.
+//! committed report has its page; and no figure in the README or in a page of docs/ is typed
+//! by hand: each is quoted from a generated page (or an accepted committed output) that its
+//! paragraph links.
 
 use std::path::{Path, PathBuf};
 
@@ -121,7 +123,8 @@ fn figures(text: &str) -> Vec<String> {
 
 /// Stricter than [`figures`], for pages of notes rather than headline bullets: any decimal
 /// (`0.4890`, `2.762e-2`), ratio (`1.36×`, `2×`), percentage (`55.7%`) or count of three digits
-/// or more (`6947`), each end of a range (`0.89–1.10×`) on its own. Inline code is skipped
+/// or more (`6947`), each end of a range (`0.89–1.10×`) on its own, a signed one (`−1.5%`,
+/// `+3%`) without its sign. Inline code is skipped
 /// (options and commit hashes); a power such as `1e-3` without a decimal point reads as a
 /// setting, not a figure.
 pub fn quoted_figures(text: &str) -> Vec<String> {
@@ -134,7 +137,7 @@ pub fn quoted_figures(text: &str) -> Vec<String> {
     }
     let mut out = Vec::new();
     for word in prose.split(|c: char| c.is_whitespace() || "(),;[]/–→".contains(c)) {
-        let w = word.trim_matches(['*', '_', '.', ':']);
+        let w = word.trim_matches(['*', '_', '.', ':']).trim_start_matches(['+', '-', '−', '±', '~']);
         let number = w.trim_end_matches(['×', '%']);
         if !number.starts_with(|c: char| c.is_ascii_digit()) || number.parse::<f64>().is_err() {
             continue;
@@ -178,30 +181,58 @@ fn resolve(dir: &Path, link: &str) -> PathBuf {
 /// The generated results pages (`docs/results/<device>/<name>.md`, not a README) that `unit`
 /// links, as text; `doc` is the page the unit is on, relative to the root.
 fn linked_results_pages(doc: &str, unit: &str) -> Vec<String> {
+    linked_sources(doc, unit).into_iter().filter(|(p, _)| is_results_page(p)).map(|(_, t)| t).collect()
+}
+
+/// Committed artefacts that are not results pages but that notes may quote as if they were,
+/// each with the reason. Each is written whole by a committed script from a committed run, and
+/// its directory has a row in the device's `PROVENANCE.md` naming the command and the build
+/// (checked below); what it holds is the script's output, never edited by hand. So a figure
+/// on it is as traceable as one on a results page, and a rerun that changes it fails here
+/// until the text quoting it follows. The replay's summary writes ratios as `1.5x`: a quoted
+/// `1.5×` matches it.
+const ACCEPTED_SOURCES: &[(&str, &str)] = &[
+    (
+        "experiments/results/llvmpipe-2core/simd_width/summary.md",
+        "scripts/simd_width.sh's table: the lockstep replay's predictions (deterministic, from \
+         the CPU reference's paths) beside one llvmpipe render per method; the replay JSONs beside \
+         it record the commit",
+    ),
+    (
+        "experiments/results/llvmpipe-2core/simd_width/spheres-8-brute-every16.txt",
+        "scripts/simd_width.sh's whole `wavetrace replay --every 16` output (deterministic)",
+    ),
+];
+
+/// The pages `unit` links that figures may be quoted from: generated results pages and
+/// [`ACCEPTED_SOURCES`], as (path relative to the root, text).
+fn linked_sources(doc: &str, unit: &str) -> Vec<(String, String)> {
     let dir = Path::new(doc).parent().unwrap_or(Path::new(""));
     unit.split("](")
         .skip(1)
         .filter_map(|s| s.split(')').next())
-        .map(|link| resolve(dir, link))
-        .filter(|p| {
-            let s = p.to_string_lossy();
-            s.starts_with("docs/results/") && s.ends_with(".md") && !s.ends_with("/README.md")
-        })
-        .map(|p| read(&p.to_string_lossy()))
+        .map(|link| resolve(dir, link).to_string_lossy().into_owned())
+        .filter(|p| is_results_page(p) || ACCEPTED_SOURCES.iter().any(|(a, _)| a == p))
+        .map(|p| (p.clone(), read(&p)))
         .collect()
 }
 
-/// Each figure `tokens` finds in `unit` is on a results page the unit links: a regenerated page
-/// that changes a figure fails here until the text quoting it follows. Returns what is not.
-fn unquoted(doc: &str, unit: &str, tokens: fn(&str) -> Vec<String>) -> Option<String> {
-    let figs = tokens(unit);
+/// Each of `figs` (found in `unit`) is on a results page or accepted source the unit links: a
+/// regenerated page that changes a figure fails here until the text quoting it follows.
+/// Returns what is not.
+fn unquoted(doc: &str, unit: &str, figs: Vec<String>) -> Option<String> {
     if figs.is_empty() {
         return None;
     }
-    let pages = linked_results_pages(doc, unit);
-    let missing: Vec<String> = figs.into_iter().filter(|f| !pages.iter().any(|p| on_page(f, p))).collect();
+    let sources = linked_sources(doc, unit);
+    let quoted = |f: &String| {
+        sources.iter().any(|(path, text)| {
+            on_page(f, text) || (!is_results_page(path) && on_page(&f.replace('×', "x"), text))
+        })
+    };
+    let missing: Vec<String> = figs.into_iter().filter(|f| !quoted(f)).collect();
     (!missing.is_empty()).then(|| {
-        let why = if pages.is_empty() { "links no results page" } else { "not on the pages it links" };
+        let why = if sources.is_empty() { "links no results page" } else { "not on the pages it links" };
         format!("{doc}: {missing:?} {why}:\n{unit}\n")
     })
 }
@@ -218,7 +249,7 @@ fn readme_findings_quote_the_pages_they_link() {
     for b in bullets {
         assert!(!linked_results_pages("README.md", b).is_empty(), "a finding without a results page: {b}");
         assert!(!figures(b).is_empty(), "a finding without a figure: {b}");
-        if let Some(e) = unquoted("README.md", b, figures) {
+        if let Some(e) = unquoted("README.md", b, figures(b)) {
             panic!("{e}");
         }
     }
@@ -267,25 +298,113 @@ fn units(text: &str) -> Vec<String> {
 /// paragraph fails the test, so the list only shrinks.
 const NOT_YET_QUOTED: &[(&str, &str, &str)] = &[];
 
-/// No hand-typed figures in the notes: every figure in docs/numerics.md and in each device's
-/// results README is on a generated page the paragraph (list item, table caption) links.
-#[test]
-fn the_notes_quote_the_pages_they_link() {
-    let mut docs = vec!["docs/numerics.md".to_string()];
-    for device in std::fs::read_dir(crate::common::root().join("docs/results")).unwrap().flatten() {
-        if device.path().join("README.md").is_file() {
-            docs.push(format!("docs/results/{}/README.md", device.file_name().to_string_lossy()));
+/// Numbers the tokenizer takes for figures that are not measurements, per unit (page, how the
+/// unit starts, the tokens, why): citation years, product and seed names, settings of a config.
+/// Only the listed tokens are let through (each must still be in the unit); any other figure in
+/// the same unit is checked. Constants of the code are written as inline code instead, which
+/// the tokenizer skips.
+type NotMeasured = (&'static str, &'static str, &'static [&'static str], &'static str);
+const NOT_MEASURED: &[NotMeasured] = &[
+    ("docs/architecture-and-file-map.md", "- **Sampling**", &["2020"], "a citation's year"),
+    ("docs/methods.md", "**Regeneration** (Laine", &["2010"], "a citation's year"),
+    ("docs/outputs.md", "`\"schema\": \"wavetrace-experiment-report/1\"`", &["3339"], "the name of RFC 3339"),
+    ("docs/outputs.md", "Tidy tables of `report.json`", &["4180"], "the name of RFC 4180"),
+    ("docs/testing-and-correctness.md", "- `tests/suite/tidy.rs`", &["4180"], "the name of RFC 4180"),
+    ("docs/methods.md", "A wavefront that beats the seeds'", &["2009", "2010"], "citation years"),
+    (
+        "docs/methods.md",
+        "*Predictions* from",
+        &["002"],
+        "the name of seed 002, whose setting the last row takes",
+    ),
+    (
+        "docs/methods.md",
+        "At 32 lanes the naive megakernel",
+        &["002", "1070"],
+        "names: seed 002 and the GTX 1070 it was profiled on",
+    ),
+    (
+        "docs/cli-and-configs.md",
+        "`experiments/` holds the configs",
+        &["104", "180", "135", "100", "500", "512", "256", "135", "1024", "176", "432", "1024", "536", "108"],
+        "each config's settings (spp, thread counts) and the runs it plans (what `--list` prints)",
+    ),
+];
+
+/// The [`NOT_MEASURED`] entries for `unit` on page `doc`: those whose start it starts with
+/// and whose every token it holds (a table's unit starts with its caption, as the caption does).
+fn not_measured(doc: &str, unit: &str) -> Vec<&'static NotMeasured> {
+    let figs = quoted_figures(unit);
+    NOT_MEASURED
+        .iter()
+        .filter(|(d, start, tokens, _)| {
+            *d == doc && unit.starts_with(start) && tokens.iter().all(|t| figs.iter().any(|f| f == t))
+        })
+        .collect()
+}
+
+/// The figures of `unit` (on page `doc`) the check below asks a source for: [`quoted_figures`]
+/// less the tokens of the unit's [`NOT_MEASURED`] entries.
+fn measured_figures(doc: &str, unit: &str) -> Vec<String> {
+    let mut figs = quoted_figures(unit);
+    for (_, _, tokens, _) in not_measured(doc, unit) {
+        for t in *tokens {
+            let i = figs.iter().position(|f| f == t).unwrap();
+            figs.remove(i);
         }
     }
+    figs
+}
+
+/// The pages of notes the check below reads: README.md and every Markdown page under docs/,
+/// except the generated results pages themselves (`docs/results/<device>/<name>.md`, which are
+/// the sources; each device's README there is notes and is read).
+fn notes() -> Vec<String> {
+    fn walk(root: &Path, rel: &str, out: &mut Vec<String>) {
+        for e in std::fs::read_dir(root.join(rel)).unwrap().flatten() {
+            let name = format!("{rel}/{}", e.file_name().to_string_lossy());
+            if e.path().is_dir() {
+                walk(root, &name, out);
+            } else if name.ends_with(".md") {
+                out.push(name);
+            }
+        }
+    }
+    let root = crate::common::root();
+    let mut out = vec!["README.md".to_string()];
+    walk(&root, "docs", &mut out);
+    out.retain(|d| !is_results_page(d));
+    out.sort();
+    out
+}
+
+/// Whether `doc` (relative to the root) is a generated results page.
+fn is_results_page(doc: &str) -> bool {
+    doc.starts_with("docs/results/") && doc.ends_with(".md") && !doc.ends_with("/README.md")
+}
+
+/// No hand-typed figures in the notes: every figure in README.md and in each page under docs/
+/// (see [`notes`]) is on a generated page, or an accepted source, that the paragraph (list
+/// item, table caption) links.
+#[test]
+fn the_notes_quote_the_pages_they_link() {
+    let docs = notes();
+    for want in ["README.md", "docs/numerics.md", "docs/methods.md", "docs/results/llvmpipe-2core/README.md"]
+    {
+        assert!(docs.iter().any(|d| d == want), "{want} is not read: {docs:?}");
+    }
+    assert!(!docs.iter().any(|d| d == "docs/results/llvmpipe-2core/quick.md"), "{docs:?}");
     let mut errors = Vec::new();
     let mut skipped = Vec::new();
+    let mut allowed = Vec::new();
     for doc in &docs {
         for unit in units(&read(doc)) {
             if let Some(s) = NOT_YET_QUOTED.iter().find(|(d, start, _)| d == doc && unit.starts_with(start)) {
                 skipped.push(s.1);
                 continue;
             }
-            errors.extend(unquoted(doc, &unit, quoted_figures));
+            allowed.extend(not_measured(doc, &unit).into_iter().map(|e| e.1));
+            errors.extend(unquoted(doc, &unit, measured_figures(doc, &unit)));
         }
     }
     for (doc, start, why) in NOT_YET_QUOTED {
@@ -294,17 +413,68 @@ fn the_notes_quote_the_pages_they_link() {
             "{doc}: no paragraph starts with {start:?} any more ({why}): drop it"
         );
     }
+    for (doc, start, _, why) in NOT_MEASURED {
+        assert!(
+            allowed.contains(start),
+            "{doc}: no unit starts with {start:?} and holds its tokens ({why}): fix it"
+        );
+    }
     assert!(errors.is_empty(), "figures not quoted from a linked results page:\n{}", errors.join("\n"));
+}
+
+/// Each accepted source is committed, lies in a device's results directory, and that
+/// directory's row in the device's PROVENANCE.md names the script and the build.
+#[test]
+fn accepted_sources_record_their_provenance() {
+    for (path, why) in ACCEPTED_SOURCES {
+        assert!(!read(path).is_empty(), "{path}: empty");
+        let rest = path.strip_prefix("experiments/results/").unwrap_or_else(|| panic!("{path} ({why})"));
+        let mut parts = rest.split('/');
+        let (device, dir) = (parts.next().unwrap(), parts.next().unwrap());
+        let provenance = read(&format!("experiments/results/{device}/PROVENANCE.md"));
+        let row = provenance
+            .lines()
+            .find(|l| l.starts_with(&format!("| `{dir}/` |")))
+            .unwrap_or_else(|| panic!("{path}: no row for `{dir}/` in {device}'s PROVENANCE.md"));
+        assert!(row.contains("scripts/") && row.contains("build of"), "{path}: {row}");
+    }
+}
+
+/// The check fails on a hand-typed figure: one on no page, on a page the unit does not link,
+/// or in a unit that links none; it passes on a figure the linked page or accepted source holds.
+#[test]
+fn a_hand_typed_figure_fails_the_check() {
+    let quick = read("docs/results/llvmpipe-2core/quick.md");
+    let figure = quoted_figures(&quick).into_iter().find(|f| f.ends_with('×')).expect("a ratio on quick.md");
+    let link = "([quick](results/llvmpipe-2core/quick.md))";
+    let check = |unit: &str| unquoted("docs/methods.md", unit, measured_figures("docs/methods.md", unit));
+    assert_eq!(check(&format!("It ran at {figure} {link}.")), None);
+    assert!(check(&format!("It ran at 0.123456× {link}.")).is_some_and(|e| e.contains("not on the pages")));
+    let other = "([pool](results/llvmpipe-2core/pool_memory_640x360.md))";
+    assert!(check(&format!("It ran at {figure} {other}, and −9.8765% {link}.")).is_some());
+    assert!(check(&format!("It ran at {figure}.")).is_some_and(|e| e.contains("links no results page")));
+    // A device's README of results is notes, not a source; a figure in inline code is not checked.
+    assert!(check(&format!("It ran at {figure} ([notes](results/llvmpipe-2core/README.md)).")).is_some());
+    assert_eq!(check(&format!("It ran at `{figure}`.")), None);
+    // An accepted source: its `2.13x` is quoted as `2.13×`; not linked, it is no source.
+    let summary = "([summary](../experiments/results/llvmpipe-2core/simd_width/summary.md))";
+    assert_eq!(check(&format!("Predicted 2.13× and 21.33% {summary}.")), None);
+    assert!(check(&format!("Predicted 2.13× and 21.34% {summary}.")).is_some());
+    assert!(check("Predicted 2.13× and 21.33%.").is_some());
+    // A NOT_MEASURED entry lets its own tokens through, in its own unit only.
+    let unit = "A wavefront that beats the seeds' megakernel (Aila & Laine 2009; 2010) took 0.4321 s.";
+    assert_eq!(measured_figures("docs/methods.md", unit), ["0.4321"]);
+    assert_eq!(measured_figures("docs/numerics.md", unit), ["2009", "2010", "0.4321"]);
 }
 
 /// The tokenizer catches what a hand-typed figure looks like and leaves settings alone.
 #[test]
 fn quoted_figures_are_told_from_settings() {
     let text = "took 0.4890 s (1.12×, 2× less; 55.7% busy, 6947 self-hits, 0.89–1.10×) at scale 1e-3, \
-                16 spp, `d3800bd` and `--tail-threshold 0.05`, 2.762e-2 **2.450e-5**.";
+                16 spp, `d3800bd` and `--tail-threshold 0.05`, 2.762e-2 **2.450e-5**, −1.5% to +3%.";
     assert_eq!(
         quoted_figures(text),
-        ["0.4890", "1.12×", "2×", "55.7%", "6947", "0.89", "1.10×", "2.762e-2", "2.450e-5"]
+        ["0.4890", "1.12×", "2×", "55.7%", "6947", "0.89", "1.10×", "2.762e-2", "2.450e-5", "1.5%", "3%"]
     );
     assert!(on_page("1.12×", "| 1.12× |") && !on_page("1.1", "| 1.12× |") && !on_page("12", "0.12"));
     assert!(on_page("100.0%", "lambertian 100.0%,") && !on_page("100", "lambertian 100.0%,"));
