@@ -14,6 +14,7 @@
 use super::lockstep::{Lane, SlotCounts};
 use super::megakernel::bounce;
 use super::paths::Paths;
+use super::wavefront::regenerating_subset;
 use crate::camera::CameraFrame;
 use crate::cpu::camera::Camera;
 use crate::gpu::dispatch_plan;
@@ -35,12 +36,18 @@ pub struct Launch {
     pub paths_per_thread: Option<u32>,
     /// Subgroups that run at once (None: every subgroup of the launch).
     pub resident: Option<u32>,
+    /// The sampled subset: 1 replays the whole frame; k > 1 the first ⌈spp / k⌉ samples of every
+    /// pixel as a job of its own (`wavefront::regenerating_subset`, the threads standing for the
+    /// pool).
+    pub every: u64,
 }
 
 /// The replay at each width: slot counts and trace dispatches (launches).
 pub struct Replayed {
     pub counts: Vec<(u32, SlotCounts)>,
     pub dispatches: usize,
+    /// Samples replayed (all of the frame's without a subset).
+    pub samples_replayed: u64,
 }
 
 /// Replays the regenerating megakernel at every width in `widths`.
@@ -54,16 +61,24 @@ pub fn replay(
     if launch.threads == 0 || launch.workgroup_size == 0 || launch.resident == Some(0) {
         bail!("replay of the regenerating megakernel: threads, workgroup size and resident subgroups must be at least 1");
     }
+    if launch.every == 0 {
+        bail!("--every must be at least 1 (1: the whole frame)");
+    }
     let camera = Camera::<f32>::new(frame);
     let threads = launch.threads.div_ceil(launch.workgroup_size) * launch.workgroup_size;
+    // The threads a launch of the whole frame runs, which the subset keeps.
+    let job_threads = (threads as u64).min((settings.sample_count()).next_multiple_of(launch.workgroup_size as u64));
+    let settings = &regenerating_subset(settings, launch.every, job_threads, "--every")?;
     let per_thread = launch.paths_per_thread.map_or(u64::MAX, |p| p.max(1) as u64);
     // As src/gpu/megakernel.rs: a dispatch holds no more samples than its threads can take.
     let budget = launch.samples_per_dispatch.min((threads as u64).saturating_mul(per_thread));
     let plan = dispatch_plan::plan(settings.width * settings.height, settings.spp, budget, u32::MAX);
     let mut counts: Vec<SlotCounts> = widths.iter().map(|_| SlotCounts::new()).collect();
     let mut dispatches = 0;
+    let mut samples_replayed = 0;
     for d in &plan {
         let n = d.pixel_count as u64 * d.sample_count as u64;
+        samples_replayed += n;
         let paths = Paths::record(scene, &camera, settings, d, 0..n);
         let launched = threads.min((n as u32).next_multiple_of(launch.workgroup_size));
         let launches = n.div_ceil(launched as u64 * per_thread.min(n));
@@ -83,7 +98,7 @@ pub fn replay(
             .collect();
         counts.iter_mut().zip(&per_width).for_each(|(a, b)| a.add(b));
     }
-    Ok(Replayed { counts: widths.iter().copied().zip(counts).collect(), dispatches })
+    Ok(Replayed { counts: widths.iter().copied().zip(counts).collect(), dispatches, samples_replayed })
 }
 
 /// A persistent subgroup's lanes: the sample each traces (None: none live), paths taken this

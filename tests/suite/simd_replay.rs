@@ -108,19 +108,19 @@ fn assert_replay_matches(label: &str, method: Method, opts: &MethodOptions) {
     }
     for (scene, scene_data, nee) in validation_scenes() {
         let s = settings(nee);
-        let device = render(method, &scene_data, &s, opts, Some(ctx), &|_| {}).unwrap().simd.unwrap();
+        let out = render(method, &scene_data, &s, opts, Some(ctx), &|_| {}).unwrap();
+        let device = out.simd.unwrap();
         let (packed, frame) = wavetrace::method::prepare(method, &scene_data, &s, opts).unwrap();
         let mk = &opts.megakernel;
         let counts = match (method, label) {
             (Method::Wavefront, _) => {
-                let launch = wavefront::Launch {
-                    pool: opts.wavefront.pool_size.unwrap_or(wavetrace::gpu::wavefront::DEFAULT_POOL),
-                    compaction: opts.wavefront.compaction,
-                    shade: opts.wavefront.shade,
-                    schedule: opts.wavefront.schedule,
-                    queue_order: opts.wavefront.queue_order,
-                };
-                wavefront::replay(&packed, &frame, &s, &[w], launch).unwrap().counts
+                let launch = wavefront::Launch::from_options(&opts.wavefront);
+                let r = wavefront::replay(&packed, &frame, &s, &[w], launch).unwrap();
+                // The host's schedule replayed: the same iterations, tail passes and paths.
+                let d = out.schedule.unwrap();
+                let replayed = (r.iterations, r.tail_passes, r.tail_paths);
+                assert_eq!((d.iterations, d.tail_passes, d.tail_paths), replayed, "{scene} {label}: schedule");
+                r.counts
             }
             (_, "regenerate") => {
                 let launch = regenerate::Launch {
@@ -129,6 +129,7 @@ fn assert_replay_matches(label: &str, method: Method, opts: &MethodOptions) {
                     workgroup_size: mk.workgroup_size,
                     paths_per_thread: wavetrace::gpu::loop_limit::paths_per_thread(ctx, &packed, &s),
                     resident: Some(LLVMPIPE_RESIDENT),
+                    every: 1,
                 };
                 regenerate::replay(&packed, &frame, &s, &[w], launch).unwrap().counts
             }
@@ -214,6 +215,51 @@ fn regenerating_wavefront_replay_matches_the_device() {
     }
 }
 
+/// The regenerating wavefront's megakernel tail (`--tail megakernel`): the host's checks after
+/// every iteration once every sample has started, the tail pass over the ray queue when the live
+/// paths fall to the threshold (its lanes running their paths to the end in lockstep, counted in
+/// the `megakernel_*` slots), and the flushes of the oldest chunks' last paths where the sample
+/// ring binds (2 pools of 64 for 768 samples, a check every 2 iterations: several flushes per
+/// scene), whose slots stay on the ray queue as idle entries until the next intersect. Checked
+/// with the device's iterations, tail passes and tail paths, exactly.
+#[test]
+fn regenerating_wavefront_tail_replay_matches_the_device() {
+    use wavetrace::gpu::wavefront::{Compaction, QueueOrder, Tail};
+    let mut opts = MethodOptions { instrument: true, ..Default::default() };
+    opts.wavefront.compaction = Compaction::Scan;
+    opts.wavefront.schedule = Schedule::Regenerate;
+    opts.wavefront.tail = Tail::Megakernel;
+    // Half the pool: large tails (up to 64 paths of a pool of 128).
+    opts.wavefront.tail_threshold = 0.5;
+    opts.wavefront.pool_size = Some(128);
+    opts.wavefront.queue_order = QueueOrder::Arrival;
+    assert_replay_matches("wavefront regenerate, tail", Method::Wavefront, &opts);
+    opts.wavefront.pool_size = Some(64);
+    opts.wavefront.chunk_pools = 2;
+    opts.wavefront.sync_every = 2;
+    opts.wavefront.queue_order = QueueOrder::SlotDepth;
+    assert_replay_matches("wavefront regenerate, tail and flushes, slot-depth order", Method::Wavefront, &opts);
+}
+
+/// The sample ring's refill limit (`--chunk-pools`), moved by the host at its checks: a pool of
+/// 32 for 768 samples, so the default ring of 8 pools holds a third of the share and refills
+/// stop at its end until the oldest chunks are complete and added.
+#[test]
+fn regenerating_wavefront_ring_replay_matches_the_device() {
+    use wavetrace::gpu::wavefront::{Compaction, QueueOrder};
+    let mut opts = MethodOptions { instrument: true, ..Default::default() };
+    opts.wavefront.compaction = Compaction::Scan;
+    opts.wavefront.schedule = Schedule::Regenerate;
+    opts.wavefront.pool_size = Some(32);
+    for (order, label) in [
+        (QueueOrder::Arrival, "wavefront regenerate, ring binds"),
+        (QueueOrder::Slot, "wavefront regenerate, ring binds, slot order"),
+    ] {
+        opts.wavefront.queue_order = order;
+        assert_replay_matches(label, Method::Wavefront, &opts);
+    }
+}
+
 /// `wavetrace replay` refuses widths no subgroup has, saying why, and runs without a GPU.
 #[test]
 fn replay_cli_refuses_bad_widths() {
@@ -256,6 +302,7 @@ fn regenerating_with_a_thread_per_sample_replays_as_the_naive_megakernel() {
         workgroup_size: 64,
         paths_per_thread: None,
         resident: None,
+        every: 1,
     };
     let samples = s.sample_count() as u32;
     let same = regenerate::replay(&packed, &frame, &s, &widths, launch(samples)).unwrap();
@@ -279,7 +326,14 @@ fn replay_cli_refuses_bad_options_and_writes_every_method() {
             .unwrap()
     };
     for (bad, says) in [
-        (&["--every", "4"][..], "--methods megakernel or --every 1"),
+        // The regenerating methods' subset takes whole samples of every pixel: at most the spp.
+        (&["--every", "4"][..], "give --every of at most 1"),
+        (&["--every", "0"][..], "--every"),
+        (&["--tail-threshold", "0"][..], "--tail-threshold must be a fraction of the pool in (0, 1]"),
+        (&["--tail-threshold", "1.5"][..], "--tail-threshold must be a fraction of the pool in (0, 1]"),
+        (&["--tail", "megakernel", "--methods", "wavefront"][..], "needs --methods wavefront-regenerate"),
+        (&["--chunk-pools", "0"][..], "--chunk-pools must be in"),
+        (&["--sync-every", "0"][..], "--sync-every must be in"),
         (&["--paths-per-thread", "0"][..], "--paths-per-thread"),
         (&["--paths-per-thread", "many"][..], "`llvmpipe`"),
         (&["--methods", "megakernel,bogus"][..], "bogus"),
