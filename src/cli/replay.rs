@@ -85,11 +85,12 @@ pub struct ReplayArgs {
         default_value = "megakernel,regenerate,wavefront,wavefront-regenerate"
     )]
     pub methods: Vec<ReplayMethod>,
-    /// Replay a sampled subset of about 1/N of the frame (1: all of it), drawn per method: the
-    /// naive megakernel one block of 128 invocations in N; the wavefront (waves) one whole wave
-    /// in N, the offset turning by one at each pass over the image; the regenerating methods the
-    /// first spp/N (rounded up) samples of every pixel as a job of its own, which must hold at
-    /// least 8 pools (persistent thread sets), so N is at most the spp.
+    /// Replay a sampled subset of the frame (1: all of it), drawn per method: the naive
+    /// megakernel one block of 128 invocations in N and the wavefront (waves) one whole wave in
+    /// N, the offset turning by one at each pass over the image; the regenerating methods the
+    /// first spp/N (rounded up) samples of every pixel and twice as many, each as a job of its
+    /// own, extrapolated to the frame (their difference cancels the start and the drain); the
+    /// shorter must hold at least 8 pools (persistent thread sets) and N be at most the spp.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
     pub every: u64,
     /// Megakernel threads per workgroup (the device's dispatch shape).

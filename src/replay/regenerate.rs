@@ -11,7 +11,7 @@
 //! a GPU that holds every thread at once, the driver's worker threads for llvmpipe, which runs
 //! a workgroup's subgroups one after the other, each to its end (no barriers to switch at).
 
-use super::lockstep::{Lane, SlotCounts};
+use super::lockstep::{extrapolate, Lane, SlotCounts};
 use super::megakernel::bounce;
 use super::paths::Paths;
 use super::wavefront::regenerating_subset;
@@ -36,9 +36,9 @@ pub struct Launch {
     pub paths_per_thread: Option<u32>,
     /// Subgroups that run at once (None: every subgroup of the launch).
     pub resident: Option<u32>,
-    /// The sampled subset: 1 replays the whole frame; k > 1 the first ⌈spp / k⌉ samples of every
-    /// pixel as a job of its own (`wavefront::regenerating_subset`, the threads standing for the
-    /// pool).
+    /// The sampled subset: 1 replays the whole frame; k > 1 two prefixes of ⌈spp / k⌉ and twice
+    /// as many samples of every pixel, each as a job of its own, extrapolated to the frame
+    /// (`wavefront::regenerating_subset`, the threads standing for the pool).
     pub every: u64,
 }
 
@@ -64,11 +64,43 @@ pub fn replay(
     if launch.every == 0 {
         bail!("--every must be at least 1 (1: the whole frame)");
     }
+    let threads = launch.threads.div_ceil(launch.workgroup_size) * launch.workgroup_size;
+    // The threads a launch of the whole frame runs: the subset's prefixes must hold several
+    // such sets of samples.
+    let job_threads =
+        (threads as u64).min((settings.sample_count()).next_multiple_of(launch.workgroup_size as u64));
+    let short = regenerating_subset(settings, launch.every, job_threads, "--every")?;
+    if 2 * short.spp as u64 >= settings.spp as u64 {
+        // The two prefixes would hold the whole frame: replay it.
+        return replay_job(scene, frame, settings, widths, launch);
+    }
+    let long = RenderSettings { spp: 2 * short.spp, ..settings.clone() };
+    let a = replay_job(scene, frame, &short, widths, launch)?;
+    let b = replay_job(scene, frame, &long, widths, launch)?;
+    let f = (settings.sample_count() - short.sample_count()) as f64
+        / (long.sample_count() - short.sample_count()) as f64;
+    Ok(Replayed {
+        counts: a
+            .counts
+            .iter()
+            .zip(&b.counts)
+            .map(|((w, x), (_, y))| (*w, SlotCounts::extrapolate(x, y, f)))
+            .collect(),
+        dispatches: extrapolate(a.dispatches as u64, b.dispatches as u64, f) as usize,
+        samples_replayed: a.samples_replayed + b.samples_replayed,
+    })
+}
+
+/// [`replay`] of the whole of `settings`' frame.
+fn replay_job(
+    scene: &PackedScene,
+    frame: &CameraFrame,
+    settings: &RenderSettings,
+    widths: &[u32],
+    launch: Launch,
+) -> Result<Replayed> {
     let camera = Camera::<f32>::new(frame);
     let threads = launch.threads.div_ceil(launch.workgroup_size) * launch.workgroup_size;
-    // The threads a launch of the whole frame runs, which the subset keeps.
-    let job_threads = (threads as u64).min((settings.sample_count()).next_multiple_of(launch.workgroup_size as u64));
-    let settings = &regenerating_subset(settings, launch.every, job_threads, "--every")?;
     let per_thread = launch.paths_per_thread.map_or(u64::MAX, |p| p.max(1) as u64);
     // As src/gpu/megakernel.rs: a dispatch holds no more samples than its threads can take.
     let budget = launch.samples_per_dispatch.min((threads as u64).saturating_mul(per_thread));

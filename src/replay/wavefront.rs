@@ -17,7 +17,7 @@
 //! [`Wave::regenerate`]: the host's checks every `--sync-every` iterations, the sample ring's
 //! refill limit they move and the megakernel tail (`--tail megakernel`), as the host runs them.
 
-use super::lockstep::{slot, traverse, Lane, SlotCounts};
+use super::lockstep::{extrapolate, slot, traverse, Lane, SlotCounts};
 use super::megakernel::bounce;
 use super::paths::Paths;
 use super::recorder::{is_hit, is_step, CLOSEST, SHADOW};
@@ -41,9 +41,9 @@ use std::collections::BTreeMap;
 /// device.
 pub const TAIL_PASS: &str = "tail";
 
-/// The shortest regenerating job the sampled subset (`every` > 1) replays, in pools: long enough
-/// that the start (a full pool at once) and the drain (the last pool's paths ending) weigh
-/// little beside the steady state between them.
+/// The shortest prefix the regenerating subset (`every` > 1) replays, in pools: long enough
+/// that the job reaches its steady state between its start (a full pool at once) and its drain
+/// (the last pool's paths ending), which the subset's two prefixes must share to cancel.
 pub const MIN_SUBSET_POOLS: u64 = 8;
 
 /// What the replay simulates of the wavefront's launch.
@@ -152,12 +152,23 @@ pub fn subset(plan: &[DispatchParams], every: u64) -> Vec<usize> {
     out
 }
 
-/// The regenerating subset for `every` = k: the first ⌈spp / k⌉ samples of every pixel, replayed
-/// as a job of their own (the frame at that spp: the same paths, sample for sample), with the
-/// full job's pool and queue order. Whole samples of every pixel keep the image's regions in
-/// proportion; the job must hold [`MIN_SUBSET_POOLS`] pools so that its start and drain weigh
-/// little. `what`: the option's name in errors.
-pub fn regenerating_subset(settings: &RenderSettings, every: u64, pool: u64, what: &str) -> Result<RenderSettings> {
+/// The regenerating methods' subset for `every` = k (1: the whole frame): the frame at
+/// ⌈spp / k⌉ samples per pixel (the same paths, sample for sample: the first samples of every
+/// pixel, so the image's regions keep their weight), the shorter of the two prefixes
+/// [`replay`] replays, each as a job of its own with the full job's pool and queue order; the
+/// other holds twice its samples. A prefix alone would weigh the job's start (a full pool at
+/// once) and drain (the last pool's paths ending) k times as much as the frame does; the
+/// difference of the two cancels them, and the frame's counts are the shorter's plus that
+/// difference scaled to the rest of the frame ([`SlotCounts::extrapolate`]). Refused where k
+/// exceeds the spp, or where the shorter prefix holds fewer than [`MIN_SUBSET_POOLS`] pools
+/// (`pool`: for the regenerating megakernel, its persistent threads). `what`: the option's name
+/// in errors.
+pub fn regenerating_subset(
+    settings: &RenderSettings,
+    every: u64,
+    pool: u64,
+    what: &str,
+) -> Result<RenderSettings> {
     if every <= 1 {
         return Ok(settings.clone());
     }
@@ -208,18 +219,90 @@ pub fn replay(
     if launch.tail == Tail::Megakernel && !regenerate {
         bail!("--tail megakernel finishes regenerated paths: it needs --schedule regenerate");
     }
-    let camera = Camera::<f32>::new(frame);
     // The full job's pool and queue order, whatever the subset.
     let pool = launch.pool.min(u32::try_from(settings.sample_count()).unwrap_or(u32::MAX));
     launch.queue_order.check(launch.compaction)?;
     let order = launch.queue_order.resolve(launch.schedule, launch.compaction, settings.sample_count(), pool);
-    let job = if regenerate {
-        regenerating_subset(settings, launch.every, pool as u64, "--every")?
-    } else {
-        settings.clone()
+    let job = Job { pool, order };
+    if !regenerate {
+        let plan =
+            shares(launch.schedule, settings.width * settings.height, settings.spp, pool, settings.max_depth);
+        return replay_shares(scene, frame, settings, widths, launch, job, &subset(&plan, launch.every));
+    }
+    let short = regenerating_subset(settings, launch.every, pool as u64, "--every")?;
+    let all = |s: &RenderSettings| {
+        let plan = shares(launch.schedule, s.width * s.height, s.spp, pool, s.max_depth);
+        (0..plan.len()).collect::<Vec<_>>()
     };
+    if 2 * short.spp as u64 >= settings.spp as u64 {
+        // The two prefixes would hold the whole frame: replay it.
+        return replay_shares(scene, frame, settings, widths, launch, job, &all(settings));
+    }
+    let long = RenderSettings { spp: 2 * short.spp, ..settings.clone() };
+    let a = replay_shares(scene, frame, &short, widths, launch, job, &all(&short))?;
+    let b = replay_shares(scene, frame, &long, widths, launch, job, &all(&long))?;
+    let f = (settings.sample_count() - short.sample_count()) as f64
+        / (long.sample_count() - short.sample_count()) as f64;
+    Ok(a.extrapolate(b, f))
+}
+
+/// The full job's pool and resolved queue order, which a subset keeps.
+#[derive(Clone, Copy, Debug)]
+pub struct Job {
+    pub pool: u32,
+    pub order: QueueOrder,
+}
+
+impl Replayed {
+    /// The frame's figures from two nested prefixes (`self` the shorter, `long` the other) by
+    /// [`SlotCounts::extrapolate`]; the dispatches, iterations and tail counts alike.
+    fn extrapolate(self, long: Replayed, f: f64) -> Replayed {
+        let x = |a: u64, b: u64| extrapolate(a, b, f);
+        let mut dispatches = BTreeMap::new();
+        for (pass, b) in &long.dispatches {
+            let a = self.dispatches.get(pass).copied().unwrap_or_default();
+            dispatches.insert(
+                pass.clone(),
+                Dispatches { recorded: x(a.recorded, b.recorded), empty: x(a.empty, b.empty) },
+            );
+        }
+        Replayed {
+            counts: self
+                .counts
+                .iter()
+                .zip(&long.counts)
+                .map(|((w, a), (_, b))| (*w, SlotCounts::extrapolate(a, b, f)))
+                .collect(),
+            dispatches,
+            waves: self.waves.max(long.waves),
+            waves_replayed: self.waves_replayed + long.waves_replayed,
+            samples_replayed: self.samples_replayed + long.samples_replayed,
+            queue_order: self.queue_order,
+            iterations: x(self.iterations, long.iterations),
+            tail_passes: x(self.tail_passes, long.tail_passes),
+            tail_paths: x(self.tail_paths, long.tail_paths),
+        }
+    }
+}
+
+/// Replays the shares `chosen` (indices into `shares(…)` of `settings`) of the wavefront with
+/// the pool and queue order of `job`, at every width in `widths`: [`replay`]'s work, and the
+/// way to replay a subset of one's own (the tests' deliberately biased one).
+pub fn replay_shares(
+    scene: &PackedScene,
+    frame: &CameraFrame,
+    settings: &RenderSettings,
+    widths: &[u32],
+    launch: Launch,
+    job: Job,
+    chosen: &[usize],
+) -> Result<Replayed> {
+    let Job { pool, order } = job;
+    let regenerate = launch.schedule == Schedule::Regenerate;
+    let camera = Camera::<f32>::new(frame);
+    let job = settings;
     let plan = shares(launch.schedule, job.width * job.height, job.spp, pool, job.max_depth);
-    let chosen = if regenerate { (0..plan.len()).collect() } else { subset(&plan, launch.every) };
+    let chosen = chosen.to_vec();
     // As the host: every share's ring has the largest share's chunks (one pool) and at most
     // `chunk_pools` of them (the adapter's binding limit, which can only shrink the ring, is not
     // known here).
@@ -262,7 +345,15 @@ pub fn replay(
                 let mut s = ShareStats::default();
                 if regenerate {
                     let r = Ring { paths: n as u32, ..ring };
-                    s = wave.regenerate(pool as usize, r, host, job.max_depth, &kinds, launch.shade, shadow_pass)?;
+                    s = wave.regenerate(
+                        pool as usize,
+                        r,
+                        host,
+                        job.max_depth,
+                        &kinds,
+                        launch.shade,
+                        shadow_pass,
+                    )?;
                 } else {
                     wave.waves(job.max_depth, &kinds, launch.shade, shadow_pass);
                     s.iterations = job.max_depth as u64;
