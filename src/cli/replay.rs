@@ -89,8 +89,9 @@ pub struct ReplayArgs {
     /// megakernel one block of 128 invocations in N and the wavefront (waves) one whole wave in
     /// N, the offset turning by one at each pass over the image; the regenerating methods the
     /// first spp/N (rounded up) samples of every pixel and twice as many, each as a job of its
-    /// own, extrapolated to the frame (their difference cancels the start and the drain); the
-    /// shorter must hold at least 8 pools (persistent thread sets) and N be at most the spp.
+    /// own, extrapolated to the frame (their difference cancels the start and the drain; the
+    /// whole frame where they would cover it); the shorter must hold at least 8 pools
+    /// (persistent thread sets) and N be at most the spp.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
     pub every: u64,
     /// Megakernel threads per workgroup (the device's dispatch shape).

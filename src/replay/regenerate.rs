@@ -70,8 +70,7 @@ pub fn replay(
     let job_threads =
         (threads as u64).min((settings.sample_count()).next_multiple_of(launch.workgroup_size as u64));
     let short = regenerating_subset(settings, launch.every, job_threads, "--every")?;
-    if 2 * short.spp as u64 >= settings.spp as u64 {
-        // The two prefixes would hold the whole frame: replay it.
+    if short.spp == settings.spp {
         return replay_job(scene, frame, settings, widths, launch);
     }
     let long = RenderSettings { spp: 2 * short.spp, ..settings.clone() };

@@ -121,6 +121,9 @@ struct Host {
     threshold: f64,
 }
 
+/// One share's replay at one width: slot counts, dispatches per pass, what its schedule did.
+type ShareReplay = (SlotCounts, BTreeMap<String, Dispatches>, ShareStats);
+
 /// What one regenerating share's host loop did.
 #[derive(Default)]
 struct ShareStats {
@@ -159,8 +162,9 @@ pub fn subset(plan: &[DispatchParams], every: u64) -> Vec<usize> {
 /// other holds twice its samples. A prefix alone would weigh the job's start (a full pool at
 /// once) and drain (the last pool's paths ending) k times as much as the frame does; the
 /// difference of the two cancels them, and the frame's counts are the shorter's plus that
-/// difference scaled to the rest of the frame ([`SlotCounts::extrapolate`]). Refused where k
-/// exceeds the spp, or where the shorter prefix holds fewer than [`MIN_SUBSET_POOLS`] pools
+/// difference scaled to the rest of the frame ([`SlotCounts::extrapolate`]). The frame itself
+/// where the two prefixes would hold all of it (2⌈spp / k⌉ ≥ spp); refused where k exceeds the
+/// spp, or where the shorter prefix holds fewer than [`MIN_SUBSET_POOLS`] pools
 /// (`pool`: for the regenerating megakernel, its persistent threads). `what`: the option's name
 /// in errors.
 pub fn regenerating_subset(
@@ -181,6 +185,10 @@ pub fn regenerating_subset(
         );
     }
     let spp = (settings.spp as u64).div_ceil(every) as u32;
+    if 2 * spp as u64 >= settings.spp as u64 {
+        // The two prefixes would hold the whole frame: it is replayed whole.
+        return Ok(settings.clone());
+    }
     let sub = RenderSettings { spp, ..settings.clone() };
     if sub.sample_count() < MIN_SUBSET_POOLS * pool {
         bail!(
@@ -234,8 +242,7 @@ pub fn replay(
         let plan = shares(launch.schedule, s.width * s.height, s.spp, pool, s.max_depth);
         (0..plan.len()).collect::<Vec<_>>()
     };
-    if 2 * short.spp as u64 >= settings.spp as u64 {
-        // The two prefixes would hold the whole frame: replay it.
+    if short.spp == settings.spp {
         return replay_shares(scene, frame, settings, widths, launch, job, &all(settings));
     }
     let long = RenderSettings { spp: 2 * short.spp, ..settings.clone() };
@@ -243,7 +250,9 @@ pub fn replay(
     let b = replay_shares(scene, frame, &long, widths, launch, job, &all(&long))?;
     let f = (settings.sample_count() - short.sample_count()) as f64
         / (long.sample_count() - short.sample_count()) as f64;
-    Ok(a.extrapolate(b, f))
+    let mut r = a.extrapolate(b, f);
+    r.waves = all(settings).len();
+    Ok(r)
 }
 
 /// The full job's pool and resolved queue order, which a subset keeps.
@@ -274,7 +283,7 @@ impl Replayed {
                 .map(|((w, a), (_, b))| (*w, SlotCounts::extrapolate(a, b, f)))
                 .collect(),
             dispatches,
-            waves: self.waves.max(long.waves),
+            waves: long.waves,
             waves_replayed: self.waves_replayed + long.waves_replayed,
             samples_replayed: self.samples_replayed + long.samples_replayed,
             queue_order: self.queue_order,
@@ -300,9 +309,8 @@ pub fn replay_shares(
     let Job { pool, order } = job;
     let regenerate = launch.schedule == Schedule::Regenerate;
     let camera = Camera::<f32>::new(frame);
-    let job = settings;
-    let plan = shares(launch.schedule, job.width * job.height, job.spp, pool, job.max_depth);
-    let chosen = chosen.to_vec();
+    let plan =
+        shares(launch.schedule, settings.width * settings.height, settings.spp, pool, settings.max_depth);
     // As the host: every share's ring has the largest share's chunks (one pool) and at most
     // `chunk_pools` of them (the adapter's binding limit, which can only shrink the ring, is not
     // known here).
@@ -316,17 +324,17 @@ pub fn replay_shares(
         threshold: launch.tail_threshold,
     };
     let kinds = scene.material_kinds_used();
-    let shadow_pass = job.nee && !scene.lights.is_empty();
+    let shadow_pass = settings.nee && !scene.lights.is_empty();
     let mut counts: Vec<SlotCounts> = widths.iter().map(|_| SlotCounts::new()).collect();
     let mut dispatches = BTreeMap::new();
     let mut stats = ShareStats::default();
     let mut samples_replayed = 0;
-    for &i in &chosen {
+    for &i in chosen {
         let d = &plan[i];
         let n = share(d) as u64;
         samples_replayed += n;
-        let paths = Paths::record(scene, &camera, &job, d, 0..n);
-        let per_width: Vec<Result<(SlotCounts, BTreeMap<String, Dispatches>, ShareStats)>> = widths
+        let paths = Paths::record(scene, &camera, settings, d, 0..n);
+        let per_width: Vec<Result<ShareReplay>> = widths
             .par_iter()
             .map(|&w| {
                 let lanes = paths.lanes();
@@ -349,14 +357,14 @@ pub fn replay_shares(
                         pool as usize,
                         r,
                         host,
-                        job.max_depth,
+                        settings.max_depth,
                         &kinds,
                         launch.shade,
                         shadow_pass,
                     )?;
                 } else {
-                    wave.waves(job.max_depth, &kinds, launch.shade, shadow_pass);
-                    s.iterations = job.max_depth as u64;
+                    wave.waves(settings.max_depth, &kinds, launch.shade, shadow_pass);
+                    s.iterations = settings.max_depth as u64;
                 }
                 Ok((wave.counts, wave.dispatches, s))
             })
@@ -686,4 +694,30 @@ fn after_shadow(lane: &Lane) -> Option<u32> {
         }
     }
     lane.events.get(i).copied()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One wave in k, the offset turning per pass: over k passes every wave position (image
+    /// region) is drawn once, where a fixed offset would draw positions 0, k, 2k, … every time.
+    #[test]
+    fn the_wave_subset_turns_over_the_image() {
+        // 24 pixels, 4 spp, waves of 4 pixels: 6 waves per pass, 24 in all.
+        let plan = shares(Schedule::Waves, 24, 4, 4, 8);
+        assert_eq!(plan.len(), 24);
+        let drawn = subset(&plan, 3);
+        assert_eq!(drawn.len(), 8);
+        let mut per_region = [0; 6];
+        for &i in &drawn {
+            per_region[(plan[i].pixel_offset / 4) as usize] += 1;
+        }
+        // 4 passes of 6 waves, one in 3: passes 0..3 draw regions {0,3}, {2,5}, {1,4}, {0,3}.
+        assert_eq!(per_region, [2, 1, 1, 2, 1, 1]);
+        assert_eq!(subset(&plan, 1).len(), 24);
+        // One wave per pass (the pool holds the image): every k-th pass.
+        let whole = shares(Schedule::Waves, 24, 6, 24, 8);
+        assert_eq!(subset(&whole, 2), vec![0, 2, 4]);
+    }
 }

@@ -351,15 +351,21 @@ fn replay_cli_refuses_bad_options_and_writes_every_method() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success() && err.contains(says), "{bad:?}: {err}");
     }
-    // A regenerating subset too short to reach the steady state: 2 of 4 samples per pixel of an
-    // 8×8 frame, two pools of 64.
-    let out = std::process::Command::new(common::bin())
-        .args(["replay", "--scene", "three-spheres", "--width", "8", "--height", "8", "--spp", "4"])
-        .args(["--every", "2", "--methods", "wavefront-regenerate", "--pool-size", "64"])
-        .output()
-        .unwrap();
+    // A regenerating subset too short to reach the steady state: 2 of 8 samples per pixel of an
+    // 8×8 frame, two pools of 64; at --every 2 the two prefixes are the whole frame, replayed.
+    let regenerating = |every: &str| {
+        std::process::Command::new(common::bin())
+            .args(["replay", "--scene", "three-spheres", "--width", "8", "--height", "8", "--spp", "8"])
+            .args(["--every", every, "--methods", "wavefront-regenerate", "--pool-size", "64"])
+            .output()
+            .unwrap()
+    };
+    let out = regenerating("4");
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success() && err.contains("--every 2") && err.contains("too short"), "{err}");
+    assert!(!out.status.success() && err.contains("--every 4") && err.contains("too short"), "{err}");
+    let out = regenerating("2");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("\"samples_replayed\":512"));
     let json = std::env::temp_dir().join(format!("wavetrace-replay-{}.json", std::process::id()));
     let out = run(&["--simd-width", "8,32", "--threads", "16", "--json", json.to_str().unwrap()]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
