@@ -39,7 +39,7 @@ use std::collections::BTreeMap;
 /// The label of the megakernel tail's pass (`src/gpu/wavefront/tail.rs`'s stage): its dispatches
 /// are counted under it, its blocks in the `megakernel_*` slots (`work:megakernel`), as on the
 /// device.
-pub const TAIL_PASS: &str = "tail";
+pub const TAIL_PASS: &str = crate::gpu::label::TAIL;
 
 /// The shortest prefix the regenerating subset (`every` > 1) replays, in pools: long enough
 /// that the job reaches its steady state between its start (a full pool at once) and its drain
