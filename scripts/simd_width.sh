@@ -3,7 +3,8 @@
 # megakernel, wavefront per pass with waves and regenerating) at 8, 16, 32 and 64 lanes on the scenes the issue names, with
 # the software driver's measured frame time of each method beside the predicted speed-ups.
 # Written to experiments/results/<device>/simd_width/: per scene NAME.json/.txt (replay), NAME.svg
-# (efficiency against width), NAME.times.json (llvmpipe frame seconds); summary.md for all.
+# (efficiency against width), NAME.times.json (llvmpipe frame seconds); summary.md for all; and
+# replays without timings: sampled subsets (NAME-everyN) and the regenerating wavefront's tail.
 # The experiment runner renders methods and cannot replay, hence a script. The replay needs no
 # GPU; the timings are the software driver's (llvmpipe), not a GPU's.
 # Usage: scripts/simd_width.sh [BIN] [OUT]
@@ -39,8 +40,13 @@ scene mesh-box-nee --scene tests/scenes/mesh_box.json --width 100 --height 100 -
 scene spheres-64 --scene spheres-64 --width 160 --height 90 --spp 64
 # Seed 002's setting: 8 spheres tested in one loop (no BVH), 800x600.
 scene spheres-8-brute --scene spheres-8 --accel none --width 800 --height 600 --spp 16
-# The naive megakernel on one block in 16 (the sampled subset must give the same figure).
+# The naive megakernel on one block in 16, the wavefront on one wave in 4 (the sampled subsets
+# must give the same figures as the whole frame above).
 replay spheres-8-brute-every16 --methods megakernel --scene spheres-8 --accel none --width 800 --height 600 --spp 16 --every 16
+replay spheres-8-brute-every4 --methods wavefront --scene spheres-8 --accel none --width 800 --height 600 --spp 16 --every 4
+# The regenerating wavefront with its megakernel tail (the default threshold: 5% of the pool),
+# beside the same method without it in cornell-nee.json.
+replay cornell-nee-tail --methods wavefront-regenerate --tail megakernel --scene cornell --width 100 --height 100 --spp 64 --nee on
 
 # summary.md: per scene and method, replayed (predicted) figures beside llvmpipe's measured times.
 {

@@ -7,7 +7,7 @@ use crate::chart::{LineChart, Series};
 use crate::gpu::instrument::FRAME_KEY;
 use crate::gpu::megakernel::{MegakernelOptions, DEFAULT_THREADS_DISCRETE};
 use crate::gpu::schedule::Schedule;
-use crate::gpu::wavefront::{Compaction, QueueOrder, ShadePasses, DEFAULT_POOL};
+use crate::gpu::wavefront::{Compaction, QueueOrder, ShadePasses, Tail, WavefrontOptions, DEFAULT_POOL};
 use crate::replay::lockstep::SlotCounts;
 use crate::replay::{megakernel, regenerate, wavefront, width};
 use crate::scene::Scene;
@@ -51,7 +51,9 @@ impl ReplayMethod {
 
 #[derive(clap::Args, Debug)]
 #[command(
-    after_help = "Example:\n  wavetrace replay --scene rtiow-final --width 160 --height 90 --spp 64 --simd-width 8,16,32,64"
+    after_help = "Examples:\n  wavetrace replay --scene rtiow-final --width 160 --height 90 --spp 64 --simd-width 8,16,32,64\n  \
+                  wavetrace replay --scene cornell --nee on --width 100 --height 100 --spp 64 --methods wavefront-regenerate --pool-size 4096 --tail megakernel\n  \
+                  wavetrace replay --scene spheres-8 --accel none --width 800 --height 600 --spp 16 --methods megakernel,wavefront --pool-size 65536 --every 4"
 )]
 pub struct ReplayArgs {
     /// Built-in scene name or path to a scene JSON file.
@@ -83,8 +85,13 @@ pub struct ReplayArgs {
         default_value = "megakernel,regenerate,wavefront,wavefront-regenerate"
     )]
     pub methods: Vec<ReplayMethod>,
-    /// Naive megakernel: replay one block of 128 invocations in N (systematic sample of whole
-    /// blocks; 1: all). The other methods group paths across the whole dispatch: they need 1.
+    /// Replay a sampled subset of the frame (1: all of it), drawn per method: the naive
+    /// megakernel one block of 128 invocations in N and the wavefront (waves) one whole wave in
+    /// N, the offset turning by one at each pass over the image; the regenerating methods the
+    /// first spp/N (rounded up) samples of every pixel and twice as many, each as a job of its
+    /// own, extrapolated to the frame (their difference cancels the start and the drain; the
+    /// whole frame where they would cover it); the shorter must hold at least 8 pools
+    /// (persistent thread sets) and N be at most the spp.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
     pub every: u64,
     /// Megakernel threads per workgroup (the device's dispatch shape).
@@ -117,6 +124,22 @@ pub struct ReplayArgs {
     /// Wavefront: the queues' order, as `render` (`auto` resolved as the device resolves it).
     #[arg(long, value_enum, default_value_t = QueueOrder::Auto)]
     pub queue_order: QueueOrder,
+    /// Regenerating wavefront: iterations between the host's checks of the counters, as
+    /// `render` (when the refill limit moves and, with the tail, when it starts).
+    #[arg(long, default_value_t = WavefrontOptions::default().sync_every)]
+    pub sync_every: u32,
+    /// Regenerating wavefront: finish the last paths in one megakernel-style pass, as `render`
+    /// (its blocks count in the `megakernel_*` slots, its dispatches as `tail`).
+    #[arg(long, value_enum, default_value_t = WavefrontOptions::default().tail)]
+    pub tail: Tail,
+    /// Regenerating wavefront, --tail megakernel: the live fraction of the pool, in (0, 1],
+    /// below which the tail takes over.
+    #[arg(long, default_value_t = WavefrontOptions::default().tail_threshold)]
+    pub tail_threshold: f64,
+    /// Regenerating wavefront: pools of samples in the sample ring, whose refill limit the
+    /// host moves at its checks, as `render`.
+    #[arg(long, default_value_t = WavefrontOptions::default().chunk_pools)]
+    pub chunk_pools: u32,
     /// Write the figures as JSON here.
     #[arg(long)]
     pub json: Option<std::path::PathBuf>,
@@ -142,12 +165,12 @@ pub fn run(a: ReplayArgs) -> Result<()> {
     if a.workgroup_size == 0 {
         bail!("--workgroup-size must be at least 1");
     }
-    if a.every > 1 && a.methods.iter().any(|m| *m != ReplayMethod::Megakernel) {
-        bail!(
-            "--every {} samples blocks of the naive megakernel's dispatch; the regenerating megakernel and the \
-             wavefront group paths across the whole dispatch: give --methods megakernel or --every 1",
-            a.every
-        );
+    crate::gpu::wavefront::tail::check_threshold(a.tail_threshold)?;
+    crate::gpu::wavefront::schedule::check_sync_every(a.sync_every)?;
+    crate::gpu::wavefront::schedule::check_chunk_pools(a.chunk_pools)?;
+    let regenerating_wavefront = a.methods.contains(&ReplayMethod::WavefrontRegenerate);
+    if a.tail == Tail::Megakernel && !regenerating_wavefront {
+        bail!("--tail megakernel finishes regenerated paths: it needs --methods wavefront-regenerate");
     }
     // The paths the GPU methods trace: the scene in their render space, default options.
     let (packed, frame) =
@@ -206,30 +229,49 @@ pub fn run(a: ReplayArgs) -> Result<()> {
                     workgroup_size: a.workgroup_size,
                     paths_per_thread,
                     resident: a.resident_subgroups,
+                    every: a.every,
                 };
                 let r = regenerate::replay(&packed, &frame, &settings, &widths, launch)?;
                 let about = serde_json::json!({
                     "dispatches": r.dispatches, "threads": a.threads, "paths_per_thread": paths_per_thread,
-                    "resident_subgroups": a.resident_subgroups,
+                    "resident_subgroups": a.resident_subgroups, "every": a.every,
+                    "samples_replayed": r.samples_replayed,
                 });
                 (r.counts, about)
             }
             ReplayMethod::Wavefront | ReplayMethod::WavefrontRegenerate => {
                 let schedule =
                     if m == ReplayMethod::Wavefront { Schedule::Waves } else { Schedule::Regenerate };
+                let regenerate = schedule == Schedule::Regenerate;
                 let launch = wavefront::Launch {
                     pool: a.pool_size,
                     compaction,
                     shade: a.shade,
                     schedule,
                     queue_order: a.queue_order,
+                    sync_every: a.sync_every,
+                    tail: if regenerate { a.tail } else { Tail::Off },
+                    tail_threshold: a.tail_threshold,
+                    chunk_pools: a.chunk_pools,
+                    every: a.every,
                 };
                 let r = wavefront::replay(&packed, &frame, &settings, &widths, launch)?;
-                let about = serde_json::json!({
-                    "dispatches": r.dispatches, "shares": r.waves, "pool": a.pool_size,
+                let mut about = serde_json::json!({
+                    "dispatches": r.dispatches, "shares": r.waves, "shares_replayed": r.waves_replayed,
+                    "samples_replayed": r.samples_replayed, "every": a.every, "pool": a.pool_size,
                     "compaction": compaction, "shade": a.shade, "schedule": schedule,
-                    "queue_order": r.queue_order.name(),
+                    "queue_order": r.queue_order.name(), "iterations": r.iterations,
                 });
+                if regenerate {
+                    about["sync_every"] = a.sync_every.into();
+                    about["chunk_pools"] = a.chunk_pools.into();
+                    about["tail"] = serde_json::to_value(a.tail)?;
+                    if a.tail == Tail::Megakernel {
+                        about["tail_threshold"] = a.tail_threshold.into();
+                        about["tail_passes"] = r.tail_passes.into();
+                        about["tail_paths"] = r.tail_paths.into();
+                    }
+                }
                 (r.counts, about)
             }
         };

@@ -35,6 +35,30 @@ impl SlotCounts {
         }
     }
 
+    /// The counts of a whole frame estimated from two nested prefixes of it, each replayed as a
+    /// job of its own (the regenerating methods' subset): `short`'s counts plus `f` times what
+    /// `long` adds to them. Both jobs start alike and drain alike, so the difference is the
+    /// steady state's cost of the samples `long` adds, with start and drain cancelled; `f` is
+    /// the frame's samples beyond `short`'s over that difference's.
+    pub fn extrapolate(short: &SlotCounts, long: &SlotCounts, f: f64) -> SlotCounts {
+        let slots = short
+            .slots
+            .iter()
+            .zip(&long.slots)
+            .map(|(a, b)| {
+                let [lanes, groups, available] = std::array::from_fn(|k| extrapolate(a[k], b[k], f));
+                // An estimate: the active lanes can come out a little above those available
+                // where a slot runs nearly full, and a slot no subgroup reaches has none.
+                if groups == 0 || available == 0 {
+                    [0; 3]
+                } else {
+                    [lanes.min(available), groups, available]
+                }
+            })
+            .collect();
+        SlotCounts { slots }
+    }
+
     /// The figures the device reports, under the same keys: entry points, traversal steps,
     /// `work:<pass>` and the frame's `warp_execution_efficiency`.
     pub fn efficiencies(&self) -> Result<BTreeMap<String, SimdEfficiency>> {
@@ -48,6 +72,11 @@ impl SlotCounts {
         out.extend(instrument::work_weighted(&raw));
         Ok(out)
     }
+}
+
+/// `short + f × (long − short)`, rounded, at least 0 (see [`SlotCounts::extrapolate`]).
+pub fn extrapolate(short: u64, long: u64, f: f64) -> u64 {
+    (short as f64 + f * (long as f64 - short as f64)).round().max(0.0) as u64
 }
 
 /// One lane: its events and how far the replay has run them.

@@ -23,7 +23,8 @@ pub struct Launch {
     /// Most threads per dispatch (workgroups per dimension × workgroup size).
     pub max_threads: u32,
     /// Replay one block of MAX_WIDTH invocations in `every` (1: the whole frame): systematic
-    /// sampling of whole blocks, each replayed exactly, so a subgroup is never cut.
+    /// sampling of whole blocks, each replayed exactly, so a subgroup is never cut, the offset
+    /// turning by one at each pass over the image's pixels.
     pub every: u64,
 }
 
@@ -57,10 +58,16 @@ pub fn replay(
         .collect();
     let every = launch.every.max(1);
     let total = blocks.len() as u64;
+    // One block in `every`, the offset turning by one at each pass over the image (the sample
+    // number of the block's first invocation): where a pass holds a multiple of `every` blocks,
+    // a fixed offset would draw the same pixels at every pass.
+    let pass = |&(d, first): &(usize, u64)| plan[d].sample_start as u64 + first / plan[d].pixel_count as u64;
+    let drawn = |i: usize| (i as u64 + pass(&blocks[i])).is_multiple_of(every);
+    let replayed = (0..blocks.len()).filter(|&i| drawn(i)).count() as u64;
     let counts = blocks
         .par_iter()
         .enumerate()
-        .filter(|(i, _)| (*i as u64).is_multiple_of(every))
+        .filter(|(i, _)| drawn(*i))
         .map(|(_, &(d, first))| block(scene, &camera, settings, &plan[d], first, widths))
         .reduce(
             || widths.iter().map(|_| SlotCounts::new()).collect(),
@@ -73,7 +80,7 @@ pub fn replay(
         counts: widths.iter().copied().zip(counts).collect(),
         dispatches: plan.len(),
         blocks: total,
-        blocks_replayed: total.div_ceil(every),
+        blocks_replayed: replayed,
     }
 }
 

@@ -11,9 +11,10 @@
 //! a GPU that holds every thread at once, the driver's worker threads for llvmpipe, which runs
 //! a workgroup's subgroups one after the other, each to its end (no barriers to switch at).
 
-use super::lockstep::{Lane, SlotCounts};
+use super::lockstep::{extrapolate, Lane, SlotCounts};
 use super::megakernel::bounce;
 use super::paths::Paths;
+use super::wavefront::regenerating_subset;
 use crate::camera::CameraFrame;
 use crate::cpu::camera::Camera;
 use crate::gpu::dispatch_plan;
@@ -35,12 +36,18 @@ pub struct Launch {
     pub paths_per_thread: Option<u32>,
     /// Subgroups that run at once (None: every subgroup of the launch).
     pub resident: Option<u32>,
+    /// The sampled subset: 1 replays the whole frame; k > 1 two prefixes of ⌈spp / k⌉ and twice
+    /// as many samples of every pixel, each as a job of its own, extrapolated to the frame
+    /// (`wavefront::regenerating_subset`, the threads standing for the pool).
+    pub every: u64,
 }
 
 /// The replay at each width: slot counts and trace dispatches (launches).
 pub struct Replayed {
     pub counts: Vec<(u32, SlotCounts)>,
     pub dispatches: usize,
+    /// Samples replayed (all of the frame's without a subset).
+    pub samples_replayed: u64,
 }
 
 /// Replays the regenerating megakernel at every width in `widths`.
@@ -54,6 +61,43 @@ pub fn replay(
     if launch.threads == 0 || launch.workgroup_size == 0 || launch.resident == Some(0) {
         bail!("replay of the regenerating megakernel: threads, workgroup size and resident subgroups must be at least 1");
     }
+    if launch.every == 0 {
+        bail!("--every must be at least 1 (1: the whole frame)");
+    }
+    let threads = launch.threads.div_ceil(launch.workgroup_size) * launch.workgroup_size;
+    // The threads a launch of the whole frame runs: the subset's prefixes must hold several
+    // such sets of samples.
+    let job_threads =
+        (threads as u64).min((settings.sample_count()).next_multiple_of(launch.workgroup_size as u64));
+    let short = regenerating_subset(settings, launch.every, job_threads, "--every")?;
+    if short.spp == settings.spp {
+        return replay_job(scene, frame, settings, widths, launch);
+    }
+    let long = RenderSettings { spp: 2 * short.spp, ..settings.clone() };
+    let a = replay_job(scene, frame, &short, widths, launch)?;
+    let b = replay_job(scene, frame, &long, widths, launch)?;
+    let f = (settings.sample_count() - short.sample_count()) as f64
+        / (long.sample_count() - short.sample_count()) as f64;
+    Ok(Replayed {
+        counts: a
+            .counts
+            .iter()
+            .zip(&b.counts)
+            .map(|((w, x), (_, y))| (*w, SlotCounts::extrapolate(x, y, f)))
+            .collect(),
+        dispatches: extrapolate(a.dispatches as u64, b.dispatches as u64, f) as usize,
+        samples_replayed: a.samples_replayed + b.samples_replayed,
+    })
+}
+
+/// [`replay`] of the whole of `settings`' frame.
+fn replay_job(
+    scene: &PackedScene,
+    frame: &CameraFrame,
+    settings: &RenderSettings,
+    widths: &[u32],
+    launch: Launch,
+) -> Result<Replayed> {
     let camera = Camera::<f32>::new(frame);
     let threads = launch.threads.div_ceil(launch.workgroup_size) * launch.workgroup_size;
     let per_thread = launch.paths_per_thread.map_or(u64::MAX, |p| p.max(1) as u64);
@@ -62,8 +106,10 @@ pub fn replay(
     let plan = dispatch_plan::plan(settings.width * settings.height, settings.spp, budget, u32::MAX);
     let mut counts: Vec<SlotCounts> = widths.iter().map(|_| SlotCounts::new()).collect();
     let mut dispatches = 0;
+    let mut samples_replayed = 0;
     for d in &plan {
         let n = d.pixel_count as u64 * d.sample_count as u64;
+        samples_replayed += n;
         let paths = Paths::record(scene, &camera, settings, d, 0..n);
         let launched = threads.min((n as u32).next_multiple_of(launch.workgroup_size));
         let launches = n.div_ceil(launched as u64 * per_thread.min(n));
@@ -83,7 +129,7 @@ pub fn replay(
             .collect();
         counts.iter_mut().zip(&per_width).for_each(|(a, b)| a.add(b));
     }
-    Ok(Replayed { counts: widths.iter().copied().zip(counts).collect(), dispatches })
+    Ok(Replayed { counts: widths.iter().copied().zip(counts).collect(), dispatches, samples_replayed })
 }
 
 /// A persistent subgroup's lanes: the sample each traces (None: none live), paths taken this

@@ -14,21 +14,37 @@
 //! approach when subgroups append in dispatch order. With
 //! `--compaction off` every pass runs over the whole wave, one thread per path, and the lanes
 //! whose path is not in that pass's queue idle. `--schedule regenerate`: see
-//! [`Wave::regenerate`] (no megakernel tail; the sample ring's refill limit is not modelled).
+//! [`Wave::regenerate`]: the host's checks every `--sync-every` iterations, the sample ring's
+//! refill limit they move and the megakernel tail (`--tail megakernel`), as the host runs them.
 
-use super::lockstep::{slot, traverse, Lane, SlotCounts};
+use super::lockstep::{extrapolate, slot, traverse, Lane, SlotCounts};
+use super::megakernel::bounce;
 use super::paths::Paths;
 use super::recorder::{is_hit, is_step, CLOSEST, SHADOW};
 use crate::camera::CameraFrame;
 use crate::cpu::camera::Camera;
 use crate::gpu::schedule::Schedule;
-use crate::gpu::wavefront::schedule::{shares, CHUNK_POOLS};
-use crate::gpu::wavefront::{Compaction, QueueOrder, ShadePasses};
+use crate::gpu::wavefront::schedule::{
+    check_chunk_pools, check_sync_every, shares, ChunkCounters, Progress, Ring,
+};
+use crate::gpu::wavefront::tail::check_threshold;
+use crate::gpu::wavefront::{Compaction, QueueOrder, ShadePasses, Tail, WavefrontOptions, DEFAULT_POOL};
+use crate::layout::DispatchParams;
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
+
+/// The label of the megakernel tail's pass (`src/gpu/wavefront/tail.rs`'s stage): its dispatches
+/// are counted under it, its blocks in the `megakernel_*` slots (`work:megakernel`), as on the
+/// device.
+pub const TAIL_PASS: &str = crate::gpu::label::TAIL;
+
+/// The shortest prefix the regenerating subset (`every` > 1) replays, in pools: long enough
+/// that the job reaches its steady state between its start (a full pool at once) and its drain
+/// (the last pool's paths ending), which the subset's two prefixes must share to cancel.
+pub const MIN_SUBSET_POOLS: u64 = 8;
 
 /// What the replay simulates of the wavefront's launch.
 #[derive(Clone, Copy, Debug)]
@@ -41,6 +57,34 @@ pub struct Launch {
     pub schedule: Schedule,
     /// The order of the queues (`auto` resolved as the device resolves it).
     pub queue_order: QueueOrder,
+    /// Regenerating: iterations between the host's checks (`--sync-every`).
+    pub sync_every: u32,
+    /// Regenerating: whether the megakernel tail finishes the last paths (`--tail`).
+    pub tail: Tail,
+    /// The live fraction of the pool below which the tail takes over (`--tail-threshold`).
+    pub tail_threshold: f64,
+    /// Regenerating: pools in the sample ring (`--chunk-pools`).
+    pub chunk_pools: u32,
+    /// The sampled subset: 1 replays the whole frame; k > 1 about 1/k of it (see [`subset`]).
+    pub every: u64,
+}
+
+impl Launch {
+    /// The launch `render` makes of `opts` (the whole frame).
+    pub fn from_options(opts: &WavefrontOptions) -> Self {
+        Self {
+            pool: opts.pool_size.unwrap_or(DEFAULT_POOL),
+            compaction: opts.compaction,
+            shade: opts.shade,
+            schedule: opts.schedule,
+            queue_order: opts.queue_order,
+            sync_every: opts.sync_every,
+            tail: opts.tail,
+            tail_threshold: opts.tail_threshold,
+            chunk_pools: opts.chunk_pools,
+            every: 1,
+        }
+    }
 }
 
 /// The replay at each width: slot counts; per pass, dispatches recorded and how many were
@@ -48,9 +92,18 @@ pub struct Launch {
 pub struct Replayed {
     pub counts: Vec<(u32, SlotCounts)>,
     pub dispatches: BTreeMap<String, Dispatches>,
+    /// Shares (waves, or regenerating shares) of the frame, and of them replayed.
     pub waves: usize,
+    pub waves_replayed: usize,
+    /// Samples replayed (all of the frame's without a subset).
+    pub samples_replayed: u64,
     /// The queue order replayed (`auto` resolved).
     pub queue_order: QueueOrder,
+    /// What the schedule did, as `ScheduleStats` counts it: iterations recorded, and the
+    /// megakernel tail's passes and the paths they finished.
+    pub iterations: u64,
+    pub tail_passes: u64,
+    pub tail_paths: u64,
 }
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
@@ -59,7 +112,95 @@ pub struct Dispatches {
     pub empty: u64,
 }
 
-/// Replays the wavefront (waves) at every width in `widths`.
+/// The host's side of a regenerating share (src/gpu/wavefront/mod.rs): when it checks the
+/// counters, what it does then.
+#[derive(Clone, Copy, Debug)]
+struct Host {
+    sync_every: u32,
+    tail: bool,
+    threshold: f64,
+}
+
+/// One share's replay at one width: slot counts, dispatches per pass, what its schedule did.
+type ShareReplay = (SlotCounts, BTreeMap<String, Dispatches>, ShareStats);
+
+/// What one regenerating share's host loop did.
+#[derive(Default)]
+struct ShareStats {
+    iterations: u64,
+    tail_passes: u64,
+    tail_paths: u64,
+}
+
+/// The sampled subset of `plan` for `every` = k (1: all of it), as (index in the plan) of the
+/// shares replayed. Waves: whole waves, one in k, the offset turning by one at each pass over
+/// the image (the waves holding the same sample numbers), so that when a pass holds several
+/// waves (a pool smaller than the image) every region of the image is drawn alike rather than
+/// the same rows at every pass.
+pub fn subset(plan: &[DispatchParams], every: u64) -> Vec<usize> {
+    let k = every.max(1);
+    let (mut pass, mut within, mut start) = (0u64, 0u64, None);
+    let mut out = Vec::new();
+    for (i, d) in plan.iter().enumerate() {
+        if start.is_some_and(|s| s != d.sample_start) {
+            pass += 1;
+            within = 0;
+        }
+        start = Some(d.sample_start);
+        if (within + pass).is_multiple_of(k) {
+            out.push(i);
+        }
+        within += 1;
+    }
+    out
+}
+
+/// The regenerating methods' subset for `every` = k (1: the whole frame): the frame at
+/// ⌈spp / k⌉ samples per pixel (the same paths, sample for sample: the first samples of every
+/// pixel, so the image's regions keep their weight), the shorter of the two prefixes
+/// [`replay`] replays, each as a job of its own with the full job's pool and queue order; the
+/// other holds twice its samples. A prefix alone would weigh the job's start (a full pool at
+/// once) and drain (the last pool's paths ending) k times as much as the frame does; the
+/// difference of the two cancels them, and the frame's counts are the shorter's plus that
+/// difference scaled to the rest of the frame ([`SlotCounts::extrapolate`]). The frame itself
+/// where the two prefixes would hold all of it (2⌈spp / k⌉ ≥ spp); refused where k exceeds the
+/// spp, or where the shorter prefix holds fewer than [`MIN_SUBSET_POOLS`] pools
+/// (`pool`: for the regenerating megakernel, its persistent threads). `what`: the option's name
+/// in errors.
+pub fn regenerating_subset(
+    settings: &RenderSettings,
+    every: u64,
+    pool: u64,
+    what: &str,
+) -> Result<RenderSettings> {
+    if every <= 1 {
+        return Ok(settings.clone());
+    }
+    if every > settings.spp as u64 {
+        bail!(
+            "{what} {every}: a regenerating method's subset is the first spp/{every} samples of every pixel, and the \
+             frame has {} per pixel; give {what} of at most {}",
+            settings.spp,
+            settings.spp
+        );
+    }
+    let spp = (settings.spp as u64).div_ceil(every) as u32;
+    if 2 * spp as u64 >= settings.spp as u64 {
+        // The two prefixes would hold the whole frame: it is replayed whole.
+        return Ok(settings.clone());
+    }
+    let sub = RenderSettings { spp, ..settings.clone() };
+    if sub.sample_count() < MIN_SUBSET_POOLS * pool {
+        bail!(
+            "{what} {every}: the subset ({spp} samples per pixel, {} samples) would hold fewer than {MIN_SUBSET_POOLS} \
+             pools (or persistent thread sets) of {pool}: too short for the steady state; give a smaller {what}",
+            sub.sample_count()
+        );
+    }
+    Ok(sub)
+}
+
+/// Replays the wavefront at every width in `widths`.
 pub fn replay(
     scene: &PackedScene,
     frame: &CameraFrame,
@@ -70,6 +211,9 @@ pub fn replay(
     if launch.pool == 0 {
         bail!("replay of the wavefront: the pool must hold at least 1 path");
     }
+    if launch.every == 0 {
+        bail!("--every must be at least 1 (1: the whole frame)");
+    }
     let regenerate = launch.schedule == Schedule::Regenerate;
     if regenerate && launch.compaction == Compaction::Off {
         bail!(
@@ -77,33 +221,120 @@ pub fn replay(
              follows the free list's atomic order; replay it with --compaction on"
         );
     }
-    let camera = Camera::<f32>::new(frame);
+    check_sync_every(launch.sync_every)?;
+    check_chunk_pools(launch.chunk_pools)?;
+    check_threshold(launch.tail_threshold)?;
+    if launch.tail == Tail::Megakernel && !regenerate {
+        bail!("--tail megakernel finishes regenerated paths: it needs --schedule regenerate");
+    }
+    // The full job's pool and queue order, whatever the subset.
     let pool = launch.pool.min(u32::try_from(settings.sample_count()).unwrap_or(u32::MAX));
     launch.queue_order.check(launch.compaction)?;
     let order = launch.queue_order.resolve(launch.schedule, launch.compaction, settings.sample_count(), pool);
+    let job = Job { pool, order };
+    if !regenerate {
+        let plan =
+            shares(launch.schedule, settings.width * settings.height, settings.spp, pool, settings.max_depth);
+        return replay_shares(scene, frame, settings, widths, launch, job, &subset(&plan, launch.every));
+    }
+    let short = regenerating_subset(settings, launch.every, pool as u64, "--every")?;
+    let all = |s: &RenderSettings| {
+        let plan = shares(launch.schedule, s.width * s.height, s.spp, pool, s.max_depth);
+        (0..plan.len()).collect::<Vec<_>>()
+    };
+    if short.spp == settings.spp {
+        return replay_shares(scene, frame, settings, widths, launch, job, &all(settings));
+    }
+    let long = RenderSettings { spp: 2 * short.spp, ..settings.clone() };
+    let a = replay_shares(scene, frame, &short, widths, launch, job, &all(&short))?;
+    let b = replay_shares(scene, frame, &long, widths, launch, job, &all(&long))?;
+    let f = (settings.sample_count() - short.sample_count()) as f64
+        / (long.sample_count() - short.sample_count()) as f64;
+    let mut r = a.extrapolate(b, f);
+    r.waves = all(settings).len();
+    Ok(r)
+}
+
+/// The full job's pool and resolved queue order, which a subset keeps.
+#[derive(Clone, Copy, Debug)]
+pub struct Job {
+    pub pool: u32,
+    pub order: QueueOrder,
+}
+
+impl Replayed {
+    /// The frame's figures from two nested prefixes (`self` the shorter, `long` the other) by
+    /// [`SlotCounts::extrapolate`]; the dispatches, iterations and tail counts alike.
+    fn extrapolate(self, long: Replayed, f: f64) -> Replayed {
+        let x = |a: u64, b: u64| extrapolate(a, b, f);
+        let mut dispatches = BTreeMap::new();
+        for (pass, b) in &long.dispatches {
+            let a = self.dispatches.get(pass).copied().unwrap_or_default();
+            dispatches.insert(
+                pass.clone(),
+                Dispatches { recorded: x(a.recorded, b.recorded), empty: x(a.empty, b.empty) },
+            );
+        }
+        Replayed {
+            counts: self
+                .counts
+                .iter()
+                .zip(&long.counts)
+                .map(|((w, a), (_, b))| (*w, SlotCounts::extrapolate(a, b, f)))
+                .collect(),
+            dispatches,
+            waves: long.waves,
+            waves_replayed: self.waves_replayed + long.waves_replayed,
+            samples_replayed: self.samples_replayed + long.samples_replayed,
+            queue_order: self.queue_order,
+            iterations: x(self.iterations, long.iterations),
+            tail_passes: x(self.tail_passes, long.tail_passes),
+            tail_paths: x(self.tail_paths, long.tail_paths),
+        }
+    }
+}
+
+/// Replays the shares `chosen` (indices into `shares(…)` of `settings`) of the wavefront with
+/// the pool and queue order of `job`, at every width in `widths`: [`replay`]'s work, and the
+/// way to replay a subset of one's own (the tests' deliberately biased one).
+pub fn replay_shares(
+    scene: &PackedScene,
+    frame: &CameraFrame,
+    settings: &RenderSettings,
+    widths: &[u32],
+    launch: Launch,
+    job: Job,
+    chosen: &[usize],
+) -> Result<Replayed> {
+    let Job { pool, order } = job;
+    let regenerate = launch.schedule == Schedule::Regenerate;
+    let camera = Camera::<f32>::new(frame);
     let plan =
         shares(launch.schedule, settings.width * settings.height, settings.spp, pool, settings.max_depth);
-    // The sample ring's refill limit binds only when a share holds more samples than the ring
-    // (CHUNK_POOLS pools); the host moves it at its checks, which the replay does not model.
-    let ring = CHUNK_POOLS as u64 * pool as u64;
-    let share = |d: &crate::layout::DispatchParams| d.pixel_count as u64 * d.sample_count as u64;
-    if let Some(d) = plan.iter().find(|d| regenerate && share(d) > ring) {
-        bail!(
-            "replay of the regenerating wavefront: a share of {} samples is more than its sample ring holds \
-             ({CHUNK_POOLS} pools of {pool}), whose refill limit the replay does not model; use a --pool-size \
-             of at least {}",
-            share(d),
-            share(d).div_ceil(CHUNK_POOLS as u64)
-        );
-    }
+    // As the host: every share's ring has the largest share's chunks (one pool) and at most
+    // `chunk_pools` of them (the adapter's binding limit, which can only shrink the ring, is not
+    // known here).
+    let share = |d: &DispatchParams| d.pixel_count * d.sample_count;
+    let largest = plan.iter().map(share).max().unwrap_or(1);
+    let budget = (launch.chunk_pools as u64 * pool as u64).clamp(pool as u64, u32::MAX as u64);
+    let ring = Ring::new(largest, pool, budget);
+    let host = Host {
+        sync_every: launch.sync_every,
+        tail: launch.tail == Tail::Megakernel,
+        threshold: launch.tail_threshold,
+    };
     let kinds = scene.material_kinds_used();
     let shadow_pass = settings.nee && !scene.lights.is_empty();
     let mut counts: Vec<SlotCounts> = widths.iter().map(|_| SlotCounts::new()).collect();
     let mut dispatches = BTreeMap::new();
-    for d in &plan {
-        let n = d.pixel_count as u64 * d.sample_count as u64;
+    let mut stats = ShareStats::default();
+    let mut samples_replayed = 0;
+    for &i in chosen {
+        let d = &plan[i];
+        let n = share(d) as u64;
+        samples_replayed += n;
         let paths = Paths::record(scene, &camera, settings, d, 0..n);
-        let per_width: Vec<(SlotCounts, BTreeMap<String, Dispatches>)> = widths
+        let per_width: Vec<Result<ShareReplay>> = widths
             .par_iter()
             .map(|&w| {
                 let lanes = paths.lanes();
@@ -117,16 +348,29 @@ pub fn replay(
                     // In waves, slot l traces sample l.
                     slot_of: if order.is_slot() { (0..n).collect() } else { Vec::new() },
                     first_bounce: vec![false; if order == QueueOrder::SlotDepth { n } else { 0 }],
+                    flushed: Vec::new(),
                 };
+                let mut s = ShareStats::default();
                 if regenerate {
-                    wave.regenerate(pool as usize, &kinds, launch.shade, shadow_pass);
+                    let r = Ring { paths: n as u32, ..ring };
+                    s = wave.regenerate(
+                        pool as usize,
+                        r,
+                        host,
+                        settings.max_depth,
+                        &kinds,
+                        launch.shade,
+                        shadow_pass,
+                    )?;
                 } else {
                     wave.waves(settings.max_depth, &kinds, launch.shade, shadow_pass);
+                    s.iterations = settings.max_depth as u64;
                 }
-                (wave.counts, wave.dispatches)
+                Ok((wave.counts, wave.dispatches, s))
             })
             .collect();
-        for (a, (b, _)) in counts.iter_mut().zip(&per_width) {
+        let per_width = per_width.into_iter().collect::<Result<Vec<_>>>()?;
+        for (a, (b, _, _)) in counts.iter_mut().zip(&per_width) {
             a.add(b);
         }
         for (pass, n) in &per_width[0].1 {
@@ -134,12 +378,21 @@ pub fn replay(
             e.recorded += n.recorded;
             e.empty += n.empty;
         }
+        let s = &per_width[0].2;
+        stats.iterations += s.iterations;
+        stats.tail_passes += s.tail_passes;
+        stats.tail_paths += s.tail_paths;
     }
     Ok(Replayed {
         counts: widths.iter().copied().zip(counts).collect(),
         dispatches,
         waves: plan.len(),
+        waves_replayed: chosen.len(),
+        samples_replayed,
         queue_order: order,
+        iterations: stats.iterations,
+        tail_passes: stats.tail_passes,
+        tail_paths: stats.tail_paths,
     })
 }
 
@@ -156,6 +409,10 @@ struct Wave<'a> {
     /// Keyed by depth: whether the lane's path was started by the last refill (its next ray is
     /// its first bounce); empty without the key.
     first_bounce: Vec<bool>,
+    /// Regenerating with the tail: whether the lane's path was finished by a tail pass while
+    /// still on the ray queue (the next intersect frees its slot: an idle entry there); empty
+    /// until a tail runs.
+    flushed: Vec<bool>,
 }
 
 impl Wave<'_> {
@@ -170,50 +427,160 @@ impl Wave<'_> {
         }
     }
 
-    /// `--schedule regenerate`: before every iteration the refill starts the next samples in
-    /// the slots free (the pool less the paths still queued), appended at the ray queue's end
-    /// in sample order; iterations go on until every path has ended. In arrival order which slot
-    /// a refill takes (the free list is a stack) does not move a lane in a compacted queue. In
-    /// slot order it does: the refill takes the lowest free slots in ascending order (the scan's
-    /// free list), and the next ray queue and the shadow queue list their paths by slot; keyed
-    /// by depth, the last refill's paths (about to trace their first bounce) after the others.
-    fn regenerate(&mut self, pool: usize, kinds: &[u32], shade: ShadePasses, shadow_pass: bool) {
+    /// `--schedule regenerate`, as the host runs a share (src/gpu/wavefront/mod.rs): batches of
+    /// `sync_every` iterations (with the tail, one iteration once every sample has started),
+    /// each followed by a check of the counters at which the host adds the complete chunks to
+    /// the film, runs the megakernel tail where it is due and moves the refill limit to the
+    /// sample ring's new end (`Ring`, `ChunkCounters`: the host's own functions).
+    ///
+    /// An iteration: while the host's last check found samples not yet started, the refill
+    /// starts the next samples in the slots free (the pool less the paths still queued, up to
+    /// the refill limit), appended at the ray queue's end in sample order; then one bounce of
+    /// every queued path. In arrival order which slot a refill takes (the free list is a stack)
+    /// does not move a lane in a compacted queue. In slot order it does: the refill takes the
+    /// lowest free slots in ascending order (the scan's free list), and the next ray queue and
+    /// the shadow queue list their paths by slot; keyed by depth, the last refill's paths (about
+    /// to trace their first bounce) after the others.
+    #[allow(clippy::too_many_arguments)]
+    fn regenerate(
+        &mut self,
+        pool: usize,
+        r: Ring,
+        host: Host,
+        max_depth: u32,
+        kinds: &[u32],
+        shade: ShadePasses,
+        shadow_pass: bool,
+    ) -> Result<ShareStats> {
         let n = self.lanes.len();
+        let paths = r.paths;
         let slot_order = !self.slot_of.is_empty();
         let mut free: std::collections::BTreeSet<usize> =
             if slot_order { (0..pool).collect() } else { Default::default() };
-        let (mut next, mut rays) = (0, Vec::new());
-        // Slot order: which lanes are still queued after an iteration (reset after each use).
-        let mut live = vec![false; if slot_order { n } else { 0 }];
+        let (mut next, mut rays) = (0usize, Vec::new());
+        // Which lanes are still queued after an iteration (reset after each use).
+        let mut live = vec![false; n];
+        // Finished samples per chunk (the ring's counters, by chunk rather than modulo the ring).
+        let mut finished = vec![0u32; r.chunks() as usize];
+        let chunk = r.chunk as usize;
+        let mut stats = ShareStats::default();
+        let mut fill_limit = r.fill_limit(0) as usize;
+        let mut progress = Progress::new(paths, max_depth, host.sync_every);
+        let mut refill = true;
+        let (mut oldest, mut started_before) = (0u32, 0u32);
+        let one_refill = paths <= (pool as u32).min(r.fill_limit(0));
         loop {
-            let refill: Vec<usize> = (next..n.min(next + pool - rays.len())).collect();
-            next += refill.len();
-            if !self.first_bounce.is_empty() {
-                rays.iter().for_each(|&l: &usize| self.first_bounce[l] = false);
-                refill.iter().for_each(|&l| self.first_bounce[l] = true);
-            }
-            if slot_order {
-                for &l in &refill {
-                    self.slot_of[l] = free.pop_first().expect("a free slot for every refill");
+            for _ in 0..host.sync_every {
+                // The refill (recorded while the last check found samples to start).
+                let fresh: Vec<usize> = if refill {
+                    (next..n.min(fill_limit).min(next + pool - rays.len()).max(next)).collect()
+                } else {
+                    Vec::new()
+                };
+                next += fresh.len();
+                if !self.first_bounce.is_empty() {
+                    rays.iter().for_each(|&l: &usize| self.first_bounce[l] = false);
+                    fresh.iter().for_each(|&l| self.first_bounce[l] = true);
+                }
+                if slot_order {
+                    for &l in &fresh {
+                        self.slot_of[l] = free.pop_first().expect("a free slot for every refill");
+                    }
+                }
+                if refill {
+                    let threads: Vec<Option<usize>> = fresh.iter().map(|&l| Some(l)).collect();
+                    self.pass("generate", &threads, |_, _| {});
+                }
+                rays.extend(fresh);
+                let before = std::mem::take(&mut rays);
+                rays = self.iteration(&before, kinds, shade, shadow_pass);
+                stats.iterations += 1;
+                // The paths that ended (those the tail finished were counted then); their slots
+                // are free for the next refill, the flushed ones' too (intersect freed them).
+                rays.iter().for_each(|&l| live[l] = true);
+                for &l in &before {
+                    if !live[l] && !self.flushed.get(l).is_some_and(|&f| f) {
+                        finished[l / chunk] += 1;
+                    }
+                }
+                if slot_order {
+                    free.extend(before.iter().filter(|&&l| !live[l]).map(|&l| self.slot_of[l]));
+                }
+                rays.iter().for_each(|&l| live[l] = false);
+                before.iter().for_each(|&l| {
+                    if let Some(f) = self.flushed.get_mut(l) {
+                        *f = false;
+                    }
+                });
+                if host.tail && (one_refill || !refill) {
+                    break;
                 }
             }
-            if !refill.is_empty() {
-                let threads: Vec<Option<usize>> = refill.iter().map(|&l| Some(l)).collect();
-                self.pass("generate", &threads, |_, _| {});
-                rays.extend(refill);
+            // The check: the counters as ChunkCounters::read gives them.
+            let mut ring = vec![0u32; r.ring as usize];
+            for c in oldest..r.chunks().min(oldest + r.ring) {
+                ring[(c % r.ring) as usize] = finished[c as usize];
             }
-            if rays.is_empty() {
-                return;
+            let started = next as u32;
+            let c = ChunkCounters { started, finished: oldest * r.chunk + ring.iter().sum::<u32>(), ring };
+            refill = c.started < paths;
+            progress.check(c.finished, stats.iterations as u32)?;
+            let complete = r.complete_from(oldest, &c.ring);
+            let mut added = complete;
+            if host.tail {
+                let bound = if c.tail_due(paths, host.threshold, pool as u32) {
+                    r.chunks()
+                } else {
+                    let max_live = host.threshold * pool as f64;
+                    r.flush_to(complete, c.started, c.started - started_before, &c.ring, max_live)
+                };
+                if bound > complete {
+                    let done = self.tail(&rays, r.end(bound - 1) as usize);
+                    for &l in &done {
+                        finished[l / chunk] += 1;
+                    }
+                    stats.tail_passes += 1;
+                    stats.tail_paths += done.len() as u64;
+                    added = bound;
+                }
             }
-            let before = rays;
-            rays = self.iteration(&before, kinds, shade, shadow_pass);
-            if slot_order {
-                // The slots of the paths that ended are free for the next refill.
-                rays.iter().for_each(|&l| live[l] = true);
-                free.extend(before.iter().filter(|&&l| !live[l]).map(|&l| self.slot_of[l]));
-                rays.iter().for_each(|&l| live[l] = false);
+            started_before = c.started;
+            if added > oldest {
+                oldest = added;
+                fill_limit = r.fill_limit(oldest) as usize;
+            }
+            if oldest == r.chunks() {
+                return Ok(stats);
+            }
+            if c.finished == paths {
+                bail!("replay of the regenerating wavefront: every sample finished but {oldest} of {} chunks added", r.chunks());
             }
         }
+    }
+
+    /// The megakernel tail (shaders/wavefront/tail.wgsl): one thread per entry of the ray queue
+    /// the last shade pass filled, W per subgroup; the lanes whose sample is below `bound` run
+    /// their path to its end in the megakernel's bounce loop, in lockstep (as the naive
+    /// megakernel's replay), the others return at once. Returns the lanes it finished, which
+    /// stay on the ray queue, flushed, until the next intersect frees their slots.
+    fn tail(&mut self, queue: &[usize], bound: usize) -> Vec<usize> {
+        let d = self.dispatches.entry(TAIL_PASS.to_string()).or_default();
+        d.recorded += 1;
+        d.empty += queue.is_empty() as u64;
+        if self.flushed.is_empty() {
+            self.flushed = vec![false; self.lanes.len()];
+        }
+        let mut done = Vec::new();
+        for group in queue.chunks(self.width as usize) {
+            let mut alive: Vec<usize> =
+                group.iter().copied().filter(|&l| l < bound && !self.flushed[l]).collect();
+            done.extend(&alive);
+            while !alive.is_empty() {
+                alive = bounce(&mut self.lanes, &alive, self.width, &mut self.counts);
+            }
+        }
+        done.iter().for_each(|&l| self.flushed[l] = true);
+        done
     }
 
     /// In slot order, `queue` as the scan over the pool lists it: by slot; keyed by depth
@@ -291,9 +658,10 @@ impl Wave<'_> {
 
     /// A pass's threads: the queue's entries in order, or without compaction the whole wave
     /// with the paths not in `queued` idle (None).
+    /// A path the tail flushed is an idle entry (intersect frees its slot and returns).
     fn queue(&self, queued: &[usize]) -> Vec<Option<usize>> {
         if self.compaction {
-            return queued.iter().map(|&l| Some(l)).collect();
+            return queued.iter().map(|&l| (!self.flushed.get(l).is_some_and(|&f| f)).then_some(l)).collect();
         }
         let mut threads = vec![None; self.lanes.len()];
         queued.iter().for_each(|&l| threads[l] = Some(l));
@@ -326,4 +694,30 @@ fn after_shadow(lane: &Lane) -> Option<u32> {
         }
     }
     lane.events.get(i).copied()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One wave in k, the offset turning per pass: over k passes every wave position (image
+    /// region) is drawn once, where a fixed offset would draw positions 0, k, 2k, … every time.
+    #[test]
+    fn the_wave_subset_turns_over_the_image() {
+        // 24 pixels, 4 spp, waves of 4 pixels: 6 waves per pass, 24 in all.
+        let plan = shares(Schedule::Waves, 24, 4, 4, 8);
+        assert_eq!(plan.len(), 24);
+        let drawn = subset(&plan, 3);
+        assert_eq!(drawn.len(), 8);
+        let mut per_region = [0; 6];
+        for &i in &drawn {
+            per_region[(plan[i].pixel_offset / 4) as usize] += 1;
+        }
+        // 4 passes of 6 waves, one in 3: passes 0..3 draw regions {0,3}, {2,5}, {1,4}, {0,3}.
+        assert_eq!(per_region, [2, 1, 1, 2, 1, 1]);
+        assert_eq!(subset(&plan, 1).len(), 24);
+        // One wave per pass (the pool holds the image): every k-th pass.
+        let whole = shares(Schedule::Waves, 24, 6, 24, 8);
+        assert_eq!(subset(&whole, 2), vec![0, 2, 4]);
+    }
 }
