@@ -159,7 +159,8 @@ pub fn run(c: ExperimentCommand) -> Result<()> {
 
 /// `experiment report DIR --markdown [--out FILE]`: the results page, from report.json alone.
 fn markdown_page(a: &ReportArgs) -> Result<()> {
-    let report = ExperimentReport::read(&a.dir)?;
+    let mut report = ExperimentReport::read(&a.dir)?;
+    markdown::keep_present_charts(&mut report, &a.dir);
     let source = a.dir.to_string_lossy().trim_end_matches('/').to_string();
     match &a.out {
         None => {

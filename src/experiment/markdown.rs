@@ -278,6 +278,12 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
 /// Columns of the per-bounce intersect table.
 const BOUNCE_COLUMNS: [usize; 7] = [0, 1, 2, 4, 8, 16, 32];
 
+/// Drops the charts `report` lists that are not in `dir`: committed results keep only some of
+/// them, and a page links only what is there.
+pub fn keep_present_charts(report: &mut ExperimentReport, dir: &std::path::Path) {
+    report.charts.retain(|c| dir.join(&c.file).is_file());
+}
+
 /// A wavefront run's pass seconds in groups: intersect, shade, shadow, compaction (of queues),
 /// (re)generate (with the state compaction before refills), tail, other (queue set-up,
 /// accumulation and the rest).
