@@ -32,6 +32,8 @@ Examples:
   wavetrace render --scene two-lights --method cpu --nee on --light-select uniform --out before.exr
   wavetrace render --scene rtiow-final --method megakernel --schedule regenerate --instrument \
       --out regen.exr --report regen.json   # persistent threads: SIMD efficiency, memory
+  wavetrace render --scene rtiow-final --method wavefront --schedule regenerate --tail megakernel \
+      --refill-below 0.25 --compact-states on --out batched.exr --report batched.json  # Cycles-style refills
   wavetrace render --scene three-spheres --method cpu --scale 1e-4 --ray-offset robust \
       --out small.exr --report small.json   # the same image at 1/10000 the size: self-hits?
   wavetrace render --scene cornell --method megakernel --translate 1e5 --sphere-hit book \
