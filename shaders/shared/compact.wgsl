@@ -74,7 +74,7 @@ fn lane_queue(k: u32) -> u32 {
     }
     switch k {
         case 0u: {
-            return QUEUE_RAY_0 + (current_bounce() + 1u) % 2u;
+            return next_ray_queue();
         }
         case 1u: {
             return select(DEAD, QUEUE_FREE, REGENERATE && slot_order());
@@ -83,7 +83,7 @@ fn lane_queue(k: u32) -> u32 {
             return select(DEAD, QUEUE_SHADOW, slot_order());
         }
         default: {
-            return select(DEAD, QUEUE_RAY_0 + (current_bounce() + 1u) % 2u, depth_key());
+            return select(DEAD, next_ray_queue(), depth_key());
         }
     }
 }

@@ -168,6 +168,12 @@ fn current_bounce() -> u32 {
     return atomicLoad(&counters[COUNTER_BOUNCE]);
 }
 
+// The ray queue this iteration's shade passes fill and the next iteration traces (the refill
+// appends to it, the tail takes it).
+fn next_ray_queue() -> u32 {
+    return QUEUE_RAY_0 + (current_bounce() + 1u) % 2u;
+}
+
 // The bounce of the path in `slot`.
 fn path_bounce(slot: u32) -> u32 {
     if REGENERATE {
@@ -240,7 +246,7 @@ fn scan_index(slot: u32, position: u32) -> u32 {
 // says whether it has a shadow ray queued too (`enqueue_shadow` queued it) and whether the ray is
 // the path's first bounce after the camera ray.
 fn enqueue_ray(slot: u32, position: u32, shadow: bool, first_bounce: bool) {
-    let q = QUEUE_RAY_0 + (current_bounce() + 1u) % 2u;
+    let q = next_ray_queue();
     if slot_order() {
         next_queue[slot] = q | select(0u, SHADOW_PENDING, shadow) | select(0u, FIRST_BOUNCE, first_bounce);
     } else {

@@ -27,11 +27,6 @@ override WORKGROUP_SIZE: u32 = 64u;
 const HOLES: u32 = QUEUE_MATERIAL_0;
 const MOVERS: u32 = QUEUE_MATERIAL_0 + 1u;
 
-// The ray queue the refill appends to (the last shade pass filled it).
-fn next_ray_queue() -> u32 {
-    return QUEUE_RAY_0 + (current_bounce() + 1u) % 2u;
-}
-
 // Live paths at the refill: every slot not on the free list (those on the ray queue, tail-finished
 // ones included until the next intersect frees them).
 fn live_paths() -> u32 {

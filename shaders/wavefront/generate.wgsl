@@ -95,7 +95,7 @@ fn regenerate(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_pa
     let slot = queues[QUEUE_FREE * wave.pool + atomicLoad(&counters[COUNTER_FREE_BASE]) + gid.x];
     start_path(slot, base + gid.x);
     if wave.compaction != 0u {
-        let q = QUEUE_RAY_0 + (current_bounce() + 1u) % 2u;
+        let q = next_ray_queue();
         queues[q * wave.pool + atomicLoad(&counters[COUNTER_REFILL_QUEUED]) + gid.x] = slot;
     }
 }

@@ -72,7 +72,7 @@ fn queue_setup_regenerate() {
     // The refill's entries on the coming iteration's ray queue (filled by the last shade passes,
     // so its count is final here): one reservation instead of an atomic append per new path.
     if wave.compaction != 0u {
-        let q = QUEUE_RAY_0 + (current_bounce() + 1u) % 2u;
+        let q = next_ray_queue();
         let queued = atomicLoad(&counters[q]);
         atomicStore(&counters[COUNTER_REFILL_QUEUED], queued);
         atomicStore(&counters[q], queued + n);
@@ -168,7 +168,7 @@ fn queue_setup_shade() {
 fn queue_setup_tail() {
     var n = pool_slots();
     if wave.compaction != 0u {
-        n = atomicLoad(&counters[QUEUE_RAY_0 + (current_bounce() + 1u) % 2u]);
+        n = atomicLoad(&counters[next_ray_queue()]);
     }
     set_args(ARGS_TAIL, n);
     count_dispatches(n, 1u);

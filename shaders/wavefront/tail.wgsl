@@ -17,7 +17,7 @@ override WORKGROUP_SIZE: u32 = 64u;
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn tail(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
     instrument_begin(/*@subgroup_size_arg*/);
-    let slot = queued_slot(QUEUE_RAY_0 + (current_bounce() + 1u) % 2u, gid.x);
+    let slot = queued_slot(next_ray_queue(), gid.x);
     if slot == DEAD {
         return;
     }

@@ -42,6 +42,13 @@ pub struct Launch {
     pub every: u64,
 }
 
+impl Launch {
+    /// The persistent threads launched: `threads` rounded up to whole workgroups.
+    fn launched_threads(&self) -> u32 {
+        self.threads.div_ceil(self.workgroup_size) * self.workgroup_size
+    }
+}
+
 /// The replay at each width: slot counts and trace dispatches (launches).
 pub struct Replayed {
     pub counts: Vec<(u32, SlotCounts)>,
@@ -64,7 +71,7 @@ pub fn replay(
     if launch.every == 0 {
         bail!("--every must be at least 1 (1: the whole frame)");
     }
-    let threads = launch.threads.div_ceil(launch.workgroup_size) * launch.workgroup_size;
+    let threads = launch.launched_threads();
     // The threads a launch of the whole frame runs: the subset's prefixes must hold several
     // such sets of samples.
     let job_threads =
@@ -99,7 +106,7 @@ fn replay_job(
     launch: Launch,
 ) -> Result<Replayed> {
     let camera = Camera::<f32>::new(frame);
-    let threads = launch.threads.div_ceil(launch.workgroup_size) * launch.workgroup_size;
+    let threads = launch.launched_threads();
     let per_thread = launch.paths_per_thread.map_or(u64::MAX, |p| p.max(1) as u64);
     // As src/gpu/megakernel.rs: a dispatch holds no more samples than its threads can take.
     let budget = launch.samples_per_dispatch.min((threads as u64).saturating_mul(per_thread));

@@ -4,26 +4,14 @@
 //! counters.
 
 use crate::common;
+use crate::common::render_wavefront as run;
 
 use wavetrace::gpu::instrument::Coherence;
 use wavetrace::gpu::wavefront::{Compaction, QueueOrder, Schedule, Tail, WavefrontOptions};
-use wavetrace::method::{render, Method, MethodOptions, RenderOutput};
-use wavetrace::scene::builtin;
 use wavetrace::settings::{Accel, RenderSettings};
 
 fn settings(spp: u32, nee: bool) -> RenderSettings {
     RenderSettings { width: 40, height: 24, spp, max_depth: 12, seed: 5, accel: Accel::Bvh, nee }
-}
-
-fn run(
-    scene: &str,
-    s: &RenderSettings,
-    wf: WavefrontOptions,
-    instrument: bool,
-) -> anyhow::Result<RenderOutput> {
-    let scene = builtin::by_name(scene).unwrap();
-    let opts = MethodOptions { wavefront: wf, instrument, ..Default::default() };
-    render(Method::Wavefront, &scene, s, &opts, common::gpu(), &|_| {})
 }
 
 /// Slot order, keyed by depth or not, with both compaction methods, waves and regeneration, with

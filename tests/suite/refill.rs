@@ -4,27 +4,15 @@
 //! compaction does what it is for, measured by the coherence counters.
 
 use crate::common;
+use crate::common::render_wavefront as run;
 
 use wavetrace::gpu::wavefront::{
     CompactStates, Compaction, QueueOrder, Schedule, ScheduleStats, Tail, WavefrontOptions,
 };
-use wavetrace::method::{render, Method, MethodOptions, RenderOutput};
-use wavetrace::scene::builtin;
 use wavetrace::settings::{Accel, RenderSettings};
 
 fn settings(width: u32, height: u32, spp: u32, nee: bool) -> RenderSettings {
     RenderSettings { width, height, spp, max_depth: 12, seed: 5, accel: Accel::Bvh, nee }
-}
-
-fn run(
-    scene: &str,
-    s: &RenderSettings,
-    wf: WavefrontOptions,
-    instrument: bool,
-) -> anyhow::Result<RenderOutput> {
-    let scene = builtin::by_name(scene).unwrap();
-    let opts = MethodOptions { wavefront: wf, instrument, ..Default::default() };
-    render(Method::Wavefront, &scene, s, &opts, common::gpu(), &|_| {})
 }
 
 fn regenerating(pool: u32) -> WavefrontOptions {

@@ -110,6 +110,8 @@ fn assert_replay_matches(label: &str, method: Method, opts: &MethodOptions) {
         let s = settings(nee);
         let out = render(method, &scene_data, &s, opts, Some(ctx), &|_| {}).unwrap();
         let device = out.simd.unwrap();
+        // The queue order the device took (`auto` resolved), from its own report.
+        let slot_order = out.schedule.as_ref().is_some_and(|st| st.slot_order);
         let (packed, frame) = wavetrace::method::prepare(method, &scene_data, &s, opts).unwrap();
         let mk = &opts.megakernel;
         let counts = match (method, label) {
@@ -153,17 +155,7 @@ fn assert_replay_matches(label: &str, method: Method, opts: &MethodOptions) {
         // method), and which workgroup appends first is up to the driver's threads: the device's
         // shadow queue, and so its shadow subgroups, change run to run there, so those slots are
         // compared only where the scan lists the shadow queue (slot order).
-        let shadow_by_atomics = method == Method::Wavefront
-            && !opts
-                .wavefront
-                .queue_order
-                .resolve(
-                    opts.wavefront.schedule,
-                    opts.wavefront.compaction,
-                    s.sample_count(),
-                    pool_of(opts, &s),
-                )
-                .is_slot();
+        let shadow_by_atomics = method == Method::Wavefront && !slot_order;
         for (k, d) in &device {
             let r = replayed[k];
             // The shadow pass's own slots (the tail's `megakernel_shadow*` lanes are no queue's).
@@ -189,13 +181,6 @@ fn assert_replay_matches(label: &str, method: Method, opts: &MethodOptions) {
             );
         }
     }
-}
-
-/// The pool a wavefront render of `s` with `opts` gets on the software driver: the knob, else the
-/// default, at most the job's samples (as `render` and the replay take it).
-fn pool_of(opts: &MethodOptions, s: &RenderSettings) -> u32 {
-    let pool = opts.wavefront.pool_size.unwrap_or(wavetrace::gpu::wavefront::DEFAULT_POOL);
-    pool.min(u32::try_from(s.sample_count()).unwrap_or(u32::MAX))
 }
 
 /// Subgroups of the regenerating megakernel that llvmpipe runs at once. It runs a workgroup's

@@ -24,6 +24,19 @@ pub fn gpu() -> Option<&'static GpuContext> {
     .as_ref()
 }
 
+/// The wavefront's render of built-in `scene` with knobs `wf`, instrumented or not.
+pub fn render_wavefront(
+    scene: &str,
+    s: &wavetrace::settings::RenderSettings,
+    wf: wavetrace::gpu::wavefront::WavefrontOptions,
+    instrument: bool,
+) -> anyhow::Result<wavetrace::method::RenderOutput> {
+    use wavetrace::method::{render, Method, MethodOptions};
+    let scene = wavetrace::scene::builtin::by_name(scene).unwrap();
+    let opts = MethodOptions { wavefront: wf, instrument, ..Default::default() };
+    render(Method::Wavefront, &scene, s, &opts, gpu(), &|_| {})
+}
+
 /// Two methods tracing the same paths agree (DESIGN.md §4): ≥ 99% of pixels pass a z-test at
 /// α = 0.01 and image means are within 1%; their ray counts (rays/s in reports) agree up to the
 /// paths that rounding sends another way, within `ray_tolerance` (relative).
