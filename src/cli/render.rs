@@ -5,7 +5,8 @@ use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::memory::{GpuMemory, MemoryCategory};
 use crate::gpu::timing::{TimeSource, Timing, Timings, FRAME_LABEL};
 use crate::gpu::wavefront::{
-    Append, CompactStates, Compaction, QueueOrder, Scan, Schedule, ShadePasses, Tail, WavefrontOptions,
+    Append, CompactStates, Compaction, QueueOrder, RaySort, Scan, Schedule, ShadePasses, Tail,
+    WavefrontOptions,
 };
 use crate::gpu::GpuContext;
 use crate::image_io::{self, RgbImage};
@@ -190,6 +191,12 @@ pub struct RenderArgs {
     /// samples take one contiguous run of slots. Needs --compaction on.
     #[arg(long, value_enum, default_value_t = WavefrontOptions::default().compact_states)]
     pub compact_states: CompactStates,
+    /// Wavefront: before each intersect, sort the ray queue by the ray direction's octant
+    /// (`octant`), or by octant and the origin's cell of a 4x4x4 grid over the scene
+    /// (`octant-cell`), so a subgroup's lanes traverse the same part of the BVH (a counting sort:
+    /// three passes). Needs --compaction on.
+    #[arg(long, value_enum, default_value_t = RaySort::Off)]
+    pub ray_sort: RaySort,
     /// GPU methods: count SIMD efficiency per pass with subgroup operations (adds atomics: use
     /// separate runs for timing).
     #[arg(long)]
@@ -262,6 +269,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             queue_order: a.queue_order,
             refill_below: a.refill_below,
             compact_states: a.compact_states,
+            ray_sort: a.ray_sort,
         },
         instrument: a.instrument,
         timing: a.timing,
@@ -380,13 +388,13 @@ pub fn print_pass_table(t: &Timings, r: &RunReport) {
     if let Some(c) = r.coherence.as_ref().filter(|c| !c.is_empty()) {
         // Issue 26: how scattered the intersect pass's subgroups are, by iteration.
         println!(
-            "{:<24} {:>11} {:>8} {:>9} {:>12}",
-            "intersect coherence", "subgroups", "lanes", "lines", "pixel spread"
+            "{:<24} {:>11} {:>8} {:>9} {:>12} {:>8}",
+            "intersect coherence", "subgroups", "lanes", "lines", "pixel spread", "octants"
         );
         for b in c {
             println!(
-                "  from iteration {:<7} {:>11} {:>8.2} {:>9.2} {:>12.1}",
-                b.first_iteration, b.subgroups, b.lanes, b.lines, b.pixel_spread
+                "  from iteration {:<7} {:>11} {:>8.2} {:>9.2} {:>12.1} {:>8.2}",
+                b.first_iteration, b.subgroups, b.lanes, b.lines, b.pixel_spread, b.octants
             );
         }
     }

@@ -79,7 +79,8 @@ use serde_json::{Map, Value};
 use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::timing::Timing;
 use crate::gpu::wavefront::{
-    Append, CompactStates, Compaction, QueueOrder, Scan, Schedule, ShadePasses, Tail, WavefrontOptions,
+    Append, CompactStates, Compaction, QueueOrder, RaySort, Scan, Schedule, ShadePasses, Tail,
+    WavefrontOptions,
 };
 use crate::input_error::InputError;
 use crate::light_options::{LightOptions, LightSampling, LightSelect};
@@ -147,6 +148,7 @@ pub const KNOBS: &[&str] = &[
     "queue_order",
     "refill_below",
     "compact_states",
+    "ray_sort",
 ];
 /// Every method's knobs: how next-event estimation samples lights, the numerical choices and the
 /// stress transforms.
@@ -198,11 +200,13 @@ const WAVEFRONT_KNOBS: &[&str] = &[
     "queue_order",
     "refill_below",
     "compact_states",
+    "ray_sort",
     "timing",
 ];
 const SCANS: &[&str] = &["auto", "subgroup", "workgroup"];
 const APPENDS: &[&str] = &["auto", "lane", "subgroup"];
 const ON_OFF: &[&str] = &["off", "on"];
+const RAY_SORTS: &[&str] = &["off", "octant", "octant-cell"];
 const QUEUE_ORDERS: &[&str] = &["auto", "arrival", "slot", "slot-depth"];
 const LIGHT_SAMPLINGS: &[&str] = &["area", "solid-angle"];
 const LIGHT_SELECTS: &[&str] = &["uniform", "power"];
@@ -711,6 +715,13 @@ impl Cx {
         let compact_states = self.knob(o, &opt_path("compact_states"), "compact_states", |v, p| {
             Ok(if self.choice(v, p, ON_OFF)? == "on" { CompactStates::On } else { CompactStates::Off })
         })?;
+        let ray_sort = self.knob(o, &opt_path("ray_sort"), "ray_sort", |v, p| {
+            Ok(match self.choice(v, p, RAY_SORTS)? {
+                "octant" => RaySort::Octant,
+                "octant-cell" => RaySort::OctantCell,
+                _ => RaySort::Off,
+            })
+        })?;
         let timing = self.knob(o, &opt_path("timing"), "timing", |v, p| {
             Ok(if self.choice(v, p, TIMINGS)? == "frame" { Timing::Frame } else { Timing::Passes })
         })?;
@@ -729,6 +740,18 @@ impl Cx {
                     format!(
                         "\"{}\" orders the queues, and \"compaction\": \"off\" has none: it needs \"atomic\" or \"scan\"",
                         slot.name()
+                    ),
+                );
+            }
+        }
+
+        if let Some(sort) = ray_sort.values.iter().find(|&&r| r != RaySort::Off) {
+            if !compaction.values.is_empty() && compaction.values.iter().all(|&c| c == Compaction::Off) {
+                return self.err(
+                    &opt_path("ray_sort"),
+                    format!(
+                        "\"{}\" sorts the ray queue, and \"compaction\": \"off\" has none: it needs \"atomic\" or \"scan\"",
+                        sort.name()
                     ),
                 );
             }
@@ -856,6 +879,10 @@ impl Cx {
             o.wavefront.compact_states = c;
             format!("compact-states={}", kebab(&c))
         });
+        expand(&mut variants, &ray_sort, wf.ray_sort, labelled, |o, &r| {
+            o.wavefront.ray_sort = r;
+            format!("ray-sort={}", r.name())
+        });
         expand(&mut variants, &timing, Timing::Passes, labelled, |o, &t| {
             o.timing = t;
             format!("timing={}", kebab(&t))
@@ -893,6 +920,9 @@ impl Cx {
         // Likewise slot order, which needs queues.
         variants
             .retain(|(o, _)| !o.wavefront.queue_order.is_slot() || o.wavefront.compaction != Compaction::Off);
+        variants.retain(|(o, _)| {
+            o.wavefront.ray_sort == RaySort::Off || o.wavefront.compaction != Compaction::Off
+        });
         // Likewise batched refills and state compaction (which also needs queues).
         variants.retain(|(o, _)| {
             let w = &o.wavefront;

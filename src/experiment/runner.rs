@@ -283,6 +283,7 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
             "queue_order": o.wavefront.queue_order,
             "refill_below": o.wavefront.refill_below,
             "compact_states": o.wavefront.compact_states,
+            "ray_sort": o.wavefront.ray_sort,
             "timing": o.timing,
         }),
     };

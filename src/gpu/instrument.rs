@@ -86,8 +86,8 @@ const SLOT_WORDS: usize = 6;
 /// Iteration buckets of the coherence counters (`shaders/shared/coherence_on.wgsl`): iterations
 /// 0..7 one each, then one per power of two from 8 on, the last open-ended.
 pub const COHERENCE_BUCKETS: usize = 16;
-/// Words per coherence bucket: subgroups, lanes, lines, spread; each 64-bit (low, high).
-const COHERENCE_WORDS: usize = 8;
+/// Words per coherence bucket: subgroups, lanes, lines, spread, octants; each 64-bit (low, high).
+const COHERENCE_WORDS: usize = 10;
 const BUFFER_BYTES: u64 = ((SLOTS.len() * SLOT_WORDS + COHERENCE_BUCKETS * COHERENCE_WORDS) * 4) as u64;
 
 /// Memory and image coherence of the intersect pass's subgroups over a range of iterations
@@ -105,6 +105,10 @@ pub struct Coherence {
     pub lines: f64,
     /// Mean half-perimeter, in pixels, of the box around a subgroup's lanes' pixels.
     pub pixel_spread: f64,
+    /// Mean distinct direction octants of a subgroup's rays (1 when all leave the same way; the
+    /// key `--ray-sort` orders by). Absent from reports made before it.
+    #[serde(default)]
+    pub octants: f64,
 }
 
 /// First iteration of coherence bucket `b`.
@@ -129,6 +133,7 @@ pub fn decode_coherence(raw: &[u32]) -> Vec<Coherence> {
                 lanes: word(base + 2) as f64 / groups as f64,
                 lines: word(base + 4) as f64 / groups as f64,
                 pixel_spread: word(base + 6) as f64 / groups as f64,
+                octants: word(base + 8) as f64 / groups as f64,
             })
         })
         .collect()
@@ -338,9 +343,11 @@ mod tests {
         raw[b + 4] = 12;
         raw[b + 6] = 2;
         raw[b + 7] = 1; // 2^32 + 2 pixels of spread
+        raw[b + 8] = 6;
         let c = decode_coherence(&raw);
         assert_eq!(c.len(), 1);
         assert_eq!((c[0].first_iteration, c[0].subgroups, c[0].lanes, c[0].lines), (16, 4, 8.0, 3.0));
         assert_eq!(c[0].pixel_spread, ((1u64 << 32) + 2) as f64 / 4.0);
+        assert_eq!(c[0].octants, 1.5);
     }
 }

@@ -41,6 +41,12 @@ pub mod label {
     /// `--schedule regenerate`: starts new samples in the slots whose paths ended.
     pub const REGENERATE: &str = "regenerate";
     pub const QUEUE_SETUP_INTERSECT: &str = "queue_setup_intersect";
+    /// `--ray-sort`: counts the ray queue's entries per key (direction octant, origin cell).
+    pub const SORT_RAYS_COUNT: &str = "sort_rays_count";
+    /// `--ray-sort`: each key's first position in the sorted queue (one workgroup).
+    pub const SORT_RAYS_SCAN: &str = "sort_rays_scan";
+    /// `--ray-sort`: writes the ray queue back in key order.
+    pub const SORT_RAYS_SCATTER: &str = "sort_rays_scatter";
     pub const INTERSECT: &str = "intersect";
     pub const QUEUE_SETUP_SHADE: &str = "queue_setup_shade";
     /// Shade passes by material kind (`layout::material_kind` order).

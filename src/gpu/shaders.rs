@@ -66,5 +66,6 @@ pub const SHADOW: Variants = variants!("wavefront_shadow", appends);
 pub const TAIL: Variants = variants!("wavefront_tail", appends);
 pub const QUEUE_SETUP: &str = composed!("wavefront_queue_setup");
 pub const COMPACT_STATES: &str = composed!("wavefront_compact_states");
+pub const SORT_RAYS: &str = composed!("wavefront_sort_rays");
 pub const COMPACT: &str = composed!("wavefront_compact");
 pub const COMPACT_SUBGROUP: &str = composed!("wavefront_compact_subgroup");

@@ -23,6 +23,7 @@ mod lights;
 mod megakernel;
 mod metrics;
 mod paired;
+mod ray_sort;
 mod reference_cache;
 mod refill;
 mod render_space;

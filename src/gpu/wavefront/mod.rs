@@ -23,6 +23,8 @@
 //!       compact_states_move]                 first move the live paths below the live count, so
 //!      regenerate]                           the samples take the slots from there on)
 //!     queue_setup_intersect                 ray queue count → intersect's indirect args
+//!     [sort_rays_count, _scan, _scatter]    (--ray-sort) order the ray queue by direction
+//!                                           octant (and origin cell)
 //!     intersect                             closest hits; escaped rays add the background
 //!     [compact_scan, _blocks, _scatter]     (scan method) build the material queues
 //!     queue_setup_shade                     material queue counts → shade passes' args
@@ -48,6 +50,7 @@ pub mod intersect;
 pub mod path_state;
 pub mod queue_order;
 pub mod queue_setup;
+pub mod ray_sort;
 pub mod refill;
 pub mod schedule;
 pub mod shade;
@@ -79,6 +82,7 @@ use path_state::{
     QUEUE_SHADOW,
 };
 pub use queue_order::QueueOrder;
+pub use ray_sort::RaySort;
 pub use refill::CompactStates;
 pub use schedule::{Schedule, ScheduleStats};
 use std::time::Instant;
@@ -138,6 +142,8 @@ pub struct WavefrontOptions {
     pub refill_below: f64,
     /// Regenerating: compact the live states below the live count before each refill.
     pub compact_states: CompactStates,
+    /// The key the ray queue is sorted by before each intersect (needs queues).
+    pub ray_sort: RaySort,
 }
 
 impl Default for WavefrontOptions {
@@ -157,6 +163,7 @@ impl Default for WavefrontOptions {
             queue_order: QueueOrder::Auto,
             refill_below: refill::DEFAULT_REFILL_BELOW,
             compact_states: CompactStates::Off,
+            ray_sort: RaySort::Off,
         }
     }
 }
@@ -295,6 +302,8 @@ struct Stages {
     tail: Option<tail::TailPass>,
     /// `--compact-states on`: before each refill.
     compact_states: Option<compact_states::CompactStatesPasses>,
+    /// `--ray-sort`: between queue_setup_intersect and intersect.
+    ray_sort: Option<ray_sort::RaySortPasses>,
     regenerate: bool,
 }
 
@@ -311,6 +320,9 @@ impl Stages {
             self.generate.record_refill(wave, i);
         }
         self.queue_setup.record_intersect(wave, i);
+        if let Some(sort) = &self.ray_sort {
+            sort.record(wave, i);
+        }
         self.intersect.record(wave, i);
         if let Some(compact) = self.compact.as_ref().filter(|_| self.scan_materials) {
             compact.record(wave, i, Target::MaterialQueues);
@@ -334,6 +346,7 @@ impl Stages {
             + if self.shadow.is_some() { 2 } else { 0 }
             + if self.regenerate { 2 } else { 0 }
             + if self.compact_states.is_some() { 3 } else { 0 }
+            + if self.ray_sort.is_some() { 3 } else { 0 }
     }
 }
 
@@ -359,6 +372,7 @@ pub fn render(
     tail::check_threshold(opts.tail_threshold)?;
     opts.queue_order.check(opts.compaction)?;
     refill::check(opts.refill_below, opts.compact_states, opts.schedule, opts.compaction)?;
+    opts.ray_sort.check(opts.compaction)?;
     let queue_order = opts.queue_order.resolve(opts.schedule, opts.compaction, settings.sample_count(), pool);
     let subgroup_scan = opts.scan.uses_subgroups(ctx)?;
     let subgroup_append = opts.append.uses_subgroups(ctx)?;
@@ -430,6 +444,9 @@ pub fn render(
         compact_states: (opts.compact_states == CompactStates::On)
             .then(|| compact_states::CompactStatesPasses::new(ctx, &b, wg))
             .transpose()?,
+        ray_sort: (opts.ray_sort != RaySort::Off)
+            .then(|| ray_sort::RaySortPasses::new(ctx, &b, wg, opts.ray_sort, &mut memory))
+            .transpose()?,
         scan_materials: opts.compaction == Compaction::Scan,
         regenerate,
     };
@@ -450,6 +467,7 @@ pub fn render(
     stats.subgroup_append = subgroup_append;
     stats.slot_order = queue_order.is_slot();
     stats.depth_key = queue_order == QueueOrder::SlotDepth;
+    stats.ray_sort = Some(opts.ray_sort.name());
     if regenerate {
         stats.refill_below = Some(opts.refill_below);
         stats.compact_states = Some(opts.compact_states == CompactStates::On);

@@ -285,6 +285,9 @@ pub struct ScheduleStats {
     pub compactions: u64,
     #[serde(default)]
     pub states_moved: u64,
+    /// The key the ray queue was sorted by before each intersect (`--ray-sort`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ray_sort: Option<&'static str>,
     #[serde(skip)]
     intersected: u64,
     #[serde(skip)]
@@ -312,6 +315,7 @@ impl ScheduleStats {
             compact_states: None,
             compactions: 0,
             states_moved: 0,
+            ray_sort: None,
             intersected: 0,
             pool,
         }

@@ -1,0 +1,125 @@
+//! The ray sort (`--ray-sort`, `shaders/wavefront/sort_rays.wgsl`, issue 26's third remedy):
+//! before each intersect, a counting sort orders the ray queue by a key of each ray (its
+//! direction's octant, and with `octant-cell` also its origin's cell in a 4×4×4 grid over the
+//! scene's bounds, in Morton order), as Garanzha & Loop sort rays, so that a subgroup's lanes
+//! traverse the same part of the BVH. Material order needs no sort here: per-material shade
+//! queues are it. Three passes (count, one-workgroup scan, scatter) over the queue, sized by
+//! intersect's own arguments; the queue's copy and keys wait in the material queues' regions,
+//! which are empty until intersect fills them, so the sort needs 4 KiB of new memory.
+
+use super::super::buffers::{storage_entry, storage_zeroed};
+use super::super::memory::{MemoryCategory, MemoryLedger};
+use super::super::stage::{Stage, Workgroups};
+use super::super::{context::GpuContext, label, shaders};
+use super::path_state::ARGS_INTERSECT;
+use super::{Bindings, Compaction, WaveRecorder};
+use anyhow::{bail, Result};
+
+/// The key the ray queue is sorted by before each intersect.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RaySort {
+    /// The queue keeps the order its producing passes gave it (`--queue-order`).
+    #[default]
+    Off,
+    /// By the ray direction's octant (8 keys).
+    Octant,
+    /// By octant, then the ray origin's cell of a 4×4×4 grid over the scene's bounds (512 keys).
+    OctantCell,
+}
+
+/// Keys the shader's buckets hold (`KEYS` in WGSL).
+const KEYS: u64 = 512;
+
+impl RaySort {
+    /// The `CELL_BITS` pipeline constant: origin-cell bits per axis in the key.
+    fn cell_bits(self) -> u32 {
+        match self {
+            RaySort::OctantCell => 2,
+            _ => 0,
+        }
+    }
+
+    /// Refuses a sort where there is no queue to sort, naming the knob.
+    pub fn check(self, compaction: Compaction) -> Result<()> {
+        if self != RaySort::Off && compaction == Compaction::Off {
+            bail!(
+                "--ray-sort {} sorts the ray queue, and --compaction off has no queues: use --compaction on",
+                self.name()
+            );
+        }
+        Ok(())
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            RaySort::Off => "off",
+            RaySort::Octant => "octant",
+            RaySort::OctantCell => "octant-cell",
+        }
+    }
+}
+
+pub struct RaySortPasses {
+    count: Stage,
+    scan: Stage,
+    scatter: Stage,
+    group: wgpu::BindGroup,
+}
+
+impl RaySortPasses {
+    pub fn new(
+        ctx: &GpuContext,
+        b: &Bindings,
+        workgroup_size: u32,
+        sort: RaySort,
+        memory: &mut MemoryLedger,
+    ) -> Result<Self> {
+        let module = ctx.shader(label::SORT_RAYS_COUNT, shaders::SORT_RAYS)?;
+        let constants =
+            b.constants(&[("WORKGROUP_SIZE", workgroup_size as f64), ("CELL_BITS", sort.cell_bits() as f64)]);
+        // Counts, then each key's next position: zeroed once, and the scan clears the counts.
+        let buckets = memory.track(
+            MemoryCategory::Queues,
+            storage_zeroed(ctx, "ray sort buckets", 2 * KEYS * 4, wgpu::BufferUsages::empty())?,
+        );
+        let layout = ctx.bind_group_layout("ray sort", &[storage_entry(0, false)]);
+        let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("ray sort"),
+            layout: &layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: buckets.as_entire_binding() }],
+        });
+        // Scene, path state and the buckets (never the instrument counters).
+        let layouts = [b.layouts()[0], b.layouts()[1], &layout];
+        let stage = |l| Stage::new(ctx, l, &module, &layouts, &constants);
+        Ok(Self {
+            count: stage(label::SORT_RAYS_COUNT)?,
+            scan: stage(label::SORT_RAYS_SCAN)?,
+            scatter: stage(label::SORT_RAYS_SCATTER)?,
+            group,
+        })
+    }
+
+    /// The passes between queue_setup_intersect and intersect of iteration `i`.
+    pub fn record(&self, wave: &mut WaveRecorder<'_>, i: u32) {
+        let indirect = &wave.b.state.indirect;
+        let over_queue = || Workgroups::Indirect(indirect, ARGS_INTERSECT * 12);
+        let group = || Some((&self.group, vec![]));
+        wave.record_with(&self.count, Some(i), 2, group(), over_queue());
+        wave.record_with(&self.scan, Some(i), 2, group(), Workgroups::Direct(1));
+        wave.record_with(&self.scatter, Some(i), 2, group(), over_queue());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_sort_needs_queues() {
+        assert!(RaySort::Off.check(Compaction::Off).is_ok());
+        assert!(RaySort::Octant.check(Compaction::Scan).is_ok());
+        let e = RaySort::OctantCell.check(Compaction::Off).unwrap_err().to_string();
+        assert!(e.contains("--ray-sort octant-cell") && e.contains("--compaction off"), "{e}");
+    }
+}
