@@ -28,8 +28,9 @@
 #                       waves and regenerate + tail, 5 scenes at 1920x1080 x16 and x64
 #                       (device/queue_order.json)                            40e9   ~6-7 min
 #   refill              batched refills and state compaction (issue 26: --refill-below,
-#                       --compact-states) against regenerate + tail's defaults and waves,
-#                       5 scenes at 1920x1080 x16 and x64 (device/refill.json) 27e9  ~4-5 min
+#                       --compact-states) and the ray sort (--ray-sort) against
+#                       regenerate + tail's defaults and waves, 5 scenes at 1920x1080 x16
+#                       and x64 (device/refill.json)                         37e9  ~6-7 min
 #   baselines           baselines.json (1280x720 and 1080p, NEE, threads sweep) 5.8e9 ~1 min
 #   seeds               rtiow-final 1920x1080x500, each GPU method once      5.2e9  ~1 min
 #   fixed-costs         queue appends per lane against per subgroup, rtiow-final and mesh-room

@@ -152,7 +152,7 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
             "GPU seconds by pass group in the profiled render (per-pass timestamps, the median \
              repetition where every repetition was profiled), and intersect time per sample: the \
              variants of one job trace the same paths, so it compares what their intersect passes \
-             pay for the same rays.\n\n",
+             pay for the same rays. Compaction includes the ray sort (`sort_rays_*`).\n\n",
         );
         md.push_str("| # | scene | job | variant | intersect | shade | shadow | compaction | (re)generate | tail | other | sum | intersect ns per sample |\n");
         md.push_str(
@@ -223,6 +223,8 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
         md.push('\n');
     }
 
+    md.push_str(&coherence_table(&report.runs));
+
     let counted = |r: &&RunRecord| {
         [r.invalid_samples, r.self_hits, r.shadow_self_hits].iter().any(|c| c.unwrap_or(0) > 0)
     };
@@ -278,13 +280,61 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
 /// Columns of the per-bounce intersect table.
 const BOUNCE_COLUMNS: [usize; 7] = [0, 1, 2, 4, 8, 16, 32];
 
+/// The intersect pass's coherence counters of the instrumented runs (empty without any): per
+/// run, the subgroup-weighted means over every iteration bucket, and path-state lines from
+/// iteration 8 on.
+fn coherence_table(runs: &[RunRecord]) -> String {
+    use crate::gpu::instrument::Coherence;
+    let mut md = String::new();
+    let coherent: Vec<(&RunRecord, &[Coherence])> =
+        runs.iter().filter_map(|r| Some((r, r.coherence.as_deref().filter(|c| !c.is_empty())?))).collect();
+    if coherent.is_empty() {
+        return md;
+    }
+    md.push_str(
+        "## Intersect coherence\n\nPer intersect subgroup of the instrumented render (issue 26): the distinct \
+         64-byte lines of a 16-byte-per-slot path array its lanes read, the same from iteration 8 on (once \
+         refills have shuffled the pool), the half-perimeter in pixels of the box around its lanes' pixels, and \
+         the distinct direction octants of its rays; means over every subgroup.\n\n",
+    );
+    md.push_str(
+        "| # | variant | subgroups | lines | lines from iteration 8 | pixel spread | octants |\n\
+         | ---: | --- | ---: | ---: | ---: | ---: | ---: |\n",
+    );
+    for (r, c) in coherent {
+        // Subgroup-weighted mean of `f` over the buckets from iteration `from` on.
+        let mean = |from: u32, f: fn(&Coherence) -> f64, digits: usize| {
+            let kept = move || c.iter().filter(move |b| b.first_iteration >= from);
+            let n: u64 = kept().map(|b| b.subgroups).sum();
+            if n == 0 {
+                return "–".to_string();
+            }
+            format!("{:.digits$}", kept().map(|b| f(b) * b.subgroups as f64).sum::<f64>() / n as f64)
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {} |",
+            r.index,
+            cell(&r.label),
+            c.iter().map(|b| b.subgroups).sum::<u64>(),
+            mean(0, |b| b.lines, 2),
+            mean(8, |b| b.lines, 2),
+            mean(0, |b| b.pixel_spread, 1),
+            mean(0, |b| b.octants, 2),
+        );
+    }
+    md.push('\n');
+    md
+}
+
 /// Drops the charts `report` lists that are not in `dir`: committed results keep only some of
 /// them, and a page links only what is there.
 pub fn keep_present_charts(report: &mut ExperimentReport, dir: &std::path::Path) {
     report.charts.retain(|c| dir.join(&c.file).is_file());
 }
 
-/// A wavefront run's pass seconds in groups: intersect, shade, shadow, compaction (of queues),
+/// A wavefront run's pass seconds in groups: intersect, shade, shadow, compaction (of queues, and
+/// their sort),
 /// (re)generate (with the state compaction before refills), tail, other (queue set-up,
 /// accumulation and the rest).
 fn pass_groups(r: &RunRecord) -> [f64; 7] {
@@ -295,7 +345,7 @@ fn pass_groups(r: &RunRecord) -> [f64; 7] {
             l if l.starts_with("shade") => 1,
             "shadow" => 2,
             l if l.starts_with("compact_states") => 4,
-            l if l.starts_with("compact") => 3,
+            l if l.starts_with("compact") || l.starts_with("sort_rays") => 3,
             "generate" | "regenerate" | "regenerate_init" => 4,
             "tail" => 5,
             _ => 6,
@@ -458,7 +508,8 @@ mod tests {
                 "shade_lambertian": {"seconds": {"median": 0.5, "min": 0.5, "max": 0.5, "values": [0.5]}, "passes": 2},
                 "compact_scan": {"seconds": {"median": 0.25, "min": 0.25, "max": 0.25, "values": [0.25]}, "passes": 2},
                 "queue_setup_shade": {"seconds": {"median": 0.125, "min": 0.125, "max": 0.125, "values": [0.125]}, "passes": 2},
-                "compact_states_move": {"seconds": {"median": 4.0, "min": 4.0, "max": 4.0, "values": [4.0]}, "passes": 2}
+                "compact_states_move": {"seconds": {"median": 4.0, "min": 4.0, "max": 4.0, "values": [4.0]}, "passes": 2},
+                "sort_rays_scatter": {"seconds": {"median": 0.5, "min": 0.5, "max": 0.5, "values": [0.5]}, "passes": 2}
             },
             "passes_per_bounce": {"intersect": [3e-6, 0.5e-6]},
             "queue_histogram": {"rays": [1000, 250], "materials": [[], [], [], []]}
@@ -466,12 +517,31 @@ mod tests {
         .unwrap();
         assert_eq!(
             pass_groups(&r),
-            [2.0, 1.5, 0.0, 0.25, 4.0, 0.0, 0.125],
-            "state compaction is the refill's"
+            [2.0, 1.5, 0.0, 0.75, 4.0, 0.0, 0.125],
+            "state compaction is the refill's, the ray sort the queues'"
         );
         let cells = intersect_ns_per_ray(&r).unwrap();
         assert_eq!(&cells[..3], ["3 (1)".to_string(), "2 (1)".into(), "–".into()]);
         r.options = serde_json::json!({"schedule": "regenerate"});
         assert!(intersect_ns_per_ray(&r).is_none());
+    }
+
+    /// The coherence table weights each iteration bucket by its subgroups, and its late column
+    /// keeps only the buckets from iteration 8 on.
+    #[test]
+    fn coherence_table_weights_buckets_by_subgroups() {
+        let bucket = |first: u32, subgroups: u64, lines: f64| {
+            serde_json::json!({"first_iteration": first, "subgroups": subgroups, "lanes": 8.0,
+                "lines": lines, "pixel_spread": 10.0, "octants": 2.0})
+        };
+        let r: RunRecord = serde_json::from_value(serde_json::json!({
+            "index": 3, "id": "x", "environment": 0, "scene": "s", "width": 2, "height": 2, "spp": 1,
+            "max_depth": 5, "nee": false, "seed": 0, "accel": "bvh", "method": "wavefront",
+            "label": "regenerate", "options": {}, "status": "ok", "warmup": 0, "repetitions": 1,
+            "coherence": [bucket(0, 300, 2.0), bucket(8, 100, 6.0), bucket(16, 100, 8.0)]
+        }))
+        .unwrap();
+        let md = coherence_table(&[r]);
+        assert!(md.contains("| 3 | regenerate | 500 | 4.00 | 7.00 | 10.0 | 2.00 |"), "{md}");
     }
 }

@@ -261,6 +261,10 @@ pub struct RunRecord {
     pub indirect_validation: Option<bool>,
     /// SIMD efficiency per pass or point, from a separate instrumented render (`instrument`).
     pub simd: Option<BTreeMap<String, SimdEfficiency>>,
+    /// The wavefront intersect pass's coherence counters per iteration bucket, from the same
+    /// instrumented render (issue 26; absent from reports made before them).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coherence: Option<Vec<crate::gpu::instrument::Coherence>>,
     /// Key of the reference in `references`.
     pub reference: Option<String>,
     pub error_metrics: Option<ErrorMetrics>,

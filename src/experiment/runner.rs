@@ -242,6 +242,7 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         pool_size: None,
         indirect_validation: None,
         simd: None,
+        coherence: None,
         reference: None,
         error_metrics: None,
         efficiency: None,
@@ -439,7 +440,9 @@ fn measure(
     // SIMD efficiency comes from a separate render: the counters' atomics would skew the times.
     if config.instrument && ctx.is_some_and(|c| c.summary.subgroups) {
         let options = MethodOptions { instrument: true, ..variant.options.clone() };
-        rec.simd = render(&options)?.simd;
+        let instrumented = render(&options)?;
+        rec.simd = instrumented.simd;
+        rec.coherence = instrumented.coherence;
     }
 
     // Images and error.

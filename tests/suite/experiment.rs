@@ -615,6 +615,7 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
         names,
         [
             "baselines.json",
+            "coherence.json",
             "cpu_vs_gpu.json",
             "device/fixed_costs.json",
             "device/headline.json",
