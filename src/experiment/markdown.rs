@@ -538,6 +538,7 @@ mod tests {
             "index": 3, "id": "x", "environment": 0, "scene": "s", "width": 2, "height": 2, "spp": 1,
             "max_depth": 5, "nee": false, "seed": 0, "accel": "bvh", "method": "wavefront",
             "label": "regenerate", "options": {}, "status": "ok", "warmup": 0, "repetitions": 1,
+            "passes": {}, "passes_per_bounce": {}, "samples": 0,
             "coherence": [bucket(0, 300, 2.0), bucket(8, 100, 6.0), bucket(16, 100, 8.0)]
         }))
         .unwrap();
