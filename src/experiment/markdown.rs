@@ -298,8 +298,8 @@ fn coherence_table(runs: &[RunRecord]) -> String {
          the distinct direction octants of its rays; means over every subgroup.\n\n",
     );
     md.push_str(
-        "| # | variant | subgroups | lines | lines from iteration 8 | pixel spread | octants |\n\
-         | ---: | --- | ---: | ---: | ---: | ---: | ---: |\n",
+        "| # | scene | variant | subgroups | lines | lines from iteration 8 | pixel spread | octants |\n\
+         | ---: | --- | --- | ---: | ---: | ---: | ---: | ---: |\n",
     );
     for (r, c) in coherent {
         // Subgroup-weighted mean of `f` over the buckets from iteration `from` on.
@@ -313,8 +313,9 @@ fn coherence_table(runs: &[RunRecord]) -> String {
         };
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} |",
             r.index,
+            cell(&r.scene),
             cell(&r.label),
             c.iter().map(|b| b.subgroups).sum::<u64>(),
             mean(0, |b| b.lines, 2),
@@ -543,6 +544,6 @@ mod tests {
         }))
         .unwrap();
         let md = coherence_table(&[r]);
-        assert!(md.contains("| 3 | regenerate | 500 | 4.00 | 7.00 | 10.0 | 2.00 |"), "{md}");
+        assert!(md.contains("| 3 | s | regenerate | 500 | 4.00 | 7.00 | 10.0 | 2.00 |"), "{md}");
     }
 }

@@ -235,6 +235,32 @@ impl GpuContext {
         Ok(pipeline)
     }
 
+    /// The pipeline layout of `label`, with what was wrong when the adapter cannot hold it
+    /// (without the scope, wgpu reports only that the pipeline's layout "is invalid").
+    pub fn pipeline_layout(
+        &self,
+        label: &'static str,
+        layouts: &[&wgpu::BindGroupLayout],
+    ) -> Result<wgpu::PipelineLayout> {
+        let layouts: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(|l| Some(*l)).collect();
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let layout = self.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(label),
+            bind_group_layouts: &layouts,
+            immediate_size: 0,
+        });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            let hint = if self.summary.backend.eq_ignore_ascii_case("gl") {
+                " (an OpenGL adapter offers too few storage buffers for the wavefront: install a \
+                 Vulkan driver, e.g. `apt-get install mesa-vulkan-drivers`, or use the megakernel)"
+            } else {
+                ""
+            };
+            bail!("the {label} pipeline does not fit {}{hint}: {}", self.summary.name, describe(&e));
+        }
+        Ok(layout)
+    }
+
     /// A bind-group layout with `entries`: the one made before on this device if any, so that
     /// cached pipelines accept the bind groups of later renders.
     pub fn bind_group_layout(

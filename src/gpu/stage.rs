@@ -28,12 +28,7 @@ impl Stage {
         constants: &[(&str, f64)],
     ) -> Result<Self> {
         let pipeline = ctx.stages.pipeline(label, module, layouts, constants, || {
-            let layouts: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(|l| Some(*l)).collect();
-            let layout = ctx.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(label),
-                bind_group_layouts: &layouts,
-                immediate_size: 0,
-            });
+            let layout = ctx.pipeline_layout(label, layouts)?;
             ctx.compute_pipeline(label, module, &layout, constants)
         })?;
         Ok(Self { label, pipeline })

@@ -446,3 +446,28 @@ fn light_knobs_reach_the_report_and_the_exr() {
         &["cone", "area", "solid-angle"],
     );
 }
+
+/// On an OpenGL adapter (`WGPU_BACKEND=gl`) the wavefront's layouts exceed GL's storage-buffer
+/// count: the error must say so and name the fix, not "PipelineLayout is invalid". Machines
+/// without a GL adapter have nothing to check.
+#[test]
+fn wavefront_on_an_opengl_adapter_says_why_it_cannot_run() {
+    let out = Command::new(crate::common::bin())
+        .args(["render", "--scene", "three-spheres", "--method", "wavefront", "--width", "16"])
+        .args(["--height", "8", "--spp", "1", "--out", scratch("gl.exr").to_str().unwrap()])
+        .env("WGPU_BACKEND", "gl")
+        .output()
+        .expect("run wavetrace");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    if stderr.contains("no GPU adapter") || stderr.contains("No GPU adapter") {
+        eprintln!("no OpenGL adapter here: {stderr}");
+        return;
+    }
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    if out.status.success() {
+        // A GL driver with enough storage buffers runs it: nothing to refuse.
+        return;
+    }
+    assert!(stderr.contains("mesa-vulkan-drivers"), "{stderr}");
+    assert!(stderr.contains("does not fit"), "{stderr}");
+}

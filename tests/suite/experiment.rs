@@ -163,6 +163,9 @@ fn full_report_matches_the_schema_and_holds_every_output() {
             }
             let subgroups = common::gpu().unwrap().summary.subgroups;
             assert_eq!(r.simd.is_some(), subgroups, "{}: SIMD efficiency where subgroups exist", r.id);
+            // The intersect pass's coherence counters: wavefront runs only (issue 26).
+            let coherent = r.coherence.as_ref().is_some_and(|c| c.iter().any(|b| b.subgroups > 0));
+            assert_eq!(coherent, subgroups && r.method == "wavefront", "{}: coherence counters", r.id);
         }
     }
     // Error falls with spp.
