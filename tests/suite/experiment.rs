@@ -637,6 +637,7 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
             "precision.json",
             "queue_order.json",
             "quick.json",
+            "ray_sort.json",
             "refill.json",
             "refill_1080p.json",
             "regeneration.json",
