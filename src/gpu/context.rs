@@ -206,21 +206,29 @@ impl GpuContext {
         self.check()
     }
 
-    /// Creates a compute pipeline, turning validation errors, out-of-memory and internal errors
-    /// (e.g. a shader needing too much scratch memory, wgpu #10027) into `Err`.
+    /// Creates a compute pipeline and its layout, turning validation errors, out-of-memory and
+    /// internal errors (e.g. a shader needing too much scratch memory, wgpu #10027) into `Err`.
+    /// The layout is made inside the same scopes: an adapter with too few bindings (OpenGL)
+    /// fails there with the reason, where the pipeline alone would only call its layout invalid.
     pub fn compute_pipeline(
         &self,
         label: &'static str,
         module: &wgpu::ShaderModule,
-        layout: &wgpu::PipelineLayout,
+        layouts: &[&wgpu::BindGroupLayout],
         constants: &[(&str, f64)],
     ) -> Result<wgpu::ComputePipeline> {
         let scopes =
             [wgpu::ErrorFilter::Validation, wgpu::ErrorFilter::OutOfMemory, wgpu::ErrorFilter::Internal]
                 .map(|f| self.device.push_error_scope(f));
+        let layouts: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(|l| Some(*l)).collect();
+        let layout = self.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(label),
+            bind_group_layouts: &layouts,
+            immediate_size: 0,
+        });
         let pipeline = self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(label),
-            layout: Some(layout),
+            layout: Some(&layout),
             module,
             entry_point: Some(label),
             compilation_options: wgpu::PipelineCompilationOptions { constants, ..Default::default() },
@@ -228,37 +236,20 @@ impl GpuContext {
         });
         for scope in scopes.into_iter().rev() {
             if let Some(e) = pollster::block_on(scope.pop()) {
+                if self.adapter.get_info().backend == wgpu::Backend::Gl {
+                    bail!(
+                        "the {label} pipeline does not fit {} (an OpenGL adapter offers too few storage \
+                         buffers for the wavefront: install a Vulkan driver, e.g. `apt-get install \
+                         mesa-vulkan-drivers`, or use the megakernel): {}",
+                        self.summary.name,
+                        describe(&e)
+                    );
+                }
                 bail!("creating the {label} pipeline failed: {}", describe(&e));
             }
         }
         self.check()?;
         Ok(pipeline)
-    }
-
-    /// The pipeline layout of `label`, with what was wrong when the adapter cannot hold it
-    /// (without the scope, wgpu reports only that the pipeline's layout "is invalid").
-    pub fn pipeline_layout(
-        &self,
-        label: &'static str,
-        layouts: &[&wgpu::BindGroupLayout],
-    ) -> Result<wgpu::PipelineLayout> {
-        let layouts: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(|l| Some(*l)).collect();
-        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let layout = self.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(label),
-            bind_group_layouts: &layouts,
-            immediate_size: 0,
-        });
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            let hint = if self.summary.backend.eq_ignore_ascii_case("gl") {
-                " (an OpenGL adapter offers too few storage buffers for the wavefront: install a \
-                 Vulkan driver, e.g. `apt-get install mesa-vulkan-drivers`, or use the megakernel)"
-            } else {
-                ""
-            };
-            bail!("the {label} pipeline does not fit {}{hint}: {}", self.summary.name, describe(&e));
-        }
-        Ok(layout)
     }
 
     /// A bind-group layout with `entries`: the one made before on this device if any, so that

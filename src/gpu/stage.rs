@@ -28,8 +28,7 @@ impl Stage {
         constants: &[(&str, f64)],
     ) -> Result<Self> {
         let pipeline = ctx.stages.pipeline(label, module, layouts, constants, || {
-            let layout = ctx.pipeline_layout(label, layouts)?;
-            ctx.compute_pipeline(label, module, &layout, constants)
+            ctx.compute_pipeline(label, module, layouts, constants)
         })?;
         Ok(Self { label, pipeline })
     }

@@ -35,13 +35,8 @@ fn wgsl_rng_is_bit_identical_to_rust() {
             wgpu::BindGroupEntry { binding: 2, resource: unit.as_entire_binding() },
         ],
     });
-    let pl = ctx.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: None,
-        bind_group_layouts: &[Some(&layout)],
-        immediate_size: 0,
-    });
     let module = ctx.shader("rng_probe", shaders::RNG_PROBE).unwrap();
-    let pipeline = ctx.compute_pipeline("rng_probe", &module, &pl, &[]).unwrap();
+    let pipeline = ctx.compute_pipeline("rng_probe", &module, &[&layout], &[]).unwrap();
     let mut enc = ctx.device.create_command_encoder(&Default::default());
     {
         let mut pass = enc.begin_compute_pass(&Default::default());

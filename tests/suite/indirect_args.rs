@@ -48,15 +48,10 @@ fn indirect_arguments_stay_within_the_limit() {
             entries: &entries,
         })
     };
-    let pl = ctx.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: None,
-        bind_group_layouts: &[Some(&layout)],
-        immediate_size: 0,
-    });
     let module = ctx.shader("indirect_probe", shaders::INDIRECT_PROBE).unwrap();
     let constants = [("MAX_WORKGROUPS", limit as f64)];
-    let probe = ctx.compute_pipeline("indirect_probe", &module, &pl, &constants).unwrap();
-    let count = ctx.compute_pipeline("count_workgroups", &module, &pl, &constants).unwrap();
+    let probe = ctx.compute_pipeline("indirect_probe", &module, &[&layout], &constants).unwrap();
+    let count = ctx.compute_pipeline("count_workgroups", &module, &[&layout], &constants).unwrap();
     let (write_group, count_group) = (group_of(&args), group_of(&stand_in));
     let mut enc = ctx.device.create_command_encoder(&Default::default());
     {
