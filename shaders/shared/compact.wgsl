@@ -6,10 +6,11 @@
 // lane 0 = the next ray queue after shade).
 // In slot order (`--queue-order slot`) `next_queue` is indexed by slot: the scan after intersect
 // (scan method only) still covers the ray queue's positions (stable, so the material queues keep
-// the ray queue's slot order), but the scan after shade (either method) covers every slot of the
-// pool, so the next ray queue comes out in slot order, with the free list (lane 1) and the
-// shadow queue (lane 2); keyed by depth (`slot-depth`), lane 3 lists the paths on their first
-// bounce, placed after lane 0's in the same ray queue.
+// the ray queue's slot order), but the scan after shade (scan method, or the depth key with
+// either method; plain slot order with atomic appends sweeps instead, slot_sweep.wgsl) covers
+// every slot of the pool, so the next ray queue comes out in slot order, with the free list
+// (lane 1) and the shadow queue (lane 2); keyed by depth (`slot-depth`), lane 3 lists the paths
+// on their first bounce, placed after lane 0's in the same ray queue.
 // These are the passes' bodies: the entry files (wavefront/compact.wgsl, without subgroups, and
 // wavefront/compact_subgroup.wgsl) each define `scan_workgroup(lid, lanes)`, an inclusive scan of
 // `scratch`, include this, and wrap the bodies in entry points. Rust side: src/gpu/wavefront/compact.rs.

@@ -77,7 +77,8 @@ struct Wave {
     chunk: u32,
     ring: u32,
     // 0: queues in the order their paths arrive; 1: slot order (`--queue-order slot`): the ray
-    // queue, free list and shadow queue built by a scan over the pool's slots; 2: slot order
+    // queue, free list and shadow queue built by a pass over the pool's slots (the scan, or the
+    // atomic method's sweep); 2: slot order
     // keyed by depth (`slot-depth`): the ray queue lists the paths on their first bounce after
     // the others.
     order: u32,
@@ -108,8 +109,8 @@ struct Wave {
 // Scan compaction, indexed by the producing pass's queue position (so a scan covers only the
 // paths just processed) or, in slot order, by slot: the queue each goes to next (or DEAD), its
 // slot, and offsets. In slot order (either compaction method) every slot's entry says, when the
-// scan after shade runs, where its path goes next (DEAD for a slot holding no path), with
-// SHADOW_PENDING set when it also has a shadow ray queued.
+// pass after shade (scan or sweep) runs, where its path goes next (DEAD for a slot holding no
+// path), with SHADOW_PENDING set when it also has a shadow ray queued.
 @group(1) @binding(8) var<storage, read_write> next_queue: array<u32>;
 @group(1) @binding(9) var<storage, read_write> scan_offset: array<u32>;
 @group(1) @binding(10) var<storage, read_write> block_sums: array<vec4<u32>>;
@@ -206,10 +207,11 @@ fn store_sample(slot: u32) {
 // shared/append_subgroup.wgsl, one atomic per subgroup and queue (`--append`).
 #include "shared/append.wgsl"
 
-// Whether queues are kept in slot order (`--queue-order slot`): the scan after shade runs over
-// the pool's slots, so the ray queue lists its paths by slot and a subgroup's lanes read
-// neighbouring path states whatever order the paths arrived in; the free list (regenerate) and
-// the shadow queue come out of the same scan. The material queues keep the ray queue's order
+// Whether queues are kept in slot order (`--queue-order slot`): a pass after shade (the stable
+// scan, or the atomic method's sweep: runs of ascending slots) runs over the pool's slots, so
+// the ray queue lists its paths by slot and a subgroup's lanes read neighbouring path states
+// whatever order the paths arrived in; the free list (regenerate) and the shadow queue come out
+// of the same pass. The material queues keep the ray queue's order
 // (the stable scan) or its subgroups' runs (atomic appends).
 fn slot_order() -> bool {
     return wave.order != 0u;
@@ -229,7 +231,7 @@ const SHADOW_PENDING: u32 = 0x100u;
 const FIRST_BOUNCE: u32 = 0x200u;
 
 // (regenerate) `slot` is on no queue and traces nothing: the next refill may take it. In slot
-// order the scan after shade lists every free slot itself.
+// order the pass after shade lists every free slot itself.
 fn free_slot(slot: u32) {
     if !slot_order() {
         append(QUEUE_FREE, slot);
@@ -270,7 +272,8 @@ fn enqueue(q: u32, slot: u32, position: u32) {
 
 // Puts `slot`'s shadow ray on the shadow queue: appended atomically with either compaction
 // method in arrival order (a path can go to both the next ray queue and this one, which a scan's
-// single target per position cannot express); in slot order `enqueue_ray` flags it for the scan;
+// single target per position cannot express); in slot order `enqueue_ray` flags it for the pass
+// after shade;
 // without compaction the pending shadow weight alone marks it.
 fn enqueue_shadow(slot: u32) {
     if wave.compaction != 0u && !slot_order() {

@@ -40,12 +40,13 @@ fn count_dispatches(threads: u32, dispatches: u32) {
     }
 }
 
-// The scan passes (compact_scan and compact_scatter, indirect) over `positions`, if `recorded`.
-fn set_compact_args(positions: u32, recorded: bool) {
+// The passes over `positions` sized by ARGS_COMPACT: `dispatches` of them recorded (the scan's
+// compact_scan and compact_scatter; slot order's sweep; none).
+fn set_compact_args(positions: u32, dispatches: u32) {
     atomicStore(&counters[COUNTER_POSITIONS], positions);
     set_group_args(ARGS_COMPACT, positions, SCAN_WG);
-    if recorded {
-        count_dispatches(positions, 2u);
+    if dispatches > 0u {
+        count_dispatches(positions, dispatches);
     }
 }
 
@@ -65,8 +66,8 @@ fn queue_setup_regenerate() {
     atomicStore(&counters[COUNTER_NEXT_SAMPLE], next + n);
     // The free queue is a stack: the refill takes its top n entries, and paths ending later push
     // from there again, so slots the ring's end left idle stay free for the next refill. In slot
-    // order the scan after shade has just listed the free slots afresh, in ascending order, and
-    // the refill takes the lowest n.
+    // order the pass after shade has just listed the free slots afresh, in ascending order (the
+    // scan) or ascending runs (the sweep), and the refill takes the list's first n.
     atomicStore(&counters[COUNTER_FREE_BASE], select(free - n, 0u, slot_order()));
     atomicStore(&counters[QUEUE_FREE], free - n);
     // The refill's entries on the coming iteration's ray queue (filled by the last shade passes,
@@ -127,7 +128,7 @@ fn queue_setup_intersect() {
     }
     record(bounce, QUEUE_RAY_0, n);
     // A scan after intersect (scan method) covers the ray queue's positions.
-    set_compact_args(n, wave.compaction == 2u);
+    set_compact_args(n, select(0u, 2u, wave.compaction == 2u));
     for (var k = 0u; k < 4u; k++) {
         atomicStore(&counters[QUEUE_MATERIAL_0 + k], 0u);
     }
@@ -152,14 +153,20 @@ fn queue_setup_shade() {
         positions += n;
     }
     // A scan after shade covers the material queues laid end to end (scan method); in slot
-    // order (either method), every slot.
+    // order the scan or the sweep (plain slot order with the atomic method: one pass) covers
+    // every slot.
     if slot_order() {
-        set_compact_args(pool_slots(), true);
+        let sweep = wave.compaction == 1u && !depth_key();
+        set_compact_args(pool_slots(), select(2u, 1u, sweep));
     } else {
-        set_compact_args(positions, wave.compaction == 2u);
+        set_compact_args(positions, select(0u, 2u, wave.compaction == 2u));
     }
     atomicStore(&counters[QUEUE_RAY_0 + (bounce + 1u) % 2u], 0u);
     atomicStore(&counters[QUEUE_SHADOW], 0u);
+    // In slot order the pass after shade lists the free slots afresh (the sweep appends them).
+    if slot_order() {
+        atomicStore(&counters[QUEUE_FREE], 0u);
+    }
 }
 
 // (regenerate, --tail megakernel) Before the tail: every path on the ray queue the last shade

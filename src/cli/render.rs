@@ -174,10 +174,11 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = Append::Auto)]
     pub append: Append,
     /// Wavefront: keep queues in the order their paths arrived, or build the ray queue in slot
-    /// order by a scan over the pool (a subgroup reads neighbouring path states; regenerated
-    /// samples fill the lowest free slots), with either compaction method, optionally keyed by
-    /// depth (`slot-depth`: a refill's first bounces in one run, as in a wave); `auto`: slot
-    /// order when regenerating a job of at least 4 pools of samples, arrival order otherwise.
+    /// order by a pass over the pool (a subgroup reads neighbouring path states; regenerated
+    /// samples fill the lowest free slots): a stable scan with --compaction-method scan, a sweep
+    /// of appends (runs of ascending slots) with atomic; optionally keyed by depth (`slot-depth`,
+    /// always a scan: a refill's first bounces in one run, as in a wave); `auto`: slot order when
+    /// regenerating a job of at least 4 pools of samples, arrival order otherwise.
     #[arg(long, value_enum, default_value_t = QueueOrder::Auto)]
     pub queue_order: QueueOrder,
     /// Wavefront, --schedule regenerate: refill the pool only once at most this fraction of it,

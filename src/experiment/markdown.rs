@@ -152,7 +152,8 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
             "GPU seconds by pass group in the profiled render (per-pass timestamps, the median \
              repetition where every repetition was profiled), and intersect time per sample: the \
              variants of one job trace the same paths, so it compares what their intersect passes \
-             pay for the same rays. Compaction includes the ray sort (`sort_rays_*`).\n\n",
+             pay for the same rays. Compaction includes the ray sort (`sort_rays_*`) and slot order's \
+             sweep (`slot_sweep`).\n\n",
         );
         md.push_str("| # | scene | job | variant | intersect | shade | shadow | compaction | (re)generate | tail | other | sum | intersect ns per sample |\n");
         md.push_str(
@@ -334,9 +335,8 @@ pub fn keep_present_charts(report: &mut ExperimentReport, dir: &std::path::Path)
     report.charts.retain(|c| dir.join(&c.file).is_file());
 }
 
-/// A wavefront run's pass seconds in groups: intersect, shade, shadow, compaction (of queues, and
-/// their sort),
-/// (re)generate (with the state compaction before refills), tail, other (queue set-up,
+/// A wavefront run's pass seconds in groups: intersect, shade, shadow, compaction (of queues:
+/// scans, slot order's sweep, the ray sort), (re)generate (with the state compaction before refills), tail, other (queue set-up,
 /// accumulation and the rest).
 fn pass_groups(r: &RunRecord) -> [f64; 7] {
     let mut g = [0.0; 7];
@@ -346,7 +346,7 @@ fn pass_groups(r: &RunRecord) -> [f64; 7] {
             l if l.starts_with("shade") => 1,
             "shadow" => 2,
             l if l.starts_with("compact_states") => 4,
-            l if l.starts_with("compact") || l.starts_with("sort_rays") => 3,
+            l if l.starts_with("compact") || l.starts_with("sort_rays") || l == "slot_sweep" => 3,
             "generate" | "regenerate" | "regenerate_init" => 4,
             "tail" => 5,
             _ => 6,

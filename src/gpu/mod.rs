@@ -57,6 +57,9 @@ pub mod label {
     pub const COMPACT_SCAN: &str = "compact_scan";
     pub const COMPACT_BLOCKS: &str = "compact_blocks";
     pub const COMPACT_SCATTER: &str = "compact_scatter";
+    /// Slot order with atomic appends: lists every slot on the next ray queue, the free list or
+    /// the shadow queue.
+    pub const SLOT_SWEEP: &str = "slot_sweep";
     pub const QUEUE_SETUP_SHADOW: &str = "queue_setup_shadow";
     /// Shadow rays of next-event estimation (`--nee on`).
     pub const SHADOW: &str = "shadow";

@@ -68,4 +68,9 @@ pub const QUEUE_SETUP: &str = composed!("wavefront_queue_setup");
 pub const COMPACT_STATES: &str = composed!("wavefront_compact_states");
 pub const SORT_RAYS: &str = composed!("wavefront_sort_rays");
 pub const COMPACT: &str = composed!("wavefront_compact");
+/// Slot order's sweep: [per-lane appends, subgroup-aggregated appends] (never instrumented).
+pub const SLOT_SWEEP: [&str; 2] = [
+    composed!("wavefront_slot_sweep"),
+    include_str!(concat!(env!("OUT_DIR"), "/wavefront_slot_sweep.subgroup.wgsl")),
+];
 pub const COMPACT_SUBGROUP: &str = composed!("wavefront_compact_subgroup");

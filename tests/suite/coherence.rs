@@ -15,9 +15,9 @@ fn settings(spp: u32, nee: bool) -> RenderSettings {
 }
 
 /// Slot order, keyed by depth or not, with both compaction methods, waves and regeneration, with
-/// and without the tail and NEE (the shadow queue then comes out of the scan too), with a pool
-/// small enough for many refills and a ring of two chunks (refills stop at its end): the same
-/// film as waves in arrival order, bit for bit.
+/// and without the tail and NEE (the shadow queue then comes out of the scan or the sweep too),
+/// with a pool small enough for many refills and a ring of two chunks (refills stop at its end):
+/// the same film as waves in arrival order, bit for bit.
 #[test]
 fn slot_order_gives_the_waves_film() {
     let Some(_) = common::gpu() else { return };
@@ -44,6 +44,12 @@ fn slot_order_gives_the_waves_film() {
                 "{scene} nee={nee} {order:?} {compaction:?} {schedule:?} {tail:?} chunk_pools={chunk_pools}"
             );
             assert_eq!(out.film, waves, "{what}");
+            // Plain slot order with atomic appends builds its queues by the sweep; the scan
+            // method and the depth key by the scan over the pool.
+            let passes = &out.timings.as_ref().unwrap().passes;
+            let sweep = order == QueueOrder::Slot && compaction == Compaction::Atomic;
+            assert_eq!(passes.contains_key("slot_sweep"), sweep, "{what}: {:?}", passes.keys());
+            assert_eq!(passes.contains_key("compact_scan"), !sweep, "{what}: {:?}", passes.keys());
             if schedule == Schedule::Regenerate {
                 let st = out.schedule.unwrap();
                 assert!(st.iterations > 12, "{what}: the pool was refilled ({} iterations)", st.iterations);

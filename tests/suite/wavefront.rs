@@ -251,8 +251,8 @@ fn regenerate_keeps_the_pool_full() {
     let s = settings(16); // 15 360 samples: 7.5 pools of 2048
     let base = WavefrontOptions { pool_size: Some(2048), ..Default::default() };
     let w = run_wavefront("rtiow-final", &s, base);
-    // The schedule alone: slot order (auto's choice on this job) adds three scan passes an
-    // iteration, checked below.
+    // The schedule alone: slot order (auto's choice on this job) adds one pass an iteration
+    // (the atomic method's sweep over the pool), checked below.
     let r = run_wavefront(
         "rtiow-final",
         &s,
@@ -261,7 +261,7 @@ fn regenerate_keeps_the_pool_full() {
     let slot = run_wavefront("rtiow-final", &s, regenerating(base)).schedule.unwrap();
     assert!(slot.slot_order);
     let (ws, rs) = (w.schedule.unwrap(), r.schedule.unwrap());
-    assert_eq!(slot.dispatches, rs.dispatches + 3 * slot.iterations, "{slot:?} vs {rs:?}");
+    assert_eq!(slot.dispatches, rs.dispatches + slot.iterations, "{slot:?} vs {rs:?}");
     assert!(slot.dispatches * 3 < ws.dispatches);
     eprintln!("waves: {ws:?}\nregenerate: {rs:?}");
     assert!(rs.intersect_occupancy > 3.0 * ws.intersect_occupancy, "{rs:?} vs {ws:?}");
@@ -617,20 +617,23 @@ fn the_scan_spans_block_groups() {
 
 /// The pool holds only what the render's passes read: the shadow ray and weight with a shadow
 /// pass (NEE on, a scene with lights), the scan's scratch with the scan compaction, each slot's
-/// sample when regenerating; unused buffers are one 16-byte element. `bytes_per_path` says the same.
+/// queue target alone for slot order's sweep (atomic appends), each slot's sample when
+/// regenerating; unused buffers are one 16-byte element. `bytes_per_path` says the same.
 #[test]
 fn pool_memory_follows_the_knobs() {
     if common::gpu().is_none() {
         return;
     }
+    use wavetrace::gpu::wavefront::QueueOrder::{self, Arrival};
     let pool = 1000u64;
-    let memory = |nee: bool, compaction: Compaction, schedule: Schedule| {
+    let memory = |nee: bool, compaction: Compaction, schedule: Schedule, queue_order: QueueOrder| {
         let s = RenderSettings { nee, ..settings(2) };
         let opts = MethodOptions {
             wavefront: WavefrontOptions {
                 pool_size: Some(pool as u32),
                 compaction,
                 schedule,
+                queue_order,
                 ..Default::default()
             },
             ..Default::default()
@@ -639,20 +642,26 @@ fn pool_memory_follows_the_knobs() {
         let m = out.memory.unwrap().by_category;
         (out.bytes_per_path.unwrap(), m["shadow_queue"], m["queues"], m["path_state"])
     };
-    let (plain, plain_shadow, plain_queues, plain_state) = memory(false, Compaction::Atomic, Schedule::Waves);
+    let (plain, plain_shadow, plain_queues, plain_state) =
+        memory(false, Compaction::Atomic, Schedule::Waves, Arrival);
     assert_eq!(plain, 4 * 16 + 8 * 4, "state and eight queue entries");
     assert_eq!(plain_shadow, 2 * 16, "no shadow pass: placeholders only");
-    let (nee, nee_shadow, _, _) = memory(true, Compaction::Atomic, Schedule::Waves);
+    let (nee, nee_shadow, _, _) = memory(true, Compaction::Atomic, Schedule::Waves, Arrival);
     assert_eq!(nee, plain + 32);
     assert_eq!(nee_shadow, pool * 32, "shadow ray and weight per slot");
-    let (scan, _, scan_queues, _) = memory(false, Compaction::Scan, Schedule::Waves);
+    let (scan, _, scan_queues, _) = memory(false, Compaction::Scan, Schedule::Waves, Arrival);
     assert_eq!(scan, plain + 12);
     // Scratch per slot, a total and a prefix sum per block of 256 positions.
     let block_sums = 2 * pool.div_ceil(256) * 16;
     assert_eq!(scan_queues - plain_queues, pool * 12 + block_sums - 4 * 16, "scan scratch");
-    let (regen, _, _, regen_state) = memory(false, Compaction::Atomic, Schedule::Regenerate);
+    let (regen, _, regen_queues, regen_state) =
+        memory(false, Compaction::Atomic, Schedule::Regenerate, Arrival);
     assert_eq!(regen, plain + 8);
     assert_eq!(regen_state - plain_state, pool * 8 - 16, "each slot's sample and bounce");
+    let (sweep, _, sweep_queues, _) =
+        memory(false, Compaction::Atomic, Schedule::Regenerate, QueueOrder::Slot);
+    assert_eq!(sweep, regen + 4, "slot order's sweep: each slot's queue target");
+    assert_eq!(sweep_queues - regen_queues, pool * 4 - 16, "the targets, no scan scratch");
     // Without lights, NEE has nothing to sample: no shadow pass, no shadow buffers.
     let s = RenderSettings { nee: true, ..settings(2) };
     let out = run(Method::Wavefront, "three-spheres", &s, &MethodOptions::default());

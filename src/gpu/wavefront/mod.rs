@@ -30,9 +30,11 @@
 //!     queue_setup_shade                     material queue counts → shade passes' args
 //!     shade_<kind> for each kind used       scatter; survivors → next ray queue;
 //!                                           (--nee on) diffuse hits → shadow queue
-//!     [compact_scan, _blocks, _scatter]     (scan method, or slot order with either method) build
-//!                                           the next ray queue (slot order: over every slot, with
-//!                                           the free list and the shadow queue)
+//!     [compact_scan, _blocks, _scatter]     (scan method, or slot-depth order) build the next ray
+//!                                           queue (slot order: over every slot, with the free
+//!                                           list and the shadow queue)
+//!     [slot_sweep]                          (slot order, atomic method) the same lists, by
+//!                                           appends over every slot
 //!     [queue_setup_shadow, shadow]          (--nee on, scene has lights) shadow rays
 //! accumulate                                (waves) the wave's radiance → film, in sample order
 //! ```
@@ -55,6 +57,7 @@ pub mod refill;
 pub mod schedule;
 pub mod shade;
 pub mod shadow;
+pub mod slot_sweep;
 pub mod tail;
 
 use super::accumulate::Accumulate;
@@ -294,9 +297,11 @@ struct Stages {
     queue_setup: queue_setup::QueueSetup,
     intersect: intersect::Intersect,
     shade: shade::Shade,
-    /// The scan passes: after intersect with the scan method, after shade with it or in slot
-    /// order.
+    /// The scan passes: after intersect with the scan method, after shade with it or in
+    /// slot-depth order.
     compact: Option<compact::Compact>,
+    /// Slot order with the atomic method: the sweep after shade.
+    slot_sweep: Option<slot_sweep::SlotSweep>,
     scan_materials: bool,
     shadow: Option<shadow::Shadow>,
     tail: Option<tail::TailPass>,
@@ -332,6 +337,9 @@ impl Stages {
         if let Some(compact) = &self.compact {
             compact.record(wave, i, Target::NextRayQueue);
         }
+        if let Some(sweep) = &self.slot_sweep {
+            sweep.record(wave, i);
+        }
         if let Some(shadow) = &self.shadow {
             self.queue_setup.record_shadow(wave, i);
             shadow.record(wave, i);
@@ -342,6 +350,7 @@ impl Stages {
     fn per_iteration(&self) -> usize {
         3 + self.shade.passes()
             + if self.compact.is_some() { 3 } else { 0 }
+            + if self.slot_sweep.is_some() { 1 } else { 0 }
             + if self.scan_materials { 3 } else { 0 }
             + if self.shadow.is_some() { 2 } else { 0 }
             + if self.regenerate { 2 } else { 0 }
@@ -412,9 +421,12 @@ pub fn render(
     let stats_bounces = if regenerate { 1 } else { settings.max_depth.min(STATS_BOUNCES) };
     let frame = scene.frame_uniform(camera, settings);
     let has_shadow_pass = settings.nee && !scene.lights.is_empty();
-    // The scan passes: the scan method's, or slot order's over the pool after shade.
-    let uses_scan = opts.compaction == Compaction::Scan || queue_order.is_slot();
+    // The scan passes: the scan method's, or the depth key's over the pool after shade; slot
+    // order with atomic appends sweeps the pool instead (slot_sweep.wgsl).
+    let uses_sweep = queue_order == QueueOrder::Slot && opts.compaction == Compaction::Atomic;
+    let uses_scan = opts.compaction == Compaction::Scan || (queue_order.is_slot() && !uses_sweep);
     let layout = PoolLayout {
+        targets: uses_scan || uses_sweep,
         scan: uses_scan,
         shadow: has_shadow_pass,
         ring_samples: regenerate.then_some(ring.samples() as u64),
@@ -437,6 +449,7 @@ pub fn render(
         intersect: intersect::Intersect::new(ctx, &b, wg, instrument)?,
         shade: shade::Shade::new(ctx, &b, shade_kinds, wg, instrument)?,
         compact: uses_scan.then(|| compact::Compact::new(ctx, &b, subgroup_scan)).transpose()?,
+        slot_sweep: uses_sweep.then(|| slot_sweep::SlotSweep::new(ctx, &b)).transpose()?,
         shadow: has_shadow_pass.then(|| shadow::Shadow::new(ctx, &b, wg, instrument)).transpose()?,
         tail: (opts.tail == Tail::Megakernel)
             .then(|| tail::TailPass::new(ctx, &b, wg, instrument))

@@ -64,7 +64,11 @@ pub const ARGS_COMPACT_STATES_MOVE: u64 = 10;
 /// the render reads is bound as one 16-byte element, so memory follows the scene and the knobs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PoolLayout {
-    /// The scan compaction's target queue, offset and slot per position (`--compaction-method scan`).
+    /// The queue each slot or position asks for next (`next_queue`): read by the scan
+    /// compaction and by slot order's sweep.
+    pub targets: bool,
+    /// The scan compaction's offset and slot per position (`--compaction-method scan`, and the
+    /// slot-depth key's scan).
     pub scan: bool,
     /// The pending shadow ray and its weight (`--nee on` in a scene with lights).
     pub shadow: bool,
@@ -75,13 +79,14 @@ pub struct PoolLayout {
 
 impl PoolLayout {
     /// Bytes of GPU memory per pool slot: origin, direction, throughput and radiance (16 each)
-    /// and eight queue entries (4 each) always; the shadow ray and weight (16 each), the scan's
-    /// three words (4 each) and the slot's sample and bounce (8) where used.
+    /// and eight queue entries (4 each) always; the shadow ray and weight (16 each), the queue
+    /// target (4), the scan's two words (4 each) and the slot's sample and bounce (8) where used.
     pub const fn bytes_per_path(self) -> u64 {
         4 * 16
             + QUEUE_COUNT * 4
             + if self.shadow { 2 * 16 } else { 0 }
-            + if self.scan { 3 * 4 } else { 0 }
+            + if self.targets { 4 } else { 0 }
+            + if self.scan { 2 * 4 } else { 0 }
             + if self.ring_samples.is_some() { 8 } else { 0 }
     }
 }
@@ -152,7 +157,7 @@ impl PathState {
         let indirect = buffer(Mem::Queues, "indirect args", ARGS_SLOTS * 12, wgpu::BufferUsages::INDIRECT)?;
         // Per slot where used, else one element (no pass of this render reads it).
         let per_slot = |used: bool, bytes: u64| if used { pool64 * bytes } else { 16 };
-        let next_queue = buffer(Mem::Queues, "scan targets", per_slot(uses.scan, 4), none)?;
+        let next_queue = buffer(Mem::Queues, "scan targets", per_slot(uses.targets, 4), none)?;
         let scan_offset = buffer(Mem::Queues, "scan offsets", per_slot(uses.scan, 4), none)?;
         let block_sums = buffer(
             Mem::Queues,

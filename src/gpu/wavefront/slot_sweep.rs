@@ -1,0 +1,32 @@
+//! slot_sweep (`shaders/wavefront/slot_sweep.wgsl`): slot order's queues with the atomic
+//! compaction method. One pass over the pool's slots after shade appends each to the next ray
+//! queue, the free list (regenerate) or the shadow queue; appends aggregated per subgroup keep
+//! each subgroup's slots together in ascending order, so later passes read neighbouring path
+//! states as they would in the scan's exact slot order, without the scan's three passes and
+//! their barriers. Sized on the GPU by queue_setup_shade (the scan's arguments: every slot).
+
+use super::super::stage::{Stage, Workgroups};
+use super::super::{context::GpuContext, label, shaders};
+use super::path_state::ARGS_COMPACT;
+use super::{Bindings, WaveRecorder};
+use anyhow::Result;
+
+pub struct SlotSweep {
+    stage: Stage,
+}
+
+impl SlotSweep {
+    pub fn new(ctx: &GpuContext, b: &Bindings) -> Result<Self> {
+        let [lane, subgroup] = shaders::SLOT_SWEEP;
+        let module = ctx.shader(label::SLOT_SWEEP, if b.subgroup_append { subgroup } else { lane })?;
+        // Scene and path state only: no instrument counters.
+        let layouts = &b.layouts()[..2];
+        let constants = [("REGENERATE", b.regenerate as u32 as f64)];
+        Ok(Self { stage: Stage::new(ctx, label::SLOT_SWEEP, &module, layouts, &constants)? })
+    }
+
+    pub fn record(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
+        let args = Workgroups::Indirect(&wave.b.state.indirect, ARGS_COMPACT * 12);
+        wave.record(&self.stage, Some(bounce), 2, args);
+    }
+}
