@@ -150,10 +150,30 @@ fn cut(root: &Area, s: &str, max: f64) -> String {
     out + "…"
 }
 
-/// Legend names (cut to a fifth of the chart's width) and the room the legend needs beside the
-/// plot; a small margin when there is no legend.
+/// `s` cut in the middle to at most `max` pixels wide ("…" where it was cut): series names often
+/// share a start and differ at the end ("regenerate+tail batched", "… batched slot").
+fn cut_middle(root: &Area, s: &str, max: f64) -> String {
+    let chars: Vec<char> = clean(s).chars().collect();
+    let whole: String = chars.iter().collect();
+    if text_width(root, &whole) <= max {
+        return whole;
+    }
+    // Drop characters from the middle, the head keeping one more than the tail when odd.
+    for keep in (0..chars.len()).rev() {
+        let head = keep.div_ceil(2);
+        let text: String =
+            chars[..head].iter().chain(['…'].iter()).chain(&chars[chars.len() - (keep - head)..]).collect();
+        if text_width(root, &text) <= max {
+            return text;
+        }
+    }
+    "…".into()
+}
+
+/// Legend names (cut in the middle to a fifth of the chart's width) and the room the legend
+/// needs beside the plot; a small margin when there is no legend.
 fn legend_names(root: &Area, names: &[&str]) -> (Vec<String>, u32) {
-    let names: Vec<String> = names.iter().map(|n| cut(root, n, WIDTH as f64 / 5.0)).collect();
+    let names: Vec<String> = names.iter().map(|n| cut_middle(root, n, WIDTH as f64 / 5.0)).collect();
     let widest = names.iter().map(|n| text_width(root, n)).reduce(f64::max);
     (names, widest.map_or(24, |w| w as u32 + 56))
 }
