@@ -81,8 +81,8 @@ fn regenerate_init(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_si
 }
 
 // The refill: thread i starts sample (base + i) in the i-th free slot (in slot order, the i-th
-// lowest, or the i-th of ascending runs, so consecutive samples land in neighbouring slots) and queues its camera ray
-// for the coming iteration in the i-th ray-queue entry queue_setup_regenerate reserved (which
+// lowest, or the i-th of ascending runs, so consecutive samples land in neighbouring slots) and
+// queues its camera ray for the coming iteration in the i-th ray-queue entry queue_setup_regenerate reserved (which
 // also sized the pass and took the samples).
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn regenerate(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {

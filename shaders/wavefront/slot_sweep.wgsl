@@ -3,11 +3,11 @@
 // slots, from the queue each slot asked for in `next_queue`, with appends. With appends
 // aggregated per subgroup (`--append`, shared/append_subgroup.wgsl) each subgroup writes its
 // slots as one run in ascending order, so a queue is a sequence of runs of neighbouring slots
-// (the runs' order is the atomics'): what a later pass's subgroup reads is as coherent as in the
-// scan's exact slot order, at one pass without barriers instead of the scan's three (the scan
-// took 16% of a regenerating frame on llvmpipe, experiments/results/llvmpipe-2core/
-// regeneration_remedies). The scan method, and the depth key (which places a run after all
-// others, so needs their total), keep the stable scan (shared/compact.wgsl).
+// (the runs' order is the atomics'): a later pass's subgroup reads as few lines of path state as
+// in the scan's exact slot order (the coherence counters), though the runs no longer form one
+// ascending stream, at one pass without barriers instead of the scan's three (on llvmpipe about
+// a third of the scan's time: commit 5f22f9a). The scan method, and the depth key (which places
+// a run after all others, so needs their total), keep the stable scan (shared/compact.wgsl).
 // Rust side: src/gpu/wavefront/slot_sweep.rs.
 
 #include "shared/path_state.wgsl"

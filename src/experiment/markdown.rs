@@ -336,8 +336,8 @@ pub fn keep_present_charts(report: &mut ExperimentReport, dir: &std::path::Path)
 }
 
 /// A wavefront run's pass seconds in groups: intersect, shade, shadow, compaction (of queues:
-/// scans, slot order's sweep, the ray sort), (re)generate (with the state compaction before refills), tail, other (queue set-up,
-/// accumulation and the rest).
+/// scans, slot order's sweep, the ray sort), (re)generate (with the state compaction before
+/// refills), tail, other (queue set-up, accumulation and the rest).
 fn pass_groups(r: &RunRecord) -> [f64; 7] {
     let mut g = [0.0; 7];
     for (label, p) in &r.passes {

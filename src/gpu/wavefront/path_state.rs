@@ -157,7 +157,7 @@ impl PathState {
         let indirect = buffer(Mem::Queues, "indirect args", ARGS_SLOTS * 12, wgpu::BufferUsages::INDIRECT)?;
         // Per slot where used, else one element (no pass of this render reads it).
         let per_slot = |used: bool, bytes: u64| if used { pool64 * bytes } else { 16 };
-        let next_queue = buffer(Mem::Queues, "scan targets", per_slot(uses.targets, 4), none)?;
+        let next_queue = buffer(Mem::Queues, "queue targets", per_slot(uses.targets, 4), none)?;
         let scan_offset = buffer(Mem::Queues, "scan offsets", per_slot(uses.scan, 4), none)?;
         let block_sums = buffer(
             Mem::Queues,

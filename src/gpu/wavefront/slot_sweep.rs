@@ -1,9 +1,9 @@
 //! slot_sweep (`shaders/wavefront/slot_sweep.wgsl`): slot order's queues with the atomic
 //! compaction method. One pass over the pool's slots after shade appends each to the next ray
 //! queue, the free list (regenerate) or the shadow queue; appends aggregated per subgroup keep
-//! each subgroup's slots together in ascending order, so later passes read neighbouring path
-//! states as they would in the scan's exact slot order, without the scan's three passes and
-//! their barriers. Sized on the GPU by queue_setup_shade (the scan's arguments: every slot).
+//! each subgroup's slots together in ascending order, so later passes read as few lines of path
+//! state as in the scan's exact slot order (though not as one ascending stream), without the
+//! scan's three passes and their barriers. Sized on the GPU by queue_setup_shade (the scan's arguments: every slot).
 
 use super::super::stage::{Stage, Workgroups};
 use super::super::{context::GpuContext, label, shaders};
