@@ -15,7 +15,6 @@
 // wavefront/compact_subgroup.wgsl) each define `scan_workgroup(lid, lanes)`, an inclusive scan of
 // `scratch`, include this, and wrap the bodies in entry points. Rust side: src/gpu/wavefront/compact.rs.
 
-const SCAN_WG: u32 = 256u;
 var<workgroup> scratch: array<vec4<u32>, SCAN_WG>;
 
 // Where a lane sits in its subgroup (zeros for the workgroup scan, which needs no subgroups).

@@ -56,6 +56,9 @@ const ARGS_REGENERATE: u32 = 7u;
 const ARGS_TAIL: u32 = 8u;
 const ARGS_COMPACT_STATES_FIND: u32 = 9u;  // (--compact-states on) the find pass, then the move pass
 const ARGS_COMPACT_STATES_MOVE: u32 = 10u;
+// Workgroup size of the passes ARGS_COMPACT sizes: the scan (shared/compact.wgsl) and slot
+// order's sweep (wavefront/slot_sweep.wgsl). SCAN_WG in path_state.rs.
+const SCAN_WG: u32 = 256u;
 
 // A path that no pass should touch again.
 const DEAD: u32 = 0xffffffffu;

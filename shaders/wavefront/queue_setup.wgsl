@@ -12,8 +12,6 @@
 
 // Bounces past the last histogram row are added to it (at most 64: COUNTER_SHADE_BASE follows).
 override STATS_BOUNCES: u32 = 64u;
-// Workgroup size of the compact passes (compact.wgsl).
-const SCAN_WG: u32 = 256u;
 override WORKGROUP_SIZE: u32 = 64u;
 
 // One indirect dispatch's arguments: workgroups of `group` threads covering `threads`, clamped

@@ -15,7 +15,6 @@
 
 // Dispatched with the scan's indirect arguments (queue_setup_shade's set_compact_args): SCAN_WG
 // threads a workgroup over COUNTER_POSITIONS = every slot of the pool.
-const SCAN_WG: u32 = 256u;
 
 @compute @workgroup_size(SCAN_WG)
 fn slot_sweep(@builtin(global_invocation_id) gid: vec3<u32>) {

@@ -176,6 +176,7 @@ fn path_state_counters_and_arguments() {
     assert_eq!(wgsl_u32(src, "COUNTER_STATS"), ps::COUNTER_STATS);
     assert_eq!(wgsl_u32(src, "QUEUE_COUNT"), ps::QUEUE_COUNT);
     assert_eq!(wgsl_u32(src, "QUEUE_SHADOW"), ps::QUEUE_SHADOW);
+    assert_eq!(wgsl_u32(src, "SCAN_WG"), ps::SCAN_WG, "the scan's and the sweep's workgroups");
     for (name, slot) in [
         ("ARGS_INTERSECT", ps::ARGS_INTERSECT),
         ("ARGS_SHADE_0", ps::ARGS_SHADE_0),
