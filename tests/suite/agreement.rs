@@ -20,10 +20,10 @@ pub(crate) fn run(method: Method, scene: &Scene, s: &RenderSettings) -> Film {
 
 /// The bar: ≥ 99% of pixels pass a z-test at α = 0.01, image means within 1%. The
 /// methods trace the same paths, so their ray counts (rays/s in reports) agree too, up to the
-/// paths that rounding sends another way: rare between f32 methods (1e-3), more between f32 and
+/// paths that rounding sends another way: rare between f32 methods (`common::F32_RAY_TOLERANCE`), more between f32 and
 /// f64, where a path's rounding differs at every bounce (0.43% measured on three-spheres: 1%).
 fn assert_agree(name: &str, a: &Film, b: &Film) {
-    common::assert_agree_rays(name, a, b, 1e-3);
+    common::assert_agree_rays(name, a, b, common::F32_RAY_TOLERANCE);
 }
 
 #[test]

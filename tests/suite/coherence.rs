@@ -17,7 +17,8 @@ fn settings(spp: u32, nee: bool) -> RenderSettings {
 /// Slot order, keyed by depth or not, with both compaction methods, waves and regeneration, with
 /// and without the tail and NEE (the shadow queue then comes out of the scan or the sweep too),
 /// with a pool small enough for many refills and a ring of two chunks (refills stop at its end):
-/// the same film as waves in arrival order, bit for bit.
+/// the same film as waves in arrival order, bit for bit (with the tail: the same paths, radiance
+/// up to rounding, `common::assert_same_paths`).
 #[test]
 fn slot_order_gives_the_waves_film() {
     let Some(_) = common::gpu() else { return };
@@ -43,7 +44,11 @@ fn slot_order_gives_the_waves_film() {
             let what = format!(
                 "{scene} nee={nee} {order:?} {compaction:?} {schedule:?} {tail:?} chunk_pools={chunk_pools}"
             );
-            assert_eq!(out.film, waves, "{what}");
+            if tail == Tail::Megakernel {
+                common::assert_same_paths(&what, &out.film, &waves);
+            } else {
+                assert_eq!(out.film, waves, "{what}");
+            }
             // Plain slot order with atomic appends builds its queues by the sweep; the scan
             // method and the depth key by the scan over the pool.
             let passes = &out.timings.as_ref().unwrap().passes;
@@ -118,10 +123,12 @@ fn slot_order_reads_fewer_path_state_lines() {
 /// sit by slot among paths at every depth and from everywhere in the image; keyed by depth they
 /// form one run, as in a wave, so an intersect subgroup's lanes come from neighbouring pixels
 /// again (pixel spread: the half-perimeter of the box around a subgroup's pixels), and the
-/// traversal's lanes diverge less (work-weighted SIMD efficiency of intersect). llvmpipe, 24
-/// pools: spread 33.6 → 22.3 and 76.9% → 80.9% with either compaction method, run after run;
-/// a key that did nothing would leave them equal, so the bar (0.8×) leaves room for the order a
-/// GPU's atomics pick, not for a key that fails.
+/// traversal's lanes diverge less (work-weighted SIMD efficiency of intersect). llvmpipe (8
+/// lanes), 24 pools: spread 33.6 → 22.3 and 76.9% → 80.9% with either compaction method, run
+/// after run. An H200 (32 lanes): 89.8 → 67.6 with atomics, 83.3 → 67.6 with the scan, and
+/// 60% → 64%: 32 lanes of one run already span a row of 32 pixels, so the spread cannot fall
+/// as far. A key that did nothing would leave them equal; the bar (0.9×) leaves room for the
+/// width and the order a GPU's atomics pick, not for a key that fails.
 #[test]
 fn the_depth_key_keeps_first_bounces_together() {
     let Some(ctx) = common::gpu() else { return };
@@ -158,7 +165,7 @@ fn the_depth_key_keeps_first_bounces_together() {
             100.0 * slot_simd,
             100.0 * depth_simd
         );
-        assert!(depth < 0.8 * slot, "{compaction:?}: slot-depth spread {depth:.1} vs slot {slot:.1}");
+        assert!(depth < 0.9 * slot, "{compaction:?}: slot-depth spread {depth:.1} vs slot {slot:.1}");
         assert!(depth_simd > slot_simd, "{compaction:?}: work:intersect {depth_simd} vs {slot_simd}");
     }
 }

@@ -53,13 +53,18 @@ fn two_lights_agree_on_every_method_with_both_light_strategies() {
             &name("megakernel"),
             &cpu,
             &run_with(Method::Megakernel, &scene, &s, &opts),
-            1e-3,
+            common::F32_RAY_TOLERANCE,
         );
         for compaction in [Compaction::Atomic, Compaction::Off] {
             let mut o = opts.clone();
             o.wavefront.compaction = compaction;
             let wf = run_with(Method::Wavefront, &scene, &s, &o);
-            common::assert_agree_rays(&name(&format!("wavefront {compaction:?}")), &cpu, &wf, 1e-3);
+            common::assert_agree_rays(
+                &name(&format!("wavefront {compaction:?}")),
+                &cpu,
+                &wf,
+                common::F32_RAY_TOLERANCE,
+            );
         }
     }
 }
@@ -109,13 +114,23 @@ fn cornell_agrees_on_cpu_megakernel_and_wavefront_with_nee_on_and_off() {
             continue;
         }
         let name = |m: &str| format!("cornell nee={nee} cpu vs {m}");
-        common::assert_agree_rays(&name("megakernel"), &cpu, &run(Method::Megakernel, &scene, &s), 1e-3);
+        common::assert_agree_rays(
+            &name("megakernel"),
+            &cpu,
+            &run(Method::Megakernel, &scene, &s),
+            common::F32_RAY_TOLERANCE,
+        );
         // Every way of building the wavefront's queues, the shadow queue included.
         for compaction in [Compaction::Atomic, Compaction::Scan, Compaction::Off] {
             let mut opts = MethodOptions::default();
             opts.wavefront.compaction = compaction;
             let wf = run_with(Method::Wavefront, &scene, &s, &opts);
-            common::assert_agree_rays(&name(&format!("wavefront {compaction:?}")), &cpu, &wf, 1e-3);
+            common::assert_agree_rays(
+                &name(&format!("wavefront {compaction:?}")),
+                &cpu,
+                &wf,
+                common::F32_RAY_TOLERANCE,
+            );
         }
     }
 }
@@ -265,8 +280,18 @@ fn mesh_scene_agrees_on_cpu_megakernel_and_wavefront() {
     if common::gpu().is_none() {
         return;
     }
-    common::assert_agree_rays("mesh cpu vs megakernel", &cpu, &run(Method::Megakernel, &scene, &s), 1e-3);
-    common::assert_agree_rays("mesh cpu vs wavefront", &cpu, &run(Method::Wavefront, &scene, &s), 1e-3);
+    common::assert_agree_rays(
+        "mesh cpu vs megakernel",
+        &cpu,
+        &run(Method::Megakernel, &scene, &s),
+        common::F32_RAY_TOLERANCE,
+    );
+    common::assert_agree_rays(
+        "mesh cpu vs wavefront",
+        &cpu,
+        &run(Method::Wavefront, &scene, &s),
+        common::F32_RAY_TOLERANCE,
+    );
 }
 
 /// The light as two triangles and as one quad is the same light: hitting and sampling triangles

@@ -105,7 +105,12 @@ fn regenerate_agrees_with_the_cpu_reference() {
         let s = RenderSettings { spp: 32, ..s };
         let cpu = run(Method::Cpu, &scene, &s, MegakernelOptions::default());
         let r = run(Method::Megakernel, &scene, &s, regenerate(Some(256)));
-        common::assert_agree_rays(&format!("{} nee={}", scene.name, s.nee), &cpu.film, &r.film, 1e-3);
+        common::assert_agree_rays(
+            &format!("{} nee={}", scene.name, s.nee),
+            &cpu.film,
+            &r.film,
+            common::F32_RAY_TOLERANCE,
+        );
     }
 }
 

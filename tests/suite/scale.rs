@@ -173,6 +173,6 @@ fn a_million_spheres_render_alike_with_every_method() {
     if common::gpu().is_none() {
         return;
     }
-    assert_agree("cpu vs megakernel", &cpu, &run(Method::Megakernel), 1e-3);
-    assert_agree("cpu vs wavefront", &cpu, &run(Method::Wavefront), 1e-3);
+    assert_agree("cpu vs megakernel", &cpu, &run(Method::Megakernel), common::F32_RAY_TOLERANCE);
+    assert_agree("cpu vs wavefront", &cpu, &run(Method::Wavefront), common::F32_RAY_TOLERANCE);
 }

@@ -118,14 +118,17 @@ fn assert_replay_matches(label: &str, method: Method, opts: &MethodOptions) {
             (Method::Wavefront, _) => {
                 let launch = wavefront::Launch::from_options(&opts.wavefront);
                 let r = wavefront::replay(&packed, &frame, &s, &[w], launch).unwrap();
-                // The host's schedule replayed: the same iterations, tail passes and paths.
+                // The host's schedule replayed: the same iterations and tail passes, and the
+                // tail's paths up to those that the device's rounding ends at another bounce
+                // than the CPU's (common::F32_RAY_TOLERANCE; an H200: 250 against 251 on the
+                // Cornell box with NEE).
                 let d = out.schedule.unwrap();
-                let replayed = (r.iterations, r.tail_passes, r.tail_paths);
-                assert_eq!(
-                    (d.iterations, d.tail_passes, d.tail_paths),
-                    replayed,
-                    "{scene} {label}: schedule"
+                let what = format!(
+                    "{scene} {label}: schedule {d:?} replayed {:?}",
+                    (r.iterations, r.tail_passes, r.tail_paths)
                 );
+                assert_eq!((d.iterations, d.tail_passes), (r.iterations, r.tail_passes), "{what}");
+                assert!(d.tail_paths.abs_diff(r.tail_paths) <= 1 + r.tail_paths / 100, "{what}");
                 r.counts
             }
             (_, "regenerate") => {
@@ -134,7 +137,9 @@ fn assert_replay_matches(label: &str, method: Method, opts: &MethodOptions) {
                     threads: mk.threads.unwrap(),
                     workgroup_size: mk.workgroup_size,
                     paths_per_thread: wavetrace::gpu::loop_limit::paths_per_thread(ctx, &packed, &s),
-                    resident: Some(LLVMPIPE_RESIDENT),
+                    // A GPU runs the workgroup's subgroups at once, taking samples in turn
+                    // (the replay's `None`); llvmpipe one after the other.
+                    resident: wavetrace::gpu::loop_limit::has_loop_limit(ctx).then_some(LLVMPIPE_RESIDENT),
                     every: 1,
                 };
                 regenerate::replay(&packed, &frame, &s, &[w], launch).unwrap().counts
@@ -250,7 +255,7 @@ fn regenerating_wavefront_replay_matches_the_device() {
 /// the `megakernel_*` slots), and the flushes of the oldest chunks' last paths where the sample
 /// ring binds (2 pools of 64 for 768 samples, a check every 2 iterations: several flushes per
 /// scene), whose slots stay on the ray queue as idle entries until the next intersect. Checked
-/// with the device's iterations, tail passes and tail paths, exactly.
+/// with the device's iterations and tail passes, exactly, and its tail paths within 1% and one.
 #[test]
 fn regenerating_wavefront_tail_replay_matches_the_device() {
     use wavetrace::gpu::wavefront::{Compaction, QueueOrder, Tail};

@@ -37,6 +37,30 @@ pub fn render_wavefront(
     render(Method::Wavefront, &scene, s, &opts, gpu(), &|_| {})
 }
 
+/// A film rendered with the megakernel tail against one without: the same paths (every pixel's
+/// samples, invalid samples and rays equal), radiance equal up to rounding. The tail runs a
+/// path's last bounces in another shader than the wavefront's shade passes; the arithmetic is
+/// the same WGSL, but a driver may fuse multiply-adds differently in each (WGSL allows it), and
+/// on an H200 one sample of 7,680 differed in its last bit (Cornell box, NEE). 1e-6 of a sum is
+/// eight f32 ulps of its largest sample; a path that went another way changes far more.
+#[track_caller]
+pub fn assert_same_paths(what: &str, a: &Film, b: &Film) {
+    assert_eq!((a.width, a.height, a.spp), (b.width, b.height, b.spp), "{what}: film size");
+    for (i, (p, q)) in a.pixels.iter().zip(&b.pixels).enumerate() {
+        assert_eq!((p.count, p.invalid, p.rays), (q.count, q.invalid, q.rays), "{what}: pixel {i}");
+        for (x, y) in p.sum.iter().zip(&q.sum).chain(p.sum_sq.iter().zip(&q.sum_sq)) {
+            assert!((x - y).abs() <= 1e-6 * x.abs().max(y.abs()), "{what}: pixel {i}: {p:?} vs {q:?}");
+        }
+    }
+}
+
+/// Ray-count tolerance between two f32 renderers tracing the same paths (the CPU reference and a
+/// GPU method): they part only where rounding sends a path another way. Within 1e-3 on llvmpipe;
+/// NVIDIA's compiler fuses multiply-adds (WGSL allows it) and rounds division and square roots
+/// its own way, and on an H200 the Cornell box differed by 1.7e-3 (40x40 at 64 spp, no NEE) and
+/// 1.1e-3 (NEE). A path that took other random numbers would change far more than this.
+pub const F32_RAY_TOLERANCE: f64 = 3e-3;
+
 /// Two methods tracing the same paths agree (DESIGN.md §4): ≥ 99% of pixels pass a z-test at
 /// α = 0.01 and image means are within 1%; their ray counts (rays/s in reports) agree up to the
 /// paths that rounding sends another way, within `ray_tolerance` (relative).
