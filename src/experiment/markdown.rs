@@ -164,7 +164,7 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
             let sum: f64 = g.iter().sum();
             let cells: Vec<String> = g.iter().map(|&t| sig(t)).collect();
             let per_sample =
-                if r.samples > 0 { format!("{:.0}", 1e9 * g[0] / r.samples as f64) } else { "–".into() };
+                if r.samples > 0 { nanoseconds(1e9 * g[0] / r.samples as f64) } else { "–".into() };
             let _ = writeln!(
                 md,
                 "| {} | {} | {} | {} | {} | {} | {per_sample} |",
@@ -338,6 +338,16 @@ pub fn keep_present_charts(report: &mut ExperimentReport, dir: &std::path::Path)
 /// A wavefront run's pass seconds in groups: intersect, shade, shadow, compaction (of queues:
 /// scans, slot order's sweep, the ray sort), (re)generate (with the state compaction before
 /// refills), tail, other (queue set-up, accumulation and the rest).
+/// Nanoseconds to three significant figures, whole from 100 up: a GPU's few ns per ray stay
+/// readable beside a software driver's thousands.
+fn nanoseconds(ns: f64) -> String {
+    match ns {
+        n if n >= 100.0 => format!("{n:.0}"),
+        n if n >= 10.0 => format!("{n:.1}"),
+        n => format!("{n:.2}"),
+    }
+}
+
 fn pass_groups(r: &RunRecord) -> [f64; 7] {
     let mut g = [0.0; 7];
     for (label, p) in &r.passes {
@@ -368,7 +378,9 @@ fn intersect_ns_per_ray(r: &RunRecord) -> Option<Vec<String>> {
         BOUNCE_COLUMNS
             .iter()
             .map(|&b| match (rays.get(b), seconds.get(b)) {
-                (Some(&n), Some(&t)) if n > 0 => format!("{:.0} ({})", 1e9 * t / n as f64, n.div_ceil(1000)),
+                (Some(&n), Some(&t)) if n > 0 => {
+                    format!("{} ({})", nanoseconds(1e9 * t / n as f64), n.div_ceil(1000))
+                }
                 _ => "–".into(),
             })
             .collect(),
@@ -522,7 +534,8 @@ mod tests {
             "state compaction is the refill's, the ray sort the queues'"
         );
         let cells = intersect_ns_per_ray(&r).unwrap();
-        assert_eq!(&cells[..3], ["3 (1)".to_string(), "2 (1)".into(), "–".into()]);
+        assert_eq!(&cells[..3], ["3.00 (1)".to_string(), "2.00 (1)".into(), "–".into()]);
+        assert_eq!([nanoseconds(1121.4), nanoseconds(35.26), nanoseconds(1.234)], ["1121", "35.3", "1.23"]);
         r.options = serde_json::json!({"schedule": "regenerate"});
         assert!(intersect_ns_per_ray(&r).is_none());
     }

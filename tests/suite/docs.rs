@@ -203,6 +203,11 @@ const ACCEPTED_SOURCES: &[(&str, &str)] = &[
         "experiments/results/llvmpipe-2core/simd_width/spheres-8-brute-every16.txt",
         "scripts/simd_width.sh's whole `wavetrace replay --every 16` output (deterministic)",
     ),
+    (
+        "experiments/results/nvidia-h200/simd_replay/comparison.md",
+        "scripts/simd_replay_compare.py's table of the device step simd-replay (replay.json \
+         beside it): the H200's counters beside the replay at 32 lanes, per slot",
+    ),
 ];
 
 /// The pages `unit` links that figures may be quoted from: generated results pages and
