@@ -10,8 +10,9 @@
 #   scripts/device_figures.sh --list                                    the steps, by priority
 #
 # Steps, in priority order (path samples at full size; the time is an estimate at an assumed
-# 1e8 path samples/s at depth 50, a pessimistic rate for an H100 until the first run measures
-# it; each step's archive records how long it really took):
+# 1e8 path samples/s at depth 50, about what waves reach on an H200, whose megakernels reach
+# 1e9; each step's archive records how long it really took, and
+# experiments/results/nvidia-h200/PROVENANCE.md the H200's step times):
 #   tests               the integration test suite on this GPU (bit identity, agreement at its
 #                       subgroup width), from the carried test binary       ~2 min
 #   headline            rtiow-final and mesh-room at 1920x1080x64, both megakernels against
@@ -98,8 +99,8 @@ while [ $# -gt 0 ]; do
 done
 case "$scale" in full | tiny) ;; *) echo "device_figures.sh: --scale must be full or tiny, got $scale" >&2; exit 2 ;; esac
 [ ${#steps[@]} -gt 0 ] || { echo "device_figures.sh: name the steps to run (see --list)" >&2; exit 2; }
-# The device tool returns at most 8 files a call: one archive a step, and the log.
-[ ${#steps[@]} -le 7 ] || { echo "device_figures.sh: at most 7 steps a call (8 files come back)" >&2; exit 2; }
+# The device tool returns at most 8 files a call: one archive a step, the log and info.txt.
+[ ${#steps[@]} -le 6 ] || { echo "device_figures.sh: at most 6 steps a call (8 files come back)" >&2; exit 2; }
 
 bin=${WAVETRACE_BIN:-}
 if [ -z "$bin" ]; then
