@@ -251,9 +251,9 @@ for step in "${steps[@]}"; do
       for sc in "rtiow-final --nee off" "cornell --nee on" "spheres-64 --nee off" "spheres-8 --nee off"; do
         read -r name nee_flag nee <<<"$sc"
         device=
-        for m in "megakernel --method megakernel" \
+        for m in "megakernel --method megakernel --schedule waves" \
                  "regenerate --method megakernel --schedule regenerate ${regen[*]:0:2}" \
-                 "wavefront --method wavefront ${wf[*]}" \
+                 "wavefront --method wavefront --schedule waves ${wf[*]}" \
                  "wavefront-regenerate --method wavefront --schedule regenerate ${wf[*]}"; do
           read -r label args <<<"$m"
           # shellcheck disable=SC2086 # $args is a list of flags

@@ -23,11 +23,11 @@ render cpu-10spp --method cpu --width "$w" --height "$h" --spp 10
 render megakernel-10spp --method megakernel --width "$w" --height "$h" --spp 10
 # Issue 3's comparison: megakernel vs wavefront knobs (timing runs carry no counters).
 render megakernel --method megakernel --width "$w" --height "$h" --spp "$spp"
-render wavefront-atomic --method wavefront --width "$w" --height "$h" --spp "$spp"
-render wavefront-scan --method wavefront --compaction-method scan --width "$w" --height "$h" --spp "$spp"
-render wavefront-nocompaction --method wavefront --compaction off --width "$w" --height "$h" --spp "$spp"
-render wavefront-single-shade --method wavefront --shade single --width "$w" --height "$h" --spp "$spp"
+render wavefront-atomic --method wavefront --schedule waves --width "$w" --height "$h" --spp "$spp"
+render wavefront-scan --method wavefront --schedule waves --compaction-method scan --width "$w" --height "$h" --spp "$spp"
+render wavefront-nocompaction --method wavefront --schedule waves --compaction off --width "$w" --height "$h" --spp "$spp"
+render wavefront-single-shade --method wavefront --schedule waves --shade single --width "$w" --height "$h" --spp "$spp"
 # SIMD efficiency (instrumented: slower, not for timing), at a quarter of the pixels.
 render megakernel-instrumented --method megakernel --instrument --width $((w / 2)) --height $((h / 2)) --spp "$spp"
-render wavefront-instrumented --method wavefront --instrument --width $((w / 2)) --height $((h / 2)) --spp "$spp"
+render wavefront-instrumented --method wavefront --schedule waves --instrument --width $((w / 2)) --height $((h / 2)) --spp "$spp"
 rm -rf "$out/images"

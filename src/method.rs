@@ -123,6 +123,20 @@ impl RenderOutput {
     }
 }
 
+impl MethodOptions {
+    /// The options as `method` runs them on `adapter`: `--schedule auto` made concrete (the
+    /// GPU methods resolve it themselves; reports call this to record what ran).
+    pub fn resolve(&self, method: Method, adapter: Option<&crate::gpu::context::AdapterSummary>) -> Self {
+        let mut o = self.clone();
+        match (method, adapter) {
+            (Method::Megakernel, _) => o.megakernel = o.megakernel.resolve(),
+            (Method::Wavefront, Some(a)) => o.wavefront = o.wavefront.resolve(a),
+            _ => {}
+        }
+        o
+    }
+}
+
 /// Renders `scene` with `method`. `on_progress` receives the number of path samples finished.
 /// The scene as `method` renders it: moved into render space with the stress transform, packed
 /// with the light and numerics options, and its camera frame. The SIMD replay records its paths

@@ -137,8 +137,10 @@ pub struct RenderArgs {
     pub shade: ShadePasses,
     /// GPU methods: paths that start together, each thread or slot idling once its path ends
     /// (`waves`: the wavefront's waves, the megakernel's one path per thread), or threads and
-    /// slots that take the next sample as soon as their path ends (`regenerate`).
-    #[arg(long, value_enum, default_value_t = Schedule::Waves)]
+    /// slots that take the next sample as soon as their path ends (`regenerate`). `auto`: what
+    /// measured faster, the wavefront regenerating with --tail megakernel on a GPU and in waves
+    /// on a software adapter, the megakernel in waves.
+    #[arg(long, value_enum, default_value_t = Schedule::Auto)]
     pub schedule: Schedule,
     /// Megakernel, --schedule regenerate: persistent threads per dispatch, rounded up to whole
     /// workgroups [default: 262144 on a discrete GPU, else 65536].
@@ -282,6 +284,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     progress.finish();
 
     let adapter = gpu.as_ref().map(|g| &g.summary);
+    let options = options.resolve(a.method, adapter);
     let report = RunReport::new(&scene, a.method, &settings, &options, adapter, &out);
     let image = RgbImage { width: settings.width, height: settings.height, data: out.film.mean_rgb() };
     image_io::write_exr(&a.out, &image, &report.exr_attributes())?;

@@ -116,7 +116,7 @@ const TOP_FIELDS: &[&str] = &[
 const METHOD_NAMES: &[&str] = &["cpu", "cpu-f64", "megakernel", "wavefront"];
 const COMPACTIONS: &[&str] = &["atomic", "scan", "off"];
 const SHADES: &[&str] = &["per-material", "single"];
-const SCHEDULES: &[&str] = &["waves", "regenerate"];
+const SCHEDULES: &[&str] = &["auto", "waves", "regenerate"];
 const TAILS: &[&str] = &["off", "megakernel"];
 const TIMINGS: &[&str] = &["passes", "frame"];
 
@@ -663,10 +663,10 @@ impl Cx {
         })?;
 
         let schedule = self.knob(o, &opt_path("schedule"), "schedule", |v, p| {
-            Ok(if self.choice(v, p, SCHEDULES)? == "regenerate" {
-                Schedule::Regenerate
-            } else {
-                Schedule::Waves
+            Ok(match self.choice(v, p, SCHEDULES)? {
+                "regenerate" => Schedule::Regenerate,
+                "waves" => Schedule::Waves,
+                _ => Schedule::Auto,
             })
         })?;
         let sync_every = self.knob(o, &opt_path("sync_every"), "sync_every", |v, p| {
@@ -801,7 +801,11 @@ impl Cx {
         // apart: swept ones, and (without a label) ones set away from their defaults.
         let mk = MegakernelOptions::default();
         let wf = WavefrontOptions::default();
-        let defaults = MethodOptions::default();
+        // A method that names no schedule takes `auto`, as the command line does (the library's
+        // Default is the plain waves, the baseline its tests compare against).
+        let mut defaults = MethodOptions::default();
+        defaults.megakernel.schedule = Schedule::Auto;
+        defaults.wavefront.schedule = Schedule::Auto;
         let mut variants = vec![(defaults, vec![label.clone().unwrap_or_else(|| method.name().to_owned())])];
         let labelled = label.is_some();
         let lights = LightOptions::default();
@@ -838,7 +842,7 @@ impl Cx {
             o.wavefront.shade = sh;
             format!("shade={}", kebab(&sh))
         });
-        expand(&mut variants, &schedule, wf.schedule, labelled, |o, &sc| {
+        expand(&mut variants, &schedule, Schedule::Auto, labelled, |o, &sc| {
             o.megakernel.schedule = sc;
             o.wavefront.schedule = sc;
             format!("schedule={}", kebab(&sc))

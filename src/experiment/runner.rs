@@ -320,6 +320,8 @@ fn measure(
 
     let ctx = if variant.method.needs_gpu() { Some(gpu.get()?) } else { None };
     let adapter = ctx.map(|c| &c.summary);
+    // What `--schedule auto` chose on this adapter, as the run's options.
+    rec.options = method_options_json(variant.method, &variant.options.resolve(variant.method, adapter));
     let renders_done = std::cell::Cell::new(0u64);
     let render = |options: &MethodOptions| {
         let start = bar.base + renders_done.get() * settings.sample_count();

@@ -84,6 +84,17 @@ impl Default for MegakernelOptions {
     }
 }
 
+impl MegakernelOptions {
+    /// `--schedule auto` made concrete ([`Schedule::Auto`]): the naive megakernel (`waves`) on
+    /// every adapter. Other schedules stay as given.
+    pub fn resolve(mut self) -> Self {
+        if self.schedule == Schedule::Auto {
+            self.schedule = Schedule::Waves;
+        }
+        self
+    }
+}
+
 /// The persistent threads a regenerating render launches: `threads` rounded up to whole
 /// workgroups, refused when zero or beyond what one dispatch can launch on `ctx`.
 pub fn persistent_threads(ctx: &GpuContext, threads: Option<u32>, workgroup_size: u32) -> Result<u32> {
@@ -112,6 +123,7 @@ pub fn render(
     on_progress: &dyn Fn(u64),
 ) -> Result<GpuRender> {
     let instrument = measure.instrument;
+    let opts = &opts.resolve();
     settings.validate().map_err(anyhow::Error::msg)?;
     let limits = &ctx.summary;
     ctx.check_workgroup_size(opts.workgroup_size)?;

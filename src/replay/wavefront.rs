@@ -70,8 +70,13 @@ pub struct Launch {
 }
 
 impl Launch {
-    /// The launch `render` makes of `opts` (the whole frame).
+    /// The launch `render` makes of `opts` (the whole frame), whose `--schedule auto` is
+    /// resolved for the device replayed ([`WavefrontOptions::resolve`]).
     pub fn from_options(opts: &WavefrontOptions) -> Self {
+        assert!(
+            opts.schedule != Schedule::Auto,
+            "the replay needs the schedule the device runs: resolve --schedule auto first"
+        );
         Self {
             pool: opts.pool_size.unwrap_or(DEFAULT_POOL),
             compaction: opts.compaction,

@@ -225,6 +225,8 @@ fn wavefront_cli_reports_passes_histogram_and_simd() {
         "three-spheres",
         "--method",
         "wavefront",
+        "--schedule",
+        "waves",
         "--width",
         "24",
         "--height",

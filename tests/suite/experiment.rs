@@ -88,7 +88,7 @@ fn full_report_matches_the_schema_and_holds_every_output() {
     let mut config = small_config(serde_json::json!([
         {"method": "cpu"},
         {"method": "megakernel"},
-        {"method": "wavefront", "compaction": ["atomic", "scan"]}
+        {"method": "wavefront", "schedule": "waves", "compaction": ["atomic", "scan"]}
     ]));
     config["instrument"] = Value::Bool(true);
     let path = write_config(&dir, "full", &config);

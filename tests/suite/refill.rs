@@ -103,9 +103,16 @@ fn refill_knobs_are_checked() {
             "--refill-below must be a live fraction",
         ),
         (WavefrontOptions { refill_below: 1.5, ..regenerating(64) }, "in (0, 1], got 1.5"),
-        (WavefrontOptions { refill_below: 0.5, ..Default::default() }, "needs --schedule regenerate"),
         (
-            WavefrontOptions { compact_states: CompactStates::On, ..Default::default() },
+            WavefrontOptions { refill_below: 0.5, schedule: Schedule::Waves, ..Default::default() },
+            "needs --schedule regenerate",
+        ),
+        (
+            WavefrontOptions {
+                compact_states: CompactStates::On,
+                schedule: Schedule::Waves,
+                ..Default::default()
+            },
             "--compact-states on compacts the pool before refills: it needs --schedule regenerate",
         ),
         (

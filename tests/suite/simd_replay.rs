@@ -116,7 +116,7 @@ fn assert_replay_matches(label: &str, method: Method, opts: &MethodOptions) {
         let mk = &opts.megakernel;
         let counts = match (method, label) {
             (Method::Wavefront, _) => {
-                let launch = wavefront::Launch::from_options(&opts.wavefront);
+                let launch = wavefront::Launch::from_options(&opts.wavefront.resolve(&ctx.summary));
                 let r = wavefront::replay(&packed, &frame, &s, &[w], launch).unwrap();
                 // The host's schedule replayed: the same iterations and tail passes, and the
                 // tail's paths up to those that the device's rounding ends at another bounce
@@ -481,6 +481,7 @@ fn sampled_subsets_agree_with_the_full_replay() {
             pooled(&regenerate::replay(&packed, &frame, s, &widths, launch).unwrap().counts)
         };
         let mut wf = wavefront::Launch::from_options(&WavefrontOptions {
+            schedule: Schedule::Waves,
             pool_size: Some(512),
             compaction: Compaction::Scan,
             queue_order: QueueOrder::Slot,

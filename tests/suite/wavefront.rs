@@ -113,7 +113,8 @@ fn wavefront_repeats_bit_identically_with_atomic_queues() {
 fn measurements_are_reported() {
     let Some(ctx) = common::gpu() else { return };
     let s = settings(4);
-    let opts = MethodOptions { instrument: true, ..Default::default() };
+    let mut opts = MethodOptions { instrument: true, ..Default::default() };
+    opts.wavefront.schedule = Schedule::Waves;
     let out = run(Method::Wavefront, "rtiow-final", &s, &opts);
     let t = out.timings.as_ref().unwrap();
     for label in ["generate", "queue_setup_intersect", "intersect", "queue_setup_shade", "accumulate"] {
@@ -249,7 +250,7 @@ fn regenerate_keeps_the_pool_full() {
     }
     use wavetrace::gpu::wavefront::QueueOrder;
     let s = settings(16); // 15 360 samples: 7.5 pools of 2048
-    let base = WavefrontOptions { pool_size: Some(2048), ..Default::default() };
+    let base = WavefrontOptions { pool_size: Some(2048), schedule: Schedule::Waves, ..Default::default() };
     let w = run_wavefront("rtiow-final", &s, base);
     // The schedule alone: slot order (auto's choice on this job) adds one pass an iteration
     // (the atomic method's sweep over the pool), checked below.
@@ -378,7 +379,10 @@ fn bad_chunk_pools_are_refused() {
             "--chunk-pools",
         );
     }
-    assert_refused(WavefrontOptions { chunk_pools: 4, ..Default::default() }, "--chunk-pools");
+    assert_refused(
+        WavefrontOptions { chunk_pools: 4, schedule: Schedule::Waves, ..Default::default() },
+        "--chunk-pools",
+    );
 }
 
 /// The megakernel tail finishes a chunk's last paths with the megakernel's own loop: its images
@@ -475,7 +479,7 @@ fn a_tail_needs_regeneration() {
         return;
     }
     assert_refused(
-        WavefrontOptions { tail: Tail::Megakernel, ..Default::default() },
+        WavefrontOptions { tail: Tail::Megakernel, schedule: Schedule::Waves, ..Default::default() },
         "--schedule regenerate",
     );
     for t in [0.0, -0.5, 1.5, f64::NAN] {
@@ -597,7 +601,13 @@ fn the_scan_spans_block_groups() {
     let pool = 128 * 96 * 48;
     assert!(pool > 2 * 1024 * 256, "three groups of blocks");
     let with = |compaction, scan| {
-        let wf = WavefrontOptions { pool_size: Some(pool), compaction, scan, ..Default::default() };
+        let wf = WavefrontOptions {
+            pool_size: Some(pool),
+            compaction,
+            scan,
+            schedule: Schedule::Waves,
+            ..Default::default()
+        };
         let out = run_wavefront("cornell", &s, wf);
         assert_eq!(out.pool, Some(pool));
         (out.film, out.histogram.unwrap())
@@ -666,4 +676,39 @@ fn pool_memory_follows_the_knobs() {
     let s = RenderSettings { nee: true, ..settings(2) };
     let out = run(Method::Wavefront, "three-spheres", &s, &MethodOptions::default());
     assert_eq!(out.memory.unwrap().by_category["shadow_queue"], 2 * 16);
+}
+
+/// `--schedule auto` (the default) takes what measured faster on the adapter's kind: regenerate
+/// with the megakernel tail on a GPU, waves on a software adapter (README); a named schedule
+/// stays as named, the megakernel's auto is its naive form, and a render reports what it took.
+#[test]
+fn auto_schedule_follows_the_adapter_kind() {
+    let Some(ctx) = common::gpu() else { return };
+    let kind = |device_type: &str| wavetrace::gpu::context::AdapterSummary {
+        device_type: device_type.into(),
+        ..ctx.summary.clone()
+    };
+    let (gpu, software) = (kind("DiscreteGpu"), kind("Cpu"));
+    let auto = WavefrontOptions { schedule: Schedule::Auto, ..Default::default() };
+    let on_gpu = auto.resolve(&gpu);
+    assert_eq!((on_gpu.schedule, on_gpu.tail), (Schedule::Regenerate, Tail::Megakernel));
+    assert!(!kind("IntegratedGpu").is_software());
+    let on_software = auto.resolve(&software);
+    assert_eq!((on_software.schedule, on_software.tail), (Schedule::Waves, Tail::Off));
+    for named in [Schedule::Waves, Schedule::Regenerate] {
+        let o = WavefrontOptions { schedule: named, ..auto }.resolve(&gpu);
+        assert_eq!((o.schedule, o.tail), (named, Tail::Off), "{named:?}");
+    }
+    let mk = wavetrace::gpu::megakernel::MegakernelOptions { schedule: Schedule::Auto, ..Default::default() };
+    assert_eq!(mk.resolve().schedule, Schedule::Waves);
+
+    let out = run_wavefront("three-spheres", &settings(2), auto);
+    let (want, tail) =
+        if ctx.summary.is_software() { (Schedule::Waves, 0) } else { (Schedule::Regenerate, 1) };
+    let st = out.schedule.unwrap();
+    assert_eq!(st.schedule, want);
+    assert!(st.tail_passes >= tail, "{st:?}");
+    // What the run's report records: the schedule that ran, not "auto".
+    let opts = MethodOptions { wavefront: auto, ..Default::default() };
+    assert_eq!(opts.resolve(Method::Wavefront, Some(&ctx.summary)).wavefront.schedule, want);
 }

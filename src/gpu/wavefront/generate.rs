@@ -27,6 +27,7 @@ impl Generate {
         let stage = |l| Stage::new(ctx, l, &module, &b.layouts(), &constants);
         Ok(match schedule {
             Schedule::Waves => Generate::Waves { generate: stage(label::GENERATE)?, workgroup_size },
+            Schedule::Auto => unreachable!("the wavefront resolves --schedule auto before building passes"),
             Schedule::Regenerate => Generate::Regenerate {
                 init: stage(label::REGENERATE_INIT)?,
                 refill: stage(label::REGENERATE)?,

@@ -171,6 +171,22 @@ impl Default for WavefrontOptions {
     }
 }
 
+impl WavefrontOptions {
+    /// `--schedule auto` made concrete for `adapter` ([`Schedule::Auto`]): `regenerate` with the
+    /// megakernel tail on a GPU, `waves` on a software adapter. Other schedules stay as given.
+    pub fn resolve(mut self, adapter: &crate::gpu::context::AdapterSummary) -> Self {
+        if self.schedule == Schedule::Auto {
+            if adapter.is_software() {
+                self.schedule = Schedule::Waves;
+            } else {
+                self.schedule = Schedule::Regenerate;
+                self.tail = Tail::Megakernel;
+            }
+        }
+        self
+    }
+}
+
 /// Default pool: about a million paths in flight (pbrt-v4's choice), less where limits say so.
 pub const DEFAULT_POOL: u32 = 1 << 20;
 /// Bounce histogram rows kept; deeper bounces are added to the last row.
@@ -369,6 +385,7 @@ pub fn render(
     on_progress: &dyn Fn(u64),
 ) -> Result<WavefrontRender> {
     let instrument = measure.instrument;
+    let opts = &opts.resolve(&ctx.summary);
     settings.validate().map_err(anyhow::Error::msg)?;
     check_loop_limit(ctx, scene, settings)?;
     let wg = opts.workgroup_size;
@@ -512,6 +529,7 @@ pub fn render(
                 }
                 settings.max_depth
             }
+            Schedule::Auto => unreachable!("render() resolves --schedule auto first"),
             Schedule::Regenerate => {
                 let check = check_staging.as_ref().expect("regenerating renders make a staging buffer");
                 // Iterate until every sample of the share is in the film, reading the counters

@@ -57,6 +57,7 @@ pub fn shares(schedule: Schedule, pixels: u32, spp: u32, pool: u32, max_depth: u
     match schedule {
         Schedule::Waves => dispatch_plan::plan(pixels, spp, (pool as u64).min(safe), pool),
         Schedule::Regenerate => dispatch_plan::plan(pixels, spp, MAX_SHARE.min(safe), u32::MAX),
+        Schedule::Auto => unreachable!("the wavefront resolves --schedule auto before planning shares"),
     }
 }
 
