@@ -137,7 +137,6 @@ impl MethodOptions {
     }
 }
 
-/// Renders `scene` with `method`. `on_progress` receives the number of path samples finished.
 /// The scene as `method` renders it: moved into render space with the stress transform, packed
 /// with the light and numerics options, and its camera frame. The SIMD replay records its paths
 /// on this, so that they are the device's paths.
@@ -162,6 +161,7 @@ pub fn prepare(
     Ok((packed, camera))
 }
 
+/// Renders `scene` with `method`. `on_progress` receives the number of path samples finished.
 pub fn render(
     method: Method,
     scene: &Scene,

@@ -335,9 +335,6 @@ pub fn keep_present_charts(report: &mut ExperimentReport, dir: &std::path::Path)
     report.charts.retain(|c| dir.join(&c.file).is_file());
 }
 
-/// A wavefront run's pass seconds in groups: intersect, shade, shadow, compaction (of queues:
-/// scans, slot order's sweep, the ray sort), (re)generate (with the state compaction before
-/// refills), tail, other (queue set-up, accumulation and the rest).
 /// Nanoseconds to three significant figures, whole from 100 up: a GPU's few ns per ray stay
 /// readable beside a software driver's thousands.
 fn nanoseconds(ns: f64) -> String {
@@ -348,6 +345,9 @@ fn nanoseconds(ns: f64) -> String {
     }
 }
 
+/// A wavefront run's pass seconds in groups: intersect, shade, shadow, compaction (of queues:
+/// scans, slot order's sweep, the ray sort), (re)generate (with the state compaction before
+/// refills), tail, other (queue set-up, accumulation and the rest).
 fn pass_groups(r: &RunRecord) -> [f64; 7] {
     let mut g = [0.0; 7];
     for (label, p) in &r.passes {
