@@ -803,9 +803,10 @@ impl Cx {
         let wf = WavefrontOptions::default();
         // A method that names no schedule takes `auto`, as the command line does (the library's
         // Default is the plain waves, the baseline its tests compare against).
+        let schedule_default = Schedule::Auto;
         let mut defaults = MethodOptions::default();
-        defaults.megakernel.schedule = Schedule::Auto;
-        defaults.wavefront.schedule = Schedule::Auto;
+        defaults.megakernel.schedule = schedule_default;
+        defaults.wavefront.schedule = schedule_default;
         let mut variants = vec![(defaults, vec![label.clone().unwrap_or_else(|| method.name().to_owned())])];
         let labelled = label.is_some();
         let lights = LightOptions::default();
@@ -842,7 +843,7 @@ impl Cx {
             o.wavefront.shade = sh;
             format!("shade={}", kebab(&sh))
         });
-        expand(&mut variants, &schedule, Schedule::Auto, labelled, |o, &sc| {
+        expand(&mut variants, &schedule, schedule_default, labelled, |o, &sc| {
             o.megakernel.schedule = sc;
             o.wavefront.schedule = sc;
             format!("schedule={}", kebab(&sc))

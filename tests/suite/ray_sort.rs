@@ -46,11 +46,7 @@ fn sorted_rays_give_the_waves_film() {
                     "{scene} nee={nee} {compaction:?} {:?} {:?} {:?} {ray_sort:?}",
                     wf.schedule, wf.queue_order, wf.tail
                 );
-                if wf.tail == Tail::Megakernel {
-                    common::assert_same_paths(&what, &out.film, &waves);
-                } else {
-                    assert_eq!(out.film, waves, "{what}");
-                }
+                common::assert_waves_film(&what, &out.film, &waves, wf.tail);
                 assert_eq!(out.schedule.unwrap().ray_sort, Some(ray_sort.name()), "{what}");
             }
         }

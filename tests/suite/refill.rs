@@ -62,11 +62,7 @@ fn batched_refills_and_state_compaction_give_the_waves_film() {
                      refill_below={below} {compact:?}"
                 );
                 let out = run(scene, &s, wf, false).unwrap();
-                if tail == Tail::Megakernel {
-                    common::assert_same_paths(&what, &out.film, &waves);
-                } else {
-                    assert_eq!(out.film, waves, "{what}");
-                }
+                common::assert_waves_film(&what, &out.film, &waves, tail);
                 let st: ScheduleStats = out.schedule.unwrap();
                 assert_eq!(
                     (st.refill_below, st.compact_states),

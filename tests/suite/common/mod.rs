@@ -54,6 +54,17 @@ pub fn assert_same_paths(what: &str, a: &Film, b: &Film) {
     }
 }
 
+/// A film against the waves' film of the same job: bit for bit, or with the megakernel tail
+/// (another shader) the same paths, radiance up to rounding ([`assert_same_paths`]).
+#[track_caller]
+pub fn assert_waves_film(what: &str, film: &Film, waves: &Film, tail: wavetrace::gpu::wavefront::Tail) {
+    if tail == wavetrace::gpu::wavefront::Tail::Megakernel {
+        assert_same_paths(what, film, waves);
+    } else {
+        assert_eq!(film, waves, "{what}");
+    }
+}
+
 /// Ray-count tolerance between two f32 renderers tracing the same paths (the CPU reference and a
 /// GPU method): they part only where rounding sends a path another way. Within 1e-3 on llvmpipe;
 /// NVIDIA's compiler fuses multiply-adds (WGSL allows it) and rounds division and square roots
