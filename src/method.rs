@@ -104,6 +104,12 @@ pub struct RenderOutput {
 }
 
 impl RenderOutput {
+    /// The render's time as the runner measures it: the frame's (first submission to last
+    /// completion) for GPU methods, else the wall clock's.
+    pub fn seconds(&self) -> f64 {
+        self.timings.as_ref().map(|t| t.frame_seconds).filter(|&s| s > 0.0).unwrap_or(self.wall_seconds)
+    }
+
     fn from_gpu(r: GpuRender) -> Self {
         Self {
             film: r.film,

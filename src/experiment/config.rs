@@ -15,7 +15,9 @@
 //!   "seed": 0,
 //!   "accel": "bvh",
 //!   "repetitions": 3,
-//!   "warmup": 1,
+//!   "warmup": {"min_seconds": 0.5, "agree": 0.05, "max_frames": 50, "max_seconds": 10},
+//!   "interleave": true,
+//!   "unstable_spread": 0.05,
 //!   "instrument": false,
 //!   "methods": [
 //!     {"method": "cpu", "light_sampling": ["area", "solid-angle"]},
@@ -76,6 +78,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{Map, Value};
 
+use super::stability::DEFAULT_UNSTABLE_SPREAD;
 use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::timing::Timing;
 use crate::gpu::wavefront::{
@@ -91,6 +94,7 @@ use crate::scene::stress::StressTransform;
 use crate::scene::Scene;
 use crate::settings::{Accel, RenderSettings};
 use crate::strict_json::{describe, did_you_mean, join, parse_strict, quoted_list};
+use crate::warmup::{TimedWarmup, WarmupPolicy};
 
 /// The `schema` tag this build reads.
 pub const CONFIG_SCHEMA: &str = "wavetrace-experiment/1";
@@ -107,6 +111,8 @@ const TOP_FIELDS: &[&str] = &[
     "accel",
     "repetitions",
     "warmup",
+    "interleave",
+    "unstable_spread",
     "instrument",
     "adapter",
     "methods",
@@ -321,8 +327,14 @@ pub struct ExperimentConfig {
     pub accel: Accel,
     /// Timed renders per run (default 3); the report gives their median, min and max.
     pub repetitions: u32,
-    /// Untimed renders before the timed ones (default 1): pipeline caches, clocks, page faults.
-    pub warmup: u32,
+    /// Untimed renders before the timed ones: clocks, pipeline caches, page faults.
+    pub warmup: WarmupSpec,
+    /// The GPU variants of one job (scene and settings) take turns, repetition by repetition
+    /// (A B C, A B C), so that drift in the GPU's clocks hits each alike (default true).
+    pub interleave: bool,
+    /// A run whose repetitions spread by more than this fraction of their median is flagged
+    /// unstable (default 0.05).
+    pub unstable_spread: f64,
     /// Also render each GPU run once with subgroup counters for SIMD efficiency (default false).
     pub instrument: bool,
     /// Adapter name substring (default: the best adapter).
@@ -382,6 +394,31 @@ impl ExperimentConfig {
                 Some(dir.join(expand_pattern(pattern, scene, width, height)))
             }
             _ => None,
+        }
+    }
+}
+
+/// `warmup` as a config gives it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum WarmupSpec {
+    /// Not given: a timed warm-up with the default targets for GPU methods, one frame for CPU
+    /// methods.
+    Default,
+    /// A number: exactly that many untimed frames for every method (0: none; such runs are
+    /// reported cold).
+    Frames(u32),
+    /// An object: a timed warm-up with these targets for GPU methods, one frame for CPU methods.
+    Timed(TimedWarmup),
+}
+
+impl WarmupSpec {
+    /// How `method` warms up under this spec.
+    pub fn policy(&self, method: Method) -> WarmupPolicy {
+        match (*self, method.needs_gpu()) {
+            (WarmupSpec::Frames(n), _) => WarmupPolicy::Frames(n),
+            (WarmupSpec::Default, true) => WarmupPolicy::Timed(TimedWarmup::default()),
+            (WarmupSpec::Timed(t), true) => WarmupPolicy::Timed(t),
+            (_, false) => WarmupPolicy::Frames(1),
         }
     }
 }
@@ -451,8 +488,11 @@ impl Cx {
         };
         let repetitions =
             self.optional(root, "repetitions", |v, p| self.uint32(v, p, 1, MAX_REPETITIONS))?.unwrap_or(3);
-        let warmup =
-            self.optional(root, "warmup", |v, p| self.uint32(v, p, 0, MAX_REPETITIONS))?.unwrap_or(1);
+        let warmup = self.optional(root, "warmup", |v, p| self.warmup(v, p))?.unwrap_or(WarmupSpec::Default);
+        let interleave = self.optional(root, "interleave", |v, p| self.boolean(v, p))?.unwrap_or(true);
+        let unstable_spread = self
+            .optional(root, "unstable_spread", |v, p| self.number(v, p, 0.0, 10.0))?
+            .unwrap_or(DEFAULT_UNSTABLE_SPREAD);
         let instrument = self.optional(root, "instrument", |v, p| self.boolean(v, p))?.unwrap_or(false);
         let adapter = self.optional(root, "adapter", |v, p| self.string(v, p).map(str::to_owned))?;
         let methods = self.methods(self.field(root, "", "methods")?, &scenes)?;
@@ -477,6 +517,8 @@ impl Cx {
             accel,
             repetitions,
             warmup,
+            interleave,
+            unstable_spread,
             instrument,
             adapter,
             methods,
@@ -1200,6 +1242,48 @@ impl Cx {
 
     fn string<'v>(&self, v: &'v Value, path: &str) -> Res<&'v str> {
         v.as_str().ok_or_else(|| self.error(path, format!("expected a string, found {}", describe(v))))
+    }
+
+    /// A number in `min..=max`.
+    fn number(&self, v: &Value, path: &str, min: f64, max: f64) -> Res<f64> {
+        match v.as_f64() {
+            Some(x) if (min..=max).contains(&x) => Ok(x),
+            Some(x) => self.err(path, format!("must be in [{min}, {max}], got {x}")),
+            None => self.err(path, format!("expected a number in [{min}, {max}], found {}", describe(v))),
+        }
+    }
+
+    /// `warmup`: a whole number of frames, or the timed warm-up's targets as an object.
+    fn warmup(&self, v: &Value, path: &str) -> Res<WarmupSpec> {
+        if !v.is_object() {
+            return match v.as_u64() {
+                Some(n) if n <= u64::from(MAX_REPETITIONS) => Ok(WarmupSpec::Frames(n as u32)),
+                _ => self.err(
+                    path,
+                    format!(
+                        "expected a whole number of frames in 0..={MAX_REPETITIONS}, or {{\"min_seconds\", \
+                         \"agree\", \"max_frames\", \"max_seconds\"}} for a timed warm-up; found {}",
+                        describe(v)
+                    ),
+                ),
+            };
+        }
+        let o = self.object(v, path)?;
+        self.only(o, path, &["min_seconds", "agree", "max_frames", "max_seconds"])?;
+        let d = TimedWarmup::default();
+        let at = |k: &str| join(path, k);
+        let num = |k: &str, min: f64, max: f64, default: f64| -> Res<f64> {
+            o.get(k).map_or(Ok(default), |x| self.number(x, &at(k), min, max))
+        };
+        let t = TimedWarmup {
+            min_seconds: num("min_seconds", 0.0, 3600.0, d.min_seconds)?,
+            agree: num("agree", 0.0, 10.0, d.agree)?,
+            max_frames: o
+                .get("max_frames")
+                .map_or(Ok(d.max_frames), |x| self.uint32(x, &at("max_frames"), 1, MAX_REPETITIONS))?,
+            max_seconds: num("max_seconds", 0.0, 3600.0, d.max_seconds)?,
+        };
+        Ok(WarmupSpec::Timed(t))
     }
 
     fn boolean(&self, v: &Value, path: &str) -> Res<bool> {

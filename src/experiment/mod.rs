@@ -30,6 +30,7 @@ pub mod report;
 pub mod resume;
 pub mod runner;
 pub mod simd_html;
+pub mod stability;
 pub mod tidy;
 
 pub use crate::input_error::InputError;

@@ -73,6 +73,10 @@ pub struct Environment {
     /// Set when this process resumed an earlier attempt (`experiment run --resume`).
     #[serde(default)]
     pub resume: Option<ResumeRecord>,
+    /// Where the GPU's clocks and temperature were read (`NVML: <device name>`); None where they
+    /// could not be (no NVIDIA driver, another vendor, or no GPU run).
+    #[serde(default)]
+    pub gpu_state_source: Option<String>,
 }
 
 /// What a resuming process took over from the attempt before it.
@@ -108,6 +112,7 @@ impl Environment {
             started: now_rfc3339(),
             finished: None,
             resume: None,
+            gpu_state_source: None,
         })
     }
 }
@@ -186,8 +191,27 @@ pub struct RunRecord {
     pub resumed: bool,
     /// Why the run failed (status `failed`).
     pub error: Option<String>,
+    /// Warm-up renders done before the timed ones (reports from before timed warm-ups: the
+    /// number the config asked for); `warmup_log` says how and how warm.
     pub warmup: u32,
     pub repetitions: u32,
+    /// The warm-up's policy, frames, seconds, whether it settled, and each frame's time (and
+    /// the GPU's state where NVML reads it). Absent in reports from before timed warm-ups.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub warmup_log: Option<crate::warmup::WarmupLog>,
+    /// Plan indices of the runs whose timed repetitions took turns with this one's (the GPU
+    /// variants of the same job, `interleave`); empty when it ran its repetitions alone.
+    #[serde(default)]
+    pub interleaved_with: Vec<usize>,
+    /// The spread of the timed repetitions, an interval for their median, and the flags
+    /// (unstable, cold) that say whether its times are steady figures (absent in reports from
+    /// before it existed: pages compute it from the repetitions).
+    #[serde(default)]
+    pub stability: Option<super::stability::Stability>,
+    /// The GPU's clocks, temperature, power and throttle reasons before the first timed render
+    /// and after the last (NVIDIA through NVML only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gpu_state: Option<crate::gpu_state::GpuStateSpan>,
     /// Host time per render (GPU methods: scene upload and pipeline creation included).
     pub wall_seconds: Option<Stat>,
     /// Sum of GPU pass times per render (GPU methods).
@@ -271,6 +295,23 @@ pub struct RunRecord {
     /// 1 / (relMSE · seconds), pbr-book's efficiency of a Monte Carlo estimator.
     pub efficiency: Option<f64>,
     pub images: Option<RunImages>,
+}
+
+impl RunRecord {
+    /// The repetitions of the run's time: frame times for GPU methods (the sum of pass times in
+    /// reports from before frame times), wall times for CPU methods.
+    pub fn timed_stat(&self) -> Option<&Stat> {
+        self.frame_seconds
+            .as_ref()
+            .or(self.gpu_seconds.as_ref())
+            .filter(|g| g.median > 0.0)
+            .or(self.wall_seconds.as_ref())
+    }
+
+    /// A GPU method's run.
+    pub fn method_needs_gpu(&self) -> bool {
+        self.method == "megakernel" || self.method == "wavefront"
+    }
 }
 
 /// A reference image the runs were measured against.

@@ -76,24 +76,32 @@ pub fn run(config: &ExperimentConfig, opts: &RunnerOptions) -> Result<Experiment
 
     let mut gpu = GpuSlot::new(config.adapter.clone());
     let mut references = References::new(opts.cache_dir.clone());
-    // The bar counts path samples over every render of every run, so it moves within long runs.
+    // The bar counts path samples over the timed, profiled and instrumented renders of every
+    // run (and fixed warm-ups), so it moves within long runs.
     let total: u64 = runs.iter().map(|r| run_samples(config, r)).sum();
     let progress = Progress::new(total, &config.name);
     let mut done = 0;
-    for (n, spec) in runs.iter().enumerate() {
-        let what = format!("[{}/{}] {}", n + 1, runs.len(), spec.id);
-        progress.set_message(&what);
-        progress.println(&what);
-        let bar = RunProgress { progress: &progress, base: done };
-        let mut record = execute(config, spec, &mut gpu, &mut references, out, &bar);
-        record.environment = env;
-        done += run_samples(config, spec);
-        progress.println(&summary_line(&record));
-        report.runs.push(record);
+    let mut started = 0;
+    for group in groups(config, &runs) {
+        for spec in &group {
+            started += 1;
+            let what = format!("[{started}/{}] {}", runs.len(), spec.id);
+            progress.set_message(&what);
+            progress.println(&what);
+        }
+        let bar = GroupBar { progress: &progress, done: std::cell::Cell::new(done) };
+        let records = run_group(config, &group, &mut gpu, &mut references, out, &bar);
+        done += group.iter().map(|r| run_samples(config, r)).sum::<u64>();
+        for mut record in records {
+            record.environment = env;
+            progress.println(&summary_line(&record));
+            report.runs.push(record);
+        }
         // Plan order, whichever attempt ran a run.
         report.runs.sort_by_key(|r| r.index);
         report.references = union_references(&earlier_references, references.records());
         report.environments[env].adapter = gpu.adapter.as_ref().map(serde_json::to_value).transpose()?;
+        report.environments[env].gpu_state_source = gpu.state_source();
         report.write(out)?;
         progress.set(done);
     }
@@ -103,6 +111,23 @@ pub fn run(config: &ExperimentConfig, opts: &RunnerOptions) -> Result<Experiment
     outputs::draw(&mut report, out)?;
     report.write(out)?;
     Ok(report)
+}
+
+/// The runs to do, in groups whose timed repetitions take turns (`interleave`): the GPU
+/// variants of one job (scene and settings) form one group, in plan order. CPU runs, and every
+/// run without `interleave`, are groups of one: a CPU render between two GPU repetitions would
+/// let the GPU's clocks drop, which is what taking turns is meant to even out.
+fn groups<'a>(config: &ExperimentConfig, runs: &[&'a RunSpec]) -> Vec<Vec<&'a RunSpec>> {
+    let mut out: Vec<Vec<&'a RunSpec>> = Vec::new();
+    for &r in runs {
+        let gpu = |s: &RunSpec| config.methods[s.variant].method.needs_gpu();
+        let joins = |g: &Vec<&RunSpec>| gpu(g[0]) && g[0].scene == r.scene && g[0].settings == r.settings;
+        match out.iter_mut().find(|g| config.interleave && gpu(r) && joins(g)) {
+            Some(g) => g.push(r),
+            None => out.push(vec![r]),
+        }
+    }
+    out
 }
 
 /// `earlier` then the keys of `now` it lacks.
@@ -129,60 +154,422 @@ fn summary_line(r: &RunRecord) -> String {
     }
 }
 
-/// Path samples a run renders: warm-ups, timed repetitions, the profiled render (per-pass
-/// timestamps; none where the adapter has no timestamps, so the bar may end a render short) and
-/// the instrumented render.
+/// Path samples the bar counts for a run: fixed warm-ups (a timed warm-up's are not known
+/// before), timed repetitions, the profiled render (per-pass timestamps; none where the adapter
+/// has no timestamps, so the bar may end a render short) and the instrumented render.
 fn run_samples(config: &ExperimentConfig, spec: &RunSpec) -> u64 {
     let variant = &config.methods[spec.variant];
     let gpu = variant.method.needs_gpu();
     let instrumented = config.instrument && gpu;
     let profiled = gpu && variant.options.timing == Timing::Passes;
-    let renders = u64::from(config.warmup)
+    let renders = u64::from(config.warmup.policy(variant.method).planned_frames())
         + u64::from(config.repetitions)
         + u64::from(profiled)
         + u64::from(instrumented);
     renders * spec.settings.sample_count()
 }
 
-/// Where a run's renders report their samples: the experiment's bar, from the samples of the
-/// runs before it.
-struct RunProgress<'a> {
+/// Where a group's renders report their samples: the experiment's bar, from the samples done
+/// before each render.
+struct GroupBar<'a> {
     progress: &'a Progress,
-    base: u64,
+    done: std::cell::Cell<u64>,
 }
 
-/// One run, never panicking: failures (and panics) become a failed record.
-fn execute(
+/// A group's runs (one, or the GPU variants of a job taking turns), never panicking: each run
+/// that fails (or panics) becomes a failed record and the others go on. In order: references
+/// and options; each run's warm-up; the timed repetitions, run by run within each round; then
+/// each run's profiled and instrumented renders, image and error.
+fn run_group(
     config: &ExperimentConfig,
-    spec: &RunSpec,
+    group: &[&RunSpec],
     gpu: &mut GpuSlot,
     refs: &mut References,
     out: &Path,
-    bar: &RunProgress,
-) -> RunRecord {
-    let mut record = planned_record(config, spec);
-    let result = catch_unwind(AssertUnwindSafe(|| measure(config, spec, gpu, refs, out, bar, &mut record)));
-    let error = match result {
-        Ok(Ok(())) => return record,
-        Ok(Err(e)) => format!("{e:#}"),
-        Err(panic) => {
-            let msg = panic
-                .downcast_ref::<String>()
-                .cloned()
-                .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
-                .unwrap_or_default();
-            format!("internal error (panic): {msg}")
+    bar: &GroupBar,
+) -> Vec<RunRecord> {
+    let mut runs: Vec<Run> = group.iter().map(|s| Run::new(config, s)).collect();
+    if runs.len() > 1 {
+        let indices: Vec<usize> = group.iter().map(|s| s.index).collect();
+        for r in &mut runs {
+            r.record.interleaved_with = indices.iter().copied().filter(|&i| i != r.spec.index).collect();
         }
-    };
-    log::warn!("run {} failed: {error}", spec.id);
-    if record.method == "megakernel" || record.method == "wavefront" {
-        gpu.reset();
     }
-    // Keep what is known about the run, drop half-filled measurements.
-    let mut failed = planned_record(config, spec);
-    failed.status = RunStatus::Failed;
-    failed.error = Some(error);
-    failed
+    for r in &mut runs {
+        r.attempt(gpu, |r, gpu| r.prepare(config, gpu, refs, out));
+    }
+    // Warm-up work counts towards the next run's warm-up: the device is the same and has not
+    // idled in between.
+    let mut shared = 0.0;
+    for r in &mut runs {
+        r.attempt(gpu, |r, gpu| r.warm_up(config, gpu, bar, shared));
+        shared += r.record.warmup_log.as_ref().map_or(0.0, |w| w.seconds);
+    }
+    for rep in 0..config.repetitions {
+        for r in &mut runs {
+            r.attempt(gpu, |r, gpu| r.timed_render(config, gpu, bar, rep));
+        }
+    }
+    for r in &mut runs {
+        r.attempt(gpu, |r, gpu| r.finish(config, gpu, out, bar));
+    }
+    runs.into_iter().map(Run::into_record).collect()
+}
+
+/// One run on its way through its group's phases.
+struct Run<'a> {
+    config: &'a ExperimentConfig,
+    spec: &'a RunSpec,
+    scene: &'a crate::scene::Scene,
+    variant: &'a super::config::MethodVariant,
+    record: RunRecord,
+    /// Why it failed; a failed run sits out the phases left.
+    failed: Option<String>,
+    /// The reference image and its key (None without a reference).
+    reference: Option<(RgbImage, String)>,
+    /// The options of its timed renders (per-pass timestamps off when a profiled render gives
+    /// the per-pass table).
+    timed: MethodOptions,
+    /// Whether one more render, with per-pass timestamps, gives the per-pass table.
+    profile: bool,
+    reports: Vec<RunReport>,
+    /// The first render's image; every later one must be bit-identical to it.
+    image: Option<Vec<f32>>,
+    repeatable: bool,
+    state_before: Option<crate::gpu_state::GpuState>,
+}
+
+impl<'a> Run<'a> {
+    fn new(config: &'a ExperimentConfig, spec: &'a RunSpec) -> Self {
+        let variant = &config.methods[spec.variant];
+        Run {
+            config,
+            spec,
+            scene: &config.scenes[spec.scene].scene,
+            variant,
+            record: planned_record(config, spec),
+            failed: None,
+            reference: None,
+            timed: variant.options.clone(),
+            profile: false,
+            reports: Vec::new(),
+            image: None,
+            repeatable: true,
+            state_before: None,
+        }
+    }
+
+    /// Runs one phase unless the run has failed; an error or a panic fails the run (and, on
+    /// the GPU, drops the device: a lost or errored one cannot be trusted with the next render).
+    fn attempt(&mut self, gpu: &mut GpuSlot, phase: impl FnOnce(&mut Self, &mut GpuSlot) -> Result<()>) {
+        if self.failed.is_some() {
+            return;
+        }
+        let result = catch_unwind(AssertUnwindSafe(|| phase(self, gpu)));
+        let error = match result {
+            Ok(Ok(())) => return,
+            Ok(Err(e)) => format!("{e:#}"),
+            Err(panic) => {
+                let msg = panic
+                    .downcast_ref::<String>()
+                    .cloned()
+                    .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+                    .unwrap_or_default();
+                format!("internal error (panic): {msg}")
+            }
+        };
+        log::warn!("run {} failed: {error}", self.spec.id);
+        if self.variant.method.needs_gpu() {
+            gpu.reset();
+        }
+        self.failed = Some(error);
+    }
+
+    /// The record: as measured, or, for a failed run, what is known about it with its error
+    /// (half-filled measurements dropped).
+    fn into_record(self) -> RunRecord {
+        let Some(error) = self.failed else { return self.record };
+        RunRecord {
+            status: RunStatus::Failed,
+            error: Some(error),
+            interleaved_with: self.record.interleaved_with,
+            ..planned_record(self.config, self.spec)
+        }
+    }
+
+    /// Renders once with `options`; `counted` renders move the bar.
+    fn render(
+        &self,
+        options: &MethodOptions,
+        gpu: &mut GpuSlot,
+        bar: &GroupBar,
+        counted: bool,
+    ) -> Result<method::RenderOutput> {
+        let ctx = if self.variant.method.needs_gpu() { Some(gpu.get()?) } else { None };
+        let start = bar.done.get();
+        let progress = bar.progress;
+        let out = method::render(self.variant.method, self.scene, &self.spec.settings, options, ctx, &|d| {
+            if counted {
+                progress.set(start + d)
+            }
+        })?;
+        if counted {
+            bar.done.set(start + self.spec.settings.sample_count());
+        }
+        Ok(out)
+    }
+
+    fn adapter(&self, gpu: &GpuSlot) -> Option<crate::gpu::context::AdapterSummary> {
+        if self.variant.method.needs_gpu() {
+            gpu.adapter.clone()
+        } else {
+            None
+        }
+    }
+
+    /// The reference, and the options as they will run on this adapter.
+    fn prepare(
+        &mut self,
+        config: &ExperimentConfig,
+        gpu: &mut GpuSlot,
+        refs: &mut References,
+        out: &Path,
+    ) -> Result<()> {
+        let reference = refs.get(config, self.scene, &self.spec.settings, &self.variant.options, gpu, out)?;
+        self.reference = reference.map(|r| (r.image.clone(), r.record.key.clone()));
+        if self.variant.method.needs_gpu() {
+            gpu.get()?;
+        }
+        let adapter = self.adapter(gpu);
+        // What `--schedule auto` chose on this adapter, as the run's options.
+        self.record.options = method_options_json(
+            self.variant.method,
+            &self.variant.options.resolve(self.variant.method, adapter.as_ref()),
+        );
+        // Per-pass timestamps are a profiler: on some drivers each one waits for the work
+        // before it (llvmpipe: a wavefront frame of 23,500 passes took 2.7-4.0 s with them,
+        // 1.5-1.9 s without), which charges the method with the most passes. So the timed
+        // repetitions run without them, and one more render, not timed, gives the per-pass table.
+        self.profile =
+            adapter.as_ref().is_some_and(|a| a.timestamps) && self.variant.options.timing == Timing::Passes;
+        self.timed = MethodOptions {
+            timing: if self.profile { Timing::Frame } else { self.variant.options.timing },
+            ..self.variant.options.clone()
+        };
+        Ok(())
+    }
+
+    /// Untimed renders until the policy is met; `shared` seconds of warm-up work were done just
+    /// before by the group's other runs.
+    fn warm_up(
+        &mut self,
+        config: &ExperimentConfig,
+        gpu: &mut GpuSlot,
+        bar: &GroupBar,
+        shared: f64,
+    ) -> Result<()> {
+        let policy = config.warmup.policy(self.variant.method);
+        let counted = matches!(policy, crate::warmup::WarmupPolicy::Frames(_));
+        let timed = self.timed.clone();
+        let gpu = std::cell::RefCell::new(gpu);
+        let log = crate::warmup::warm_up(
+            &policy,
+            shared,
+            || Ok(self.render(&timed, &mut gpu.borrow_mut(), bar, counted)?.seconds()),
+            || if self.variant.method.needs_gpu() { gpu.borrow().sample() } else { None },
+        )?;
+        self.record.warmup = log.frames;
+        self.record.warmup_log = Some(log);
+        Ok(())
+    }
+
+    /// One timed repetition (`rep` counts from 0), with the GPU's state read before the first
+    /// and after the last.
+    fn timed_render(
+        &mut self,
+        config: &ExperimentConfig,
+        gpu: &mut GpuSlot,
+        bar: &GroupBar,
+        rep: u32,
+    ) -> Result<()> {
+        let sample = |gpu: &GpuSlot| if self.variant.method.needs_gpu() { gpu.sample() } else { None };
+        if rep == 0 {
+            self.state_before = sample(gpu);
+        }
+        let timed = self.timed.clone();
+        let o = self.render(&timed, gpu, bar, true)?;
+        let after = if rep + 1 == config.repetitions { sample(gpu) } else { None };
+        self.same_image(o.film.mean_rgb());
+        let adapter = self.adapter(gpu);
+        self.reports.push(RunReport::new(
+            self.scene,
+            self.variant.method,
+            &self.spec.settings,
+            &timed,
+            adapter.as_ref(),
+            &o,
+        ));
+        if let (Some(before), Some(after)) = (self.state_before.clone(), after) {
+            self.record.gpu_state = Some(crate::gpu_state::GpuStateSpan { before, after });
+        }
+        Ok(())
+    }
+
+    fn same_image(&mut self, rgb: Vec<f32>) {
+        match &self.image {
+            None => self.image = Some(rgb),
+            Some(first) => {
+                self.repeatable &= first.iter().map(|v| v.to_bits()).eq(rgb.iter().map(|v| v.to_bits()))
+            }
+        }
+    }
+
+    /// The profiled render, the statistics of the repetitions, the instrumented render, the
+    /// image and its error.
+    fn finish(
+        &mut self,
+        config: &ExperimentConfig,
+        gpu: &mut GpuSlot,
+        out: &Path,
+        bar: &GroupBar,
+    ) -> Result<()> {
+        let adapter = self.adapter(gpu);
+        let profiled = if self.profile {
+            let o = self.render(&self.variant.options.clone(), gpu, bar, true)?;
+            self.same_image(o.film.mean_rgb());
+            Some(RunReport::new(
+                self.scene,
+                self.variant.method,
+                &self.spec.settings,
+                &self.variant.options,
+                adapter.as_ref(),
+                &o,
+            ))
+        } else {
+            None
+        };
+        // SIMD efficiency comes from a separate render: the counters' atomics would skew the times.
+        let instrumented = if config.instrument && adapter.as_ref().is_some_and(|a| a.subgroups) {
+            let options = MethodOptions { instrument: true, ..self.variant.options.clone() };
+            Some(self.render(&options, gpu, bar, true)?)
+        } else {
+            None
+        };
+        let reports = std::mem::take(&mut self.reports);
+        let settings = &self.spec.settings;
+        let spec = self.spec;
+        let reference = self.reference.take();
+        let image = RgbImage {
+            width: settings.width,
+            height: settings.height,
+            data: self.image.take().expect("repetitions >= 1"),
+        };
+        let repeatable = self.repeatable;
+        let rec = &mut self.record;
+        // Times: median over the timed repetitions; per-pass times, and the split of the frame they
+        // allow, from the profiled one where there is one, else from the timed repetitions.
+        let wall: Vec<f64> = reports.iter().map(|r| r.wall_seconds).collect();
+        let frame_times: Vec<f64> = reports.iter().filter_map(|r| r.frame_seconds).collect();
+        rec.wall_seconds = Stat::of(&wall);
+        rec.frame_seconds = Stat::of(&frame_times);
+        let gaps: Vec<f64> = reports.iter().filter_map(|r| r.host_gap_seconds).collect();
+        rec.host_gap_seconds = Stat::of(&gaps).map(|s| s.median);
+        let pass_reports = profiled.as_ref().map_or(&reports[..], std::slice::from_ref);
+        let gpu_times: Vec<f64> = pass_reports.iter().filter_map(|r| r.gpu_seconds).collect();
+        rec.gpu_seconds = Stat::of(&gpu_times);
+        rec.profiled_frame_seconds = profiled.as_ref().and_then(|p| p.frame_seconds);
+        rec.between_passes_seconds = match &profiled {
+            Some(p) => p.between_passes_seconds,
+            None => {
+                let timed_per_pass = reports.iter().all(|r| r.between_passes_seconds.is_some());
+                rec.frame_seconds
+                    .as_ref()
+                    .zip(rec.gpu_seconds.as_ref())
+                    .zip(rec.host_gap_seconds)
+                    .filter(|_| timed_per_pass)
+                    .map(|((f, g), h)| f.median - g.median - h)
+            }
+        };
+        // The headline time: the frame's, host round trips included.
+        let seconds = rec
+            .frame_seconds
+            .as_ref()
+            .filter(|g| g.median > 0.0)
+            .map_or(rec.wall_seconds.as_ref().map(|w| w.median), |g| Some(g.median));
+        rec.seconds = seconds;
+        let median_rep = {
+            let key = |r: &RunReport| r.frame_seconds.unwrap_or(r.wall_seconds);
+            let mut order: Vec<usize> = (0..reports.len()).collect();
+            order.sort_by(|&a, &b| key(&reports[a]).total_cmp(&key(&reports[b])));
+            &reports[order[order.len() / 2]]
+        };
+        let pass_rep = profiled.as_ref().unwrap_or(median_rep);
+        let labels: std::collections::BTreeSet<&str> =
+            pass_reports.iter().flat_map(|r| r.passes.keys().copied()).collect();
+        for label in labels {
+            let times: Vec<f64> =
+                pass_reports.iter().map(|r| r.passes.get(label).map_or(0.0, |p| p.seconds)).collect();
+            let passes = pass_rep.passes.get(label).map_or(0, |p| p.passes);
+            rec.passes.insert(
+                label.to_string(),
+                PassStat { seconds: Stat::of(&times).expect("non-empty"), passes },
+            );
+        }
+        rec.passes_per_bounce =
+            pass_rep.passes_per_bounce.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
+        rec.time_source =
+            pass_rep.time_source.and_then(|t| serde_json::to_value(t).ok()?.as_str().map(str::to_owned));
+        rec.queue_histogram = median_rep.queue_histogram.clone();
+        rec.dispatches = Some(median_rep.dispatches);
+        rec.empty_dispatches = median_rep.empty_dispatches;
+        if let Some(s) = &median_rep.schedule {
+            rec.iterations = Some(s.iterations);
+            rec.idle_iterations = Some(s.idle_iterations);
+            rec.intersect_occupancy = Some(s.intersect_occupancy);
+        }
+        rec.rays = Some(median_rep.rays);
+        if let Some(s) = seconds.filter(|&s| s > 0.0) {
+            rec.samples_per_second = Some(rec.samples as f64 / s);
+            rec.rays_per_second = Some(median_rep.rays as f64 / s);
+        }
+        rec.invalid_samples = Some(median_rep.invalid_samples);
+        rec.self_hits = Some(median_rep.failures.self_hits);
+        rec.shadow_self_hits = Some(median_rep.failures.shadow_self_hits);
+        rec.depth_cut = Some(median_rep.failures.depth_cut);
+        rec.image_mean = Some(median_rep.image_mean);
+        rec.repeatable = Some(repeatable);
+        rec.bytes_per_path = median_rep.bytes_per_path;
+        rec.memory = median_rep.memory.clone();
+        rec.pool_size = median_rep.pool_size;
+        rec.indirect_validation = median_rep.indirect_validation;
+
+        if let Some(instrumented) = instrumented {
+            rec.simd = instrumented.simd;
+            rec.coherence = instrumented.coherence;
+        }
+        let cold = self.variant.method.needs_gpu() && rec.warmup == 0;
+        rec.stability = Some(super::stability::of_stat(rec.timed_stat(), config.unstable_spread, cold));
+
+        // Images and error.
+        let exr = format!("images/{}.exr", spec.id);
+        let png = format!("images/{}.png", spec.id);
+        image_io::write_exr(out.join(&exr), &image, &median_rep.exr_attributes())?;
+        image_io::write_png(out.join(&png), &image)?;
+        let mut error_map = None;
+        if let Some((ref_image, key)) = reference {
+            let opts = CompareOptions { trim: config.metrics.trim, flip: config.metrics.flip };
+            let m = metrics::compare(&image, &ref_image, &opts).map_err(|e| anyhow!("error metrics: {e}"))?;
+            rec.efficiency = seconds.filter(|&s| s > 0.0 && m.relmse > 0.0).map(|s| 1.0 / (m.relmse * s));
+            rec.error_metrics = Some(m);
+            rec.reference = Some(key);
+            let map = format!("images/{}-error.png", spec.id);
+            let rgb = error_map::relative_error_map(&image, &ref_image);
+            image_io::write_png_rgb8(out.join(&map), image.width, image.height, &rgb)?;
+            error_map = Some(map);
+        }
+        rec.images = Some(RunImages { exr, png, error_map });
+        Ok(())
+    }
 }
 
 fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
@@ -209,8 +596,12 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         status: RunStatus::Ok,
         resumed: false,
         error: None,
-        warmup: config.warmup,
+        warmup: config.warmup.policy(v.method).planned_frames(),
         repetitions: config.repetitions,
+        warmup_log: None,
+        interleaved_with: Vec::new(),
+        stability: None,
+        gpu_state: None,
         wall_seconds: None,
         gpu_seconds: None,
         frame_seconds: None,
@@ -301,169 +692,4 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
         map.extend(common);
     }
     json
-}
-
-fn measure(
-    config: &ExperimentConfig,
-    spec: &RunSpec,
-    gpu: &mut GpuSlot,
-    refs: &mut References,
-    out: &Path,
-    bar: &RunProgress,
-    rec: &mut RunRecord,
-) -> Result<()> {
-    let scene = &config.scenes[spec.scene].scene;
-    let variant = &config.methods[spec.variant];
-    let settings = &spec.settings;
-    let reference = refs.get(config, scene, settings, &variant.options, gpu, out)?;
-    let reference = reference.map(|r| (r.image.clone(), r.record.key.clone()));
-
-    let ctx = if variant.method.needs_gpu() { Some(gpu.get()?) } else { None };
-    let adapter = ctx.map(|c| &c.summary);
-    // What `--schedule auto` chose on this adapter, as the run's options.
-    rec.options = method_options_json(variant.method, &variant.options.resolve(variant.method, adapter));
-    let renders_done = std::cell::Cell::new(0u64);
-    let render = |options: &MethodOptions| {
-        let start = bar.base + renders_done.get() * settings.sample_count();
-        renders_done.set(renders_done.get() + 1);
-        let progress = bar.progress;
-        method::render(variant.method, scene, settings, options, ctx, &|d| progress.set(start + d))
-    };
-
-    // Per-pass timestamps are a profiler: on some drivers each one waits for the work before it
-    // (llvmpipe: a wavefront frame of 23,500 passes took 2.7-4.0 s with them, 1.5-1.9 s
-    // without), which charges the method with the most passes. So the timed repetitions run
-    // without them, and one more repetition, not timed, gives the per-pass table.
-    let profile = ctx.is_some_and(|c| c.summary.timestamps) && variant.options.timing == Timing::Passes;
-    let timed = MethodOptions {
-        timing: if profile { Timing::Frame } else { variant.options.timing },
-        ..variant.options.clone()
-    };
-    for _ in 0..config.warmup {
-        render(&timed)?;
-    }
-    let mut reports: Vec<RunReport> = Vec::new();
-    let mut image: Option<Vec<f32>> = None;
-    let mut repeatable = true;
-    let mut same_image = |rgb: Vec<f32>| match &image {
-        None => image = Some(rgb),
-        Some(first) => repeatable &= first.iter().map(|v| v.to_bits()).eq(rgb.iter().map(|v| v.to_bits())),
-    };
-    for _ in 0..config.repetitions {
-        let o = render(&timed)?;
-        same_image(o.film.mean_rgb());
-        reports.push(RunReport::new(scene, variant.method, settings, &timed, adapter, &o));
-    }
-    let profiled = if profile {
-        let o = render(&variant.options)?;
-        same_image(o.film.mean_rgb());
-        Some(RunReport::new(scene, variant.method, settings, &variant.options, adapter, &o))
-    } else {
-        None
-    };
-    let image =
-        RgbImage { width: settings.width, height: settings.height, data: image.expect("repetitions >= 1") };
-
-    // Times: median over the timed repetitions; per-pass times, and the split of the frame they
-    // allow, from the profiled one where there is one, else from the timed repetitions.
-    let wall: Vec<f64> = reports.iter().map(|r| r.wall_seconds).collect();
-    let frame_times: Vec<f64> = reports.iter().filter_map(|r| r.frame_seconds).collect();
-    rec.wall_seconds = Stat::of(&wall);
-    rec.frame_seconds = Stat::of(&frame_times);
-    let gaps: Vec<f64> = reports.iter().filter_map(|r| r.host_gap_seconds).collect();
-    rec.host_gap_seconds = Stat::of(&gaps).map(|s| s.median);
-    let pass_reports = profiled.as_ref().map_or(&reports[..], std::slice::from_ref);
-    let gpu_times: Vec<f64> = pass_reports.iter().filter_map(|r| r.gpu_seconds).collect();
-    rec.gpu_seconds = Stat::of(&gpu_times);
-    rec.profiled_frame_seconds = profiled.as_ref().and_then(|p| p.frame_seconds);
-    rec.between_passes_seconds = match &profiled {
-        Some(p) => p.between_passes_seconds,
-        None => {
-            let timed_per_pass = reports.iter().all(|r| r.between_passes_seconds.is_some());
-            rec.frame_seconds
-                .as_ref()
-                .zip(rec.gpu_seconds.as_ref())
-                .zip(rec.host_gap_seconds)
-                .filter(|_| timed_per_pass)
-                .map(|((f, g), h)| f.median - g.median - h)
-        }
-    };
-    // The headline time: the frame's, host round trips included.
-    let seconds = rec
-        .frame_seconds
-        .as_ref()
-        .filter(|g| g.median > 0.0)
-        .map_or(rec.wall_seconds.as_ref().map(|w| w.median), |g| Some(g.median));
-    rec.seconds = seconds;
-    let median_rep = {
-        let key = |r: &RunReport| r.frame_seconds.unwrap_or(r.wall_seconds);
-        let mut order: Vec<usize> = (0..reports.len()).collect();
-        order.sort_by(|&a, &b| key(&reports[a]).total_cmp(&key(&reports[b])));
-        &reports[order[order.len() / 2]]
-    };
-    let pass_rep = profiled.as_ref().unwrap_or(median_rep);
-    let labels: std::collections::BTreeSet<&str> =
-        pass_reports.iter().flat_map(|r| r.passes.keys().copied()).collect();
-    for label in labels {
-        let times: Vec<f64> =
-            pass_reports.iter().map(|r| r.passes.get(label).map_or(0.0, |p| p.seconds)).collect();
-        let passes = pass_rep.passes.get(label).map_or(0, |p| p.passes);
-        rec.passes
-            .insert(label.to_string(), PassStat { seconds: Stat::of(&times).expect("non-empty"), passes });
-    }
-    rec.passes_per_bounce =
-        pass_rep.passes_per_bounce.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
-    rec.time_source =
-        pass_rep.time_source.and_then(|t| serde_json::to_value(t).ok()?.as_str().map(str::to_owned));
-    rec.queue_histogram = median_rep.queue_histogram.clone();
-    rec.dispatches = Some(median_rep.dispatches);
-    rec.empty_dispatches = median_rep.empty_dispatches;
-    if let Some(s) = &median_rep.schedule {
-        rec.iterations = Some(s.iterations);
-        rec.idle_iterations = Some(s.idle_iterations);
-        rec.intersect_occupancy = Some(s.intersect_occupancy);
-    }
-    rec.rays = Some(median_rep.rays);
-    if let Some(s) = seconds.filter(|&s| s > 0.0) {
-        rec.samples_per_second = Some(rec.samples as f64 / s);
-        rec.rays_per_second = Some(median_rep.rays as f64 / s);
-    }
-    rec.invalid_samples = Some(median_rep.invalid_samples);
-    rec.self_hits = Some(median_rep.failures.self_hits);
-    rec.shadow_self_hits = Some(median_rep.failures.shadow_self_hits);
-    rec.depth_cut = Some(median_rep.failures.depth_cut);
-    rec.image_mean = Some(median_rep.image_mean);
-    rec.repeatable = Some(repeatable);
-    rec.bytes_per_path = median_rep.bytes_per_path;
-    rec.memory = median_rep.memory.clone();
-    rec.pool_size = median_rep.pool_size;
-    rec.indirect_validation = median_rep.indirect_validation;
-
-    // SIMD efficiency comes from a separate render: the counters' atomics would skew the times.
-    if config.instrument && ctx.is_some_and(|c| c.summary.subgroups) {
-        let options = MethodOptions { instrument: true, ..variant.options.clone() };
-        let instrumented = render(&options)?;
-        rec.simd = instrumented.simd;
-        rec.coherence = instrumented.coherence;
-    }
-
-    // Images and error.
-    let exr = format!("images/{}.exr", spec.id);
-    let png = format!("images/{}.png", spec.id);
-    image_io::write_exr(out.join(&exr), &image, &median_rep.exr_attributes())?;
-    image_io::write_png(out.join(&png), &image)?;
-    let mut error_map = None;
-    if let Some((ref_image, key)) = reference {
-        let opts = CompareOptions { trim: config.metrics.trim, flip: config.metrics.flip };
-        let m = metrics::compare(&image, &ref_image, &opts).map_err(|e| anyhow!("error metrics: {e}"))?;
-        rec.efficiency = seconds.filter(|&s| s > 0.0 && m.relmse > 0.0).map(|s| 1.0 / (m.relmse * s));
-        rec.error_metrics = Some(m);
-        rec.reference = Some(key);
-        let map = format!("images/{}-error.png", spec.id);
-        let rgb = error_map::relative_error_map(&image, &ref_image);
-        image_io::write_png_rgb8(out.join(&map), image.width, image.height, &rgb)?;
-        error_map = Some(map);
-    }
-    rec.images = Some(RunImages { exr, png, error_map });
-    Ok(())
 }

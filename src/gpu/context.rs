@@ -18,6 +18,11 @@ or install your GPU's Vulkan driver";
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct AdapterSummary {
     pub name: String,
+    /// PCI vendor id (0x10de NVIDIA, 0x1002 AMD, 0x8086 Intel; 0x10005 Mesa's software driver).
+    pub vendor: u32,
+    /// `domain:bus:device.function` where the driver reports it (empty otherwise): how the GPU's
+    /// state is read from the right device (`gpu_state.rs`).
+    pub pci_bus_id: String,
     pub backend: String,
     pub device_type: String,
     pub driver: String,
@@ -42,6 +47,8 @@ impl AdapterSummary {
         let l = adapter.limits();
         Self {
             name: info.name,
+            vendor: info.vendor,
+            pci_bus_id: info.device_pci_bus_id,
             backend: format!("{:?}", info.backend),
             device_type: format!("{:?}", info.device_type),
             driver: info.driver,
