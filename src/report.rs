@@ -129,6 +129,10 @@ pub struct RunReport {
     /// Whether wgpu inserted its validation dispatch before every indirect dispatch
     /// (`InstanceFlags::VALIDATION_INDIRECT_CALL`, wgpu #5714).
     pub indirect_validation: Option<bool>,
+    /// The untimed renders before this one (`render --warmup`): policy, frames, seconds,
+    /// whether it settled, each frame's time (and the GPU's state where NVML reads it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub warmup: Option<crate::warmup::WarmupLog>,
 }
 
 impl RunReport {
@@ -187,6 +191,7 @@ impl RunReport {
             simd: out.simd.clone(),
             coherence: out.coherence.clone(),
             indirect_validation: adapter.map(|a| a.indirect_validation),
+            warmup: None,
         }
     }
 

@@ -9,6 +9,7 @@ use crate::gpu::wavefront::{
     WavefrontOptions,
 };
 use crate::gpu::GpuContext;
+use crate::gpu_state::GpuMonitor;
 use crate::image_io::{self, RgbImage};
 use crate::light_options::{LightOptions, LightSampling, LightSelect};
 use crate::method::{self, Method, MethodOptions};
@@ -19,6 +20,7 @@ use crate::report::RunReport;
 use crate::scene::stress::StressTransform;
 use crate::scene::Scene;
 use crate::settings::{Accel, RenderSettings};
+use crate::warmup::{self, TimedWarmup, WarmupPolicy};
 use anyhow::{Context, Result};
 use std::path::PathBuf;
 
@@ -208,6 +210,11 @@ pub struct RenderArgs {
     /// submission only (`frame`: what the per-pass instrument costs shows as the difference).
     #[arg(long, value_enum, default_value_t = Timing::Passes)]
     pub timing: Timing,
+    /// Untimed renders before the one that is timed and written: `auto` (GPU methods: until the
+    /// GPU has worked 0.5 s and two frames agree within 5%, at most 50 frames or 10 s; CPU
+    /// methods: none), or a number of frames (0: time a cold first frame).
+    #[arg(long, default_value = "auto", value_parser = parse_warmup)]
+    pub warmup: Option<u32>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -222,6 +229,14 @@ pub enum CompactionMethod {
     Atomic,
     /// Stable prefix-sum scan over the pool.
     Scan,
+}
+
+/// `auto` (None) or a number of frames.
+fn parse_warmup(s: &str) -> Result<Option<u32>, String> {
+    match s {
+        "auto" => Ok(None),
+        n => n.parse().map(Some).map_err(|_| format!("expected auto or a number of frames, got {n:?}")),
+    }
 }
 
 pub fn run(a: RenderArgs) -> Result<()> {
@@ -279,13 +294,30 @@ pub fn run(a: RenderArgs) -> Result<()> {
     };
     let gpu = if a.method.needs_gpu() { Some(GpuContext::new(a.adapter.as_deref())?) } else { None };
 
+    let policy = match (a.warmup, a.method.needs_gpu()) {
+        (Some(n), _) => WarmupPolicy::Frames(n),
+        (None, true) => WarmupPolicy::Timed(TimedWarmup::default()),
+        (None, false) => WarmupPolicy::Frames(0),
+    };
+    let monitor = gpu.as_ref().and_then(|g| GpuMonitor::open(&g.summary));
+    let warm = warmup::warm_up(
+        &policy,
+        0.0,
+        || Ok(method::render(a.method, &scene, &settings, &options, gpu.as_ref(), &|_| {})?.seconds()),
+        || monitor.as_ref().map(GpuMonitor::sample),
+    )?;
+    if warm.frames > 0 {
+        log::info!("warm-up: {} frames, {:.3} s, settled: {}", warm.frames, warm.seconds, warm.settled);
+    }
+
     let progress = Progress::new(settings.sample_count(), &format!("{} {}", a.method.name(), scene.name));
     let out = method::render(a.method, &scene, &settings, &options, gpu.as_ref(), &|d| progress.set(d))?;
     progress.finish();
 
     let adapter = gpu.as_ref().map(|g| &g.summary);
     let options = options.resolve(a.method, adapter);
-    let report = RunReport::new(&scene, a.method, &settings, &options, adapter, &out);
+    let mut report = RunReport::new(&scene, a.method, &settings, &options, adapter, &out);
+    report.warmup = Some(warm);
     let image = RgbImage { width: settings.width, height: settings.height, data: out.film.mean_rgb() };
     image_io::write_exr(&a.out, &image, &report.exr_attributes())?;
     if let Some(png) = &a.png {

@@ -56,6 +56,9 @@ pub fn charts(report: &ExperimentReport) -> Vec<Chart> {
         if let Some(c) = speed_vs_memory(&runs, &group) {
             push("speed-vs-memory", c.title.clone(), c.to_svg());
         }
+        if let Some(c) = warmup(&runs, &group) {
+            push("warmup", c.title.clone(), c.to_svg());
+        }
         for (what, c) in stability(&runs, &group) {
             out.push(Chart {
                 stem: format!("stability-{what}-{}-{w}x{h}", file_safe(&scene)),
@@ -280,6 +283,32 @@ fn speed_vs_memory(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
         series,
     })
 }
+
+/// Frame time against time since the warm-up began, one line per run whose warm-up rendered at
+/// least [`WARMUP_TRACE_FRAMES`] frames: how long the device takes to reach steady frames (the
+/// device step `warmup` runs a long, fixed warm-up to draw it).
+fn warmup(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
+    let series: Vec<Series> = runs
+        .iter()
+        .filter_map(|r| {
+            let log = r.warmup_log.as_ref().filter(|w| w.trace.len() >= WARMUP_TRACE_FRAMES)?;
+            let points = log.trace.iter().map(|f| (f.at, 1e3 * f.seconds)).collect();
+            Some(Series { name: format!("{} {}spp", r.label, r.spp), points })
+        })
+        .collect();
+    (!series.is_empty()).then(|| LineChart {
+        title: format!("Warm-up: frame time from the first frame on, {group}"),
+        x_label: "seconds since the warm-up began".into(),
+        y_label: "frame time, ms".into(),
+        x_log: false,
+        y_log: false,
+        x_zero: false,
+        series,
+    })
+}
+
+/// Warm-ups this long get a chart.
+pub const WARMUP_TRACE_FRAMES: usize = 10;
 
 /// relMSE against time, log–log, one line per method variant through its spp values.
 fn error_vs_time(runs: &[&RunRecord], group: &str) -> Option<LineChart> {

@@ -18,7 +18,7 @@ const PREVIEW_WIDTH: u32 = 320;
 const STYLE: &str = "body{font-family:sans-serif;margin:2em;max-width:1500px;color:#222}\
 table{border-collapse:collapse;font-size:13px;margin:1em 0}\
 th,td{border:1px solid #ccc;padding:3px 6px;text-align:right}th{background:#f3f3f3}\
-td.l,th.l{text-align:left}tr.failed td{background:#fde8e8}\
+td.l,th.l{text-align:left}tr.failed td{background:#fde8e8}tr.flagged td{background:#fff6d6}\
 .charts{display:flex;flex-wrap:wrap;gap:1em}.charts svg{max-width:100%;height:auto}\
 figure{display:inline-block;margin:0 1em 1em 0;vertical-align:top}figcaption{font-size:12px;max-width:320px}\
 .run{border-top:1px solid #ddd;padding-top:.5em}.q{font-size:1.2em;font-style:italic}\
@@ -125,26 +125,57 @@ fn environments(h: &mut String, report: &ExperimentReport) {
 
 fn runs_table(h: &mut String, report: &ExperimentReport) {
     h.push_str(
-        "<h2>Runs</h2><p>Time: median over repetitions [min–max], GPU time (timestamps) for GPU methods, \
-         wall time for CPU methods. relMSE uses ε = 0.01 (pbrt-v4); efficiency = 1/(relMSE·time). \
+        "<h2>Runs</h2><p>Time: median over repetitions [min–max]: frame time for GPU methods (first \
+         submission to last completion, host round trips included), wall time for CPU methods. \
+         Spread: (max − min) ÷ median of the repetitions; warm-up: the untimed renders before them. \
+         × megakernel: the fastest megakernel variant's time for the same job over this run's (above 1 \
+         is faster), with the interval its medians' intervals allow. ⚠: not a steady figure — \
+         repetitions spread beyond the config's threshold (unstable) or a GPU run without warm-up \
+         (cold); its row is shaded. relMSE uses ε = 0.01 (pbrt-v4); efficiency = 1/(relMSE·time). \
          Dispatches: compute passes per render (empty: indirect ones sized to zero workgroups); \
          occupancy: the wavefront's mean paths per intersect pass ÷ pool. Where the numerics failed, \
          per render: NaN/Inf samples dropped; self-hits, secondary rays whose closest hit was the \
          primitive they left; shadow self-hits, shadow rays likewise; depth-cut, paths still going \
          at the max depth (cut, their light lost).</p>\
          <table><tr><th>#</th><th class=\"l\">scene</th><th>size</th><th>spp</th><th>depth</th><th class=\"l\">method</th>\
-         <th>time s</th><th>[min–max]</th><th>Msamples/s</th><th>Mrays/s</th><th>NaN/Inf</th><th>self-hits</th><th>shadow self-hits</th>\
+         <th>time s</th><th>[min–max]</th><th>spread</th><th class=\"l\">warm-up</th><th>× megakernel</th><th>Msamples/s</th><th>Mrays/s</th><th>NaN/Inf</th><th>self-hits</th><th>shadow self-hits</th>\
          <th>depth-cut</th><th>MSE</th>\
          <th>relMSE</th><th>SMAPE</th><th>FLIP</th><th>efficiency</th><th>dispatches (empty)</th>\
          <th>occupancy</th><th class=\"l\">note</th></tr>\n",
     );
+    let threshold = super::stability::threshold_of(&report.config);
+    let fastest = super::markdown::fastest_megakernel(report);
     for r in &report.runs {
+        let st = super::stability::of_run(r, threshold);
+        let flagged = r.status == RunStatus::Ok && st.flagged();
+        let versus = super::markdown::versus_megakernel(r, &fastest, threshold).map_or("–".into(), |v| {
+            format!(
+                "{:.2}×{} [{:.2}–{:.2}]",
+                v.ratio,
+                if v.flagged { "⚠" } else { "" },
+                v.interval.0,
+                v.interval.1
+            )
+        });
+        let spread = st.spread.map_or("–".into(), |x| {
+            format!("{:.1}%{}", 100.0 * x, if st.unstable { " ⚠ unstable" } else { "" })
+        });
+        let warmup = match &r.warmup_log {
+            Some(w) => format!(
+                "{} ({} frames, {:.3} s{})",
+                w.policy,
+                w.frames,
+                w.seconds,
+                if w.settled { "" } else { ", unsettled" }
+            ),
+            None => format!("{} frames", r.warmup),
+        } + if st.cold { " ⚠ cold" } else { "" };
         let g = |x: Option<f64>, scale: f64, prec: usize| {
             x.map_or("–".into(), |v| format!("{:.*}", prec, v * scale))
         };
         let e = |x: Option<f64>| x.map_or("–".into(), |v| format!("{v:.3e}"));
         let count = |x: Option<u64>| x.map_or("–".into(), |n| n.to_string());
-        let stat = r.frame_seconds.as_ref().or(r.gpu_seconds.as_ref()).or(r.wall_seconds.as_ref());
+        let stat = r.timed_stat();
         let m = r.error_metrics.as_ref();
         let note = match (&r.status, r.repeatable) {
             (RunStatus::Failed, _) => format!("FAILED: {}", esc(r.error.as_deref().unwrap_or(""))),
@@ -154,9 +185,13 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
         let _ = writeln!(
             h,
             "<tr{}><td>{}</td><td class=\"l\">{}</td><td>{}x{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td>\
-             <td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>\
+             <td>{}</td><td>{}</td><td>{spread}</td><td class=\"l\">{}</td><td>{versus}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>\
              <td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"l\">{note}</td></tr>",
-            if r.status == RunStatus::Failed { " class=\"failed\"" } else { "" },
+            match (r.status, flagged) {
+                (RunStatus::Failed, _) => " class=\"failed\"",
+                (_, true) => " class=\"flagged\"",
+                _ => "",
+            },
             r.index,
             esc(&r.scene),
             r.width,
@@ -164,8 +199,9 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
             r.spp,
             r.max_depth,
             esc(&r.label),
-            g(r.seconds, 1.0, 4),
+            g(r.seconds, 1.0, 4) + if flagged { "⚠" } else { "" },
             stat.map_or("–".into(), |s| format!("{:.4}–{:.4}", s.min, s.max)),
+            esc(&warmup),
             g(r.samples_per_second, 1e-6, 3),
             g(r.rays_per_second, 1e-6, 3),
             count(r.invalid_samples),

@@ -15,6 +15,7 @@ use std::fmt::Write;
 use serde_json::Value;
 
 use super::report::{ExperimentReport, RunRecord, RunStatus};
+use super::stability::{self, FLAG};
 
 /// The page for `report`; `source` is the report's directory as the reader should find it (the
 /// command's argument), `charts_prefix` the path from the page to that directory.
@@ -42,6 +43,7 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
         }
     );
 
+    md.push_str(&steadiness_line(report));
     md.push_str("## Build and device\n\n");
     md.push_str(
         "| environment | build | device | driver | subgroups | timestamps | machine | started | finished |\n",
@@ -73,32 +75,45 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
     md.push('\n');
 
     md.push_str("## Time and error\n\n");
-    md.push_str(
+    let threshold = stability::threshold_of(&report.config);
+    let _ = write!(
+        md,
         "Seconds: median [min–max] over the timed repetitions (GPU methods: frame time, or the sum of \
-         pass times in reports written before frame times existed; CPU methods: wall time). \
-         × megakernel: the fastest megakernel variant's seconds for the same job (scene, size, spp, \
-         depth, NEE, stress transform) over this run's, so above 1 is faster. relMSE against the \
-         run's reference.\n\n",
+         pass times in reports written before frame times existed; CPU methods: wall time). Spread: \
+         (max − min) ÷ median of the repetitions. Warm-up: the untimed renders before them and their \
+         seconds. × megakernel: the fastest megakernel variant's seconds for the same job (scene, \
+         size, spp, depth, NEE, stress transform) over this run's, so above 1 is faster, with the \
+         interval its medians' intervals allow (order statistics: min–max below six repetitions). \
+         {FLAG}: not a steady figure — the run's repetitions spread by more than {:.0}% (unstable), \
+         or a GPU run timed without warm-up (cold); a ratio carries it when either run does. \
+         relMSE against the run's reference.\n\n",
+        100.0 * threshold
     );
-    md.push_str("| # | scene | job | variant | seconds | × megakernel | M samples/s | relMSE | status |\n");
-    md.push_str("| ---: | --- | --- | --- | --- | ---: | ---: | ---: | --- |\n");
+    md.push_str(
+        "| # | scene | job | variant | seconds | spread | warm-up | × megakernel | M samples/s | relMSE | status |\n",
+    );
+    md.push_str("| ---: | --- | --- | --- | --- | ---: | --- | ---: | ---: | ---: | --- |\n");
     let fastest = fastest_megakernel(report);
     for r in &report.runs {
-        let seconds = match (
-            &r.seconds,
-            r.frame_seconds.as_ref().or(r.gpu_seconds.as_ref()).or(r.wall_seconds.as_ref()),
-        ) {
+        let st = stability::of_run(r, threshold);
+        let flag = flag_if(r.status == RunStatus::Ok && st.flagged());
+        let seconds = match (&r.seconds, r.timed_stat()) {
             (Some(t), Some(stat)) if stat.values.len() > 1 => {
-                format!("{} [{}–{}]", sig(*t), sig(stat.min), sig(stat.max))
+                format!("{}{flag} [{}–{}]", sig(*t), sig(stat.min), sig(stat.max))
             }
-            (Some(t), _) => sig(*t),
+            (Some(t), _) => format!("{}{flag}", sig(*t)),
             _ => "–".into(),
         };
-        let speedup = match (fastest.get(&job_key(r)), r.seconds) {
-            (Some(&m), Some(t)) if t > 0.0 => format!("{:.2}×", m / t),
+        let spread = match (r.status, st.spread) {
+            (RunStatus::Ok, Some(x)) if st.unstable => format!("{:.1}% {FLAG} unstable", 100.0 * x),
+            (RunStatus::Ok, Some(x)) => format!("{:.1}%", 100.0 * x),
             _ => "–".into(),
         };
-        let rate = r.samples_per_second.map_or("–".into(), |v| format!("{:.3}", v / 1e6));
+        let speedup = versus_megakernel(r, &fastest, threshold).map_or("–".into(), |v| {
+            let flag = flag_if(v.flagged);
+            format!("{:.2}×{flag} [{:.2}–{:.2}]", v.ratio, v.interval.0, v.interval.1)
+        });
+        let rate = r.samples_per_second.map_or("–".into(), |v| format!("{:.3}{flag}", v / 1e6));
         let relmse = r.error_metrics.as_ref().map_or("–".into(), |m| format!("{:.3e}", m.relmse));
         let status = match r.status {
             RunStatus::Ok => "ok".to_string(),
@@ -106,11 +121,12 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
         };
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} | {seconds} | {speedup} | {rate} | {relmse} | {status} |",
+            "| {} | {} | {} | {} | {seconds} | {spread} | {} | {speedup} | {rate} | {relmse} | {status} |",
             r.index,
             r.scene,
             job_text(r),
-            cell(&r.label)
+            cell(&r.label),
+            warmup_text(r, &st),
         );
     }
     md.push('\n');
@@ -160,11 +176,15 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
             "| ---: | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
         );
         for r in profiled {
+            let flag = flag_if(stability::of_run(r, threshold).flagged());
             let g = pass_groups(r);
             let sum: f64 = g.iter().sum();
-            let cells: Vec<String> = g.iter().map(|&t| sig(t)).collect();
-            let per_sample =
-                if r.samples > 0 { nanoseconds(1e9 * g[0] / r.samples as f64) } else { "–".into() };
+            let cells: Vec<String> = g.iter().map(|&t| format!("{}{flag}", sig(t))).collect();
+            let per_sample = if r.samples > 0 {
+                format!("{}{flag}", nanoseconds(1e9 * g[0] / r.samples as f64))
+            } else {
+                "–".into()
+            };
             let _ = writeln!(
                 md,
                 "| {} | {} | {} | {} | {} | {} | {per_sample} |",
@@ -173,14 +193,17 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
                 job_text(r),
                 cell(&r.label),
                 cells.join(" | "),
-                sig(sum)
+                format!("{}{flag}", sig(sum))
             );
         }
         md.push('\n');
     }
 
-    let per_bounce: Vec<(&RunRecord, Vec<String>)> =
-        report.runs.iter().filter_map(|r| Some((r, intersect_ns_per_ray(r)?))).collect();
+    let per_bounce: Vec<(&RunRecord, Vec<String>)> = report
+        .runs
+        .iter()
+        .filter_map(|r| Some((r, intersect_ns_per_ray(r, stability::of_run(r, threshold).flagged())?)))
+        .collect();
     if !per_bounce.is_empty() {
         md.push_str("## Intersect time per ray by bounce\n\n");
         md.push_str(
@@ -224,6 +247,7 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
         md.push('\n');
     }
 
+    md.push_str(&gpu_state_table(&report.runs));
     md.push_str(&coherence_table(&report.runs));
 
     let counted = |r: &&RunRecord| {
@@ -368,7 +392,8 @@ fn pass_groups(r: &RunRecord) -> [f64; 7] {
 
 /// ns per ray of the intersect passes at [`BOUNCE_COLUMNS`], for a run whose bounces are queues
 /// (waves with a queue histogram and per-bounce pass times).
-fn intersect_ns_per_ray(r: &RunRecord) -> Option<Vec<String>> {
+fn intersect_ns_per_ray(r: &RunRecord, flagged: bool) -> Option<Vec<String>> {
+    let flag = flag_if(flagged);
     let rays = &r.queue_histogram.as_ref()?.rays;
     let seconds = r.passes_per_bounce.get("intersect")?;
     if r.options.get("schedule").and_then(Value::as_str).is_some_and(|s| s != "waves") || rays.is_empty() {
@@ -379,7 +404,7 @@ fn intersect_ns_per_ray(r: &RunRecord) -> Option<Vec<String>> {
             .iter()
             .map(|&b| match (rays.get(b), seconds.get(b)) {
                 (Some(&n), Some(&t)) if n > 0 => {
-                    format!("{} ({})", nanoseconds(1e9 * t / n as f64), n.div_ceil(1000))
+                    format!("{}{flag} ({})", nanoseconds(1e9 * t / n as f64), n.div_ceil(1000))
                 }
                 _ => "–".into(),
             })
@@ -387,16 +412,149 @@ fn intersect_ns_per_ray(r: &RunRecord) -> Option<Vec<String>> {
     )
 }
 
-/// Job → the fastest megakernel variant's `seconds` for that job.
-fn fastest_megakernel(report: &ExperimentReport) -> BTreeMap<String, f64> {
-    let mut best: BTreeMap<String, f64> = BTreeMap::new();
+/// The fastest megakernel variant of a job: what "× megakernel" divides by.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Baseline {
+    pub seconds: f64,
+    /// The interval of its median (its median where it has none).
+    pub interval: (f64, f64),
+    /// Its time is not a steady figure ([`stability::Stability::flagged`]).
+    pub flagged: bool,
+}
+
+/// Job → the fastest megakernel variant's time for that job.
+pub fn fastest_megakernel(report: &ExperimentReport) -> BTreeMap<String, Baseline> {
+    let threshold = stability::threshold_of(&report.config);
+    let mut best: BTreeMap<String, Baseline> = BTreeMap::new();
     for r in report.runs.iter().filter(|r| r.method == "megakernel" && r.status == RunStatus::Ok) {
         if let Some(t) = r.seconds.filter(|t| *t > 0.0) {
-            let e = best.entry(job_key(r)).or_insert(t);
-            *e = e.min(t);
+            let st = stability::of_run(r, threshold);
+            let b = Baseline { seconds: t, interval: st.interval_or(t), flagged: st.flagged() };
+            match best.get(&job_key(r)) {
+                Some(e) if e.seconds <= t => {}
+                _ => {
+                    best.insert(job_key(r), b);
+                }
+            }
         }
     }
     best
+}
+
+/// A run against its job's fastest megakernel: the speed-up, its interval, and whether either
+/// time is flagged.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Versus {
+    pub ratio: f64,
+    pub interval: (f64, f64),
+    pub flagged: bool,
+}
+
+pub fn versus_megakernel(
+    r: &RunRecord,
+    fastest: &BTreeMap<String, Baseline>,
+    threshold: f64,
+) -> Option<Versus> {
+    let b = fastest.get(&job_key(r))?;
+    let t = r.seconds.filter(|&t| t > 0.0 && r.status == RunStatus::Ok)?;
+    let st = stability::of_run(r, threshold);
+    Some(Versus {
+        ratio: b.seconds / t,
+        interval: stability::ratio_interval(b.interval, st.interval_or(t)),
+        flagged: b.flagged || st.flagged(),
+    })
+}
+
+/// [`FLAG`] where `flagged`, else nothing: written right after each figure of a flagged run,
+/// so that a quoted figure can be told from a steady one (tests/suite/docs.rs).
+fn flag_if(flagged: bool) -> &'static str {
+    if flagged {
+        FLAG
+    } else {
+        ""
+    }
+}
+
+/// How many of the report's timings are steady figures, and why the others are not.
+fn steadiness_line(report: &ExperimentReport) -> String {
+    let threshold = stability::threshold_of(&report.config);
+    let ok: Vec<stability::Stability> = report
+        .runs
+        .iter()
+        .filter(|r| r.status == RunStatus::Ok)
+        .map(|r| stability::of_run(r, threshold))
+        .collect();
+    if ok.is_empty() {
+        return String::new();
+    }
+    let flagged = ok.iter().filter(|s| s.flagged()).count();
+    let unstable = ok.iter().filter(|s| s.unstable).count();
+    let cold = ok.iter().filter(|s| s.cold).count();
+    format!(
+        "Timings: {} of {} ok runs steady; {flagged} flagged {FLAG} ({unstable} unstable: repetitions \
+         more than {:.0}% apart; {cold} cold: GPU runs without warm-up).\n\n",
+        ok.len() - flagged,
+        ok.len(),
+        100.0 * threshold
+    )
+}
+
+/// The warm-up cell: `12 frames, 0.61 s`, `1 frame`, `none`, with `unsettled` when a timed
+/// warm-up stopped at its bound and [`FLAG`] when a GPU run had none.
+fn warmup_text(r: &RunRecord, st: &stability::Stability) -> String {
+    let frames = |n: u32| if n == 1 { "1 frame".to_string() } else { format!("{n} frames") };
+    let mut t = match &r.warmup_log {
+        Some(w) if w.frames == 0 => "none".to_string(),
+        Some(w) => format!("{}, {} s", frames(w.frames), sig(w.seconds)),
+        None if r.warmup == 0 => "none".to_string(),
+        None => frames(r.warmup),
+    };
+    if r.warmup_log.as_ref().is_some_and(|w| !w.settled) {
+        t.push_str(", unsettled");
+    }
+    if st.cold && r.status == RunStatus::Ok {
+        let _ = write!(t, " {FLAG} cold");
+    }
+    t
+}
+
+/// The GPU's state before and after each run's timed renders, where NVML read it (empty
+/// without any).
+fn gpu_state_table(runs: &[RunRecord]) -> String {
+    let mut md = String::new();
+    let read: Vec<(&RunRecord, &crate::gpu_state::GpuStateSpan)> =
+        runs.iter().filter_map(|r| Some((r, r.gpu_state.as_ref()?))).collect();
+    if read.is_empty() {
+        return md;
+    }
+    md.push_str(
+        "## GPU state\n\nRead through NVML before the first timed render of each run and after its \
+         last (before → after): SM and memory clocks, die temperature, board power, and what held \
+         the clocks down.\n\n",
+    );
+    md.push_str("| # | variant | SM clock MHz | memory clock MHz | °C | W | throttle reasons |\n");
+    md.push_str("| ---: | --- | ---: | ---: | ---: | ---: | --- |\n");
+    for (r, g) in read {
+        let pair = |f: &dyn Fn(&crate::gpu_state::GpuState) -> Option<String>| {
+            format!("{} → {}", f(&g.before).unwrap_or("–".into()), f(&g.after).unwrap_or("–".into()))
+        };
+        let reasons = |s: &crate::gpu_state::GpuState| {
+            s.throttle_reasons.as_ref().map(|v| if v.is_empty() { "none".into() } else { v.join(", ") })
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {} |",
+            r.index,
+            cell(&r.label),
+            pair(&|s| s.sm_clock_mhz.map(|x| x.to_string())),
+            pair(&|s| s.memory_clock_mhz.map(|x| x.to_string())),
+            pair(&|s| s.temperature_c.map(|x| x.to_string())),
+            pair(&|s| s.power_watts.map(|x| format!("{x:.0}"))),
+            pair(&reasons),
+        );
+    }
+    md.push('\n');
+    md
 }
 
 fn job_key(r: &RunRecord) -> String {
@@ -533,11 +691,11 @@ mod tests {
             [2.0, 1.5, 0.0, 0.75, 4.0, 0.0, 0.125],
             "state compaction is the refill's, the ray sort the queues'"
         );
-        let cells = intersect_ns_per_ray(&r).unwrap();
+        let cells = intersect_ns_per_ray(&r, false).unwrap();
         assert_eq!(&cells[..3], ["3.00 (1)".to_string(), "2.00 (1)".into(), "–".into()]);
         assert_eq!([nanoseconds(1121.4), nanoseconds(35.26), nanoseconds(1.234)], ["1121", "35.3", "1.23"]);
         r.options = serde_json::json!({"schedule": "regenerate"});
-        assert!(intersect_ns_per_ray(&r).is_none());
+        assert!(intersect_ns_per_ray(&r, false).is_none());
     }
 
     /// The coherence table weights each iteration bucket by its subgroups, and its late column

@@ -357,7 +357,7 @@ pub struct ChartRecord {
     pub file: String,
     pub title: String,
     /// `error-vs-time`, `error-vs-spp`, `passes`, `queues`, `simd`, `speed-vs-memory`,
-    /// `stability`, `time-by-scene` or `crossover`.
+    /// `stability`, `warmup`, `time-by-scene` or `crossover`.
     pub kind: String,
     /// Empty for `time-by-scene`, which spans scenes.
     pub scene: String,

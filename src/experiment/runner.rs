@@ -141,15 +141,22 @@ fn union_references(earlier: &[ReferenceRecord], now: Vec<ReferenceRecord>) -> V
     all
 }
 
+/// `  [3] ok: 0.1234 s frame, spread 1.2%, relMSE …` (the index tells apart the runs of a
+/// group, whose lines come together), with a warning where the time is not steady.
 fn summary_line(r: &RunRecord) -> String {
     match r.status {
-        RunStatus::Failed => format!("  FAILED: {}", r.error.as_deref().unwrap_or("?")),
+        RunStatus::Failed => format!("  [{}] FAILED: {}", r.index, r.error.as_deref().unwrap_or("?")),
         RunStatus::Ok => {
             let t = r.seconds.map_or("?".into(), |s| format!("{s:.4} s"));
             let src = if r.frame_seconds.is_some() { " frame" } else { " wall" };
+            let spread =
+                r.stability.as_ref().and_then(|s| Some((s.spread?, s))).map_or(String::new(), |(x, s)| {
+                    format!(", spread {:.1}%", 100.0 * x) + if s.unstable { " (unstable)" } else { "" }
+                });
+            let cold = if r.stability.as_ref().is_some_and(|s| s.cold) { ", cold (no warm-up)" } else { "" };
             let err =
                 r.error_metrics.as_ref().map_or(String::new(), |m| format!(", relMSE {:.3e}", m.relmse));
-            format!("  ok: {t}{src}{err}")
+            format!("  [{}] ok: {t}{src}{spread}{cold}{err}", r.index)
         }
     }
 }

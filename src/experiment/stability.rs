@@ -13,6 +13,10 @@ use serde::{Deserialize, Serialize};
 
 use super::report::{RunRecord, Stat};
 
+/// Written right after every figure of a flagged run on the results pages (`0.1180⚠`,
+/// `0.07×⚠`), so a figure quoted from one can be refused (tests/suite/docs.rs).
+pub const FLAG: &str = "⚠";
+
 /// The spread above which a run is flagged unstable unless the config says otherwise.
 pub const DEFAULT_UNSTABLE_SPREAD: f64 = 0.05;
 

@@ -210,6 +210,38 @@ fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
         rcol("png", |r| r.images.as_ref().map(|i| i.png.clone())),
         rcol("error_map", |r| r.images.as_ref().and_then(|i| i.error_map.clone())),
     ]);
+    // Whether the time is a steady figure (stored, or computed from the repetitions for reports
+    // from before it was), how the run warmed up, and the GPU's state around its timed renders.
+    let threshold = super::stability::threshold_of(&report.config);
+    let steady = move |r: &RunRecord| super::stability::of_run(r, threshold);
+    cols.extend([
+        rcol("spread", move |r| steady(r).spread.map(float)),
+        rcol("median_low", move |r| steady(r).median_low.map(float)),
+        rcol("median_high", move |r| steady(r).median_high.map(float)),
+        rcol("median_confidence", move |r| steady(r).confidence.map(float)),
+        rcol("unstable", move |r| flag(steady(r).unstable)),
+        rcol("cold", move |r| flag(steady(r).cold)),
+        rcol("warmup_policy", |r| r.warmup_log.as_ref().map(|w| w.policy.clone())),
+        rcol("warmup_seconds", |r| r.warmup_log.as_ref().map(|w| float(w.seconds))),
+        rcol("warmup_settled", |r| r.warmup_log.as_ref().and_then(|w| flag(w.settled))),
+        rcol("interleaved_with", |r| {
+            Some(r.interleaved_with.iter().map(usize::to_string).collect::<Vec<_>>().join(" "))
+        }),
+    ]);
+    type Reading = fn(&crate::gpu_state::GpuState) -> Cell;
+    let readings: [(&str, Reading); 5] = [
+        ("sm_clock_mhz", |g| g.sm_clock_mhz.and_then(int)),
+        ("memory_clock_mhz", |g| g.memory_clock_mhz.and_then(int)),
+        ("temperature_c", |g| g.temperature_c.and_then(int)),
+        ("power_watts", |g| g.power_watts.map(float)),
+        ("throttle_reasons", |g| g.throttle_reasons.as_ref().map(|v| v.join(" "))),
+    ];
+    for (name, read) in readings {
+        cols.push(rcol(&format!("{name}_before"), move |r| {
+            r.gpu_state.as_ref().and_then(|g| read(&g.before))
+        }));
+        cols.push(rcol(&format!("{name}_after"), move |r| r.gpu_state.as_ref().and_then(|g| read(&g.after))));
+    }
     cols
 }
 

@@ -112,9 +112,11 @@ fn figures(text: &str) -> Vec<String> {
     let mut out = Vec::new();
     for word in text.split(|c: char| c.is_whitespace() || "(),;–".contains(c)) {
         let w = word.trim_end_matches(['.', ':']);
-        let number = w.trim_end_matches('×');
-        let is_ratio = w.ends_with('×') && number.parse::<f64>().is_ok() && number.contains('.');
-        let is_sci = w.contains('e') && w.parse::<f64>().is_ok() && w.contains('.');
+        // A figure marked as a flagged run's (`0.07×⚠`) is one figure, mark included.
+        let number = w.trim_end_matches('⚠').trim_end_matches('×');
+        let bare = w.trim_end_matches('⚠');
+        let is_ratio = bare.ends_with('×') && number.parse::<f64>().is_ok() && number.contains('.');
+        let is_sci = bare.contains('e') && bare.parse::<f64>().is_ok() && bare.contains('.');
         if is_ratio || is_sci {
             out.push(w.to_string());
         }
@@ -139,7 +141,9 @@ pub fn quoted_figures(text: &str) -> Vec<String> {
     let mut out = Vec::new();
     for word in prose.split(|c: char| c.is_whitespace() || "(),;[]/–→".contains(c)) {
         let w = word.trim_matches(['*', '_', '.', ':']).trim_start_matches(['+', '-', '−', '±', '~']);
-        let number = w.trim_end_matches(['×', '%']);
+        // A figure quoted with a flagged run's mark (`0.74×⚠`) is one figure, mark included: it
+        // must be on the page with the mark, and says so to the reader.
+        let number = w.trim_end_matches('⚠').trim_end_matches(['×', '%']);
         if !number.starts_with(|c: char| c.is_ascii_digit()) || number.parse::<f64>().is_err() {
             continue;
         }
@@ -151,16 +155,20 @@ pub fn quoted_figures(text: &str) -> Vec<String> {
     out
 }
 
-/// Whether `figure` is on `page` as a whole number: not the start or end of a longer one.
+/// Whether `figure` is on `page` as a whole number (not the start or end of a longer one) and
+/// as a steady figure: results pages write ⚠ right after every figure of a run whose
+/// repetitions spread beyond the threshold or that ran cold (`experiment/stability.rs`), and
+/// such an occurrence does not count, so no finding can rest on one.
 fn on_page(figure: &str, page: &str) -> bool {
     page.match_indices(figure).any(|(i, _)| {
+        let flagged = page[i + figure.len()..].trim_start_matches(['×', '%']).starts_with('⚠');
         let before = page[..i].chars().next_back();
         let mut after = page[i + figure.len()..].chars();
         let (next, then) = (after.next(), after.next());
         let longer_before = before.is_some_and(|c| c.is_ascii_digit() || c == '.');
         let longer_after = next.is_some_and(|c| c.is_ascii_digit())
             || (next == Some('.') && then.is_some_and(|c| c.is_ascii_digit()));
-        !longer_before && !longer_after
+        !longer_before && !longer_after && !flagged
     })
 }
 
@@ -255,6 +263,8 @@ fn readme_findings_quote_the_pages_they_link() {
     for b in bullets {
         assert!(!linked_results_pages("README.md", b).is_empty(), "a finding without a results page: {b}");
         assert!(!figures(b).is_empty(), "a finding without a figure: {b}");
+        let flagged: Vec<String> = figures(b).into_iter().filter(|f| f.ends_with('⚠')).collect();
+        assert!(flagged.is_empty(), "a finding rests on a flagged run (unstable or cold): {flagged:?} in {b}");
         if let Some(e) = unquoted("README.md", b, figures(b)) {
             panic!("{e}");
         }
@@ -479,6 +489,27 @@ fn a_hand_typed_figure_fails_the_check() {
     assert_eq!(measured_figures("docs/numerics.md", unit), ["2009", "2010", "0.4321"]);
 }
 
+/// A figure that only a flagged run gives (unstable repetitions or no warm-up: written `…⚠` on
+/// its page) cannot be quoted, though it is on the page.
+#[test]
+fn a_figure_from_a_flagged_run_fails_the_check() {
+    let page = read("docs/results/nvidia-h200/regeneration.md");
+    let flagged: Vec<&str> = page
+        .split(|c: char| c.is_whitespace() || "|[]".contains(c))
+        .filter_map(|w| w.strip_suffix('⚠'))
+        .filter(|f| f.trim_end_matches('×').parse::<f64>().is_ok() && f.contains('.'))
+        .filter(|f| !on_page(f, &page))
+        .collect();
+    assert!(!flagged.is_empty(), "regeneration ran without warm-up: its times are flagged");
+    let link = "([regeneration](results/nvidia-h200/regeneration.md))";
+    let check = |unit: &str| unquoted("docs/methods.md", unit, measured_figures("docs/methods.md", unit));
+    let unit = format!("It took {} s {link}.", flagged[0]);
+    assert!(check(&unit).is_some_and(|e| e.contains("not on the pages")), "{unit}");
+    // The same page's counts (dispatches) are not timings and stay quotable.
+    let steady = quoted_figures(&page).into_iter().find(|f| on_page(f, &page)).expect("a steady figure");
+    assert_eq!(check(&format!("It took {steady} {link}.")), None);
+}
+
 /// The tokenizer catches what a hand-typed figure looks like and leaves settings alone.
 #[test]
 fn quoted_figures_are_told_from_settings() {
@@ -633,7 +664,7 @@ fn the_readme_own_scene_commands_run() {
     let methods = config["methods"].as_array().unwrap().len();
     assert_eq!(rows.len(), methods, "{page}");
     assert!(rows.iter().all(|r| r.contains('×') && r.ends_with("| ok |")), "{page}");
-    assert!(rows.iter().any(|r| r.contains("| 1.00× |")), "the fastest megakernel is the unit: {page}");
+    assert!(rows.iter().any(|r| r.contains("| 1.00×")), "the fastest megakernel is the unit: {page}");
 }
 
 /// CI runs the README's test command.
