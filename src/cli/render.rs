@@ -214,7 +214,7 @@ pub struct RenderArgs {
     /// GPU has worked 0.5 s and two frames agree within 5%, at most 50 frames or 10 s; CPU
     /// methods: none), or a number of frames (0: time a cold first frame).
     #[arg(long, default_value = "auto", value_parser = parse_warmup)]
-    pub warmup: Option<u32>,
+    pub warmup: WarmupArg,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -231,11 +231,20 @@ pub enum CompactionMethod {
     Scan,
 }
 
-/// `auto` (None) or a number of frames.
-fn parse_warmup(s: &str) -> Result<Option<u32>, String> {
+/// `--warmup`: `auto` or a number of frames.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WarmupArg {
+    Auto,
+    Frames(u32),
+}
+
+fn parse_warmup(s: &str) -> Result<WarmupArg, String> {
     match s {
-        "auto" => Ok(None),
-        n => n.parse().map(Some).map_err(|_| format!("expected auto or a number of frames, got {n:?}")),
+        "auto" => Ok(WarmupArg::Auto),
+        n => n
+            .parse()
+            .map(WarmupArg::Frames)
+            .map_err(|_| format!("expected auto or a number of frames, got {n:?}")),
     }
 }
 
@@ -295,9 +304,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let gpu = if a.method.needs_gpu() { Some(GpuContext::new(a.adapter.as_deref())?) } else { None };
 
     let policy = match (a.warmup, a.method.needs_gpu()) {
-        (Some(n), _) => WarmupPolicy::Frames(n),
-        (None, true) => WarmupPolicy::Timed(TimedWarmup::default()),
-        (None, false) => WarmupPolicy::Frames(0),
+        (WarmupArg::Frames(n), _) => WarmupPolicy::Frames(n),
+        (WarmupArg::Auto, true) => WarmupPolicy::Timed(TimedWarmup::default()),
+        (WarmupArg::Auto, false) => WarmupPolicy::Frames(0),
     };
     let monitor = gpu.as_ref().and_then(|g| GpuMonitor::open(&g.summary));
     let warm = warmup::warm_up(

@@ -700,3 +700,40 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
     }
     json
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn config(interleave: bool) -> ExperimentConfig {
+        let text = serde_json::json!({
+            "schema": "wavetrace-experiment/1",
+            "question": "q",
+            "scenes": ["three-spheres"],
+            "resolutions": ["8x8"],
+            "spp": [1, 2],
+            "interleave": interleave,
+            "methods": [
+                {"method": "megakernel"},
+                {"method": "cpu"},
+                {"method": "wavefront"}
+            ]
+        });
+        ExperimentConfig::from_str(&text.to_string(), Path::new("t.json")).unwrap()
+    }
+
+    #[test]
+    fn gpu_variants_of_a_job_form_one_group_and_cpu_runs_go_alone() {
+        let c = config(true);
+        let planned = plan::plan(&c);
+        let runs: Vec<&RunSpec> = planned.iter().collect();
+        let indices: Vec<Vec<usize>> =
+            groups(&c, &runs).iter().map(|g| g.iter().map(|r| r.index).collect()).collect();
+        // Plan order: spp 1 (megakernel 0, cpu 1, wavefront 2), spp 2 (3, 4, 5).
+        assert_eq!(indices, vec![vec![0, 2], vec![1], vec![3, 5], vec![4]]);
+        let c = config(false);
+        let planned = plan::plan(&c);
+        let runs: Vec<&RunSpec> = planned.iter().collect();
+        assert_eq!(groups(&c, &runs).len(), 6);
+    }
+}

@@ -264,7 +264,10 @@ fn readme_findings_quote_the_pages_they_link() {
         assert!(!linked_results_pages("README.md", b).is_empty(), "a finding without a results page: {b}");
         assert!(!figures(b).is_empty(), "a finding without a figure: {b}");
         let flagged: Vec<String> = figures(b).into_iter().filter(|f| f.ends_with('⚠')).collect();
-        assert!(flagged.is_empty(), "a finding rests on a flagged run (unstable or cold): {flagged:?} in {b}");
+        assert!(
+            flagged.is_empty(),
+            "a finding rests on a flagged run (unstable or cold): {flagged:?} in {b}"
+        );
         if let Some(e) = unquoted("README.md", b, figures(b)) {
             panic!("{e}");
         }

@@ -37,6 +37,7 @@ mod simd_replay;
 mod slurm;
 mod stability;
 mod stage_cache;
+mod steadiness;
 mod tidy;
 mod timing;
 mod wavefront;
