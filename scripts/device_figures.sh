@@ -15,6 +15,9 @@
 # experiments/results/nvidia-h200/PROVENANCE.md the H200's step times):
 #   tests               the integration test suite on this GPU (bit identity, agreement at its
 #                       subgroup width), from the carried test binary       ~2 min
+#   warmup              the warm-up itself: rtiow-final 1920x1080x16 NEE, the regenerating
+#                       megakernel and regenerate + tail, each a fixed 15 s warm-up traced frame
+#                       by frame with the GPU's clocks (device/warmup.json)  fixed  ~40 s
 #   headline            rtiow-final and mesh-room at 1920x1080x64, both megakernels against
 #                       the three wavefront schedules (device/headline.json) 5.3e9  ~1 min
 #   simd                SIMD efficiency at the device's width, 4 scenes, every GPU method
@@ -22,6 +25,9 @@
 #   simd-replay         every GPU method's device counters (--instrument) beside the CPU
 #                       lockstep replay at the device's subgroup width (issue 25), 4 scenes
 #                       (report.json: both, per slot; comparison.md)        tiny   <1 min
+#   regeneration-recheck  regeneration.json's rtiow-final and spheres-100000 cells again, warm
+#                       and interleaved, 5 repetitions (device/regeneration_recheck.json: the
+#                       first H200 run of regeneration.json was cold)      8.3e9  ~2 min
 #   regeneration        regeneration.json (160x90 to 1200x675, 4 to 64 spp)  6.1e9  ~1-2 min
 #   regeneration-1080p  1920x1080 at 16 and 64 spp (device/regeneration_1080p.json)
 #                                                                            13.3e9 ~2-3 min
@@ -47,7 +53,7 @@
 # With the device tool (see README "Run it on a GPU"): prepare here, then one call per group of
 # steps, each call well inside the tool's 10 minutes:
 #   scripts/device_prepare.sh                     # .device/ (binaries) and .gl/ (Vulkan loader)
-#   run(command="bash scripts/device_figures.sh --out $OUT tests headline simd",
+#   run(command="bash scripts/device_figures.sh --out $OUT tests warmup headline simd",
 #       carry=[".device", ".gl"], timeout_s=600)
 # and commit what comes back (files_at/*.tar.gz) under experiments/results/<device>/.
 #
@@ -65,9 +71,11 @@ cd "$(dirname "$0")/.."
 steps_table() {
   cat <<'EOF'
 tests
+warmup device/warmup.json
 headline device/headline.json
 simd device/simd.json
 simd-replay
+regeneration-recheck device/regeneration_recheck.json
 regeneration regeneration.json
 regeneration-1080p device/regeneration_1080p.json
 queue-order device/queue_order.json
@@ -165,6 +173,7 @@ for src in experiments/*.json experiments/device/*.json; do
       -e 's/"spp": \[[^]]*\]/"spp": [1, 2]/' \
       -e 's/"repetitions": [0-9]+/"repetitions": 1/' \
       -e 's/"warmup": [0-9]+/"warmup": 0/' \
+      -e 's/"(min|max)_seconds": [0-9.]+/"\1_seconds": 0.2/g' \
       -e 's/("reference": \{[^}]*"spp": )[0-9]+/\116/' "$src" > "$configs/$rel"
   else
     cp "$src" "$configs/$rel"

@@ -11,6 +11,9 @@ use super::*;
 pub struct Series {
     pub name: String,
     pub points: Vec<(f64, f64)>,
+    /// Empty, or one (low, high) per point: drawn as a vertical bar through it (the interval of
+    /// a ratio of medians, say).
+    pub intervals: Vec<(f64, f64)>,
 }
 
 /// A line chart. Points that cannot be drawn (non-finite, or ≤ 0 on a log axis) are left out,
@@ -71,7 +74,11 @@ impl LineChart {
         }
         let omitted = self.series.iter().map(|s| s.points.len()).sum::<usize>() - points.len();
         let x = range(points.iter().map(|p| p.0), self.x_log);
-        let y = range(points.iter().map(|p| p.1), self.y_log);
+        // The bars' ends too, so none is cut off by the frame.
+        let bar_ends = self.series.iter().flat_map(|s| s.points.iter().zip(&s.intervals)).flat_map(
+            |(&(x, _), &(lo, hi))| [(x, lo), (x, hi)].into_iter().filter(|&p| self.drawable(p)).map(|p| p.1),
+        );
+        let y = range(points.iter().map(|p| p.1).chain(bar_ends), self.y_log);
         render(|root| match (self.x_log, self.y_log) {
             (false, false) => self.draw(root, x, y, omitted, zero),
             (true, false) => self.draw(root, x.log_scale(), y, omitted, zero),
@@ -124,6 +131,13 @@ impl LineChart {
             }
             let points = s.points.iter().filter(|&&p| self.drawable(p));
             chart.draw_series(points.map(|&p| EmptyElement::at(p) + marker(i, (0, 0))))?;
+            let bars =
+                s.points.iter().zip(&s.intervals).filter(|&(&(x, _), &(lo, hi))| {
+                    self.drawable((x, lo)) && self.drawable((x, hi)) && lo < hi
+                });
+            chart.draw_series(
+                bars.map(|(&(x, _), &(lo, hi))| PathElement::new(vec![(x, lo), (x, hi)], color(i))),
+            )?;
         }
         let entries: Vec<_> = names.into_iter().zip(0..).map(|(n, i)| (n, Swatch::Line(i))).collect();
         legend(root, chart.plotting_area(), &entries)?;

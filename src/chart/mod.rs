@@ -24,7 +24,7 @@
 //!     x_log: true,
 //!     y_log: true,
 //!     x_zero: false,
-//!     series: vec![Series { name: "wavefront".into(), points: vec![(1.0, 0.3), (16.0, 0.02), (256.0, 0.001)] }],
+//!     series: vec![Series { name: "wavefront".into(), points: vec![(1.0, 0.3), (16.0, 0.02), (256.0, 0.001)], intervals: Vec::new() }],
 //! };
 //! let svg = chart.to_svg();
 //! assert!(svg.starts_with("<svg ") && svg.contains("relMSE (log scale)"));

@@ -11,6 +11,7 @@ use serde_json::Value;
 
 use super::plan::file_safe;
 use super::report::{ExperimentReport, RunRecord, RunStatus};
+use super::stability;
 use crate::chart::{Bar, GroupedBarChart, LineChart, Series, StackedBarChart};
 
 /// A drawn chart: file stem, kind, title, SVG text, and the group it belongs to.
@@ -80,8 +81,10 @@ pub fn charts(report: &ExperimentReport) -> Vec<Chart> {
 /// speed-up over the fastest megakernel variant at the same job with the same numerical knobs and
 /// stress transform, against the job's size in samples per frame; drawn where a scene has two or
 /// more job sizes with a megakernel run. With several megakernel variants (naive and
-/// regenerating), each gets its line too: the slower one below 1.
+/// regenerating), each gets its line too: the slower one below 1. Each point's bar is the
+/// interval of its ratio (from the intervals of the two medians).
 fn crossover(report: &ExperimentReport) -> Vec<Chart> {
+    let threshold = stability::threshold_of(&report.config);
     type Job = (u32, u32, u32, String); // width, height, spp, numerical knobs
     let ok: Vec<&RunRecord> =
         report.runs.iter().filter(|r| r.status == RunStatus::Ok && r.seconds.is_some()).collect();
@@ -92,17 +95,23 @@ fn crossover(report: &ExperimentReport) -> Vec<Chart> {
     let mut out = Vec::new();
     for ((scene, depth, nee), runs) in by_scene {
         let job = |r: &RunRecord| (r.width, r.height, r.spp, numerics_key(r));
-        let mut fastest_mk: BTreeMap<Job, f64> = BTreeMap::new();
+        // Each job's fastest megakernel: its time and the interval of its median.
+        let interval = |r: &RunRecord| stability::of_run(r, threshold).interval_or(r.seconds.unwrap());
+        let mut fastest_mk: BTreeMap<Job, (f64, (f64, f64))> = BTreeMap::new();
         for r in runs.iter().filter(|r| r.method == "megakernel") {
-            let t = fastest_mk.entry(job(r)).or_insert(f64::INFINITY);
-            *t = t.min(r.seconds.unwrap());
+            let t = fastest_mk.entry(job(r)).or_insert((f64::INFINITY, (0.0, 0.0)));
+            if r.seconds.unwrap() < t.0 {
+                *t = (r.seconds.unwrap(), interval(r));
+            }
         }
         let sizes: BTreeSet<(u32, u32, u32)> = fastest_mk.keys().map(|j| (j.0, j.1, j.2)).collect();
         if sizes.len() < 2 {
             continue;
         }
         // Series in the order their labels first appear (config order).
-        let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
+        // Per label: (point, the interval of its ratio).
+        type Points = Vec<((f64, f64), (f64, f64))>;
+        let mut series: Vec<(String, Points)> = Vec::new();
         let megakernels: BTreeSet<&str> =
             runs.iter().filter(|r| r.method == "megakernel").map(|r| r.label.as_str()).collect();
         let plotted = |r: &&&RunRecord| match r.method.as_str() {
@@ -111,9 +120,10 @@ fn crossover(report: &ExperimentReport) -> Vec<Chart> {
             _ => true,
         };
         for r in runs.iter().filter(plotted) {
-            if let Some(mk) = fastest_mk.get(&job(r)) {
+            if let Some(&(mk, mk_interval)) = fastest_mk.get(&job(r)) {
                 let samples = r.width as f64 * r.height as f64 * r.spp as f64;
-                let point = (samples, mk / r.seconds.unwrap());
+                let point =
+                    ((samples, mk / r.seconds.unwrap()), stability::ratio_interval(mk_interval, interval(r)));
                 match series.iter_mut().find(|(l, _)| *l == r.label) {
                     Some((_, points)) => points.push(point),
                     None => series.push((r.label.clone(), vec![point])),
@@ -126,8 +136,9 @@ fn crossover(report: &ExperimentReport) -> Vec<Chart> {
         let series = series
             .into_iter()
             .map(|(name, mut points)| {
-                points.sort_by(|a, b| a.0.total_cmp(&b.0));
-                Series { name, points }
+                points.sort_by(|a, b| a.0 .0.total_cmp(&b.0 .0));
+                let (points, intervals) = points.into_iter().unzip();
+                Series { name, points, intervals }
             })
             .collect();
         let nee_note = if nee { ", NEE" } else { "" };
@@ -135,7 +146,7 @@ fn crossover(report: &ExperimentReport) -> Vec<Chart> {
         let chart = LineChart {
             title: title.clone(),
             x_label: "samples per frame (width x height x spp)".into(),
-            y_label: "speed-up over the megakernel (>1: faster)".into(),
+            y_label: "speed-up over the megakernel (>1: faster; bars: its interval)".into(),
             x_log: true,
             y_log: true,
             x_zero: false,
@@ -264,7 +275,7 @@ fn speed_vs_memory(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
         let point = (m.peak as f64 / (1u64 << 20) as f64, speed * 1e-6);
         match series.iter_mut().find(|s| s.name == name) {
             Some(s) => s.points.push(point),
-            None => series.push(Series { name, points: vec![point] }),
+            None => series.push(Series { name, points: vec![point], intervals: Vec::new() }),
         }
     }
     if peaks.len() < 2 {
@@ -293,7 +304,7 @@ fn warmup(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
         .filter_map(|r| {
             let log = r.warmup_log.as_ref().filter(|w| w.trace.len() >= WARMUP_TRACE_FRAMES)?;
             let points = log.trace.iter().map(|f| (f.at, 1e3 * f.seconds)).collect();
-            Some(Series { name: format!("{} {}spp", r.label, r.spp), points })
+            Some(Series { name: format!("{} {}spp", r.label, r.spp), points, intervals: Vec::new() })
         })
         .collect();
     (!series.is_empty()).then(|| LineChart {
@@ -319,7 +330,7 @@ fn error_vs_time(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
         let name = series_name(r, varying);
         match series.iter_mut().find(|s| s.name == name) {
             Some(s) => s.points.push((t, m.relmse)),
-            None => series.push(Series { name, points: vec![(t, m.relmse)] }),
+            None => series.push(Series { name, points: vec![(t, m.relmse)], intervals: Vec::new() }),
         }
     }
     for s in &mut series {
@@ -350,7 +361,7 @@ fn error_vs_spp(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
         let name = series_name(r, varying);
         match series.iter_mut().find(|s| s.name == name) {
             Some(s) => s.points.push(point),
-            None => series.push(Series { name, points: vec![point] }),
+            None => series.push(Series { name, points: vec![point], intervals: Vec::new() }),
         }
     }
     for s in &mut series {
@@ -468,7 +479,7 @@ fn stability_charts(runs: &[&RunRecord], group: &str, drop: &str) -> Vec<(String
                 let name = name(r);
                 match series.iter_mut().find(|s| s.name == name) {
                     Some(s) => s.points.push((x, y)),
-                    None => series.push(Series { name, points: vec![(x, y)] }),
+                    None => series.push(Series { name, points: vec![(x, y)], intervals: Vec::new() }),
                 }
             }
             for s in &mut series {
@@ -549,7 +560,7 @@ fn queues(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
                 .take_while(|(_, &n)| n > 0)
                 .map(|(b, &n)| (b as f64, n as f64 / first))
                 .collect();
-            Some(Series { name: series_name(r, varying), points })
+            Some(Series { name: series_name(r, varying), points, intervals: Vec::new() })
         })
         .collect();
     (!series.is_empty()).then(|| LineChart {

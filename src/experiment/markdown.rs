@@ -187,13 +187,13 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
             };
             let _ = writeln!(
                 md,
-                "| {} | {} | {} | {} | {} | {} | {per_sample} |",
+                "| {} | {} | {} | {} | {} | {}{flag} | {per_sample} |",
                 r.index,
                 r.scene,
                 job_text(r),
                 cell(&r.label),
                 cells.join(" | "),
-                format!("{}{flag}", sig(sum))
+                sig(sum)
             );
         }
         md.push('\n');
@@ -248,6 +248,7 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
     }
 
     md.push_str(&gpu_state_table(&report.runs));
+    md.push_str(&warmup_table(&report.runs));
     md.push_str(&coherence_table(&report.runs));
 
     let counted = |r: &&RunRecord| {
@@ -516,6 +517,71 @@ fn warmup_text(r: &RunRecord, st: &stability::Stability) -> String {
         let _ = write!(t, " {FLAG} cold");
     }
     t
+}
+
+/// Seconds since the warm-up began at which [`warmup_table`] reads the frame time.
+const WARMUP_COLUMNS: [f64; 5] = [0.5, 1.0, 2.0, 5.0, 10.0];
+
+/// Long warm-ups (at least [`super::charts::WARMUP_TRACE_FRAMES`] frames, as the device step
+/// `warmup` renders) as a table: the frame time at the first frame, at the first frame ending
+/// after each of [`WARMUP_COLUMNS`], and at the last, with the SM clock and temperature at the
+/// first and last frame where NVML read them (empty without any).
+fn warmup_table(runs: &[RunRecord]) -> String {
+    let mut md = String::new();
+    let traced: Vec<(&RunRecord, &crate::warmup::WarmupLog)> = runs
+        .iter()
+        .filter_map(|r| {
+            Some((r, r.warmup_log.as_ref().filter(|w| w.trace.len() >= super::charts::WARMUP_TRACE_FRAMES)?))
+        })
+        .collect();
+    if traced.is_empty() {
+        return md;
+    }
+    md.push_str(
+        "## Warm-up\n\nFrame time (ms) of the warm-up's first frame, of the first frame to end after each \
+         time since the warm-up began, and of the last; the SM clock (MHz) and die temperature (°C) at \
+         the first and last frame where NVML read them.\n\n",
+    );
+    let _ = writeln!(
+        md,
+        "| # | variant | frames | seconds | first | {} | last | SM clock | °C |",
+        WARMUP_COLUMNS.iter().map(|t| format!("{t} s")).collect::<Vec<_>>().join(" | ")
+    );
+    let _ = writeln!(
+        md,
+        "| ---: | --- | ---: | ---: | ---: |{} ---: | ---: | ---: |",
+        " ---: |".repeat(WARMUP_COLUMNS.len())
+    );
+    for (r, w) in traced {
+        let ms = |f: &crate::warmup::WarmupFrame| sig(1e3 * f.seconds);
+        let at: Vec<String> = WARMUP_COLUMNS
+            .iter()
+            .map(|&t| w.trace.iter().find(|f| f.at >= t).map_or("–".into(), ms))
+            .collect();
+        let (first, last) = (&w.trace[0], &w.trace[w.trace.len() - 1]);
+        let ends = |f: fn(&crate::gpu_state::GpuState) -> Option<u32>| {
+            let read = |x: &crate::warmup::WarmupFrame| x.gpu_state.as_ref().and_then(f);
+            match (read(first), read(last)) {
+                (Some(a), Some(b)) => format!("{a} → {b}"),
+                _ => "–".into(),
+            }
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            r.index,
+            cell(&r.label),
+            w.frames,
+            sig(w.seconds),
+            ms(first),
+            at.join(" | "),
+            ms(last),
+            ends(|g| g.sm_clock_mhz),
+            ends(|g| g.temperature_c),
+        );
+    }
+    md.push('\n');
+    md
 }
 
 /// The GPU's state before and after each run's timed renders, where NVML read it (empty

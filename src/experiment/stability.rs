@@ -166,7 +166,7 @@ mod tests {
         let (lo, hi, p) = median_interval(&values, 0.95);
         // n = 20: [x(6), x(15)] (1-based) holds the median with 0.9586; [x(7), x(14)] with 0.8847.
         assert_eq!((lo, hi), (5.0, 14.0));
-        assert!(p >= 0.95 && p < 0.96, "{p}");
+        assert!((0.95..0.96).contains(&p), "{p}");
     }
 
     #[test]

@@ -173,7 +173,7 @@ fn line_chart(series: Vec<Series>) -> LineChart {
 }
 
 fn series(name: &str, points: &[(f64, f64)]) -> Series {
-    Series { name: name.into(), points: points.to_vec() }
+    Series { name: name.into(), points: points.to_vec(), intervals: Vec::new() }
 }
 
 #[test]

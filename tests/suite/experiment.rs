@@ -307,8 +307,9 @@ fn a_killed_experiment_leaves_its_last_complete_report() {
     }
 }
 
-/// What must not differ between an unsharded run and merged shards: everything but timings,
-/// provenance and where the reference came from.
+/// What must not differ between an unsharded run and merged shards: everything but timings
+/// (their warm-ups and stability too), provenance, where the reference came from, and which runs
+/// took turns (a shard's runs take turns only with the same shard's).
 fn comparable(report: &ExperimentReport) -> Value {
     let mut v = serde_json::to_value(report).unwrap();
     v["environments"] = Value::Null;
@@ -328,6 +329,9 @@ fn comparable(report: &ExperimentReport) -> Value {
             "samples_per_second",
             "rays_per_second",
             "efficiency",
+            "warmup_log",
+            "stability",
+            "interleaved_with",
         ] {
             o.remove(k);
         }
@@ -625,8 +629,10 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
             "device/queue_order.json",
             "device/refill.json",
             "device/regeneration_1080p.json",
+            "device/regeneration_recheck.json",
             "device/seeds_1080p.json",
             "device/simd.json",
+            "device/warmup.json",
             "fresnel.json",
             "light_sampling.json",
             "material_cost.json",

@@ -51,8 +51,9 @@ fn gpu_variants_take_turns_after_a_timed_warm_up() {
         {"method": "megakernel", "label": "mk-regenerate", "schedule": "regenerate"},
         {"method": "wavefront", "label": "waves", "schedule": "waves"}
     ]));
-    // Any two frames agree (agree 10): the warm-up ends once the job has done 0.05 s of work.
-    c["warmup"] = json!({"min_seconds": 0.05, "agree": 10, "max_frames": 20});
+    // Any two frames agree (agree 10): the warm-up ends once the job has done 0.01 s of work
+    // (frames of this job take from 20 µs to a few ms on llvmpipe).
+    c["warmup"] = json!({"min_seconds": 0.01, "agree": 10, "max_frames": 1000});
     c["spp"] = json!([1, 2]);
     let (report, out) = run("steadiness-turns", &c);
     assert_eq!(report.runs.len(), 8);
@@ -91,9 +92,9 @@ fn gpu_variants_take_turns_after_a_timed_warm_up() {
     let first = by_label(&report, "megakernel").warmup_log.clone().unwrap();
     let later = by_label(&report, "waves").warmup_log.clone().unwrap();
     assert_eq!(first.shared_seconds, 0.0);
-    assert!(first.seconds >= 0.05);
+    assert!(first.seconds >= 0.01);
     assert!(later.shared_seconds >= first.seconds);
-    assert!(later.seconds + later.shared_seconds >= 0.05);
+    assert!(later.seconds + later.shared_seconds >= 0.01);
     // runs.csv carries the same.
     let (header, rows) = crate::tidy::assert_tidy(&out);
     let col =
@@ -129,11 +130,13 @@ fn without_interleave_each_run_goes_alone_and_without_warm_up_it_is_cold() {
     assert!(html.contains("class=\"flagged\"") && html.contains("⚠ cold"));
 }
 
-/// A run whose repetitions a competing process disturbs is flagged; the same run left alone is
-/// not. The competitor keeps both cores busy every other 150 ms while the CPU reference renders
-/// five repetitions of about 100 ms, so some repetitions run at half speed or worse (a spread
-/// far beyond 5%). Left alone the repetitions stay within the threshold, unless the suite's own
-/// tests compete at the same moment: so the steady run gets three tries, the noisy one none.
+/// A run whose repetitions a competing load disturbs is flagged; the same run left alone is
+/// not. The competitor (eight threads on the two cores) is busy every other 200 ms while the CPU
+/// reference renders five repetitions of about 100 ms, so some repetitions get a third of the
+/// machine or less: a spread of 100% and more. The threshold is 50%, not the default 5%, because
+/// the suite's other tests run beside this one and load the cores as they please (measured: up
+/// to 30% spread between undisturbed repetitions during a full suite run); and the undisturbed
+/// run gets five tries, the disturbed one none.
 #[test]
 fn a_noisy_run_is_flagged_and_a_steady_one_is_not() {
     let mut c = config(json!([{"method": "cpu"}]));
@@ -141,17 +144,18 @@ fn a_noisy_run_is_flagged_and_a_steady_one_is_not() {
     c["resolutions"] = json!(["320x180"]);
     c["spp"] = json!([8]);
     c["repetitions"] = json!(5);
+    c["unstable_spread"] = json!(0.5);
     let spread = |r: &ExperimentReport| r.runs[0].stability.clone().unwrap();
 
     let stop = Arc::new(AtomicBool::new(false));
-    let competitors: Vec<_> = (0..4)
+    let competitors: Vec<_> = (0..8)
         .map(|_| {
             let stop = stop.clone();
             std::thread::spawn(move || {
                 let start = Instant::now();
                 let mut x = 0u64;
                 while !stop.load(Ordering::Relaxed) {
-                    if (start.elapsed().as_millis() / 150) % 2 == 0 {
+                    if (start.elapsed().as_millis() / 200).is_multiple_of(2) {
                         x = x.wrapping_mul(6364136223846793005).wrapping_add(1);
                     } else {
                         std::thread::sleep(Duration::from_millis(5));
@@ -170,7 +174,7 @@ fn a_noisy_run_is_flagged_and_a_steady_one_is_not() {
     assert!(s.unstable && s.flagged(), "disturbed repetitions must be flagged: {s:?}");
 
     let mut tries = Vec::new();
-    for _ in 0..3 {
+    for _ in 0..5 {
         let (steady, _) = run("steadiness-steady", &c);
         let s = spread(&steady);
         if !s.flagged() {
@@ -178,5 +182,5 @@ fn a_noisy_run_is_flagged_and_a_steady_one_is_not() {
         }
         tries.push(s.spread);
     }
-    panic!("left alone the run was flagged three times: spreads {tries:?}");
+    panic!("left alone the run was flagged five times: spreads {tries:?}");
 }
