@@ -15,6 +15,9 @@
 # experiments/results/nvidia-h200/PROVENANCE.md the H200's step times):
 #   tests               the integration test suite on this GPU (bit identity, agreement at its
 #                       subgroup width), from the carried test binary       ~2 min
+#   dispatch-cost       what one dispatch costs: a chain of 1000 tiny dispatches recorded six
+#                       ways (a pass each or one pass, direct or indirect, read-write or
+#                       read-only), 9 repetitions (wavetrace dispatch-cost)  tiny   <1 min
 #   warmup              the warm-up itself: rtiow-final 1920x1080x16 NEE, the regenerating
 #                       megakernel and regenerate + tail, each a fixed 15 s warm-up traced frame
 #                       by frame with the GPU's clocks (device/warmup.json)  fixed  ~40 s
@@ -53,7 +56,7 @@
 # With the device tool (see README "Run it on a GPU"): prepare here, then one call per group of
 # steps, each call well inside the tool's 10 minutes:
 #   scripts/device_prepare.sh                     # .device/ (binaries) and .gl/ (Vulkan loader)
-#   run(command="bash scripts/device_figures.sh --out $OUT tests warmup headline simd",
+#   run(command="bash scripts/device_figures.sh --out $OUT tests dispatch-cost warmup headline simd",
 #       carry=[".device", ".gl"], timeout_s=600)
 # and commit what comes back (files_at/*.tar.gz) under experiments/results/<device>/.
 #
@@ -71,6 +74,7 @@ cd "$(dirname "$0")/.."
 steps_table() {
   cat <<'EOF'
 tests
+dispatch-cost
 warmup device/warmup.json
 headline device/headline.json
 simd device/simd.json
@@ -96,7 +100,7 @@ out=${OUT:-out/device}
 steps=()
 while [ $# -gt 0 ]; do
   case "$1" in
-    --list) steps_table | awk '{ printf "%-24s %s\n", $1, ($2 != "" ? "experiments/" $2 : $1 == "tests" ? "(test suite)" : "(render + replay)") }'; exit 0 ;;
+    --list) steps_table | awk '{ printf "%-24s %s\n", $1, ($2 != "" ? "experiments/" $2 : $1 == "tests" ? "(test suite)" : $1 == "dispatch-cost" ? "(wavetrace dispatch-cost)" : "(render + replay)") }'; exit 0 ;;
     --scale) scale=${2:?--scale needs full or tiny}; shift 2 ;;
     --out) out=${2:?--out needs a directory}; shift 2 ;;
     -h | --help) sed -n '2,/^set -uo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
@@ -160,7 +164,7 @@ fi
 { date -u +%Y-%m-%dT%H:%M:%SZ; uname -a; "$bin" --version; cat .device/BUILD 2>/dev/null; } > "$work/machine.txt" 2>&1
 
 # Configs are used from a copy beside the scenes they name (relative paths), shrunk at tiny
-# scale (the questions stay, the figures mean nothing).
+# scale (the questions stay, the figures mean nothing; a timed warm-up of at most two frames).
 configs="$work/configs"
 rm -rf "$configs"
 mkdir -p "$configs/device"
@@ -171,9 +175,8 @@ for src in experiments/*.json experiments/device/*.json; do
   if [ "$scale" = tiny ]; then
     sed -E -e 's/"resolutions": \[[^]]*\]/"resolutions": ["32x18"]/' \
       -e 's/"spp": \[[^]]*\]/"spp": [1, 2]/' \
-      -e 's/"repetitions": [0-9]+/"repetitions": 1/' \
-      -e 's/"warmup": [0-9]+/"warmup": 0/' \
-      -e 's/"(min|max)_seconds": [0-9.]+/"\1_seconds": 0.2/g' \
+      -e 's/"warmup": [0-9]+,?//' -e 's/"warmup": \{[^}]*\},?//' \
+      -e 's/"repetitions": [0-9]+/"repetitions": 1, "warmup": {"max_frames": 2}/' \
       -e 's/("reference": \{[^}]*"spp": )[0-9]+/\116/' "$src" > "$configs/$rel"
   else
     cp "$src" "$configs/$rel"
@@ -232,6 +235,15 @@ for step in "${steps[@]}"; do
       grep -E '^test result|^failures:|^    [a-z_:]+$|panicked' "$dir/tests.log" | tee -a "$log"
       [ $rc = 0 ] || { say "FAILED: tests (exit $rc; tests.log in the archive)"; failed=1; }
     fi
+  elif [ "$step" = dispatch-cost ]; then
+    # Issue 42: the floor under the wavefront's time between passes (src/gpu/dispatch_cost.rs).
+    n=(--dispatches 1000 --repetitions 9)
+    [ "$scale" = tiny ] && n=(--dispatches 16 --repetitions 2)
+    timeout --kill-after=10 "$left" "$bin" dispatch-cost "${n[@]}" --json "$dir/dispatch_cost.json" \
+      > "$dir/step.log" 2>&1
+    rc=$?
+    tee -a "$log" < "$dir/step.log" | tail -n 8
+    [ $rc = 0 ] || { say "FAILED: dispatch-cost (exit $rc; step.log in the archive)"; failed=1; }
   elif [ "$step" = simd-replay ]; then
     # Issue 25: the device's counters against the replay at the device's width (32 lanes on
     # NVIDIA), every GPU method on the same frames; report.json holds both per scene, per method,

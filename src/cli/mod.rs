@@ -1,6 +1,7 @@
 //! The `wavetrace` command line.
 
 pub mod compare;
+pub mod dispatch_cost;
 pub mod experiment;
 pub mod info;
 pub mod render;
@@ -20,6 +21,7 @@ Examples:
   wavetrace scene export rtiow-final > final.json
   wavetrace compare test.exr reference.exr --json
   wavetrace experiment run experiments/quick.json     # -> out/quick/report.html
+  wavetrace dispatch-cost --json cost.json            # what one dispatch costs on this GPU
 
 Environment (docs/cli-and-configs.md#environment-variables has the full table):
   RUST_LOG=info|debug                 logging (adapter choice, dispatch plan, loop-cap estimate)
@@ -63,6 +65,8 @@ pub enum Command {
     Experiment(experiment::ExperimentCommand),
     /// Replay a frame's paths in SIMD lockstep at several widths (no GPU): predicted efficiency.
     Replay(replay::ReplayArgs),
+    /// Time a chain of tiny dispatches recorded six ways: what a dispatch costs by itself.
+    DispatchCost(dispatch_cost::DispatchCostArgs),
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
@@ -73,5 +77,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Compare(a) => compare::run(a),
         Command::Experiment(c) => experiment::run(c),
         Command::Replay(a) => replay::run(a),
+        Command::DispatchCost(a) => dispatch_cost::run(a),
     }
 }

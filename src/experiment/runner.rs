@@ -203,22 +203,22 @@ fn run_group(
         }
     }
     for r in &mut runs {
-        r.attempt(gpu, |r, gpu| r.prepare(config, gpu, refs, out));
+        r.attempt(gpu, |r, gpu| r.prepare(gpu, refs, out));
     }
     // Warm-up work counts towards the next run's warm-up: the device is the same and has not
     // idled in between.
     let mut shared = 0.0;
     for r in &mut runs {
-        r.attempt(gpu, |r, gpu| r.warm_up(config, gpu, bar, shared));
+        r.attempt(gpu, |r, gpu| r.warm_up(gpu, bar, shared));
         shared += r.record.warmup_log.as_ref().map_or(0.0, |w| w.seconds);
     }
     for rep in 0..config.repetitions {
         for r in &mut runs {
-            r.attempt(gpu, |r, gpu| r.timed_render(config, gpu, bar, rep));
+            r.attempt(gpu, |r, gpu| r.timed_render(gpu, bar, rep));
         }
     }
     for r in &mut runs {
-        r.attempt(gpu, |r, gpu| r.finish(config, gpu, out, bar));
+        r.attempt(gpu, |r, gpu| r.finish(gpu, out, bar));
     }
     runs.into_iter().map(Run::into_record).collect()
 }
@@ -335,13 +335,8 @@ impl<'a> Run<'a> {
     }
 
     /// The reference, and the options as they will run on this adapter.
-    fn prepare(
-        &mut self,
-        config: &ExperimentConfig,
-        gpu: &mut GpuSlot,
-        refs: &mut References,
-        out: &Path,
-    ) -> Result<()> {
+    fn prepare(&mut self, gpu: &mut GpuSlot, refs: &mut References, out: &Path) -> Result<()> {
+        let config = self.config;
         let reference = refs.get(config, self.scene, &self.spec.settings, &self.variant.options, gpu, out)?;
         self.reference = reference.map(|r| (r.image.clone(), r.record.key.clone()));
         if self.variant.method.needs_gpu() {
@@ -368,13 +363,8 @@ impl<'a> Run<'a> {
 
     /// Untimed renders until the policy is met; `shared` seconds of warm-up work were done just
     /// before by the group's other runs.
-    fn warm_up(
-        &mut self,
-        config: &ExperimentConfig,
-        gpu: &mut GpuSlot,
-        bar: &GroupBar,
-        shared: f64,
-    ) -> Result<()> {
+    fn warm_up(&mut self, gpu: &mut GpuSlot, bar: &GroupBar, shared: f64) -> Result<()> {
+        let config = self.config;
         let policy = config.warmup.policy(self.variant.method);
         let counted = matches!(policy, crate::warmup::WarmupPolicy::Frames(_));
         let timed = self.timed.clone();
@@ -392,13 +382,8 @@ impl<'a> Run<'a> {
 
     /// One timed repetition (`rep` counts from 0), with the GPU's state read before the first
     /// and after the last.
-    fn timed_render(
-        &mut self,
-        config: &ExperimentConfig,
-        gpu: &mut GpuSlot,
-        bar: &GroupBar,
-        rep: u32,
-    ) -> Result<()> {
+    fn timed_render(&mut self, gpu: &mut GpuSlot, bar: &GroupBar, rep: u32) -> Result<()> {
+        let config = self.config;
         let sample = |gpu: &GpuSlot| if self.variant.method.needs_gpu() { gpu.sample() } else { None };
         if rep == 0 {
             self.state_before = sample(gpu);
@@ -433,13 +418,8 @@ impl<'a> Run<'a> {
 
     /// The profiled render, the statistics of the repetitions, the instrumented render, the
     /// image and its error.
-    fn finish(
-        &mut self,
-        config: &ExperimentConfig,
-        gpu: &mut GpuSlot,
-        out: &Path,
-        bar: &GroupBar,
-    ) -> Result<()> {
+    fn finish(&mut self, gpu: &mut GpuSlot, out: &Path, bar: &GroupBar) -> Result<()> {
+        let config = self.config;
         let adapter = self.adapter(gpu);
         let profiled = if self.profile {
             let o = self.render(&self.variant.options.clone(), gpu, bar, true)?;

@@ -3,6 +3,7 @@
 pub mod accumulate;
 pub mod buffers;
 pub mod context;
+pub mod dispatch_cost;
 pub mod dispatch_plan;
 pub mod gpu_render;
 pub mod headless;
@@ -68,6 +69,10 @@ pub mod label {
     /// `--tail megakernel`: finishes paths megakernel-style: a share's last ones, and the oldest
     /// chunks' last ones when the sample ring needs them back.
     pub const TAIL: &str = "tail";
+    /// `wavetrace dispatch-cost`: one link of a chain of dependent tiny dispatches.
+    pub const CHAIN_LINK: &str = "chain_link";
+    /// `wavetrace dispatch-cost`: a tiny dispatch that only reads (no barrier between them).
+    pub const CHAIN_READ: &str = "chain_read";
 }
 
 pub use context::GpuContext;

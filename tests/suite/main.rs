@@ -9,6 +9,7 @@ mod chart;
 mod cli;
 mod cli_paths;
 mod coherence;
+mod dispatch_cost;
 mod doc_commands;
 mod docs;
 mod edge_cases;
