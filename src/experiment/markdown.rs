@@ -783,4 +783,84 @@ mod tests {
         let md = coherence_table(&[r]);
         assert!(md.contains("| 3 | s | regenerate | 500 | 4.00 | 7.00 | 10.0 | 2.00 |"), "{md}");
     }
+
+    fn report(runs: serde_json::Value) -> ExperimentReport {
+        serde_json::from_value(serde_json::json!({
+            "schema": "wavetrace-experiment-report/1", "status": "complete", "name": "t",
+            "question": "q", "config_file": "t.json", "config": {"unstable_spread": 0.1},
+            "environments": [], "runs_planned": 2, "runs_selected": 2, "missing_runs": [],
+            "runs": runs, "references": [], "charts": []
+        }))
+        .unwrap()
+    }
+
+    fn run(index: usize, method: &str, frames: &[f64], warmup: u32) -> serde_json::Value {
+        let stat = |v: &[f64]| {
+            let s = super::super::report::Stat::of(v).unwrap();
+            serde_json::json!({"median": s.median, "min": s.min, "max": s.max, "values": s.values})
+        };
+        serde_json::json!({
+            "index": index, "id": "x", "environment": 0, "scene": "s", "width": 2, "height": 2, "spp": 1,
+            "max_depth": 5, "nee": false, "seed": 0, "accel": "bvh", "method": method,
+            "label": method, "options": {}, "status": "ok", "warmup": warmup,
+            "repetitions": frames.len(), "samples": 4, "passes": {}, "passes_per_bounce": {},
+            "frame_seconds": stat(frames), "seconds": stat(frames)["median"],
+            "samples_per_second": 4.0 / stat(frames)["median"].as_f64().unwrap()
+        })
+    }
+
+    /// A run whose repetitions spread beyond the config's threshold (here 10%) carries ⚠ after
+    /// each of its figures, and so does every ratio it is part of; a steady run carries none,
+    /// and the ratio's interval comes from both runs' medians' intervals.
+    #[test]
+    fn flagged_runs_are_marked_figure_by_figure() {
+        let steady = report(serde_json::json!([
+            run(0, "megakernel", &[1.0, 1.02, 0.98], 1),
+            run(1, "wavefront", &[2.0, 2.05, 1.95], 1)
+        ]));
+        let md = page(&steady, "d", "");
+        assert!(md.lines().filter(|l| l.starts_with("| ")).all(|l| !l.contains(FLAG)), "{md}");
+        assert!(md.contains("| 0.50× [0.48–0.52] |"), "{md}");
+        assert!(md.contains("Timings: 2 of 2 ok runs steady; 0 flagged"), "{md}");
+
+        let noisy = report(serde_json::json!([
+            run(0, "megakernel", &[1.0, 1.02, 0.98], 1),
+            run(1, "wavefront", &[2.0, 3.0, 1.9], 1)
+        ]));
+        let md = page(&noisy, "d", "");
+        assert!(md.contains("| 2.000⚠ [1.900–3.000] | 55.0% ⚠ unstable |"), "{md}");
+        assert!(md.contains("0.50×⚠"), "the ratio carries its run's flag: {md}");
+        assert!(md.contains("| 1.000 [0.9800–1.020] | 4.0% |"), "the steady run stays unmarked: {md}");
+
+        // No warm-up on a GPU run: cold, whatever the spread.
+        let cold = report(serde_json::json!([run(0, "megakernel", &[1.0, 1.0, 1.0], 0)]));
+        let md = page(&cold, "d", "");
+        assert!(md.contains("none ⚠ cold") && md.contains("1 cold"), "{md}");
+    }
+
+    #[test]
+    fn gpu_state_and_long_warm_ups_get_their_tables() {
+        let state = |sm: u32, c: u32| {
+            serde_json::json!({"sm_clock_mhz": sm, "memory_clock_mhz": 2619, "temperature_c": c,
+                "power_watts": 312.5, "throttle_reasons": []})
+        };
+        let mut r = run(0, "megakernel", &[1.0, 1.0], 1);
+        r["gpu_state"] = serde_json::json!({"before": state(1980, 41), "after": state(1755, 63)});
+        let trace: Vec<serde_json::Value> = (0..12)
+            .map(|i| {
+                serde_json::json!({"at": 0.25 * (i + 1) as f64, "seconds": if i == 0 { 0.05 } else { 0.02 },
+                    "gpu_state": state(1980 - 10 * i, 40 + i)})
+            })
+            .collect();
+        r["warmup"] = serde_json::json!(12);
+        r["warmup_log"] = serde_json::json!({"policy": "timed", "frames": 12, "seconds": 0.27,
+            "shared_seconds": 0.0, "settled": false, "trace": trace});
+        let md = page(&report(serde_json::json!([r])), "d", "");
+        assert!(
+            md.contains("| 0 | megakernel | 1980 → 1755 | 2619 → 2619 | 41 → 63 | 312 → 312 | none → none |"),
+            "{md}"
+        );
+        assert!(md.contains("| 0 | megakernel | 12 | 0.2700 | 50.00 | 20.00 | 20.00 | 20.00 | – | – | 20.00 | 1980 → 1870 | 40 → 51 |"), "{md}");
+        assert!(md.contains("12 frames, 0.2700 s, unsettled"), "{md}");
+    }
 }
