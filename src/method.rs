@@ -85,6 +85,8 @@ pub struct RenderOutput {
     pub dispatches: u64,
     /// Of those, indirect dispatches sized to zero workgroups (GPU methods).
     pub empty_dispatches: Option<u64>,
+    /// Compute passes the dispatches were recorded in (GPU methods).
+    pub compute_passes: Option<u64>,
     /// SIMD efficiency per instrumented point (`instrument` only).
     pub simd: Option<BTreeMap<String, SimdEfficiency>>,
     /// GPU memory per path in flight (None for CPU methods).
@@ -117,6 +119,7 @@ impl RenderOutput {
             timings: Some(r.timings),
             dispatches: r.dispatches,
             empty_dispatches: r.empty_dispatches,
+            compute_passes: Some(r.compute_passes),
             simd: r.simd,
             bytes_per_path: Some(r.bytes_per_path),
             memory: Some(r.memory),
@@ -203,6 +206,7 @@ pub fn render(
                 timings: None,
                 dispatches: 0,
                 empty_dispatches: None,
+                compute_passes: None,
                 simd: None,
                 bytes_per_path: None,
                 memory: None,

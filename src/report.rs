@@ -94,6 +94,9 @@ pub struct RunReport {
     pub dispatches: u64,
     /// Indirect dispatches the GPU sized to zero workgroups (GPU methods).
     pub empty_dispatches: Option<u64>,
+    /// Compute passes the dispatches were recorded in (GPU methods; fewer than `dispatches`
+    /// with `--compute-passes shared`).
+    pub compute_passes: Option<u64>,
     /// The wavefront's schedule: shares, iterations (idle ones apart), intersect occupancy.
     pub schedule: Option<ScheduleStats>,
     pub samples: u64,
@@ -175,6 +178,7 @@ impl RunReport {
             passes: out.timings.as_ref().map(|t| t.passes.clone()).unwrap_or_default(),
             dispatches: out.dispatches,
             empty_dispatches: out.empty_dispatches,
+            compute_passes: out.compute_passes,
             schedule: out.schedule.clone(),
             samples,
             samples_per_second: samples as f64 / seconds,

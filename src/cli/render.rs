@@ -5,7 +5,7 @@ use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::memory::{GpuMemory, MemoryCategory};
 use crate::gpu::timing::{TimeSource, Timing, Timings, FRAME_LABEL};
 use crate::gpu::wavefront::{
-    Append, CompactStates, Compaction, QueueOrder, RaySort, Scan, Schedule, ShadePasses, Tail,
+    Append, CompactStates, Compaction, ComputePasses, QueueOrder, RaySort, Scan, Schedule, ShadePasses, Tail,
     WavefrontOptions,
 };
 use crate::gpu::GpuContext;
@@ -177,6 +177,10 @@ pub struct RenderArgs {
     /// adapter has subgroups: `auto`) or one per lane.
     #[arg(long, value_enum, default_value_t = Append::Auto)]
     pub append: Append,
+    /// Wavefront: one compute pass per dispatch, or consecutive dispatches sharing one (up to the
+    /// next copy or submission; only where passes are not timed: with `--timing frame`).
+    #[arg(long, value_enum, default_value_t = ComputePasses::PerDispatch)]
+    pub compute_passes: ComputePasses,
     /// Wavefront: keep queues in the order their paths arrived, or build the ray queue in slot
     /// order by a pass over the pool (a subgroup reads neighbouring path states; regenerated
     /// samples fill the lowest free slots): a stable scan with --compaction-method scan, a sweep
@@ -293,6 +297,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             chunk_pools: a.chunk_pools,
             scan: a.scan,
             append: a.append,
+            compute_passes: a.compute_passes,
             queue_order: a.queue_order,
             refill_below: a.refill_below,
             compact_states: a.compact_states,

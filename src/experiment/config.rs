@@ -82,7 +82,7 @@ use super::stability::DEFAULT_UNSTABLE_SPREAD;
 use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::timing::Timing;
 use crate::gpu::wavefront::{
-    Append, CompactStates, Compaction, QueueOrder, RaySort, Scan, Schedule, ShadePasses, Tail,
+    Append, CompactStates, Compaction, ComputePasses, QueueOrder, RaySort, Scan, Schedule, ShadePasses, Tail,
     WavefrontOptions,
 };
 use crate::input_error::InputError;
@@ -155,6 +155,7 @@ pub const KNOBS: &[&str] = &[
     "refill_below",
     "compact_states",
     "ray_sort",
+    "compute_passes",
 ];
 /// Every method's knobs: how next-event estimation samples lights, the numerical choices and the
 /// stress transforms.
@@ -207,12 +208,14 @@ const WAVEFRONT_KNOBS: &[&str] = &[
     "refill_below",
     "compact_states",
     "ray_sort",
+    "compute_passes",
     "timing",
 ];
 const SCANS: &[&str] = &["auto", "subgroup", "workgroup"];
 const APPENDS: &[&str] = &["auto", "lane", "subgroup"];
 const ON_OFF: &[&str] = &["off", "on"];
 const RAY_SORTS: &[&str] = &["off", "octant", "octant-cell"];
+const COMPUTE_PASSES: &[&str] = &["per-dispatch", "shared"];
 const QUEUE_ORDERS: &[&str] = &["auto", "arrival", "slot", "slot-depth"];
 const LIGHT_SAMPLINGS: &[&str] = &["area", "solid-angle"];
 const LIGHT_SELECTS: &[&str] = &["uniform", "power"];
@@ -764,6 +767,12 @@ impl Cx {
                 _ => RaySort::Off,
             })
         })?;
+        let compute_passes = self.knob(o, &opt_path("compute_passes"), "compute_passes", |v, p| {
+            Ok(match self.choice(v, p, COMPUTE_PASSES)? {
+                "shared" => ComputePasses::Shared,
+                _ => ComputePasses::PerDispatch,
+            })
+        })?;
         let timing = self.knob(o, &opt_path("timing"), "timing", |v, p| {
             Ok(if self.choice(v, p, TIMINGS)? == "frame" { Timing::Frame } else { Timing::Passes })
         })?;
@@ -929,6 +938,10 @@ impl Cx {
         expand(&mut variants, &ray_sort, wf.ray_sort, labelled, |o, &r| {
             o.wavefront.ray_sort = r;
             format!("ray-sort={}", r.name())
+        });
+        expand(&mut variants, &compute_passes, wf.compute_passes, labelled, |o, &c| {
+            o.wavefront.compute_passes = c;
+            format!("compute-passes={}", c.name())
         });
         expand(&mut variants, &timing, Timing::Passes, labelled, |o, &t| {
             o.timing = t;

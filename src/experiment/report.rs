@@ -248,6 +248,10 @@ pub struct RunRecord {
     /// Indirect dispatches the GPU sized to zero workgroups (their fixed cost bought nothing).
     #[serde(default)]
     pub empty_dispatches: Option<u64>,
+    /// Compute passes the dispatches were recorded in (`dispatches` unless the wavefront's
+    /// dispatches share passes: `compute_passes: shared`; absent in reports from before it).
+    #[serde(default)]
+    pub compute_passes: Option<u64>,
     /// Wavefront: iterations recorded (bounces × waves, or refill rounds when regenerating).
     #[serde(default)]
     pub iterations: Option<u64>,

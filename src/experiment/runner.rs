@@ -509,6 +509,7 @@ impl<'a> Run<'a> {
         rec.queue_histogram = median_rep.queue_histogram.clone();
         rec.dispatches = Some(median_rep.dispatches);
         rec.empty_dispatches = median_rep.empty_dispatches;
+        rec.compute_passes = median_rep.compute_passes;
         if let Some(s) = &median_rep.schedule {
             rec.iterations = Some(s.iterations);
             rec.idle_iterations = Some(s.idle_iterations);
@@ -602,6 +603,7 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         queue_histogram: None,
         dispatches: None,
         empty_dispatches: None,
+        compute_passes: None,
         iterations: None,
         idle_iterations: None,
         intersect_occupancy: None,
@@ -659,6 +661,7 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
             "chunk_pools": o.wavefront.chunk_pools,
             "scan": o.wavefront.scan,
             "append": o.wavefront.append,
+            "compute_passes": o.wavefront.compute_passes,
             "queue_order": o.wavefront.queue_order,
             "refill_below": o.wavefront.refill_below,
             "compact_states": o.wavefront.compact_states,

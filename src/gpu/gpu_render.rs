@@ -11,8 +11,11 @@ use std::collections::BTreeMap;
 pub struct GpuRender {
     pub film: Film,
     pub timings: Timings,
-    /// Compute passes dispatched, empty ones included.
+    /// Dispatches recorded, empty ones included.
     pub dispatches: u64,
+    /// Compute passes they were recorded in (`dispatches` unless the wavefront's dispatches
+    /// share passes: `--compute-passes shared`).
+    pub compute_passes: u64,
     /// Of those, indirect dispatches the GPU sized to zero workgroups (wavefront).
     pub empty_dispatches: Option<u64>,
     pub wall_seconds: f64,

@@ -263,6 +263,7 @@ pub fn render(
         timings: timer.into_timings(),
         // Trace and accumulate passes, none of them empty.
         dispatches,
+        compute_passes: dispatches,
         empty_dispatches: Some(0),
         wall_seconds: start.elapsed().as_secs_f64(),
         simd: simd.as_ref().map(|s| s.read(ctx)).transpose()?,

@@ -47,6 +47,17 @@ impl Stage {
             label: Some(self.label),
             timestamp_writes: timer.pass_at(self.label, bounce),
         });
+        self.dispatch(&mut pass, groups, workgroups);
+    }
+
+    /// Records the stage's dispatch into an open compute pass (shared with other dispatches:
+    /// `--compute-passes shared`; the caller counts it with the timer).
+    pub fn dispatch(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        groups: &[(&wgpu::BindGroup, Vec<u32>)],
+        workgroups: Workgroups<'_>,
+    ) {
         pass.set_pipeline(&self.pipeline);
         for (i, (group, offsets)) in groups.iter().enumerate() {
             pass.set_bind_group(i as u32, *group, offsets);

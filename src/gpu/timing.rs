@@ -218,6 +218,11 @@ impl GpuTimer {
         })
     }
 
+    /// Whether passes get timestamps (each then needs a compute pass of its own).
+    pub fn times_passes(&self) -> bool {
+        self.queries.is_some()
+    }
+
     /// True when the batch must be finished before another pass is recorded.
     pub fn is_full(&self) -> bool {
         self.remaining() == 0

@@ -4,6 +4,7 @@
 use crate::common;
 
 use wavetrace::film::Film;
+use wavetrace::gpu::timing::Timing;
 use wavetrace::gpu::wavefront::{Compaction, Schedule, ShadePasses, Tail, WavefrontOptions};
 use wavetrace::method::{render, Method, MethodOptions, RenderOutput};
 use wavetrace::scene::builtin;
@@ -711,4 +712,49 @@ fn auto_schedule_follows_the_adapter_kind() {
     // What the run's report records: the schedule that ran, not "auto".
     let opts = MethodOptions { wavefront: auto, ..Default::default() };
     assert_eq!(opts.resolve(Method::Wavefront, Some(&ctx.summary)).wavefront.schedule, want);
+}
+
+/// `--compute-passes shared` (issue 42): consecutive dispatches share a compute pass where no
+/// per-pass timestamps need their own. wgpu still orders each dispatch's storage use inside a
+/// pass, so the film is the waves' (the tail's paths, where it runs) for every schedule, from
+/// fewer compute passes; with per-pass timestamps the knob changes nothing.
+#[test]
+fn shared_compute_passes_give_the_same_film_from_fewer_passes() {
+    use wavetrace::gpu::wavefront::ComputePasses;
+    if common::gpu().is_none() {
+        return;
+    }
+    let s = RenderSettings { nee: true, ..settings(4) };
+    let frame = |wf: WavefrontOptions| {
+        let opts = MethodOptions { wavefront: wf, timing: Timing::Frame, ..Default::default() };
+        run(Method::Wavefront, "cornell", &s, &opts)
+    };
+    let waves = WavefrontOptions { schedule: Schedule::Waves, pool_size: Some(1024), ..Default::default() };
+    let regenerate = WavefrontOptions { schedule: Schedule::Regenerate, sync_every: 2, ..waves };
+    let tail = WavefrontOptions { tail: Tail::Megakernel, ..regenerate };
+    let reference = frame(waves).film;
+    for (name, wf) in [("waves", waves), ("regenerate", regenerate), ("regenerate+tail", tail)] {
+        let each = frame(wf);
+        let shared = frame(WavefrontOptions { compute_passes: ComputePasses::Shared, ..wf });
+        assert_eq!(each.compute_passes, Some(each.dispatches), "{name}: a pass per dispatch");
+        assert_eq!(shared.dispatches, each.dispatches, "{name}: the same dispatches");
+        let passes = shared.compute_passes.unwrap();
+        assert!(
+            passes * 2 < shared.dispatches,
+            "{name}: {passes} passes for {} dispatches",
+            shared.dispatches
+        );
+        common::assert_waves_film(name, &shared.film, &reference, wf.tail);
+        common::assert_waves_film(name, &each.film, &reference, wf.tail);
+    }
+    // With per-pass timestamps each dispatch keeps its pass.
+    if common::gpu().unwrap().summary.timestamps {
+        let opts = MethodOptions {
+            wavefront: WavefrontOptions { compute_passes: ComputePasses::Shared, ..waves },
+            timing: Timing::Passes,
+            ..Default::default()
+        };
+        let timed = run(Method::Wavefront, "cornell", &s, &opts);
+        assert_eq!(timed.compute_passes, Some(timed.dispatches));
+    }
 }

@@ -47,6 +47,7 @@
 pub mod append;
 pub mod compact;
 pub mod compact_states;
+pub mod compute_passes;
 pub mod generate;
 pub mod intersect;
 pub mod path_state;
@@ -80,6 +81,7 @@ use anyhow::{bail, Result};
 pub use append::Append;
 pub use compact::Scan;
 use compact::Target;
+pub use compute_passes::ComputePasses;
 use path_state::{
     schedule_word as word, PathState, PoolLayout, COUNTER_STATS, LARGEST_BINDING_PER_PATH, QUEUE_COUNT,
     QUEUE_SHADOW,
@@ -137,6 +139,8 @@ pub struct WavefrontOptions {
     pub scan: Scan,
     /// How passes append paths to queues.
     pub append: Append,
+    /// One compute pass per dispatch, or shared by consecutive dispatches (`--compute-passes`).
+    pub compute_passes: ComputePasses,
     /// The order of the paths in each queue (slot order needs queues; `auto` takes it for
     /// regenerating jobs of several pools).
     pub queue_order: QueueOrder,
@@ -163,6 +167,7 @@ impl Default for WavefrontOptions {
             chunk_pools: schedule::CHUNK_POOLS,
             scan: Scan::Auto,
             append: Append::Auto,
+            compute_passes: ComputePasses::PerDispatch,
             queue_order: QueueOrder::Auto,
             refill_below: refill::DEFAULT_REFILL_BELOW,
             compact_states: CompactStates::Off,
@@ -248,10 +253,15 @@ impl Bindings {
     }
 }
 
-/// What every pass of a wave records into: the open encoder, the timer, the bindings and the
-/// wave's dispatch parameters.
+/// What every pass of a wave records into: the open encoder (and, with `--compute-passes
+/// shared`, the open compute pass), the timer, the bindings and the wave's dispatch parameters.
 pub struct WaveRecorder<'a> {
-    pub enc: wgpu::CommandEncoder,
+    /// The compute pass consecutive dispatches share (`--compute-passes shared`, without per-pass
+    /// timestamps); ended before anything else is recorded into `enc`.
+    pass: Option<wgpu::ComputePass<'static>>,
+    /// Whether dispatches share passes.
+    shared: bool,
+    enc: wgpu::CommandEncoder,
     pub timer: &'a mut GpuTimer,
     pub b: &'a Bindings,
     /// Dynamic offset of the wave's `Dispatch` parameters.
@@ -263,6 +273,8 @@ pub struct WaveRecorder<'a> {
     pub per_bounce: bool,
     /// Passes recorded (compute dispatches, empty ones included).
     pub dispatches: u64,
+    /// Compute passes opened: `dispatches` with a pass per dispatch, fewer when they share.
+    pub compute_passes: u64,
 }
 
 impl WaveRecorder<'_> {
@@ -284,12 +296,35 @@ impl WaveRecorder<'_> {
         g.truncate(groups);
         g.extend(extra);
         let bounce = bounce.filter(|_| self.per_bounce);
-        stage.record(&mut self.enc, self.timer, bounce, &g, workgroups);
         self.dispatches += 1;
+        if !self.shared {
+            stage.record(&mut self.enc, self.timer, bounce, &g, workgroups);
+            self.compute_passes += 1;
+            return;
+        }
+        // Counted under its label (there are no timestamps to write: `shared` is off with them).
+        let writes = self.timer.pass_at(stage.label, bounce);
+        debug_assert!(writes.is_none(), "shared compute passes without per-pass timestamps only");
+        if self.pass.is_none() {
+            let pass = self.enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("wavefront (shared)"),
+                timestamp_writes: None,
+            });
+            self.pass = Some(pass.forget_lifetime());
+            self.compute_passes += 1;
+        }
+        stage.dispatch(self.pass.as_mut().expect("opened above"), &g, workgroups);
+    }
+
+    /// The encoder, for copies and passes of other recorders: ends the shared compute pass.
+    pub fn encoder(&mut self) -> (&mut wgpu::CommandEncoder, &mut GpuTimer) {
+        self.pass = None;
+        (&mut self.enc, self.timer)
     }
 
     /// Submits what is recorded, waits for it (adding its pass times) and opens a new encoder.
     pub fn submit_and_wait(&mut self, ctx: &GpuContext) -> Result<()> {
+        self.pass = None;
         let enc = std::mem::replace(&mut self.enc, ctx.device.create_command_encoder(&Default::default()));
         self.timer.submit_batch(ctx, enc)
     }
@@ -491,6 +526,8 @@ pub fn render(
     });
     let per_iteration = stages.per_iteration();
     let mut timer = GpuTimer::new(ctx, measure.timing, &mut memory);
+    // Per-pass timestamps need a pass per dispatch.
+    let shared_passes = opts.compute_passes == ComputePasses::Shared && !timer.times_passes();
     let mut histogram = (opts.compaction != Compaction::Off && !regenerate).then(QueueHistogram::default);
     let mut stats = ScheduleStats::new(opts.schedule, opts.sync_every, pool);
     stats.subgroup_scan = uses_scan.then_some(subgroup_scan);
@@ -503,12 +540,15 @@ pub fn render(
         stats.compact_states = Some(opts.compact_states == CompactStates::On);
     }
     let mut done = 0u64;
+    let mut compute_passes = 0u64;
     for (w, d) in shares.iter().enumerate() {
         let paths = d.pixel_count * d.sample_count;
         // Regenerating: this share's sample ring (the render's chunk and ring sizes).
         let r = schedule::Ring { paths, ..ring };
         let enc = ctx.device.create_command_encoder(&Default::default());
         let mut wave = WaveRecorder {
+            pass: None,
+            shared: shared_passes,
             enc,
             timer: &mut timer,
             b: &b,
@@ -516,6 +556,7 @@ pub fn render(
             paths,
             per_bounce: !regenerate,
             dispatches: 0,
+            compute_passes: 0,
         };
 
         stages.generate.record_start(&mut wave);
@@ -561,7 +602,7 @@ pub fn render(
                             break;
                         }
                     }
-                    schedule::ChunkCounters::copy(&mut wave.enc, check, &b.state, &r);
+                    schedule::ChunkCounters::copy(wave.encoder().0, check, &b.state, &r);
                     wave.submit_and_wait(ctx)?;
                     let c = schedule::ChunkCounters::read(ctx, check, &r, oldest)?;
                     on_progress(done + c.finished as u64);
@@ -590,16 +631,12 @@ pub fn render(
                         let first = oldest * r.chunk;
                         let count = r.end(added - 1) - first;
                         let range = AccumulateRange { first, count, ring: r.samples(), pad: 0 };
-                        accumulate.record_range(
-                            ctx,
-                            &mut wave.enc,
-                            wave.timer,
-                            wave.offset,
-                            d.pixel_count,
-                            range,
-                        );
+                        let offset = wave.offset;
+                        let (enc, timer) = wave.encoder();
+                        accumulate.record_range(ctx, enc, timer, offset, d.pixel_count, range);
                         wave.dispatches += 1;
-                        b.state.clear_ring_counters(&mut wave.enc, (oldest..added).map(|k| k % r.ring));
+                        wave.compute_passes += 1;
+                        b.state.clear_ring_counters(wave.encoder().0, (oldest..added).map(|k| k % r.ring));
                         oldest = added;
                         b.state.write_schedule_word(ctx, word::FILL_LIMIT, r.fill_limit(oldest));
                     }
@@ -614,12 +651,16 @@ pub fn render(
             }
         };
         if !regenerate {
-            accumulate.record(&mut wave.enc, wave.timer, wave.offset, d.pixel_count);
+            let offset = wave.offset;
+            let (enc, timer) = wave.encoder();
+            accumulate.record(enc, timer, offset, d.pixel_count);
             wave.dispatches += 1;
+            wave.compute_passes += 1;
         }
         wave.submit_and_wait(ctx)?;
         let units = if regenerate { r.chunks() } else { 1 };
         stats.add_share(ctx, &b.state, units, iterations, wave.dispatches)?;
+        compute_passes += wave.compute_passes;
 
         if let Some(h) = &mut histogram {
             // Per wave, so the GPU's u32 counters never overflow on long renders.
@@ -643,6 +684,7 @@ pub fn render(
             film,
             timings: timer.into_timings(),
             dispatches: stats.dispatches,
+            compute_passes,
             empty_dispatches: Some(stats.empty_dispatches),
             wall_seconds: start.elapsed().as_secs_f64(),
             simd,

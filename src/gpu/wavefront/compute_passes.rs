@@ -1,0 +1,28 @@
+//! How the wavefront groups its dispatches into compute passes (`--compute-passes`, issue 42).
+//! In wgpu-core each compute pass becomes a command buffer of resource transitions spliced in
+//! front of it, so a pass per dispatch, as every stage records by default, pays that for each of
+//! a frame's thousands of dispatches; `shared` lets consecutive dispatches share one pass until a
+//! copy or a submission ends it. Barriers between dependent dispatches stay (wgpu orders each
+//! dispatch's storage use within a pass too), so the film is the same. Per-pass timestamps need
+//! a pass per dispatch: with `--timing passes` every dispatch keeps its own.
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ComputePasses {
+    /// One compute pass per dispatch.
+    #[default]
+    PerDispatch,
+    /// Consecutive dispatches in one compute pass, up to the next copy or submission (where
+    /// there are no per-pass timestamps).
+    Shared,
+}
+
+impl ComputePasses {
+    /// As the CLI and configs spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            ComputePasses::PerDispatch => "per-dispatch",
+            ComputePasses::Shared => "shared",
+        }
+    }
+}
