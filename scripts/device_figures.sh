@@ -18,6 +18,9 @@
 #   dispatch-cost       what one dispatch costs: a chain of 1000 tiny dispatches recorded six
 #                       ways (a pass each or one pass, direct or indirect, read-write or
 #                       read-only), 9 repetitions (wavetrace dispatch-cost)  tiny   <1 min
+#   compute-passes      the wavefront's dispatches in one compute pass each or sharing passes
+#                       (--compute-passes), waves and regenerate + tail, rtiow-final and
+#                       mesh-room at 1920x1080x64 NEE (device/compute_passes.json) 5.3e9 ~1 min
 #   warmup              the warm-up itself: rtiow-final 1920x1080x16 NEE, the regenerating
 #                       megakernel and regenerate + tail, each a fixed 15 s warm-up traced frame
 #                       by frame with the GPU's clocks (device/warmup.json)  fixed  ~40 s
@@ -56,7 +59,7 @@
 # With the device tool (see README "Run it on a GPU"): prepare here, then one call per group of
 # steps, each call well inside the tool's 10 minutes:
 #   scripts/device_prepare.sh                     # .device/ (binaries) and .gl/ (Vulkan loader)
-#   run(command="bash scripts/device_figures.sh --out $OUT tests dispatch-cost warmup headline simd",
+#   run(command="bash scripts/device_figures.sh --out $OUT tests dispatch-cost compute-passes warmup headline",
 #       carry=[".device", ".gl"], timeout_s=600)
 # and commit what comes back (files_at/*.tar.gz) under experiments/results/<device>/.
 #
@@ -75,6 +78,7 @@ steps_table() {
   cat <<'EOF'
 tests
 dispatch-cost
+compute-passes device/compute_passes.json
 warmup device/warmup.json
 headline device/headline.json
 simd device/simd.json

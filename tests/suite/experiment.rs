@@ -623,7 +623,9 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
         [
             "baselines.json",
             "coherence.json",
+            "compute_passes.json",
             "cpu_vs_gpu.json",
+            "device/compute_passes.json",
             "device/fixed_costs.json",
             "device/headline.json",
             "device/queue_order.json",
