@@ -6,12 +6,13 @@
 //! ```text
 //! config.json ─► ExperimentConfig (validated whole) ─► plan: runs (scene × size × depth × spp × method)
 //!   [--resume: keep the runs an earlier attempt in DIR finished (same config, build, shard)]
-//!   for run in plan (or a shard's share), less those kept:
+//!   for group in plan (a job's GPU variants together; each other run alone), less those kept:
 //!       reference(scene, size)             cached on disk, keyed by scene text and settings
-//!       warm-up renders; timed renders     median / min / max over repetitions
+//!       warm-up, run by run                timed: until the GPU has worked and frames agree
+//!       timed renders, taking turns        median, spread, interval; unstable/cold flags
 //!       [instrumented render]              SIMD efficiency (separate: counters skew time)
 //!       EXR, PNG, error map, metrics       MSE, relMSE, SMAPE, FLIP, 1/(relMSE·time)
-//!       report.json, runs.csv, passes.csv  rewritten atomically after every run
+//!       report.json, runs.csv, passes.csv  rewritten atomically after every group
 //!   charts/*.svg, report.html              re-drawable from report.json (`experiment report`)
 //! ```
 

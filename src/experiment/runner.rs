@@ -1,8 +1,10 @@
-//! Runs an experiment: every planned run (or a shard's share) in turn, each as warm-up renders,
-//! timed repetitions (GPU methods without per-pass timestamps), one render with per-pass
-//! timestamps for the per-pass table, and an optional instrumented render, then its image, error
-//! against the reference and record. `report.json` is rewritten atomically after every run; a run that fails
-//! is recorded with its error and the others go on.
+//! Runs an experiment: every planned run (or a shard's share), in groups: the GPU variants of one
+//! job take turns (`interleave`), every other run goes alone. Each run warms up (timed by
+//! default for GPU methods), then the group's timed repetitions go round-robin (GPU methods
+//! without per-pass timestamps), then each run renders once with per-pass timestamps for the
+//! per-pass table and optionally once instrumented, and gets its image, error against the
+//! reference, spread (`stability.rs`) and record. `report.json` is rewritten atomically after
+//! every group; a run that fails is recorded with its error and the others go on.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::panic::{catch_unwind, AssertUnwindSafe};
