@@ -338,7 +338,7 @@ fn error_vs_time(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
     }
     (!series.is_empty()).then(|| LineChart {
         title: format!("Error against time: {group}"),
-        x_label: "time per render, s (GPU where measured, else wall)".into(),
+        x_label: "time per render, s (frame time for GPU methods, wall time for CPU ones)".into(),
         y_label: "relMSE".into(),
         x_log: true,
         y_log: true,

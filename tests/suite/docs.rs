@@ -351,7 +351,7 @@ const NOT_MEASURED: &[NotMeasured] = &[
     (
         "docs/cli-and-configs.md",
         "`experiments/` holds the configs",
-        &["104", "324", "135", "100", "500", "512", "256", "135", "1024", "176", "432", "1024", "536", "108"],
+        &["104", "324", "135", "100", "500", "512", "256", "135", "1024", "176", "756", "1024", "536", "108"],
         "each config's settings (spp, thread counts) and the runs it plans (what `--list` prints)",
     ),
 ];
@@ -676,4 +676,37 @@ fn ci_runs_the_readmes_test_command() {
     let readme = read("README.md");
     assert!(readme.contains("./scripts/test.sh     # the test suite"));
     assert!(read(".ci/run").lines().any(|l| l.trim() == "bash scripts/test.sh"));
+}
+
+/// docs/cli-and-configs.md's table of the configs in `experiments/` gives each one's run count:
+/// it is the count the config plans (what `experiment run --list` prints), and every shipped
+/// config is in the table.
+#[test]
+fn the_config_table_counts_the_runs_each_config_plans() {
+    let root = crate::common::root();
+    let page = read("docs/cli-and-configs.md");
+    let mut listed = Vec::new();
+    let mut wrong = Vec::new();
+    for line in page.lines().filter(|l| l.starts_with("| `") && l.contains(".json` |")) {
+        let cells: Vec<&str> = line.trim_matches('|').split(" | ").map(str::trim).collect();
+        let name = cells[0].trim_matches('`');
+        let Some(runs) = cells.last().and_then(|c| c.trim_end_matches(" |").parse::<usize>().ok()) else {
+            continue;
+        };
+        let config = wavetrace::experiment::ExperimentConfig::from_file(&root.join("experiments").join(name))
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let planned = wavetrace::experiment::plan::plan(&config).len();
+        if planned != runs {
+            wrong.push(format!("{name}: the table says {runs} runs, the config plans {planned}"));
+        }
+        listed.push(name.to_string());
+    }
+    let mut missing = Vec::new();
+    for e in std::fs::read_dir(root.join("experiments")).unwrap().flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        if name.ends_with(".json") && name != "report.schema.json" && !listed.contains(&name) {
+            missing.push(name);
+        }
+    }
+    assert!(wrong.is_empty() && missing.is_empty(), "{}\nnot in the table: {missing:?}", wrong.join("\n"));
 }
