@@ -84,6 +84,9 @@ pub struct RunReport {
     /// Frame time between a submission's completion and the next submission: the GPU idle
     /// while the host reads counters back and records (GPU methods).
     pub host_gap_seconds: Option<f64>,
+    /// Submissions in the frame, each waited for: all but the last are the host's blocking
+    /// waits inside the frame (GPU methods).
+    pub submissions: Option<u64>,
     /// `frame_seconds` − `gpu_seconds` − `host_gap_seconds`: the GPU's time between its timed
     /// passes inside a submission (launches, barriers, cache flushes: a fixed cost per pass);
     /// with per-pass timestamps only.
@@ -169,6 +172,7 @@ impl RunReport {
             gpu_seconds,
             frame_seconds,
             host_gap_seconds: out.timings.as_ref().map(|t| t.host_gap_seconds),
+            submissions: out.timings.as_ref().map(|t| t.submissions),
             between_passes_seconds: out
                 .timings
                 .as_ref()

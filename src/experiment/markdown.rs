@@ -135,8 +135,12 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
         report.runs.iter().filter(|r| r.memory.is_some() || r.dispatches.unwrap_or(0) > 0).collect();
     if !gpu.is_empty() {
         md.push_str("## GPU work and memory\n\n");
-        md.push_str("| # | variant | dispatches (empty) | compute passes | intersect occupancy | bytes per path | paths in flight | peak GPU memory |\n");
-        md.push_str("| ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+        md.push_str(
+            "Submissions: each is waited for, so all but the last are the host's blocking waits inside \
+             the frame.\n\n",
+        );
+        md.push_str("| # | variant | dispatches (empty) | compute passes | submissions | intersect occupancy | bytes per path | paths in flight | peak GPU memory |\n");
+        md.push_str("| ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
         for r in gpu {
             let dispatches = match (r.dispatches, r.empty_dispatches) {
                 (Some(d), Some(e)) => format!("{d} ({e})"),
@@ -145,10 +149,11 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
             };
             let _ = writeln!(
                 md,
-                "| {} | {} | {dispatches} | {} | {} | {} | {} | {} |",
+                "| {} | {} | {dispatches} | {} | {} | {} | {} | {} | {} |",
                 r.index,
                 cell(&r.label),
                 opt(r.compute_passes),
+                opt(r.submissions),
                 r.intersect_occupancy.map_or("–".into(), |o| format!("{:.1}%", 100.0 * o)),
                 opt(r.bytes_per_path),
                 opt(r.pool_size),

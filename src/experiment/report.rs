@@ -224,6 +224,10 @@ pub struct RunRecord {
     /// completion and the next submission, while the host reads back and records.
     #[serde(default)]
     pub host_gap_seconds: Option<f64>,
+    /// Submissions per frame (of the median repetition), each waited for by the host: all but
+    /// the last are blocking waits inside the frame (GPU methods; absent in reports from before).
+    #[serde(default)]
+    pub submissions: Option<u64>,
     /// Median frame − median GPU time − host gaps: the GPU's time between its timed passes
     /// (launches, barriers), with per-pass timestamps only.
     #[serde(default)]

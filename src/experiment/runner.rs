@@ -512,6 +512,7 @@ impl<'a> Run<'a> {
         rec.dispatches = Some(median_rep.dispatches);
         rec.empty_dispatches = median_rep.empty_dispatches;
         rec.compute_passes = median_rep.compute_passes;
+        rec.submissions = median_rep.submissions;
         if let Some(s) = &median_rep.schedule {
             rec.iterations = Some(s.iterations);
             rec.idle_iterations = Some(s.idle_iterations);
@@ -596,6 +597,7 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         gpu_seconds: None,
         frame_seconds: None,
         host_gap_seconds: None,
+        submissions: None,
         between_passes_seconds: None,
         profiled_frame_seconds: None,
         time_source: None,

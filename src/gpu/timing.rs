@@ -68,6 +68,10 @@ pub struct Timings {
     /// submission: the GPU certainly idle while the host reads back and records. The rest of
     /// the frame outside the passes is the GPU's own time between passes (launches, barriers).
     pub host_gap_seconds: f64,
+    /// Submissions in the frame. Each one is waited for (the host reads counters or timestamps
+    /// back before it records more), so all but the last are blocking waits inside the frame:
+    /// what issue 42's host loop that never waits is to bring to zero.
+    pub submissions: u64,
     pub passes: BTreeMap<&'static str, PassTime>,
     /// Seconds per bounce (index) for passes that run once per bounce.
     pub per_bounce: BTreeMap<&'static str, Vec<f64>>,
@@ -187,6 +191,7 @@ impl GpuTimer {
                 source,
                 frame_seconds: 0.0,
                 host_gap_seconds: 0.0,
+                submissions: 0,
                 passes: BTreeMap::new(),
                 per_bounce: BTreeMap::new(),
             },
@@ -245,6 +250,7 @@ impl GpuTimer {
             }
         }
         ctx.queue.submit([encoder.finish()]);
+        self.timings.submissions += 1;
         let now = Instant::now();
         if let Some(done) = self.last_done {
             self.timings.host_gap_seconds += now.duration_since(done).as_secs_f64();
@@ -295,6 +301,7 @@ mod tests {
             source,
             frame_seconds: 0.0,
             host_gap_seconds: 0.0,
+            submissions: 0,
             passes: BTreeMap::new(),
             per_bounce: BTreeMap::new(),
         }
