@@ -572,6 +572,33 @@ fn bad_configs_name_the_file_the_field_and_the_reason() {
         ),
         ("trim", Box::new(|c| c["metrics"] = serde_json::json!({"trim": 1.5})), "metrics.trim", "[0, 1)"),
         ("warmup", Box::new(|c| c["warmup"] = (-1).into()), "warmup", "whole number"),
+        (
+            "warmup-agree",
+            Box::new(|c| c["warmup"] = serde_json::json!({"agree": -0.1})),
+            "warmup.agree",
+            "must be in [0, 10]",
+        ),
+        (
+            "warmup-field",
+            Box::new(|c| c["warmup"] = serde_json::json!({"min_second": 1})),
+            "warmup.min_second",
+            "did you mean \"min_seconds\"",
+        ),
+        ("interleave", Box::new(|c| c["interleave"] = 1.into()), "interleave", "true or false"),
+        (
+            "unstable-spread",
+            Box::new(|c| c["unstable_spread"] = "5%".into()),
+            "unstable_spread",
+            "expected a number",
+        ),
+        (
+            "compute-passes",
+            Box::new(|c| {
+                c["methods"] = serde_json::json!([{"method": "wavefront", "compute_passes": "one"}])
+            }),
+            "methods[0].compute_passes",
+            "\"per-dispatch\"",
+        ),
     ];
     for (name, edit, field, reason) in cases {
         let mut c = good.clone();
