@@ -21,6 +21,8 @@
 #   compute-passes      the wavefront's dispatches in one compute pass each or sharing passes
 #                       (--compute-passes), waves and regenerate + tail, rtiow-final and
 #                       mesh-room at 1920x1080x64 NEE (device/compute_passes.json) 5.3e9 ~1 min
+#   shader-checks       wgpu's runtime shader checks on and off, every GPU method, rtiow-final
+#                       and mesh-room at 1920x1080x64 NEE (device/shader_checks.json) 11e9 ~2 min
 #   warmup              the warm-up itself: rtiow-final 1920x1080x16 NEE, the regenerating
 #                       megakernel and regenerate + tail, each a fixed 15 s warm-up traced frame
 #                       by frame with the GPU's clocks (device/warmup.json)  fixed  ~40 s
@@ -79,6 +81,7 @@ steps_table() {
 tests
 dispatch-cost
 compute-passes device/compute_passes.json
+shader-checks device/shader_checks.json
 warmup device/warmup.json
 headline device/headline.json
 simd device/simd.json

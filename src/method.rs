@@ -70,6 +70,8 @@ pub struct MethodOptions {
     pub instrument: bool,
     /// GPU methods: timestamps around every pass, or one host-clock time per submission.
     pub timing: Timing,
+    /// GPU methods: shaders compiled with wgpu's runtime checks, or without them.
+    pub shader_checks: crate::gpu::shader_checks::ShaderChecks,
 }
 
 /// A finished render: the film and how long it took.
@@ -225,7 +227,11 @@ pub fn render(
                 &camera,
                 settings,
                 &options.megakernel,
-                Measure { instrument: options.instrument, timing: options.timing },
+                Measure {
+                    instrument: options.instrument,
+                    timing: options.timing,
+                    shader_checks: options.shader_checks,
+                },
                 on_progress,
             )?;
             Ok(RenderOutput::from_gpu(r))
@@ -238,7 +244,11 @@ pub fn render(
                 &camera,
                 settings,
                 &options.wavefront,
-                Measure { instrument: options.instrument, timing: options.timing },
+                Measure {
+                    instrument: options.instrument,
+                    timing: options.timing,
+                    shader_checks: options.shader_checks,
+                },
                 on_progress,
             )?;
             Ok(RenderOutput {

@@ -3,6 +3,7 @@
 use crate::gpu::buffers::human_bytes;
 use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::memory::{GpuMemory, MemoryCategory};
+use crate::gpu::shader_checks::ShaderChecks;
 use crate::gpu::timing::{TimeSource, Timing, Timings, FRAME_LABEL};
 use crate::gpu::wavefront::{
     Append, CompactStates, Compaction, ComputePasses, QueueOrder, RaySort, Scan, Schedule, ShadePasses, Tail,
@@ -214,6 +215,10 @@ pub struct RenderArgs {
     /// submission only (`frame`: what the per-pass instrument costs shows as the difference).
     #[arg(long, value_enum, default_value_t = Timing::Passes)]
     pub timing: Timing,
+    /// GPU methods: compile the shaders with wgpu's runtime checks (bounds checks, bounded loops)
+    /// or without them (`unchecked`: what the checks cost; the films are the same).
+    #[arg(long, value_enum, default_value_t = ShaderChecks::Checked)]
+    pub shader_checks: ShaderChecks,
     /// Untimed renders before the one that is timed and written: `auto` (GPU methods: until the
     /// GPU has worked 0.5 s and two frames agree within 5%, at most 50 frames or 10 s; CPU
     /// methods: none), or a number of frames (0: time a cold first frame).
@@ -305,6 +310,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         },
         instrument: a.instrument,
         timing: a.timing,
+        shader_checks: a.shader_checks,
     };
     let gpu = if a.method.needs_gpu() { Some(GpuContext::new(a.adapter.as_deref())?) } else { None };
 

@@ -80,6 +80,7 @@ use serde_json::{Map, Value};
 
 use super::stability::DEFAULT_UNSTABLE_SPREAD;
 use crate::gpu::megakernel::MegakernelOptions;
+use crate::gpu::shader_checks::ShaderChecks;
 use crate::gpu::timing::Timing;
 use crate::gpu::wavefront::{
     Append, CompactStates, Compaction, ComputePasses, QueueOrder, RaySort, Scan, Schedule, ShadePasses, Tail,
@@ -156,6 +157,7 @@ pub const KNOBS: &[&str] = &[
     "compact_states",
     "ray_sort",
     "compute_passes",
+    "shader_checks",
 ];
 /// Every method's knobs: how next-event estimation samples lights, the numerical choices and the
 /// stress transforms.
@@ -183,6 +185,7 @@ const MEGAKERNEL_KNOBS: &[&str] = &[
     "schedule",
     "threads",
     "timing",
+    "shader_checks",
 ];
 const WAVEFRONT_KNOBS: &[&str] = &[
     "light_sampling",
@@ -210,12 +213,14 @@ const WAVEFRONT_KNOBS: &[&str] = &[
     "ray_sort",
     "compute_passes",
     "timing",
+    "shader_checks",
 ];
 const SCANS: &[&str] = &["auto", "subgroup", "workgroup"];
 const APPENDS: &[&str] = &["auto", "lane", "subgroup"];
 const ON_OFF: &[&str] = &["off", "on"];
 const RAY_SORTS: &[&str] = &["off", "octant", "octant-cell"];
 const COMPUTE_PASSES: &[&str] = &["per-dispatch", "shared"];
+const SHADER_CHECKS: &[&str] = &["checked", "unchecked"];
 const QUEUE_ORDERS: &[&str] = &["auto", "arrival", "slot", "slot-depth"];
 const LIGHT_SAMPLINGS: &[&str] = &["area", "solid-angle"];
 const LIGHT_SELECTS: &[&str] = &["uniform", "power"];
@@ -773,6 +778,12 @@ impl Cx {
                 _ => ComputePasses::PerDispatch,
             })
         })?;
+        let shader_checks = self.knob(o, &opt_path("shader_checks"), "shader_checks", |v, p| {
+            Ok(match self.choice(v, p, SHADER_CHECKS)? {
+                "unchecked" => ShaderChecks::Unchecked,
+                _ => ShaderChecks::Checked,
+            })
+        })?;
         let timing = self.knob(o, &opt_path("timing"), "timing", |v, p| {
             Ok(if self.choice(v, p, TIMINGS)? == "frame" { Timing::Frame } else { Timing::Passes })
         })?;
@@ -942,6 +953,10 @@ impl Cx {
         expand(&mut variants, &compute_passes, wf.compute_passes, labelled, |o, &c| {
             o.wavefront.compute_passes = c;
             format!("compute-passes={}", c.name())
+        });
+        expand(&mut variants, &shader_checks, ShaderChecks::Checked, labelled, |o, &c| {
+            o.shader_checks = c;
+            format!("shader-checks={}", c.name())
         });
         expand(&mut variants, &timing, Timing::Passes, labelled, |o, &t| {
             o.timing = t;

@@ -650,6 +650,7 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
             "schedule": o.megakernel.schedule,
             "threads": o.megakernel.threads,
             "timing": o.timing,
+            "shader_checks": o.shader_checks,
         }),
         Wavefront => serde_json::json!({
             "light_sampling": o.lights.sampling,
@@ -671,6 +672,7 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
             "compact_states": o.wavefront.compact_states,
             "ray_sort": o.wavefront.ray_sort,
             "timing": o.timing,
+            "shader_checks": o.shader_checks,
         }),
     };
     // Every method's numerical knobs and stress transform.

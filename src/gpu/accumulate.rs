@@ -29,6 +29,7 @@ impl Accumulate {
         film: &wgpu::Buffer,
         params: &DispatchUniforms,
         ranges: bool,
+        checks: super::shader_checks::ShaderChecks,
     ) -> Result<Self> {
         let layout = ctx.bind_group_layout(
             label::ACCUMULATE,
@@ -54,7 +55,7 @@ impl Accumulate {
                 wgpu::BindGroupEntry { binding: 3, resource: range.as_entire_binding() },
             ],
         });
-        let module = ctx.shader(label::ACCUMULATE, shaders::ACCUMULATE)?;
+        let module = ctx.shader(label::ACCUMULATE, shaders::ACCUMULATE, checks)?;
         Ok(Self {
             stage: Stage::new(ctx, label::ACCUMULATE, &module, &[&layout], &[])?,
             range_stage: ranges

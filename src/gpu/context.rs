@@ -272,17 +272,37 @@ impl GpuContext {
         })
     }
 
-    /// A shader module from composed WGSL (compilation errors as `Err`), built once per device.
-    pub fn shader(&self, label: &'static str, source: &str) -> Result<wgpu::ShaderModule> {
-        self.stages.module(label, source, || self.build_shader(label, source))
+    /// A shader module from composed WGSL (compilation errors as `Err`), built once per device
+    /// and set of runtime checks.
+    pub fn shader(
+        &self,
+        label: &'static str,
+        source: &str,
+        checks: super::shader_checks::ShaderChecks,
+    ) -> Result<wgpu::ShaderModule> {
+        self.stages.module(label, source, checks, || self.build_shader(label, source, checks))
     }
 
-    fn build_shader(&self, label: &'static str, source: &str) -> Result<wgpu::ShaderModule> {
+    fn build_shader(
+        &self,
+        label: &'static str,
+        source: &str,
+        checks: super::shader_checks::ShaderChecks,
+    ) -> Result<wgpu::ShaderModule> {
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        let desc = wgpu::ShaderModuleDescriptor {
             label: Some(label),
             source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
+        };
+        let module = match checks {
+            super::shader_checks::ShaderChecks::Checked => self.device.create_shader_module(desc),
+            // SAFETY: every method's films with these modules match the checked ones' (the
+            // shader-checks tests), so no access leaves its array; `--shader-checks unchecked`
+            // is a measured knob, never the default.
+            super::shader_checks::ShaderChecks::Unchecked => unsafe {
+                self.device.create_shader_module_trusted(desc, wgpu::ShaderRuntimeChecks::unchecked())
+            },
+        };
         if let Some(e) = pollster::block_on(scope.pop()) {
             bail!("compiling shader {label} failed: {}", describe(&e));
         }

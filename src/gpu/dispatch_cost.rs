@@ -174,7 +174,7 @@ struct Bench {
 
 impl Bench {
     fn new(ctx: &GpuContext) -> Result<Self> {
-        let module = ctx.shader("dispatch_chain", super::shaders::DISPATCH_CHAIN)?;
+        let module = ctx.shader("dispatch_chain", super::shaders::DISPATCH_CHAIN, Default::default())?;
         let link_layout = ctx.bind_group_layout("dispatch chain (read-write)", &[storage_entry(0, false)]);
         let read_layout = ctx.bind_group_layout("dispatch chain (read-only)", &[storage_entry(1, true)]);
         let link = ctx.compute_pipeline(label::CHAIN_LINK, &module, &[&link_layout], &[])?;

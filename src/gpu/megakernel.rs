@@ -180,7 +180,7 @@ pub fn render(
         })
         .transpose()?
         .map(|b| memory.track(MemoryCategory::Counters, b));
-    let accumulate = Accumulate::new(ctx, &samples, &film, &params, false)?;
+    let accumulate = Accumulate::new(ctx, &samples, &film, &params, false, measure.shader_checks)?;
     let simd = instrument.then(|| SimdCounters::new(ctx, &mut memory)).transpose()?;
 
     let mut entries = vec![storage_entry(0, false), uniform_entry(1, true)];
@@ -205,7 +205,7 @@ pub fn render(
             (label::MEGAKERNEL_REGENERATE, shaders::MEGAKERNEL_REGENERATE_SUBGROUP.get(instrument))
         }
     };
-    let module = ctx.shader(pass_label, source)?;
+    let module = ctx.shader(pass_label, source, measure.shader_checks)?;
     let constants = [("WORKGROUP_SIZE", opts.workgroup_size as f64)];
     let stage = Stage::new(ctx, pass_label, &module, &layouts, &scene_buffers.constants(&constants))?;
     let trace = Trace { stage, scene: &scene_buffers.bind_group, group: &group, simd: simd.as_ref() };

@@ -13,6 +13,7 @@ pub mod megakernel;
 pub mod memory;
 pub mod scene_buffers;
 pub mod schedule;
+pub mod shader_checks;
 pub mod shaders;
 pub mod stage;
 pub mod stage_cache;

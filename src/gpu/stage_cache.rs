@@ -25,8 +25,8 @@ struct PipelineKey {
 #[derive(Default)]
 struct Entries {
     layouts: HashMap<Vec<wgpu::BindGroupLayoutEntry>, wgpu::BindGroupLayout>,
-    /// By label and a hash of the composed source.
-    modules: HashMap<(&'static str, u64), wgpu::ShaderModule>,
+    /// By label, a hash of the composed source, and the runtime checks it was compiled with.
+    modules: HashMap<(&'static str, u64, super::shader_checks::ShaderChecks), wgpu::ShaderModule>,
     pipelines: HashMap<PipelineKey, wgpu::ComputePipeline>,
 }
 
@@ -48,17 +48,18 @@ impl StageCache {
         e.layouts.entry(entries.to_vec()).or_insert_with(make).clone()
     }
 
-    /// The cached module for `label` and `source`, or the one `make` builds (cached if it
-    /// succeeds).
+    /// The cached module for `label`, `source` and `checks`, or the one `make` builds (cached
+    /// if it succeeds).
     pub fn module<E>(
         &self,
         label: &'static str,
         source: &str,
+        checks: super::shader_checks::ShaderChecks,
         make: impl FnOnce() -> Result<wgpu::ShaderModule, E>,
     ) -> Result<wgpu::ShaderModule, E> {
         let mut h = DefaultHasher::new();
         source.hash(&mut h);
-        let key = (label, h.finish());
+        let key = (label, h.finish(), checks);
         if let Some(m) = self.entries.lock().unwrap().modules.get(&key) {
             *self.hits.lock().unwrap() += 1;
             return Ok(m.clone());

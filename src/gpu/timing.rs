@@ -46,6 +46,8 @@ pub enum Timing {
 pub struct Measure {
     pub instrument: bool,
     pub timing: Timing,
+    /// Shaders compiled with wgpu's runtime checks or without (`--shader-checks`).
+    pub shader_checks: super::shader_checks::ShaderChecks,
 }
 
 /// The label that carries the whole time of a `--timing frame` render.

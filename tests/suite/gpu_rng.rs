@@ -35,7 +35,7 @@ fn wgsl_rng_is_bit_identical_to_rust() {
             wgpu::BindGroupEntry { binding: 2, resource: unit.as_entire_binding() },
         ],
     });
-    let module = ctx.shader("rng_probe", shaders::RNG_PROBE).unwrap();
+    let module = ctx.shader("rng_probe", shaders::RNG_PROBE, Default::default()).unwrap();
     let pipeline = ctx.compute_pipeline("rng_probe", &module, &[&layout], &[]).unwrap();
     let mut enc = ctx.device.create_command_encoder(&Default::default());
     {

@@ -48,7 +48,7 @@ fn indirect_arguments_stay_within_the_limit() {
             entries: &entries,
         })
     };
-    let module = ctx.shader("indirect_probe", shaders::INDIRECT_PROBE).unwrap();
+    let module = ctx.shader("indirect_probe", shaders::INDIRECT_PROBE, Default::default()).unwrap();
     let constants = [("MAX_WORKGROUPS", limit as f64)];
     let probe = ctx.compute_pipeline("indirect_probe", &module, &[&layout], &constants).unwrap();
     let count = ctx.compute_pipeline("count_workgroups", &module, &[&layout], &constants).unwrap();

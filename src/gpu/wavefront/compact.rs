@@ -58,7 +58,7 @@ pub struct Compact {
 impl Compact {
     pub fn new(ctx: &GpuContext, b: &Bindings, subgroups: bool) -> Result<Self> {
         let source = if subgroups { shaders::COMPACT_SUBGROUP } else { shaders::COMPACT };
-        let module = ctx.shader(label::COMPACT_SCAN, source)?;
+        let module = ctx.shader(label::COMPACT_SCAN, source, b.shader_checks)?;
         let layouts = &b.layouts()[..2];
         let build = |rays: bool| -> Result<[Stage; 3]> {
             let c = [("TARGET_RAYS", rays as u32 as f64), ("REGENERATE", b.regenerate as u32 as f64)];

@@ -18,7 +18,7 @@ pub struct CompactStatesPasses {
 
 impl CompactStatesPasses {
     pub fn new(ctx: &GpuContext, b: &Bindings, workgroup_size: u32) -> Result<Self> {
-        let module = ctx.shader(label::COMPACT_STATES_FIND, shaders::COMPACT_STATES)?;
+        let module = ctx.shader(label::COMPACT_STATES_FIND, shaders::COMPACT_STATES, b.shader_checks)?;
         let constants = b.constants(&[("WORKGROUP_SIZE", workgroup_size as f64)]);
         // Scene and path state only: no instrument counters.
         let layouts = &b.layouts()[..2];

@@ -229,6 +229,8 @@ pub struct Bindings {
     pub regenerate: bool,
     /// Whether passes use the shader variants with subgroup-aggregated appends (`--append`).
     pub subgroup_append: bool,
+    /// The runtime checks the passes' shaders are compiled with (`--shader-checks`).
+    pub shader_checks: crate::gpu::shader_checks::ShaderChecks,
 }
 
 impl Bindings {
@@ -489,6 +491,7 @@ pub fn render(
         simd: instrument.then(|| SimdCounters::new(ctx, &mut memory)).transpose()?,
         regenerate,
         subgroup_append,
+        shader_checks: measure.shader_checks,
     };
     let film_bytes = pixels as u64 * std::mem::size_of::<FilmPixel>() as u64;
     let film = memory
@@ -516,7 +519,7 @@ pub fn render(
         regenerate,
     };
     let samples = if regenerate { &b.state.samples } else { &b.state.radiance };
-    let accumulate = Accumulate::new(ctx, samples, &film, &params, regenerate)?;
+    let accumulate = Accumulate::new(ctx, samples, &film, &params, regenerate, measure.shader_checks)?;
 
     // Regenerating: the staging buffer every check reads the schedule's counters through.
     let check_staging = regenerate.then(|| {

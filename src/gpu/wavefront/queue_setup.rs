@@ -17,7 +17,7 @@ pub struct QueueSetup {
 
 impl QueueSetup {
     pub fn new(ctx: &GpuContext, b: &Bindings, workgroup_size: u32) -> Result<Self> {
-        let module = ctx.shader(label::QUEUE_SETUP_INTERSECT, shaders::QUEUE_SETUP)?;
+        let module = ctx.shader(label::QUEUE_SETUP_INTERSECT, shaders::QUEUE_SETUP, b.shader_checks)?;
         let constants = [
             ("WORKGROUP_SIZE", workgroup_size as f64),
             ("STATS_BOUNCES", b.state.stats_bounces as f64),

@@ -75,7 +75,7 @@ impl RaySortPasses {
         sort: RaySort,
         memory: &mut MemoryLedger,
     ) -> Result<Self> {
-        let module = ctx.shader(label::SORT_RAYS_COUNT, shaders::SORT_RAYS)?;
+        let module = ctx.shader(label::SORT_RAYS_COUNT, shaders::SORT_RAYS, b.shader_checks)?;
         let constants =
             b.constants(&[("WORKGROUP_SIZE", workgroup_size as f64), ("CELL_BITS", sort.cell_bits() as f64)]);
         // Counts, then each key's next position: zeroed once, and the scan clears the counts.

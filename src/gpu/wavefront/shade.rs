@@ -21,7 +21,8 @@ impl Shade {
         workgroup_size: u32,
         instrument: bool,
     ) -> Result<Self> {
-        let module = ctx.shader(label::SHADE, shaders::SHADE.select(instrument, b.subgroup_append))?;
+        let module =
+            ctx.shader(label::SHADE, shaders::SHADE.select(instrument, b.subgroup_append), b.shader_checks)?;
         let constants = b.constants(&[("WORKGROUP_SIZE", workgroup_size as f64)]);
         let passes: Vec<(u64, &'static str)> = match kinds {
             Some(kinds) => {

@@ -18,7 +18,8 @@ pub struct SlotSweep {
 impl SlotSweep {
     pub fn new(ctx: &GpuContext, b: &Bindings) -> Result<Self> {
         let [lane, subgroup] = shaders::SLOT_SWEEP;
-        let module = ctx.shader(label::SLOT_SWEEP, if b.subgroup_append { subgroup } else { lane })?;
+        let module =
+            ctx.shader(label::SLOT_SWEEP, if b.subgroup_append { subgroup } else { lane }, b.shader_checks)?;
         // Scene and path state only: no instrument counters.
         let layouts = &b.layouts()[..2];
         let constants = [("REGENERATE", b.regenerate as u32 as f64)];
