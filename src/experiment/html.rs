@@ -168,6 +168,7 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
                 w.seconds,
                 if w.settled { "" } else { ", unsettled" }
             ),
+            None if r.warmup == 1 => "1 frame".to_string(),
             None => format!("{} frames", r.warmup),
         } + if st.cold { " ⚠ cold" } else { "" };
         let g = |x: Option<f64>, scale: f64, prec: usize| {
