@@ -153,7 +153,7 @@ impl RunReport {
         let gpu_seconds = out.timings.as_ref().map(|t| t.total_seconds());
         let frame_seconds = out.timings.as_ref().map(|t| t.frame_seconds);
         let samples = settings.sample_count();
-        let seconds = frame_seconds.filter(|&s| s > 0.0).unwrap_or(out.wall_seconds);
+        let seconds = out.seconds();
         Self {
             schema: RUN_SCHEMA,
             build: Build::this(),

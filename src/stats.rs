@@ -5,6 +5,17 @@
 
 use crate::film::Film;
 
+/// The median of `sorted` (ascending, not empty): the middle value, or the mean of the middle
+/// two.
+pub fn median_of_sorted(sorted: &[f64]) -> f64 {
+    let n = sorted.len();
+    if n % 2 == 1 {
+        sorted[n / 2]
+    } else {
+        0.5 * (sorted[n / 2 - 1] + sorted[n / 2])
+    }
+}
+
 /// Two-sided critical value of the standard normal for significance `alpha`.
 pub fn normal_critical(alpha: f64) -> f64 {
     assert!(alpha > 0.0 && alpha < 1.0, "alpha = {alpha}");

@@ -10,6 +10,7 @@ use std::path::Path;
 use super::charts::Chart;
 use super::error_map::{self, MAP_DECADES};
 use super::report::{ExperimentReport, ReportStatus, RunRecord, RunStatus};
+use super::stability::FLAG;
 use crate::chart::viridis;
 
 /// Width of the image previews embedded in the page.
@@ -152,13 +153,17 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
             format!(
                 "{:.2}×{} [{:.2}–{:.2}]",
                 v.ratio,
-                if v.flagged { "⚠" } else { "" },
+                super::stability::flag(v.flagged),
                 v.interval.0,
                 v.interval.1
             )
         });
         let spread = st.spread.map_or("–".into(), |x| {
-            format!("{:.1}%{}", 100.0 * x, if st.unstable { " ⚠ unstable" } else { "" })
+            format!(
+                "{:.1}%{}",
+                100.0 * x,
+                if st.unstable { format!(" {FLAG} unstable") } else { String::new() }
+            )
         });
         let warmup = match &r.warmup_log {
             Some(w) => format!(
@@ -170,7 +175,7 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
             ),
             None if r.warmup == 1 => "1 frame".to_string(),
             None => format!("{} frames", r.warmup),
-        } + if st.cold { " ⚠ cold" } else { "" };
+        } + &if st.cold { format!(" {FLAG} cold") } else { String::new() };
         let g = |x: Option<f64>, scale: f64, prec: usize| {
             x.map_or("–".into(), |v| format!("{:.*}", prec, v * scale))
         };
@@ -200,7 +205,7 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
             r.spp,
             r.max_depth,
             esc(&r.label),
-            g(r.seconds, 1.0, 4) + if flagged { "⚠" } else { "" },
+            g(r.seconds, 1.0, 4) + super::stability::flag(flagged),
             stat.map_or("–".into(), |s| format!("{:.4}–{:.4}", s.min, s.max)),
             esc(&warmup),
             g(r.samples_per_second, 1e-6, 3),

@@ -96,7 +96,7 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
     let fastest = fastest_megakernel(report);
     for r in &report.runs {
         let st = stability::of_run(r, threshold);
-        let flag = flag_if(r.status == RunStatus::Ok && st.flagged());
+        let flag = stability::flag(r.status == RunStatus::Ok && st.flagged());
         let seconds = match (&r.seconds, r.timed_stat()) {
             (Some(t), Some(stat)) if stat.values.len() > 1 => {
                 format!("{}{flag} [{}–{}]", sig(*t), sig(stat.min), sig(stat.max))
@@ -110,7 +110,7 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
             _ => "–".into(),
         };
         let speedup = versus_megakernel(r, &fastest, threshold).map_or("–".into(), |v| {
-            let flag = flag_if(v.flagged);
+            let flag = stability::flag(v.flagged);
             format!("{:.2}×{flag} [{:.2}–{:.2}]", v.ratio, v.interval.0, v.interval.1)
         });
         let rate = r.samples_per_second.map_or("–".into(), |v| format!("{:.3}{flag}", v / 1e6));
@@ -182,7 +182,7 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
             "| ---: | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
         );
         for r in profiled {
-            let flag = flag_if(stability::of_run(r, threshold).flagged());
+            let flag = stability::flag(stability::of_run(r, threshold).flagged());
             let g = pass_groups(r);
             let sum: f64 = g.iter().sum();
             let cells: Vec<String> = g.iter().map(|&t| format!("{}{flag}", sig(t))).collect();
@@ -400,7 +400,7 @@ fn pass_groups(r: &RunRecord) -> [f64; 7] {
 /// ns per ray of the intersect passes at [`BOUNCE_COLUMNS`], for a run whose bounces are queues
 /// (waves with a queue histogram and per-bounce pass times).
 fn intersect_ns_per_ray(r: &RunRecord, flagged: bool) -> Option<Vec<String>> {
-    let flag = flag_if(flagged);
+    let flag = stability::flag(flagged);
     let rays = &r.queue_histogram.as_ref()?.rays;
     let seconds = r.passes_per_bounce.get("intersect")?;
     if r.options.get("schedule").and_then(Value::as_str).is_some_and(|s| s != "waves") || rays.is_empty() {
@@ -470,16 +470,6 @@ pub fn versus_megakernel(
         interval: stability::ratio_interval(b.interval, st.interval_or(t)),
         flagged: b.flagged || st.flagged(),
     })
-}
-
-/// [`FLAG`] where `flagged`, else nothing: written right after each figure of a flagged run,
-/// so that a quoted figure can be told from a steady one (tests/suite/docs.rs).
-fn flag_if(flagged: bool) -> &'static str {
-    if flagged {
-        FLAG
-    } else {
-        ""
-    }
 }
 
 /// How many of the report's timings are steady figures, and why the others are not.

@@ -140,9 +140,8 @@ impl Stat {
         }
         let mut v = values.to_vec();
         v.sort_by(f64::total_cmp);
-        let n = v.len();
-        let median = if n % 2 == 1 { v[n / 2] } else { 0.5 * (v[n / 2 - 1] + v[n / 2]) };
-        Some(Self { median, min: v[0], max: v[n - 1], values: values.to_vec() })
+        let median = crate::stats::median_of_sorted(&v);
+        Some(Self { median, min: v[0], max: v[v.len() - 1], values: values.to_vec() })
     }
 }
 

@@ -328,6 +328,15 @@ impl<'a> Run<'a> {
         Ok(out)
     }
 
+    /// The GPU's state now, for a GPU method's run where NVML reads it.
+    fn gpu_state(&self, gpu: &GpuSlot) -> Option<crate::gpu_state::GpuState> {
+        if self.variant.method.needs_gpu() {
+            gpu.sample()
+        } else {
+            None
+        }
+    }
+
     fn adapter(&self, gpu: &GpuSlot) -> Option<crate::gpu::context::AdapterSummary> {
         if self.variant.method.needs_gpu() {
             gpu.adapter.clone()
@@ -375,7 +384,7 @@ impl<'a> Run<'a> {
             &policy,
             shared,
             || Ok(self.render(&timed, &mut gpu.borrow_mut(), bar, counted)?.seconds()),
-            || if self.variant.method.needs_gpu() { gpu.borrow().sample() } else { None },
+            || self.gpu_state(&gpu.borrow()),
         )?;
         self.record.warmup = log.frames;
         self.record.warmup_log = Some(log);
@@ -386,13 +395,12 @@ impl<'a> Run<'a> {
     /// and after the last.
     fn timed_render(&mut self, gpu: &mut GpuSlot, bar: &GroupBar, rep: u32) -> Result<()> {
         let config = self.config;
-        let sample = |gpu: &GpuSlot| if self.variant.method.needs_gpu() { gpu.sample() } else { None };
         if rep == 0 {
-            self.state_before = sample(gpu);
+            self.state_before = self.gpu_state(gpu);
         }
         let timed = self.timed.clone();
         let o = self.render(&timed, gpu, bar, true)?;
-        let after = if rep + 1 == config.repetitions { sample(gpu) } else { None };
+        let after = if rep + 1 == config.repetitions { self.gpu_state(gpu) } else { None };
         self.same_image(o.film.mean_rgb());
         let adapter = self.adapter(gpu);
         self.reports.push(RunReport::new(
@@ -538,8 +546,7 @@ impl<'a> Run<'a> {
             rec.simd = instrumented.simd;
             rec.coherence = instrumented.coherence;
         }
-        let cold = self.variant.method.needs_gpu() && rec.warmup == 0;
-        rec.stability = Some(super::stability::of_stat(rec.timed_stat(), config.unstable_spread, cold));
+        rec.stability = Some(super::stability::of_record(rec, config.unstable_spread));
 
         // Images and error.
         let exr = format!("images/{}.exr", spec.id);

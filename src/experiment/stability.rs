@@ -90,10 +90,23 @@ pub fn of_stat(stat: Option<&Stat>, threshold: f64, cold: bool) -> Stability {
 /// A run's stability as its record tells it: the stored one, else computed from the
 /// repetitions the record keeps (reports from before stability existed) with `threshold`.
 pub fn of_run(r: &RunRecord, threshold: f64) -> Stability {
-    if let Some(s) = &r.stability {
-        return s.clone();
-    }
+    r.stability.clone().unwrap_or_else(|| of_record(r, threshold))
+}
+
+/// A run's stability computed from its record: the spread of its timed repetitions against
+/// `threshold`, and cold where a GPU method rendered no warm-up frame.
+pub fn of_record(r: &RunRecord, threshold: f64) -> Stability {
     of_stat(r.timed_stat(), threshold, r.method_needs_gpu() && r.warmup == 0)
+}
+
+/// [`FLAG`] where `flagged`, else nothing: written right after each figure of a flagged run,
+/// so that a quoted figure can be told from a steady one (tests/suite/docs.rs).
+pub fn flag(flagged: bool) -> &'static str {
+    if flagged {
+        FLAG
+    } else {
+        ""
+    }
 }
 
 /// The config's threshold as a report records it (`unstable_spread`), else the default.

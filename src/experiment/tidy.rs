@@ -130,15 +130,9 @@ fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
     for k in knobs {
         cols.push((k.clone(), Box::new(move |r: &RunRecord| r.options.get(&k).and_then(json))));
     }
-    // The stat `seconds` is the median of: frame time where measured (GPU time in reports
-    // written before it), else wall time.
-    let timed = |r: &RunRecord| {
-        r.frame_seconds
-            .clone()
-            .or_else(|| r.gpu_seconds.clone())
-            .filter(|g| g.median > 0.0)
-            .or_else(|| r.wall_seconds.clone())
-    };
+    // The stat `seconds` is the median of (`RunRecord::timed_stat`): frame time where measured
+    // (GPU time in reports written before it), else wall time.
+    let timed = |r: &RunRecord| r.timed_stat().cloned();
     let stat = |f: fn(&Stat) -> f64, s: Option<Stat>| s.map(|s| float(f(&s)));
     let metric = |name: &'static str| {
         move |r: &RunRecord| {

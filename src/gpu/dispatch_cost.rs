@@ -51,9 +51,7 @@ impl Spread {
     fn of(values: &[f64]) -> Self {
         let mut v = values.to_vec();
         v.sort_by(f64::total_cmp);
-        let n = v.len();
-        let median = if n % 2 == 1 { v[n / 2] } else { 0.5 * (v[n / 2 - 1] + v[n / 2]) };
-        Self { median, min: v[0], max: v[n - 1] }
+        Self { median: crate::stats::median_of_sorted(&v), min: v[0], max: v[v.len() - 1] }
     }
 }
 
