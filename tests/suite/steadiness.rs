@@ -133,11 +133,14 @@ fn without_interleave_each_run_goes_alone_and_without_warm_up_it_is_cold() {
 /// A run whose repetitions a competing load disturbs is flagged; the same run left alone is
 /// not. The competitor (sixteen threads on the two cores) is busy every other 300 ms while the
 /// CPU reference renders nine repetitions of about 100 ms, so some repetitions run alone and
-/// others get a ninth of the machine for part of their time: a spread of 100% and more. The threshold is 50%, not the default 5%, because
-/// the suite's other tests run beside this one and load the cores as they please (measured: up
-/// to 30% spread between undisturbed repetitions during a full suite run); and the undisturbed
-/// run gets five tries, the disturbed one none.
+/// others get a ninth of the machine for part of their time: a spread of 100% and more. The
+/// threshold is 50%, not the default 5%, and the undisturbed run gets five tries, the disturbed
+/// one none. It runs alone (`scripts/test.sh` runs the ignored tests after the rest, one at a
+/// time): beside the suite's other tests, which load the cores as they please, undisturbed
+/// repetitions spread by up to 30%, and in one full run of four the disturbed run by less than
+/// the bar.
 #[test]
+#[ignore = "timing-sensitive: scripts/test.sh runs it alone (cargo test -- --ignored --test-threads=1)"]
 fn a_noisy_run_is_flagged_and_a_steady_one_is_not() {
     let mut c = config(json!([{"method": "cpu"}]));
     c["scenes"] = json!(["rtiow-final"]);
