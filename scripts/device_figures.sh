@@ -28,6 +28,13 @@
 #                       by frame with the GPU's clocks (device/warmup.json)  fixed  ~40 s
 #   headline            rtiow-final and mesh-room at 1920x1080x64, both megakernels against
 #                       the three wavefront schedules (device/headline.json) 5.3e9  ~1 min
+#   megakernel-threads  the regenerating megakernel's persistent threads, 32768 to 2097152,
+#                       against the naive one: rtiow-final, cornell and spheres-100000 at
+#                       1920x1080 x16 and x64, where it lost and won (issue 46;
+#                       device/megakernel_threads.json; megakernels only)  15.9e9 ~1 min
+#   shading-cost        rtiow-heavy-1 to -16 at 1920x1080x16 NEE, both megakernels against
+#                       the wavefront schedules and a single shade pass (issue 46;
+#                       device/shading_cost.json)                            4.0e9  ~2 min
 #   simd                SIMD efficiency at the device's width, 4 scenes, every GPU method
 #                       (device/simd.json, instrumented)                     0.15e9 <1 min
 #   simd-replay         every GPU method's device counters (--instrument) beside the CPU
@@ -84,6 +91,8 @@ compute-passes device/compute_passes.json
 shader-checks device/shader_checks.json
 warmup device/warmup.json
 headline device/headline.json
+megakernel-threads device/megakernel_threads.json
+shading-cost device/shading_cost.json
 simd device/simd.json
 simd-replay
 regeneration-recheck device/regeneration_recheck.json
