@@ -28,10 +28,10 @@
 #                       by frame with the GPU's clocks (device/warmup.json)  fixed  ~40 s
 #   headline            rtiow-final and mesh-room at 1920x1080x64, both megakernels against
 #                       the three wavefront schedules (device/headline.json) 5.3e9  ~1 min
-#   megakernel-threads  the regenerating megakernel's persistent threads, 32768 to 2097152,
+#   megakernel-threads  the regenerating megakernel's persistent threads, 65536 to 2097152,
 #                       against the naive one: rtiow-final, cornell and spheres-100000 at
 #                       1920x1080 x16 and x64, where it lost and won (issue 46;
-#                       device/megakernel_threads.json; megakernels only)  15.9e9 ~1 min
+#                       device/megakernel_threads.json; megakernels only)  9.9e9  ~2 min
 #   shading-cost        rtiow-heavy-1 to -16 at 1920x1080x16 NEE, both megakernels against
 #                       the wavefront schedules and a single shade pass (issue 46;
 #                       device/shading_cost.json)                            4.0e9  ~2 min

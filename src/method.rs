@@ -72,6 +72,11 @@ pub struct MethodOptions {
     pub timing: Timing,
     /// GPU methods: shaders compiled with wgpu's runtime checks, or without them.
     pub shader_checks: crate::gpu::shader_checks::ShaderChecks,
+    /// GPU methods: seconds of busy GPU work just before the first submission, so the frame
+    /// starts at the clocks continuous rendering holds (`gpu::preheat`; 0: none). Set by the
+    /// experiment runner and `wavetrace render`, not a knob of the method.
+    #[serde(skip)]
+    pub preheat_seconds: f64,
 }
 
 /// A finished render: the film and how long it took.
@@ -231,6 +236,7 @@ pub fn render(
                     instrument: options.instrument,
                     timing: options.timing,
                     shader_checks: options.shader_checks,
+                    preheat_seconds: options.preheat_seconds,
                 },
                 on_progress,
             )?;
@@ -248,6 +254,7 @@ pub fn render(
                     instrument: options.instrument,
                     timing: options.timing,
                     shader_checks: options.shader_checks,
+                    preheat_seconds: options.preheat_seconds,
                 },
                 on_progress,
             )?;

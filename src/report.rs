@@ -87,6 +87,9 @@ pub struct RunReport {
     /// Submissions in the frame, each waited for: all but the last are the host's blocking
     /// waits inside the frame (GPU methods).
     pub submissions: Option<u64>,
+    /// Seconds of busy GPU work just before the frame's first submission (`gpu::preheat`; not
+    /// part of the frame; 0 when none ran).
+    pub preheat_seconds: Option<f64>,
     /// `frame_seconds` − `gpu_seconds` − `host_gap_seconds`: the GPU's time between its timed
     /// passes inside a submission (launches, barriers, cache flushes: a fixed cost per pass);
     /// with per-pass timestamps only.
@@ -173,6 +176,7 @@ impl RunReport {
             frame_seconds,
             host_gap_seconds: out.timings.as_ref().map(|t| t.host_gap_seconds),
             submissions: out.timings.as_ref().map(|t| t.submissions),
+            preheat_seconds: out.timings.as_ref().map(|t| t.preheat_seconds),
             between_passes_seconds: out
                 .timings
                 .as_ref()

@@ -180,7 +180,7 @@ pub struct RenderArgs {
     pub append: Append,
     /// Wavefront: one compute pass per dispatch, or consecutive dispatches sharing one (up to the
     /// next copy or submission; only where passes are not timed: with `--timing frame`).
-    #[arg(long, value_enum, default_value_t = ComputePasses::PerDispatch)]
+    #[arg(long, value_enum, default_value_t = ComputePasses::Shared)]
     pub compute_passes: ComputePasses,
     /// Wavefront: keep queues in the order their paths arrived, or build the ray queue in slot
     /// order by a pass over the pool (a subgroup reads neighbouring path states; regenerated
@@ -219,6 +219,11 @@ pub struct RenderArgs {
     /// or without them (`unchecked`: what the checks cost; the films are the same).
     #[arg(long, value_enum, default_value_t = ShaderChecks::Checked)]
     pub shader_checks: ShaderChecks,
+    /// GPU methods: seconds of busy GPU work just before each frame (warm-up and timed), so the
+    /// frame starts at the clocks continuous rendering holds rather than those of a GPU idled by
+    /// the host's setup (0: none; never on a software adapter).
+    #[arg(long, default_value_t = crate::gpu::preheat::DEFAULT_SECONDS, value_name = "SECONDS", value_parser = parse_preheat)]
+    pub preheat: f64,
     /// Untimed renders before the one that is timed and written: `auto` (GPU methods: until the
     /// GPU has worked 0.5 s and two frames agree within 5%, at most 50 frames or 10 s; CPU
     /// methods: none), or a number of frames (0: time a cold first frame).
@@ -238,6 +243,13 @@ pub enum CompactionMethod {
     Atomic,
     /// Stable prefix-sum scan over the pool.
     Scan,
+}
+
+/// `--preheat`: seconds in `0..=gpu::preheat::MAX_SECONDS`.
+fn parse_preheat(s: &str) -> Result<f64, String> {
+    let v: f64 = s.parse().map_err(|_| format!("expected seconds (a number), got {s:?}"))?;
+    crate::gpu::preheat::check(v)?;
+    Ok(v)
 }
 
 /// `--warmup`: `auto` or a number of frames.
@@ -311,6 +323,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         instrument: a.instrument,
         timing: a.timing,
         shader_checks: a.shader_checks,
+        preheat_seconds: a.preheat,
     };
     let gpu = if a.method.needs_gpu() { Some(GpuContext::new(a.adapter.as_deref())?) } else { None };
 

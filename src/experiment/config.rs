@@ -17,6 +17,7 @@
 //!   "repetitions": 3,
 //!   "warmup": {"min_seconds": 0.5, "agree": 0.05, "max_frames": 50, "max_seconds": 10},
 //!   "interleave": true,
+//!   "preheat_seconds": 0.2,
 //!   "unstable_spread": 0.05,
 //!   "instrument": false,
 //!   "methods": [
@@ -113,6 +114,7 @@ const TOP_FIELDS: &[&str] = &[
     "repetitions",
     "warmup",
     "interleave",
+    "preheat_seconds",
     "unstable_spread",
     "instrument",
     "adapter",
@@ -340,6 +342,10 @@ pub struct ExperimentConfig {
     /// The GPU variants of one job (scene and settings) take turns, repetition by repetition
     /// (A B C, A B C), so that drift in the GPU's clocks hits each alike (default true).
     pub interleave: bool,
+    /// GPU methods: seconds of busy GPU work just before each frame (warm-up and timed), so
+    /// every frame starts at the clocks continuous rendering holds (`gpu::preheat`; default 0.2,
+    /// 0 turns it off; never on a software adapter).
+    pub preheat_seconds: f64,
     /// A run whose repetitions spread by more than this fraction of their median is flagged
     /// unstable (default 0.05).
     pub unstable_spread: f64,
@@ -498,6 +504,11 @@ impl Cx {
             self.optional(root, "repetitions", |v, p| self.uint32(v, p, 1, MAX_REPETITIONS))?.unwrap_or(3);
         let warmup = self.optional(root, "warmup", |v, p| self.warmup(v, p))?.unwrap_or(WarmupSpec::Default);
         let interleave = self.optional(root, "interleave", |v, p| self.boolean(v, p))?.unwrap_or(true);
+        let preheat_seconds = self
+            .optional(root, "preheat_seconds", |v, p| {
+                self.number(v, p, 0.0, crate::gpu::preheat::MAX_SECONDS)
+            })?
+            .unwrap_or(crate::gpu::preheat::DEFAULT_SECONDS);
         let unstable_spread = self
             .optional(root, "unstable_spread", |v, p| self.number(v, p, 0.0, 10.0))?
             .unwrap_or(DEFAULT_UNSTABLE_SPREAD);
@@ -526,6 +537,7 @@ impl Cx {
             repetitions,
             warmup,
             interleave,
+            preheat_seconds,
             unstable_spread,
             instrument,
             adapter,
@@ -774,8 +786,8 @@ impl Cx {
         })?;
         let compute_passes = self.knob(o, &opt_path("compute_passes"), "compute_passes", |v, p| {
             Ok(match self.choice(v, p, COMPUTE_PASSES)? {
-                "shared" => ComputePasses::Shared,
-                _ => ComputePasses::PerDispatch,
+                "per-dispatch" => ComputePasses::PerDispatch,
+                _ => ComputePasses::Shared,
             })
         })?;
         let shader_checks = self.knob(o, &opt_path("shader_checks"), "shader_checks", |v, p| {

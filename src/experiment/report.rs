@@ -227,6 +227,10 @@ pub struct RunRecord {
     /// the last are blocking waits inside the frame (GPU methods; absent in reports from before).
     #[serde(default)]
     pub submissions: Option<u64>,
+    /// Seconds of busy GPU work before each frame (`preheat_seconds` in the config; the median
+    /// repetition's; 0 on a software adapter). Absent in reports written before it existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub preheat_seconds: Option<f64>,
     /// Median frame − median GPU time − host gaps: the GPU's time between its timed passes
     /// (launches, barriers), with per-pass timestamps only.
     #[serde(default)]

@@ -367,6 +367,7 @@ impl<'a> Run<'a> {
             adapter.as_ref().is_some_and(|a| a.timestamps) && self.variant.options.timing == Timing::Passes;
         self.timed = MethodOptions {
             timing: if self.profile { Timing::Frame } else { self.variant.options.timing },
+            preheat_seconds: config.preheat_seconds,
             ..self.variant.options.clone()
         };
         Ok(())
@@ -432,7 +433,9 @@ impl<'a> Run<'a> {
         let config = self.config;
         let adapter = self.adapter(gpu);
         let profiled = if self.profile {
-            let o = self.render(&self.variant.options.clone(), gpu, bar, true)?;
+            let options =
+                MethodOptions { preheat_seconds: config.preheat_seconds, ..self.variant.options.clone() };
+            let o = self.render(&options, gpu, bar, true)?;
             self.same_image(o.film.mean_rgb());
             Some(RunReport::new(
                 self.scene,
@@ -521,6 +524,7 @@ impl<'a> Run<'a> {
         rec.empty_dispatches = median_rep.empty_dispatches;
         rec.compute_passes = median_rep.compute_passes;
         rec.submissions = median_rep.submissions;
+        rec.preheat_seconds = median_rep.preheat_seconds;
         if let Some(s) = &median_rep.schedule {
             rec.iterations = Some(s.iterations);
             rec.idle_iterations = Some(s.idle_iterations);
@@ -605,6 +609,7 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         frame_seconds: None,
         host_gap_seconds: None,
         submissions: None,
+        preheat_seconds: None,
         between_passes_seconds: None,
         profiled_frame_seconds: None,
         time_source: None,

@@ -144,6 +144,8 @@ pub struct GpuContext {
     pub summary: AdapterSummary,
     /// Modules, layouts and pipelines built on this device, reused by later renders.
     pub stages: StageCache,
+    /// The preheat's pipeline, built on first use (`gpu::preheat`).
+    pub preheat: std::sync::OnceLock<super::preheat::Preheat>,
     errors: Arc<Mutex<Vec<String>>>,
 }
 
@@ -183,7 +185,15 @@ impl GpuContext {
         device.set_device_lost_callback(move |reason, msg| {
             sink.lock().unwrap().push(format!("device lost ({reason:?}): {msg}"));
         });
-        Ok(Self { adapter, device, queue, summary, stages: StageCache::default(), errors })
+        Ok(Self {
+            adapter,
+            device,
+            queue,
+            summary,
+            stages: StageCache::default(),
+            preheat: Default::default(),
+            errors,
+        })
     }
 
     /// Returns the first device error or loss reported since the last check.

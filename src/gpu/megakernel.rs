@@ -210,7 +210,7 @@ pub fn render(
     let stage = Stage::new(ctx, pass_label, &module, &layouts, &scene_buffers.constants(&constants))?;
     let trace = Trace { stage, scene: &scene_buffers.bind_group, group: &group, simd: simd.as_ref() };
 
-    let mut timer = GpuTimer::new(ctx, measure.timing, &mut memory);
+    let mut timer = GpuTimer::new(ctx, measure.timing, measure.preheat_seconds, &mut memory);
     // Checked dispatches count failures per accepted attempt (a retried one would count twice).
     let mut checked_failures = None;
     let dispatches = match (threads, &work, cap) {

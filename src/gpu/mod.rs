@@ -11,6 +11,7 @@ pub mod instrument;
 pub mod loop_limit;
 pub mod megakernel;
 pub mod memory;
+pub mod preheat;
 pub mod scene_buffers;
 pub mod schedule;
 pub mod shader_checks;
@@ -74,6 +75,8 @@ pub mod label {
     pub const CHAIN_LINK: &str = "chain_link";
     /// `wavetrace dispatch-cost`: a tiny dispatch that only reads (no barrier between them).
     pub const CHAIN_READ: &str = "chain_read";
+    /// Busy work just before a timed frame, so the GPU's clocks are up (`preheat_seconds`).
+    pub const PREHEAT: &str = "preheat";
 }
 
 pub use context::GpuContext;

@@ -42,12 +42,14 @@ pub enum Timing {
 
 /// What a GPU render measures besides its image: SIMD-efficiency counters (`--instrument`) and
 /// how passes are timed (`--timing`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Measure {
     pub instrument: bool,
     pub timing: Timing,
     /// Shaders compiled with wgpu's runtime checks or without (`--shader-checks`).
     pub shader_checks: super::shader_checks::ShaderChecks,
+    /// Seconds of busy work before the first submission (`gpu::preheat`; 0: none).
+    pub preheat_seconds: f64,
 }
 
 /// The label that carries the whole time of a `--timing frame` render.
@@ -74,6 +76,8 @@ pub struct Timings {
     /// back before it records more), so all but the last are blocking waits inside the frame:
     /// what issue 42's host loop that never waits is to bring to zero.
     pub submissions: u64,
+    /// Seconds of preheat before the first submission (not part of the frame; `gpu::preheat`).
+    pub preheat_seconds: f64,
     pub passes: BTreeMap<&'static str, PassTime>,
     /// Seconds per bounce (index) for passes that run once per bounce.
     pub per_bounce: BTreeMap<&'static str, Vec<f64>>,
@@ -162,10 +166,13 @@ pub struct GpuTimer {
     submitted_at: Option<Instant>,
     first_submitted: Option<Instant>,
     last_done: Option<Instant>,
+    /// Seconds of preheat still to do before the first submission.
+    preheat: f64,
 }
 
 impl GpuTimer {
-    pub fn new(ctx: &GpuContext, timing: Timing, memory: &mut MemoryLedger) -> Self {
+    /// `preheat`: seconds of busy work before the first submission (`gpu::preheat`).
+    pub fn new(ctx: &GpuContext, timing: Timing, preheat: f64, memory: &mut MemoryLedger) -> Self {
         let queries = (ctx.summary.timestamps && timing == Timing::Passes).then(|| {
             let count = 2 * MAX_PASSES_PER_BATCH;
             let set = ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
@@ -194,12 +201,14 @@ impl GpuTimer {
                 frame_seconds: 0.0,
                 host_gap_seconds: 0.0,
                 submissions: 0,
+                preheat_seconds: 0.0,
                 passes: BTreeMap::new(),
                 per_bounce: BTreeMap::new(),
             },
             submitted_at: None,
             first_submitted: None,
             last_done: None,
+            preheat: super::preheat::on(ctx, preheat),
         }
     }
 
@@ -250,6 +259,9 @@ impl GpuTimer {
             if !self.labels.is_empty() {
                 encoder.resolve_query_set(set, 0..2 * self.labels.len() as u32, buf, 0);
             }
+        }
+        if self.first_submitted.is_none() && self.preheat > 0.0 {
+            self.timings.preheat_seconds = super::preheat::run(ctx, std::mem::take(&mut self.preheat))?;
         }
         ctx.queue.submit([encoder.finish()]);
         self.timings.submissions += 1;
@@ -304,6 +316,7 @@ mod tests {
             frame_seconds: 0.0,
             host_gap_seconds: 0.0,
             submissions: 0,
+            preheat_seconds: 0.0,
             passes: BTreeMap::new(),
             per_bounce: BTreeMap::new(),
         }

@@ -586,6 +586,12 @@ fn bad_configs_name_the_file_the_field_and_the_reason() {
         ),
         ("interleave", Box::new(|c| c["interleave"] = 1.into()), "interleave", "true or false"),
         (
+            "preheat-seconds",
+            Box::new(|c| c["preheat_seconds"] = 11.into()),
+            "preheat_seconds",
+            "must be in [0, 10]",
+        ),
+        (
             "unstable-spread",
             Box::new(|c| c["unstable_spread"] = "5%".into()),
             "unstable_spread",

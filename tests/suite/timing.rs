@@ -81,3 +81,28 @@ fn the_frame_time_holds_the_passes_and_the_host_gaps() {
         }
     }
 }
+
+/// The preheat keeps the GPU busy for about the time asked, outside the frame: a frame is
+/// preheated on a GPU and never on a software adapter, and the report says which.
+#[test]
+fn the_preheat_runs_for_the_time_asked_and_outside_the_frame() {
+    let Some(ctx) = common::gpu() else { return };
+    // Callable on any adapter (a GPU renderer skips it on a software one).
+    let t = wavetrace::gpu::preheat::run(ctx, 0.05).unwrap();
+    assert!((0.05..5.0).contains(&t), "a 0.05 s preheat took {t} s");
+    assert_eq!(wavetrace::gpu::preheat::run(ctx, 0.0).unwrap(), 0.0);
+    assert!(wavetrace::gpu::preheat::check(11.0).is_err() && wavetrace::gpu::preheat::check(0.2).is_ok());
+    let scene = builtin::by_name("three-spheres").unwrap();
+    let s =
+        RenderSettings { width: 16, height: 8, spp: 2, max_depth: 8, seed: 1, accel: Accel::Bvh, nee: false };
+    let opts = MethodOptions { preheat_seconds: 0.3, timing: Timing::Frame, ..Default::default() };
+    let out = render(Method::Megakernel, &scene, &s, &opts, Some(ctx), &|_| {}).unwrap();
+    let r = RunReport::new(&scene, Method::Megakernel, &s, &opts, Some(&ctx.summary), &out);
+    let preheat = r.preheat_seconds.expect("a GPU render reports its preheat");
+    if ctx.summary.is_software() {
+        assert_eq!(preheat, 0.0, "no preheat on a software adapter");
+    } else {
+        assert!(preheat >= 0.3, "asked for 0.3 s, preheated {preheat} s");
+        assert!(r.frame_seconds.unwrap() < out.wall_seconds - 0.29, "the preheat is not part of the frame");
+    }
+}

@@ -167,7 +167,7 @@ impl Default for WavefrontOptions {
             chunk_pools: schedule::CHUNK_POOLS,
             scan: Scan::Auto,
             append: Append::Auto,
-            compute_passes: ComputePasses::PerDispatch,
+            compute_passes: ComputePasses::Shared,
             queue_order: QueueOrder::Auto,
             refill_below: refill::DEFAULT_REFILL_BELOW,
             compact_states: CompactStates::Off,
@@ -528,7 +528,7 @@ pub fn render(
         Staging::new(ctx, "schedule counters read-back", bytes)
     });
     let per_iteration = stages.per_iteration();
-    let mut timer = GpuTimer::new(ctx, measure.timing, &mut memory);
+    let mut timer = GpuTimer::new(ctx, measure.timing, measure.preheat_seconds, &mut memory);
     // Per-pass timestamps need a pass per dispatch.
     let shared_passes = opts.compute_passes == ComputePasses::Shared && !timer.times_passes();
     let mut histogram = (opts.compaction != Compaction::Off && !regenerate).then(QueueHistogram::default);
