@@ -87,6 +87,8 @@ pub struct RunReport {
     /// Submissions in the frame, each waited for: all but the last are the host's blocking
     /// waits inside the frame (GPU methods).
     pub submissions: Option<u64>,
+    /// Times the host waited for the GPU in the frame: all but the last inside it (GPU methods).
+    pub waits: Option<u64>,
     /// Seconds of busy GPU work just before the frame's first submission (`gpu::preheat`; not
     /// part of the frame; 0 when none ran).
     pub preheat_seconds: Option<f64>,
@@ -176,6 +178,7 @@ impl RunReport {
             frame_seconds,
             host_gap_seconds: out.timings.as_ref().map(|t| t.host_gap_seconds),
             submissions: out.timings.as_ref().map(|t| t.submissions),
+            waits: out.timings.as_ref().map(|t| t.waits),
             preheat_seconds: out.timings.as_ref().map(|t| t.preheat_seconds),
             between_passes_seconds: out
                 .timings

@@ -136,11 +136,12 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
     if !gpu.is_empty() {
         md.push_str("## GPU work and memory\n\n");
         md.push_str(
-            "Submissions: each is waited for, so all but the last are the host's blocking waits inside \
-             the frame.\n\n",
+            "Waits: the times the host waited for the GPU in a frame; all but the last are blocking \
+             waits inside it. Reports from before waits were counted leave them blank; there every \
+             submission was waited for.\n\n",
         );
-        md.push_str("| # | variant | dispatches (empty) | compute passes | submissions | intersect occupancy | bytes per path | paths in flight | peak GPU memory |\n");
-        md.push_str("| ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+        md.push_str("| # | variant | dispatches (empty) | compute passes | submissions | waits | intersect occupancy | bytes per path | paths in flight | peak GPU memory |\n");
+        md.push_str("| ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
         for r in gpu {
             let dispatches = match (r.dispatches, r.empty_dispatches) {
                 (Some(d), Some(e)) => format!("{d} ({e})"),
@@ -149,11 +150,12 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
             };
             let _ = writeln!(
                 md,
-                "| {} | {} | {dispatches} | {} | {} | {} | {} | {} | {} |",
+                "| {} | {} | {dispatches} | {} | {} | {} | {} | {} | {} | {} |",
                 r.index,
                 cell(&r.label),
                 opt(r.compute_passes),
                 opt(r.submissions),
+                opt(r.waits),
                 r.intersect_occupancy.map_or("–".into(), |o| format!("{:.1}%", 100.0 * o)),
                 opt(r.bytes_per_path),
                 opt(r.pool_size),

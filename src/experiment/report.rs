@@ -227,6 +227,10 @@ pub struct RunRecord {
     /// the last are blocking waits inside the frame (GPU methods; absent in reports from before).
     #[serde(default)]
     pub submissions: Option<u64>,
+    /// Times the host waited for the GPU per frame (of the median repetition): all but the last
+    /// are blocking waits inside the frame (GPU methods; absent in reports from before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub waits: Option<u64>,
     /// Seconds of busy GPU work before each frame (`preheat_seconds` in the config; the median
     /// repetition's; 0 on a software adapter). Absent in reports written before it existed.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -524,6 +524,7 @@ impl<'a> Run<'a> {
         rec.empty_dispatches = median_rep.empty_dispatches;
         rec.compute_passes = median_rep.compute_passes;
         rec.submissions = median_rep.submissions;
+        rec.waits = median_rep.waits;
         rec.preheat_seconds = median_rep.preheat_seconds;
         if let Some(s) = &median_rep.schedule {
             rec.iterations = Some(s.iterations);
@@ -609,6 +610,7 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         frame_seconds: None,
         host_gap_seconds: None,
         submissions: None,
+        waits: None,
         preheat_seconds: None,
         between_passes_seconds: None,
         profiled_frame_seconds: None,

@@ -220,6 +220,8 @@ fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
         rcol("warmup_settled", |r| r.warmup_log.as_ref().and_then(|w| flag(w.settled))),
         rcol("compute_passes_used", |r| r.compute_passes.and_then(int)),
         rcol("submissions", |r| r.submissions.and_then(int)),
+        rcol("waits", |r| r.waits.and_then(int)),
+        rcol("preheat_seconds", |r| r.preheat_seconds.map(float)),
         rcol("interleaved_with", |r| {
             Some(r.interleaved_with.iter().map(usize::to_string).collect::<Vec<_>>().join(" "))
         }),

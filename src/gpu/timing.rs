@@ -72,10 +72,13 @@ pub struct Timings {
     /// submission: the GPU certainly idle while the host reads back and records. The rest of
     /// the frame outside the passes is the GPU's own time between passes (launches, barriers).
     pub host_gap_seconds: f64,
-    /// Submissions in the frame. Each one is waited for (the host reads counters or timestamps
-    /// back before it records more), so all but the last are blocking waits inside the frame:
-    /// what issue 42's host loop that never waits is to bring to zero.
+    /// Submissions in the frame.
     pub submissions: u64,
+    /// Times the host waited for the GPU (to read counters or timestamps back before it records
+    /// more, or at the end): all but the last are blocking waits inside the frame, what issue
+    /// 42's host loop that never waits is to bring to zero. Fewer than `submissions` where the
+    /// host submits without waiting (waves without per-pass timestamps).
+    pub waits: u64,
     /// Seconds of preheat before the first submission (not part of the frame; `gpu::preheat`).
     pub preheat_seconds: f64,
     pub passes: BTreeMap<&'static str, PassTime>,
@@ -201,6 +204,7 @@ impl GpuTimer {
                 frame_seconds: 0.0,
                 host_gap_seconds: 0.0,
                 submissions: 0,
+                waits: 0,
                 preheat_seconds: 0.0,
                 passes: BTreeMap::new(),
                 per_bounce: BTreeMap::new(),
@@ -260,23 +264,39 @@ impl GpuTimer {
                 encoder.resolve_query_set(set, 0..2 * self.labels.len() as u32, buf, 0);
             }
         }
+        self.submit_only(ctx, encoder)?;
+        self.finish_batch(ctx)
+    }
+
+    /// Submits without waiting: the GPU works through it while the host records more, and the
+    /// next [`GpuTimer::submit_batch`] waits for both. Only without per-pass timestamps, which
+    /// are read back batch by batch.
+    pub fn submit(&mut self, ctx: &GpuContext, encoder: wgpu::CommandEncoder) -> Result<()> {
+        assert!(!self.times_passes(), "per-pass timestamps are read back per batch: submit_batch");
+        self.submit_only(ctx, encoder)
+    }
+
+    fn submit_only(&mut self, ctx: &GpuContext, encoder: wgpu::CommandEncoder) -> Result<()> {
         if self.first_submitted.is_none() && self.preheat > 0.0 {
             self.timings.preheat_seconds = super::preheat::run(ctx, std::mem::take(&mut self.preheat))?;
         }
         ctx.queue.submit([encoder.finish()]);
         self.timings.submissions += 1;
         let now = Instant::now();
-        if let Some(done) = self.last_done {
+        // The GPU idled from the last wait's end until now (only the first submission after a
+        // wait follows one).
+        if let Some(done) = self.last_done.take() {
             self.timings.host_gap_seconds += now.duration_since(done).as_secs_f64();
         }
-        self.submitted_at = Some(now);
+        self.submitted_at.get_or_insert(now);
         self.first_submitted.get_or_insert(now);
-        self.finish_batch(ctx)
+        Ok(())
     }
 
     /// Waits for the batch and adds its pass times.
     fn finish_batch(&mut self, ctx: &GpuContext) -> Result<()> {
         ctx.wait()?;
+        self.timings.waits += 1;
         let done = Instant::now();
         self.last_done = Some(done);
         if let Some(first) = self.first_submitted {
@@ -316,6 +336,7 @@ mod tests {
             frame_seconds: 0.0,
             host_gap_seconds: 0.0,
             submissions: 0,
+            waits: 0,
             preheat_seconds: 0.0,
             passes: BTreeMap::new(),
             per_bounce: BTreeMap::new(),

@@ -813,3 +813,53 @@ fn unchecked_shaders_give_the_checked_films() {
         assert_eq!(checked.film, unchecked.film, "{method:?} {:?}", opts);
     }
 }
+
+/// Waves never wait inside a frame (issue 42): without per-pass timestamps the host submits wave
+/// after wave and reads their counters once, from the share ledger, after the last; the counts
+/// and the film are those of a render that waits after every wave (per-pass timing), and the
+/// histogram holds every path's camera ray. With more waves than the ledger holds, the host
+/// reads it once more, mid-frame.
+#[test]
+fn waves_never_wait_inside_the_frame_and_count_the_same() {
+    use wavetrace::gpu::wavefront::share_ledger::SLOTS;
+    let Some(ctx) = common::gpu() else { return };
+    let small = RenderSettings { width: 20, height: 12, spp: 4, max_depth: 2, ..settings(4) };
+    for (s, pool) in [(RenderSettings { max_depth: 8, ..settings(8) }, 64), (small, 1)] {
+        let paths = (s.width * s.height * s.spp) as u64;
+        let waves = paths.div_ceil(pool);
+        let wf = WavefrontOptions {
+            schedule: Schedule::Waves,
+            pool_size: Some(pool as u32),
+            ..Default::default()
+        };
+        let render = |timing| {
+            run(
+                Method::Wavefront,
+                "three-spheres",
+                &s,
+                &MethodOptions { wavefront: wf, timing, ..Default::default() },
+            )
+        };
+        let (frame, passes) = (render(Timing::Frame), render(Timing::Passes));
+        let t = frame.timings.as_ref().unwrap();
+        assert_eq!(t.submissions, waves, "pool {pool}: one submission per wave");
+        assert_eq!(
+            t.waits,
+            waves.div_ceil(SLOTS),
+            "pool {pool}: the host waits only when the ledger is full and at the end"
+        );
+        if ctx.summary.timestamps {
+            assert!(
+                passes.timings.as_ref().unwrap().waits >= waves,
+                "per-pass timing waits after every wave"
+            );
+        }
+        assert_eq!(frame.schedule, passes.schedule, "pool {pool}: the same counts");
+        assert_eq!(frame.schedule.as_ref().unwrap().iterations, waves * s.max_depth as u64);
+        let h = frame.histogram.as_ref().unwrap();
+        assert_eq!(Some(h), passes.histogram.as_ref(), "pool {pool}: the same histogram");
+        assert_eq!(h.rays[0], paths, "pool {pool}: every path's camera ray at bounce 0");
+        let bits = |f: &wavetrace::film::Film| f.mean_rgb().iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&frame.film), bits(&passes.film), "pool {pool}: the same film");
+    }
+}

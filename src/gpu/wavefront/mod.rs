@@ -58,6 +58,7 @@ pub mod refill;
 pub mod schedule;
 pub mod shade;
 pub mod shadow;
+pub mod share_ledger;
 pub mod slot_sweep;
 pub mod tail;
 
@@ -83,13 +84,13 @@ pub use compact::Scan;
 use compact::Target;
 pub use compute_passes::ComputePasses;
 use path_state::{
-    schedule_word as word, PathState, PoolLayout, COUNTER_STATS, LARGEST_BINDING_PER_PATH, QUEUE_COUNT,
-    QUEUE_SHADOW,
+    schedule_word as word, PathState, PoolLayout, LARGEST_BINDING_PER_PATH, QUEUE_COUNT, QUEUE_SHADOW,
 };
 pub use queue_order::QueueOrder;
 pub use ray_sort::RaySort;
 pub use refill::CompactStates;
 pub use schedule::{Schedule, ScheduleStats};
+use share_ledger::{ShareLedger, ShareWork};
 use std::time::Instant;
 pub use tail::Tail;
 
@@ -324,6 +325,17 @@ impl WaveRecorder<'_> {
         (&mut self.enc, self.timer)
     }
 
+    /// Submits what is recorded and opens a new encoder, without waiting where passes are not
+    /// timed (their timestamps are read back per batch, so then it waits).
+    pub fn submit(&mut self, ctx: &GpuContext) -> Result<()> {
+        if self.timer.times_passes() {
+            return self.submit_and_wait(ctx);
+        }
+        self.pass = None;
+        let enc = std::mem::replace(&mut self.enc, ctx.device.create_command_encoder(&Default::default()));
+        self.timer.submit(ctx, enc)
+    }
+
     /// Submits what is recorded, waits for it (adding its pass times) and opens a new encoder.
     pub fn submit_and_wait(&mut self, ctx: &GpuContext) -> Result<()> {
         self.pass = None;
@@ -542,7 +554,9 @@ pub fn render(
         stats.refill_below = Some(opts.refill_below);
         stats.compact_states = Some(opts.compact_states == CompactStates::On);
     }
-    let mut done = 0u64;
+    // Path samples the GPU has finished (waves are submitted without waiting for them).
+    let finished = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
+    let mut ledger = (!regenerate).then(|| ShareLedger::new(ctx, &b.state, &mut memory));
     let mut compute_passes = 0u64;
     for (w, d) in shares.iter().enumerate() {
         let paths = d.pixel_count * d.sample_count;
@@ -608,7 +622,7 @@ pub fn render(
                     schedule::ChunkCounters::copy(wave.encoder().0, check, &b.state, &r);
                     wave.submit_and_wait(ctx)?;
                     let c = schedule::ChunkCounters::read(ctx, check, &r, oldest)?;
-                    on_progress(done + c.finished as u64);
+                    on_progress(finished.load(std::sync::atomic::Ordering::Relaxed) + c.finished as u64);
                     refill = c.started < paths;
                     progress.check(c.finished, i)?;
                     let complete = r.complete_from(oldest, &c.ring);
@@ -653,24 +667,35 @@ pub fn render(
                 }
             }
         };
-        if !regenerate {
+        if regenerate {
+            wave.submit_and_wait(ctx)?;
+            stats.add_share(ctx, &b.state, r.chunks(), iterations, wave.dispatches)?;
+        } else {
             let offset = wave.offset;
             let (enc, timer) = wave.encoder();
             accumulate.record(enc, timer, offset, d.pixel_count);
             wave.dispatches += 1;
             wave.compute_passes += 1;
+            // Per wave, so the GPU's u32 counters never overflow on long renders; copied on the
+            // GPU, so the host goes on to the next wave without waiting for this one.
+            let work = ShareWork { units: 1, iterations, dispatches: wave.dispatches };
+            let ledger = ledger.as_mut().expect("waves keep a share ledger");
+            ledger.record(wave.encoder().0, &b.state, work);
+            if w + 1 == shares.len() || ledger.is_full() {
+                wave.submit_and_wait(ctx)?;
+                ledger.drain(ctx, &mut stats, histogram.as_mut())?;
+            } else {
+                wave.submit(ctx)?;
+            }
         }
-        wave.submit_and_wait(ctx)?;
-        let units = if regenerate { r.chunks() } else { 1 };
-        stats.add_share(ctx, &b.state, units, iterations, wave.dispatches)?;
         compute_passes += wave.compute_passes;
-
-        if let Some(h) = &mut histogram {
-            // Per wave, so the GPU's u32 counters never overflow on long renders.
-            add_wave_histogram(ctx, &b.state, h)?;
-        }
-        done += paths as u64;
-        on_progress(done);
+        let count = finished.clone();
+        ctx.queue.on_submitted_work_done(move || {
+            count.fetch_add(paths as u64, std::sync::atomic::Ordering::Relaxed);
+        });
+        // Runs the callbacks of whatever has finished, without waiting.
+        ctx.device.poll(wgpu::PollType::Poll).map_err(|e| anyhow::anyhow!("polling the GPU failed: {e}"))?;
+        on_progress(finished.load(std::sync::atomic::Ordering::Relaxed));
     }
 
     if let Some(h) = &mut histogram {
@@ -723,12 +748,10 @@ fn choose_pool(ctx: &GpuContext, opts: &WavefrontOptions) -> Result<u32> {
     })
 }
 
-/// Adds the wave's bounce histogram (GPU counters) to `h` and zeroes the counters.
-fn add_wave_histogram(ctx: &GpuContext, state: &PathState, h: &mut QueueHistogram) -> Result<()> {
-    let n = COUNTER_STATS + state.stats_bounces as u64 * QUEUE_COUNT;
-    let words: Vec<u32> = read_back(ctx, &state.counters, n * 4)?;
-    let bounces = state.stats_bounces as usize;
-    let row = |b: usize, q: usize| words[COUNTER_STATS as usize + b * QUEUE_COUNT as usize + q] as u64;
+/// Adds a wave's queue sizes per bounce (`rows`: `bounces` rows of `QUEUE_COUNT` words from
+/// `COUNTER_STATS`, as the share left them) to the histogram.
+fn add_histogram_rows(h: &mut QueueHistogram, rows: &[u32], bounces: usize) {
+    let row = |b: usize, q: usize| rows[b * QUEUE_COUNT as usize + q] as u64;
     h.rays.resize(bounces, 0);
     for b in 0..bounces {
         h.rays[b] += row(b, 0);
@@ -743,10 +766,6 @@ fn add_wave_histogram(ctx: &GpuContext, state: &PathState, h: &mut QueueHistogra
     for b in 0..bounces {
         h.shadow[b] += row(b, QUEUE_SHADOW as usize);
     }
-    let mut enc = ctx.device.create_command_encoder(&Default::default());
-    enc.clear_buffer(&state.counters, COUNTER_STATS * 4, Some((n - COUNTER_STATS) * 4));
-    ctx.queue.submit([enc.finish()]);
-    Ok(())
 }
 
 impl QueueHistogram {

@@ -329,7 +329,8 @@ impl ScheduleStats {
     }
 
     /// Adds a finished share of `units` waves or chunks (`iterations` recorded, `dispatches`
-    /// passes) and zeroes the GPU's counters, so they never overflow on long renders.
+    /// passes), reading the GPU's counters back now, and zeroes them, so they never overflow on
+    /// long renders. (Waves copy them into a [`super::share_ledger::ShareLedger`] instead.)
     pub fn add_share(
         &mut self,
         ctx: &GpuContext,
@@ -339,7 +340,24 @@ impl ScheduleStats {
         dispatches: u64,
     ) -> Result<()> {
         let words: Vec<u32> = read_back(ctx, &state.counters, (COUNTER_SCHEDULE + word::WORDS) * 4)?;
-        let w = |i: usize| words[COUNTER_SCHEDULE as usize + i] as u64;
+        self.add_share_words(ctx, &words[COUNTER_SCHEDULE as usize..], units, iterations, dispatches)?;
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        clear_share_counters(&mut enc, state);
+        ctx.queue.submit([enc.finish()]);
+        Ok(())
+    }
+
+    /// [`Self::add_share`] from the scheduling counters (`schedule`: the words from
+    /// `COUNTER_SCHEDULE`) as a share left them.
+    pub fn add_share_words(
+        &mut self,
+        ctx: &GpuContext,
+        schedule: &[u32],
+        units: u32,
+        iterations: u32,
+        dispatches: u64,
+    ) -> Result<()> {
+        let w = |i: usize| schedule[i] as u64;
         if w(word::CLAMPED) > 0 {
             bail!(
                 "{} indirect dispatches were sized past {}'s limit of {} workgroups and clamped: a \
@@ -366,12 +384,14 @@ impl ScheduleStats {
         self.intersected += w(word::INTERSECTED);
         self.intersect_occupancy =
             self.intersected as f64 / (self.iterations.max(1) as f64 * self.pool as f64);
-        let mut enc = ctx.device.create_command_encoder(&Default::default());
-        let first = (COUNTER_SCHEDULE + word::EMPTY as u64) * 4;
-        enc.clear_buffer(&state.counters, first, Some((word::WORDS - word::EMPTY as u64) * 4));
-        ctx.queue.submit([enc.finish()]);
         Ok(())
     }
+}
+
+/// Zeroes the scheduling counters a share adds up (from `EMPTY` on), for the next share.
+pub fn clear_share_counters(enc: &mut wgpu::CommandEncoder, state: &PathState) {
+    let first = (COUNTER_SCHEDULE + word::EMPTY as u64) * 4;
+    enc.clear_buffer(&state.counters, first, Some((word::WORDS - word::EMPTY as u64) * 4));
 }
 
 #[cfg(test)]
