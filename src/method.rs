@@ -110,6 +110,9 @@ pub struct RenderOutput {
     pub schedule: Option<ScheduleStats>,
     /// Self-hits and paths cut by the depth limit (NaN/Inf samples: `film.invalid_samples()`).
     pub failures: Failures,
+    /// The options as they ran, every knob resolved at run time made concrete (what reports
+    /// record: `auto` never stands for what ran).
+    pub resolved: MethodOptions,
 }
 
 impl RenderOutput {
@@ -119,7 +122,7 @@ impl RenderOutput {
         self.timings.as_ref().map(|t| t.frame_seconds).filter(|&s| s > 0.0).unwrap_or(self.wall_seconds)
     }
 
-    fn from_gpu(r: GpuRender) -> Self {
+    fn from_gpu(r: GpuRender, resolved: MethodOptions) -> Self {
         Self {
             film: r.film,
             wall_seconds: r.wall_seconds,
@@ -135,6 +138,7 @@ impl RenderOutput {
             coherence: None,
             schedule: None,
             failures: r.failures,
+            resolved,
         }
     }
 }
@@ -222,6 +226,7 @@ pub fn render(
                 coherence: None,
                 schedule: None,
                 failures,
+                resolved: options.clone(),
             })
         }
         Method::Megakernel => {
@@ -240,7 +245,8 @@ pub fn render(
                 },
                 on_progress,
             )?;
-            Ok(RenderOutput::from_gpu(r))
+            let megakernel = MegakernelOptions { threads: r.threads, ..options.megakernel.resolve() };
+            Ok(RenderOutput::from_gpu(r, MethodOptions { megakernel, ..options.clone() }))
         }
         Method::Wavefront => {
             let ctx = gpu.ok_or_else(|| anyhow!("--method wavefront needs a GPU adapter"))?;
@@ -263,7 +269,7 @@ pub fn render(
                 histogram: r.histogram,
                 coherence: r.coherence,
                 schedule: Some(r.schedule),
-                ..RenderOutput::from_gpu(r.render)
+                ..RenderOutput::from_gpu(r.render, MethodOptions { wavefront: r.resolved, ..options.clone() })
             })
         }
     }

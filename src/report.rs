@@ -151,7 +151,6 @@ impl RunReport {
         scene: &Scene,
         method: Method,
         settings: &RenderSettings,
-        options: &MethodOptions,
         adapter: Option<&AdapterSummary>,
         out: &RenderOutput,
     ) -> Self {
@@ -172,7 +171,8 @@ impl RunReport {
             },
             method,
             settings: settings.clone(),
-            options: options.clone(),
+            // What ran: every knob resolved at run time made concrete.
+            options: out.resolved.clone(),
             wall_seconds: out.wall_seconds,
             gpu_seconds,
             frame_seconds,
@@ -265,7 +265,7 @@ mod tests {
         };
         let mut out = crate::method::render(Method::Cpu, &scene, &settings, &options, None, &|_| {}).unwrap();
         out.failures = Failures { self_hits: 3, shadow_self_hits: 2, depth_cut: 1 };
-        let report = RunReport::new(&scene, Method::Cpu, &settings, &options, None, &out);
+        let report = RunReport::new(&scene, Method::Cpu, &settings, None, &out);
         let attrs = report.exr_attributes();
         let attr = |k: &str| attrs.iter().find(|(n, _)| n == &format!("wavetrace.{k}")).unwrap().1.clone();
         assert_eq!(RayOffset::parse(&attr("ray_offset")), Ok(RayOffset::Tmin(1e-4)));

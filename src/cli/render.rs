@@ -349,7 +349,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
 
     let adapter = gpu.as_ref().map(|g| &g.summary);
     let options = options.resolve(a.method, adapter);
-    let mut report = RunReport::new(&scene, a.method, &settings, &options, adapter, &out);
+    let mut report = RunReport::new(&scene, a.method, &settings, adapter, &out);
     report.warmup = Some(warm);
     let image = RgbImage { width: settings.width, height: settings.height, data: out.film.mean_rgb() };
     image_io::write_exr(&a.out, &image, &report.exr_attributes())?;

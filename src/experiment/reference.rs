@@ -153,7 +153,7 @@ impl References {
         let out = method::render(method, scene, settings, options, ctx, &|d| progress.set(d))
             .with_context(|| format!("rendering the reference for {} at {width}x{height}", scene.name))?;
         progress.finish();
-        let report = RunReport::new(scene, method, settings, options, ctx.map(|c| &c.summary), &out);
+        let report = RunReport::new(scene, method, settings, ctx.map(|c| &c.summary), &out);
         let image = RgbImage { width, height, data: out.film.mean_rgb() };
         image_io::write_exr(&path, &image, &report.exr_attributes())?;
         record.cached = false;

@@ -404,11 +404,14 @@ impl<'a> Run<'a> {
         let after = if rep + 1 == config.repetitions { self.gpu_state(gpu) } else { None };
         self.same_image(o.film.mean_rgb());
         let adapter = self.adapter(gpu);
+        if rep == 0 {
+            // What the timed renders ran: every knob resolved at run time made concrete.
+            self.record.options = method_options_json(self.variant.method, &o.resolved);
+        }
         self.reports.push(RunReport::new(
             self.scene,
             self.variant.method,
             &self.spec.settings,
-            &timed,
             adapter.as_ref(),
             &o,
         ));
@@ -437,14 +440,7 @@ impl<'a> Run<'a> {
                 MethodOptions { preheat_seconds: config.preheat_seconds, ..self.variant.options.clone() };
             let o = self.render(&options, gpu, bar, true)?;
             self.same_image(o.film.mean_rgb());
-            Some(RunReport::new(
-                self.scene,
-                self.variant.method,
-                &self.spec.settings,
-                &self.variant.options,
-                adapter.as_ref(),
-                &o,
-            ))
+            Some(RunReport::new(self.scene, self.variant.method, &self.spec.settings, adapter.as_ref(), &o))
         } else {
             None
         };

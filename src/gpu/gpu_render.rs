@@ -27,4 +27,7 @@ pub struct GpuRender {
     pub memory: GpuMemory,
     /// Self-hits and depth-cut paths the shaders counted.
     pub failures: crate::numerics::Failures,
+    /// The regenerating megakernel's persistent threads as launched (its `--threads`, default
+    /// and rounding applied); None otherwise.
+    pub threads: Option<u32>,
 }

@@ -272,6 +272,7 @@ pub fn render(
         bytes_per_path: (samples.size() + work.as_ref().map_or(0, |w| w.size())).div_ceil(in_flight),
         memory: memory.summary(),
         failures,
+        threads,
     })
 }
 

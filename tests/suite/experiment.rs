@@ -1228,3 +1228,77 @@ fn committed_reports_still_read_and_draw() {
     }
     assert!(read > 0, "no committed report found");
 }
+
+/// Every run records what ran, not what was asked (issue 45): a knob that resolves at run time
+/// (`schedule`, `queue_order`, `scan`, `append`, the pool, the persistent threads) is never
+/// recorded as `auto` or left empty, in report.json and in `render --report` (the block of the
+/// method that ran) alike.
+#[test]
+fn reports_record_every_knob_as_it_ran() {
+    if crate::common::gpu().is_none() {
+        return;
+    }
+    fn autos(v: &Value, path: &str, out: &mut Vec<String>) {
+        match v {
+            Value::String(s) if s == "auto" => out.push(path.to_string()),
+            Value::Object(m) => m.iter().for_each(|(k, v)| autos(v, &format!("{path}.{k}"), out)),
+            _ => {}
+        }
+    }
+    let dir = scratch("resolved");
+    let mut config = small_config(serde_json::json!([
+        {"method": "megakernel"},
+        {"method": "megakernel", "label": "regenerating", "schedule": "regenerate"},
+        {"method": "wavefront"},
+        {"method": "wavefront", "label": "wf-regenerate", "schedule": "regenerate", "tail": "megakernel"}
+    ]));
+    config["spp"] = serde_json::json!([2]);
+    config.as_object_mut().unwrap().remove("reference");
+    let path = write_config(&dir, "resolved", &config);
+    let out = dir.join("out");
+    let o = run_experiment(&path, &out, &dir.join("cache"));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let report = assert_valid(&out);
+    for run in report["runs"].as_array().unwrap() {
+        let (label, options) = (run["label"].as_str().unwrap(), &run["options"]);
+        let mut found = Vec::new();
+        autos(options, label, &mut found);
+        assert!(found.is_empty(), "recorded as auto: {found:?}");
+        if run["method"] == "wavefront" {
+            assert!(options["pool_size"].as_u64().is_some_and(|p| p > 0), "{label}: {options}");
+            assert!(options["schedule"] == "waves" || options["schedule"] == "regenerate", "{label}");
+        }
+        if label == "regenerating" {
+            assert!(options["threads"].as_u64().is_some_and(|t| t > 0), "{label}: {options}");
+        }
+    }
+    let json = dir.join("render.json");
+    let o = wavetrace(&[
+        "render",
+        "--scene",
+        "three-spheres",
+        "--method",
+        "wavefront",
+        "--width",
+        "16",
+        "--height",
+        "8",
+        "--spp",
+        "1",
+        "--warmup",
+        "0",
+        "--out",
+        dir.join("render.exr").to_str().unwrap(),
+        "--report",
+        json.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r: Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    // The run report holds both GPU methods' blocks; the megakernel's is as asked (it did not run).
+    let mut options = r["options"].clone();
+    options.as_object_mut().unwrap().remove("megakernel");
+    let mut found = Vec::new();
+    autos(&options, "render", &mut found);
+    assert!(found.is_empty(), "render --report recorded as auto: {found:?}");
+    assert!(r["options"]["wavefront"]["pool_size"].as_u64().is_some(), "{}", r["options"]);
+}

@@ -37,7 +37,7 @@ fn the_frame_time_holds_the_passes_and_the_host_gaps() {
         for timing in [Timing::Passes, Timing::Frame] {
             let opts = MethodOptions { wavefront, timing, ..Default::default() };
             let out = render(method, &scene, &s, &opts, Some(ctx), &|_| {}).unwrap();
-            let r = RunReport::new(&scene, method, &s, &opts, Some(&ctx.summary), &out);
+            let r = RunReport::new(&scene, method, &s, Some(&ctx.summary), &out);
             let what = format!("{method:?} {:?} {timing:?}", wavefront.schedule);
             let (frame, gpu) = (r.frame_seconds.unwrap(), r.gpu_seconds.unwrap());
             assert!(frame > 0.0 && gpu > 0.0, "{what}: frame {frame}, passes {gpu}");
@@ -97,7 +97,7 @@ fn the_preheat_runs_for_the_time_asked_and_outside_the_frame() {
         RenderSettings { width: 16, height: 8, spp: 2, max_depth: 8, seed: 1, accel: Accel::Bvh, nee: false };
     let opts = MethodOptions { preheat_seconds: 0.3, timing: Timing::Frame, ..Default::default() };
     let out = render(Method::Megakernel, &scene, &s, &opts, Some(ctx), &|_| {}).unwrap();
-    let r = RunReport::new(&scene, Method::Megakernel, &s, &opts, Some(&ctx.summary), &out);
+    let r = RunReport::new(&scene, Method::Megakernel, &s, Some(&ctx.summary), &out);
     let preheat = r.preheat_seconds.expect("a GPU render reports its preheat");
     if ctx.summary.is_software() {
         assert_eq!(preheat, 0.0, "no preheat on a software adapter");

@@ -354,6 +354,9 @@ pub struct WavefrontRender {
     pub schedule: ScheduleStats,
     /// The intersect pass's coherence per iteration bucket (`--instrument`).
     pub coherence: Option<Vec<Coherence>>,
+    /// The options as they ran: every `auto` and default that resolves at run time (schedule
+    /// and tail, pool size, queue order, scan, append, compute passes) made concrete.
+    pub resolved: WavefrontOptions,
 }
 
 /// The passes of a render, recorded per share and per iteration.
@@ -719,11 +722,20 @@ pub fn render(
             bytes_per_path: layout.bytes_per_path(),
             memory: memory.summary(),
             failures,
+            threads: None,
         },
         pool,
         histogram,
         schedule: stats,
         coherence,
+        resolved: WavefrontOptions {
+            pool_size: Some(pool),
+            queue_order,
+            scan: if subgroup_scan { Scan::Subgroup } else { Scan::Workgroup },
+            append: if subgroup_append { Append::Subgroup } else { Append::Lane },
+            compute_passes: if shared_passes { ComputePasses::Shared } else { ComputePasses::PerDispatch },
+            ..*opts
+        },
     })
 }
 
