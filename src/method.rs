@@ -122,6 +122,11 @@ impl RenderOutput {
         self.timings.as_ref().map(|t| t.frame_seconds).filter(|&s| s > 0.0).unwrap_or(self.wall_seconds)
     }
 
+    /// Seconds of preheat before the frame (GPU methods; 0 without one).
+    pub fn preheat_seconds(&self) -> f64 {
+        self.timings.as_ref().map_or(0.0, |t| t.preheat_seconds)
+    }
+
     fn from_gpu(r: GpuRender, resolved: MethodOptions) -> Self {
         Self {
             film: r.film,

@@ -87,6 +87,10 @@ pub struct WarmupLog {
     pub frames: u32,
     /// Their frame times added up.
     pub seconds: f64,
+    /// The preheats before them added up (`preheat_seconds`; GPU work that counts towards
+    /// `min_seconds` too). Absent in reports from before the preheat.
+    #[serde(default)]
+    pub preheat_seconds: f64,
     /// Seconds of warm-up work other runs of the same interleaved job did just before on the
     /// same device, which count towards `min_seconds`.
     pub shared_seconds: f64,
@@ -97,6 +101,11 @@ pub struct WarmupLog {
 }
 
 impl WarmupLog {
+    /// The GPU work this warm-up did: its frames and the preheats before them.
+    pub fn work_seconds(&self) -> f64 {
+        self.seconds + self.preheat_seconds
+    }
+
     /// A warm-up that rendered nothing.
     pub fn none() -> Self {
         WarmupLog {
@@ -104,6 +113,7 @@ impl WarmupLog {
             timed: None,
             frames: 0,
             seconds: 0.0,
+            preheat_seconds: 0.0,
             shared_seconds: 0.0,
             settled: true,
             trace: Vec::new(),
@@ -111,13 +121,14 @@ impl WarmupLog {
     }
 }
 
-/// Warms up with `policy`: `frame` renders once and returns its time; `sample` reads the GPU's
+/// Warms up with `policy`: `frame` renders once and returns its time and the seconds of preheat
+/// before it (GPU work that counts towards `min_seconds` like the frame's); `sample` reads the GPU's
 /// state (None where it cannot). `shared_seconds` is warm-up work done just before on the same
 /// device (by other runs of an interleaved job), which counts towards `min_seconds`.
 pub fn warm_up(
     policy: &WarmupPolicy,
     shared_seconds: f64,
-    mut frame: impl FnMut() -> Result<f64>,
+    mut frame: impl FnMut() -> Result<(f64, f64)>,
     sample: impl Fn() -> Option<GpuState>,
 ) -> Result<WarmupLog> {
     let start = Instant::now();
@@ -129,14 +140,16 @@ pub fn warm_up(
         },
         frames: 0,
         seconds: 0.0,
+        preheat_seconds: 0.0,
         shared_seconds,
         settled: false,
         trace: Vec::new(),
     };
     let mut step = |log: &mut WarmupLog| -> Result<()> {
-        let seconds = frame()?;
+        let (seconds, preheat) = frame()?;
         log.frames += 1;
         log.seconds += seconds;
+        log.preheat_seconds += preheat;
         log.trace.push(WarmupFrame { at: start.elapsed().as_secs_f64(), seconds, gpu_state: sample() });
         Ok(())
     };
@@ -164,7 +177,7 @@ pub fn warm_up(
 /// The timed warm-up's targets: enough work, and the last two frames within `agree`.
 fn settled(t: &TimedWarmup, log: &WarmupLog) -> bool {
     let n = log.trace.len();
-    if n < 2 || log.seconds + log.shared_seconds < t.min_seconds {
+    if n < 2 || log.work_seconds() + log.shared_seconds < t.min_seconds {
         return false;
     }
     let (a, b) = (log.trace[n - 2].seconds, log.trace[n - 1].seconds);
@@ -183,11 +196,24 @@ mod tests {
             || {
                 let t = times[i.min(times.len() - 1)];
                 i += 1;
-                Ok(t)
+                Ok((t, 0.0))
             },
             || None,
         )
         .unwrap()
+    }
+
+    /// The preheat before each frame is GPU work too: it counts towards `min_seconds`.
+    #[test]
+    fn preheats_count_towards_the_work() {
+        let t = TimedWarmup { min_seconds: 0.5, agree: 0.05, max_frames: 50, max_seconds: 60.0 };
+        let frames =
+            |preheat: f64| warm_up(&WarmupPolicy::Timed(t), 0.0, || Ok((0.02, preheat)), || None).unwrap();
+        let (with, without) = (frames(0.2), frames(0.0));
+        assert!(with.settled && without.settled);
+        assert_eq!(with.frames, 3, "0.66 s of work after three preheated frames");
+        assert_eq!(without.frames, 25, "0.5 s of 0.02 s frames");
+        assert!((with.preheat_seconds - 0.6).abs() < 1e-9);
     }
 
     #[test]

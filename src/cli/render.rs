@@ -336,7 +336,10 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let warm = warmup::warm_up(
         &policy,
         0.0,
-        || Ok(method::render(a.method, &scene, &settings, &options, gpu.as_ref(), &|_| {})?.seconds()),
+        || {
+            let o = method::render(a.method, &scene, &settings, &options, gpu.as_ref(), &|_| {})?;
+            Ok((o.seconds(), o.preheat_seconds()))
+        },
         || monitor.as_ref().map(GpuMonitor::sample),
     )?;
     if warm.frames > 0 {

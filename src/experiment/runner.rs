@@ -212,7 +212,7 @@ fn run_group(
     let mut shared = 0.0;
     for r in &mut runs {
         r.attempt(gpu, |r, gpu| r.warm_up(gpu, bar, shared));
-        shared += r.record.warmup_log.as_ref().map_or(0.0, |w| w.seconds);
+        shared += r.record.warmup_log.as_ref().map_or(0.0, |w| w.work_seconds());
     }
     for rep in 0..config.repetitions {
         for r in &mut runs {
@@ -384,7 +384,10 @@ impl<'a> Run<'a> {
         let log = crate::warmup::warm_up(
             &policy,
             shared,
-            || Ok(self.render(&timed, &mut gpu.borrow_mut(), bar, counted)?.seconds()),
+            || {
+                let o = self.render(&timed, &mut gpu.borrow_mut(), bar, counted)?;
+                Ok((o.seconds(), o.preheat_seconds()))
+            },
             || self.gpu_state(&gpu.borrow()),
         )?;
         self.record.warmup = log.frames;
