@@ -35,6 +35,12 @@
 #   shading-cost        rtiow-heavy-1 to -16 at 1920x1080x16 NEE, both megakernels against
 #                       the wavefront schedules and a single shade pass (issue 46;
 #                       device/shading_cost.json)                            4.0e9  ~2 min
+#   decomposition       rtiow-final 1920x1080x64 NEE cut at depth 1, 2, 4 and 50: the same rays
+#                       in both megakernels, waves and regenerate + tail, so depth 1 isolates the
+#                       wavefront's own cost (issue 44; device/decomposition.json) 8.5e9  ~2 min
+#   pool-size           waves and regenerate + tail with pools of 262144 to 4194304 paths,
+#                       rtiow-final and mesh-room at 1920x1080x64 NEE (issue 44: Cycles' rule
+#                       gives ~4.3 M on an H200; device/pool_size.json)       8.5e9  ~2 min
 #   simd                SIMD efficiency at the device's width, 4 scenes, every GPU method
 #                       (device/simd.json, instrumented)                     0.15e9 <1 min
 #   simd-replay         every GPU method's device counters (--instrument) beside the CPU
@@ -93,6 +99,8 @@ warmup device/warmup.json
 headline device/headline.json
 megakernel-threads device/megakernel_threads.json
 shading-cost device/shading_cost.json
+decomposition device/decomposition.json
+pool-size device/pool_size.json
 simd device/simd.json
 simd-replay
 regeneration-recheck device/regeneration_recheck.json
