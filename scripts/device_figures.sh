@@ -41,6 +41,10 @@
 #   pool-size           waves and regenerate + tail with pools of 262144 to 4194304 paths,
 #                       rtiow-final and mesh-room at 1920x1080x64 NEE (issue 44: Cycles' rule
 #                       gives ~4.3 M on an H200; device/pool_size.json)       8.5e9  ~2 min
+#   scene-size          a generated terrain of 10^4 to 10^7 triangles (triangles-N) at
+#                       1920x1080x16, the regenerating megakernel against waves and regenerate +
+#                       tail, with each render's BVH build (issue 46; device/scene_size.json;
+#                       about 5 s of host BVH build per render of the largest) 1.6e9  ~3 min
 #   simd                SIMD efficiency at the device's width, 4 scenes, every GPU method
 #                       (device/simd.json, instrumented)                     0.15e9 <1 min
 #   simd-replay         every GPU method's device counters (--instrument) beside the CPU
@@ -68,7 +72,8 @@
 #   workgroup           workgroup_size.json                                  1.4e9  <1 min
 #   megakernel-vs-wavefront  megakernel_vs_wavefront.json (4096-spp megakernel references)
 #                                                                            56e9   ~9 min+
-# On the software driver at --scale tiny (every size 32x18 at 1-2 spp, as the dry run runs them)
+# On the software driver at --scale tiny (every size 32x18 at 1-2 spp, the 10^7-triangle terrain
+# at 2x10^5, over llvmpipe's 128 MiB bindings, as the dry run runs them)
 # each step takes seconds; the dry run prints the times (scripts/device_dry_run.sh).
 #
 # With the device tool (see README "Run it on a GPU"): prepare here, then one call per group of
@@ -101,6 +106,7 @@ megakernel-threads device/megakernel_threads.json
 shading-cost device/shading_cost.json
 decomposition device/decomposition.json
 pool-size device/pool_size.json
+scene-size device/scene_size.json
 simd device/simd.json
 simd-replay
 regeneration-recheck device/regeneration_recheck.json
@@ -201,6 +207,7 @@ for src in experiments/*.json experiments/device/*.json; do
       -e 's/"spp": \[[^]]*\]/"spp": [1, 2]/' \
       -e 's/"warmup": [0-9]+,?//' -e 's/"warmup": \{[^}]*\},?//' \
       -e 's/"repetitions": [0-9]+/"repetitions": 1, "warmup": {"max_frames": 2}/' \
+      -e 's/"triangles-10000000"/"triangles-200000"/' \
       -e 's/("reference": \{[^}]*"spp": )[0-9]+/\116/' "$src" > "$configs/$rel"
   else
     cp "$src" "$configs/$rel"

@@ -113,6 +113,9 @@ pub struct RenderOutput {
     /// The options as they ran, every knob resolved at run time made concrete (what reports
     /// record: `auto` never stands for what ran).
     pub resolved: MethodOptions,
+    /// Host seconds to prepare the scene for the render: the move into render space and the
+    /// packing, the acceleration structure (BVH) build above all; before the render's clock.
+    pub scene_seconds: f64,
 }
 
 impl RenderOutput {
@@ -144,6 +147,7 @@ impl RenderOutput {
             schedule: None,
             failures: r.failures,
             resolved,
+            scene_seconds: 0.0,
         }
     }
 }
@@ -196,14 +200,16 @@ pub fn render(
     on_progress: &(dyn Fn(u64) + Sync),
 ) -> Result<RenderOutput> {
     settings.validate().map_err(anyhow::Error::msg)?;
+    let built = std::time::Instant::now();
     let (packed, camera) = prepare(method, scene, settings, options)?;
+    let scene_seconds = built.elapsed().as_secs_f64();
     // A scene whose f32 arithmetic would overflow renders silently wrong: refuse it instead.
     if method != Method::CpuF64 {
         crate::arithmetic_range::check_f32(&packed, &camera)
             .map_err(|e| anyhow!("{} computes in f32: {e}", method.name()))?;
     }
     let start = Instant::now();
-    match method {
+    let out = match method {
         Method::Cpu | Method::CpuF64 => {
             let done = std::sync::atomic::AtomicU64::new(0);
             let row_samples = settings.width as u64 * settings.spp as u64;
@@ -232,6 +238,7 @@ pub fn render(
                 schedule: None,
                 failures,
                 resolved: options.clone(),
+                scene_seconds: 0.0,
             })
         }
         Method::Megakernel => {
@@ -277,5 +284,6 @@ pub fn render(
                 ..RenderOutput::from_gpu(r.render, MethodOptions { wavefront: r.resolved, ..options.clone() })
             })
         }
-    }
+    };
+    out.map(|o| RenderOutput { scene_seconds, ..o })
 }

@@ -61,6 +61,8 @@ pub struct SceneSummary {
     /// Spheres, quads and mesh triangles.
     pub primitives: usize,
     pub materials: usize,
+    /// Host seconds to prepare the scene for this render, the BVH build above all.
+    pub prepare_seconds: f64,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -168,6 +170,7 @@ impl RunReport {
                 spheres: scene.spheres.len(),
                 primitives: scene.primitive_count(),
                 materials: scene.materials.len(),
+                prepare_seconds: out.scene_seconds,
             },
             method,
             settings: settings.clone(),

@@ -227,6 +227,11 @@ pub struct RunRecord {
     /// the last are blocking waits inside the frame (GPU methods; absent in reports from before).
     #[serde(default)]
     pub submissions: Option<u64>,
+    /// Host seconds to prepare the scene for a render (move into render space, packing, the BVH
+    /// build above all), median over the timed repetitions; not part of any time above. Absent in
+    /// reports from before it was recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scene_prepare_seconds: Option<f64>,
     /// Times the host waited for the GPU per frame (of the median repetition): all but the last
     /// are blocking waits inside the frame (GPU methods; absent in reports from before).
     #[serde(default, skip_serializing_if = "Option::is_none")]

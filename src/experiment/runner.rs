@@ -524,6 +524,8 @@ impl<'a> Run<'a> {
         rec.compute_passes = median_rep.compute_passes;
         rec.submissions = median_rep.submissions;
         rec.waits = median_rep.waits;
+        let prepare: Vec<f64> = reports.iter().map(|r| r.scene.prepare_seconds).collect();
+        rec.scene_prepare_seconds = Stat::of(&prepare).map(|s| s.median);
         rec.preheat_seconds = median_rep.preheat_seconds;
         if let Some(s) = &median_rep.schedule {
             rec.iterations = Some(s.iterations);
@@ -610,6 +612,7 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         host_gap_seconds: None,
         submissions: None,
         waits: None,
+        scene_prepare_seconds: None,
         preheat_seconds: None,
         between_passes_seconds: None,
         profiled_frame_seconds: None,

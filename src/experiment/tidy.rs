@@ -222,6 +222,7 @@ fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
         rcol("submissions", |r| r.submissions.and_then(int)),
         rcol("waits", |r| r.waits.and_then(int)),
         rcol("preheat_seconds", |r| r.preheat_seconds.map(float)),
+        rcol("scene_prepare_seconds", |r| r.scene_prepare_seconds.map(float)),
         rcol("interleaved_with", |r| {
             Some(r.interleaved_with.iter().map(usize::to_string).collect::<Vec<_>>().join(" "))
         }),

@@ -58,6 +58,9 @@ pub const RTIOW_FINAL_SEED: u32 = 1;
 /// The stream id of the `spheres-N` layouts. Changing it changes those scenes.
 pub const SPHERES_SEED: u32 = 2;
 
+/// The `triangles-N` entry of [`BUILTINS`] (like [`SPHERES_EXAMPLE`]).
+const TRIANGLES_EXAMPLE: u32 = 10_000;
+
 /// The largest N of `spheres-N`.
 pub const SPHERES_MAX: u32 = 1_000_000;
 
@@ -116,6 +119,12 @@ pub const BUILTINS: &[Builtin] = &[
         build: super::two_lights::two_lights,
     },
     Builtin {
+        name: "triangles-10000",
+        description: "triangles-N, any N in 1..=10000000 (here 10000): a generated terrain of N \
+                      triangles under the final scene's camera and its three big spheres (scene size)",
+        build: || super::terrain::scene(TRIANGLES_EXAMPLE),
+    },
+    Builtin {
         name: "spheres-1000",
         description: "spheres-N, any N in 1..=1000000 (here 1000): N small spheres (80% diffuse, \
                       15% metal, 5% glass) in a seeded square grid on the ground, whole grid in view",
@@ -131,6 +140,7 @@ const NAMES: &[&str] = &[
     "cornell",
     "enclosure",
     "two-lights",
+    "triangles-10000",
     "spheres-1000",
 ];
 
@@ -144,14 +154,15 @@ pub fn list() -> Vec<(&'static str, &'static str)> {
     BUILTINS.iter().map(|b| (b.name, b.description)).collect()
 }
 
-/// The built-in scene called `name`, if there is one: a [`BUILTINS`] entry, `spheres-N` or
-/// `rtiow-heavy-O`.
+/// The built-in scene called `name`, if there is one: a [`BUILTINS`] entry, `spheres-N`,
+/// `rtiow-heavy-O` or `triangles-N`.
 pub fn by_name(name: &str) -> Option<Scene> {
     match BUILTINS.iter().find(|b| b.name == name) {
         Some(b) => Some((b.build)()),
         None => spheres_count(name)
             .map(spheres)
-            .or_else(|| super::heavy::parse_name(name).map(super::heavy::rtiow_heavy)),
+            .or_else(|| super::heavy::parse_name(name).map(super::heavy::rtiow_heavy))
+            .or_else(|| super::terrain::parse_name(name).map(super::terrain::scene)),
     }
 }
 
@@ -185,6 +196,9 @@ pub fn unknown_scene(arg: &str, file: &std::path::Path) -> String {
 /// Why `name`, which looks like a member of a built-in family but is not one, names no scene; for
 /// the "no such scene" error (`None` when `name` does not look like one).
 pub fn family_hint(name: &str) -> Option<String> {
+    if name.starts_with("triangles-") {
+        return super::terrain::family_hint(name);
+    }
     if let Some(digits) = name.strip_prefix("rtiow-heavy-") {
         return super::heavy::parse_name(name).is_none().then(|| {
             format!(

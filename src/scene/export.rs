@@ -11,10 +11,10 @@ use std::fmt::Write as _;
 
 use glam::Vec3;
 
-use super::{Background, Material, Scene, Texture, FORMAT};
+use super::{Background, Material, MeshSource, Scene, Texture, FORMAT};
 
 /// The scene as pretty-printed JSON: `format`, `camera`, `background`, `materials` (in scene
-/// order), `objects` (spheres, quads, then meshes by their absolute OBJ path). Objects name their
+/// order), `objects` (spheres, quads, then meshes by their absolute OBJ path or terrain size). Objects name their
 /// material.
 ///
 /// Expects a scene that passes [`Scene::validate`]: a non-finite number is written as `null` and
@@ -79,12 +79,15 @@ pub fn to_json(scene: &Scene) -> String {
             material(q.material)
         )
     });
-    let meshes = scene.meshes.iter().map(|m| {
-        format!(
+    let meshes = scene.meshes.iter().map(|m| match &m.source {
+        MeshSource::File(file) => format!(
             r#"{{"type": "mesh", "file": {}, "material": {}}}"#,
-            string(&m.file.to_string_lossy()),
+            string(&file.to_string_lossy()),
             material(m.material)
-        )
+        ),
+        MeshSource::Terrain(n) => {
+            format!(r#"{{"type": "mesh", "terrain": {n}, "material": {}}}"#, material(m.material))
+        }
     });
     let objects = spheres.chain(quads).chain(meshes);
     block(&mut out, "objects", ('[', ']'), objects);

@@ -53,8 +53,8 @@ use crate::strict_json::{describe, did_you_mean, join, parse_strict, quoted_list
 
 use super::texture::MAX_OCTAVES;
 use super::{
-    obj, Background, CameraSpec, InputError, Material, Mesh, NamedMaterial, Quad, Scene, Sphere, Texture,
-    FORMAT,
+    obj, Background, CameraSpec, InputError, Material, Mesh, MeshSource, NamedMaterial, Quad, Scene, Sphere,
+    Texture, FORMAT,
 };
 
 /// The `format` tags this build reads.
@@ -459,6 +459,14 @@ impl Cx<'_> {
                     quads.push(q);
                     check_quad(&o.path, &q)
                 }
+                _ if o.map.contains_key("terrain") => {
+                    self.only(&o, &["type", "terrain", "material"])?;
+                    let (tv, tpath) = self.field(&o, "terrain")?;
+                    let n = self.terrain_size(tv, &tpath)?;
+                    let triangles = super::terrain::triangles(n);
+                    meshes.push(Mesh { source: MeshSource::Terrain(n), triangles, material: material(&o)? });
+                    None
+                }
                 _ => {
                     self.only(&o, &["type", "file", "material"])?;
                     let (fv, fpath) = self.field(&o, "file")?;
@@ -474,7 +482,11 @@ impl Cx<'_> {
                             mesh.degenerate + mesh.triangles.len()
                         );
                     }
-                    meshes.push(Mesh { file, triangles: mesh.triangles, material: material(&o)? });
+                    meshes.push(Mesh {
+                        source: MeshSource::File(file),
+                        triangles: mesh.triangles,
+                        material: material(&o)?,
+                    });
                     None
                 }
             };
@@ -527,6 +539,15 @@ impl Cx<'_> {
                     quoted_list(types)
                 ),
             ),
+        }
+    }
+
+    /// A mesh's `terrain`: its triangle count, 1..=`terrain::TRIANGLES_MAX`.
+    fn terrain_size(&self, v: &Value, path: &str) -> Res<u32> {
+        let max = super::terrain::TRIANGLES_MAX;
+        match v.as_u64() {
+            Some(n) if (1..=max as u64).contains(&n) => Ok(n as u32),
+            _ => self.err(path, format!("expected a triangle count in 1..={max}, found {}", describe(v))),
         }
     }
 

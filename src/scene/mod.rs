@@ -11,6 +11,7 @@ pub mod heavy;
 pub mod load;
 pub mod obj;
 pub mod stress;
+pub mod terrain;
 pub mod texture;
 pub mod two_lights;
 
@@ -101,13 +102,21 @@ pub struct Quad {
     pub material: u32,
 }
 
-/// A triangle mesh read from an OBJ file, its vertices used as written there.
+/// A triangle mesh: read from an OBJ file, its vertices used as written there, or generated.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Mesh {
-    /// The OBJ file, absolute, so a scene written back out still finds it.
-    pub file: std::path::PathBuf,
+    pub source: MeshSource,
     pub triangles: Vec<[Vec3; 3]>,
     pub material: u32,
+}
+
+/// Where a mesh's triangles come from, as a scene file names it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MeshSource {
+    /// An OBJ file, absolute, so a scene written back out still finds it (`"file"`).
+    File(std::path::PathBuf),
+    /// [`terrain::triangles`] of this many triangles, generated (`"terrain"`).
+    Terrain(u32),
 }
 
 /// The scene's shapes. A scene file lists them in one `objects` array; here they are grouped by

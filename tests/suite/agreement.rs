@@ -103,6 +103,21 @@ fn rtiow_heavy_agrees_on_cpu_megakernel_and_wavefront() {
     assert_agree("rtiow-heavy cpu vs wavefront", &cpu, &run(Method::Wavefront, &scene, &s));
 }
 
+/// The scene-size family: a generated terrain of triangles renders the same image on every
+/// method (its export and load: tests/suite/scene_format.rs, every built-in).
+#[test]
+fn a_generated_terrain_agrees_on_every_method() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let scene = builtin::by_name("triangles-5000").unwrap();
+    assert_eq!(scene.primitive_count(), 5000 + 3);
+    let s = settings(96, 54, 16);
+    let cpu = run(Method::Cpu, &scene, &s);
+    assert_agree("triangles cpu vs megakernel", &cpu, &run(Method::Megakernel, &scene, &s));
+    assert_agree("triangles cpu vs wavefront", &cpu, &run(Method::Wavefront, &scene, &s));
+}
+
 #[test]
 fn cpu_f32_agrees_with_the_f64_ground_truth() {
     let scene = builtin::by_name("rtiow-final").unwrap();

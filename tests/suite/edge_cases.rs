@@ -8,7 +8,7 @@ use crate::common;
 use glam::Vec3;
 use wavetrace::gpu::wavefront::Compaction;
 use wavetrace::method::{render, Method, MethodOptions};
-use wavetrace::scene::{builtin, Background, Material, Mesh, NamedMaterial, Quad, Scene, Sphere};
+use wavetrace::scene::{builtin, Background, Material, Mesh, MeshSource, NamedMaterial, Quad, Scene, Sphere};
 use wavetrace::settings::{Accel, RenderSettings};
 
 const METHODS: [Method; 4] = [Method::Cpu, Method::CpuF64, Method::Megakernel, Method::Wavefront];
@@ -61,7 +61,7 @@ fn cases() -> Vec<(Scene, RenderSettings)> {
     one_quad.quads.push(facing_quad(0));
     let mut one_triangle = scene("one-triangle", vec![("grey", grey())]);
     one_triangle.meshes.push(Mesh {
-        file: "inline.obj".into(),
+        source: MeshSource::File("inline.obj".into()),
         triangles: vec![[Vec3::new(0.0, -1.0, -1.0), Vec3::new(0.0, -1.0, 1.0), Vec3::new(0.0, 1.5, 0.0)]],
         material: 0,
     });

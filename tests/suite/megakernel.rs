@@ -9,7 +9,7 @@ use glam::Vec3;
 use wavetrace::gpu::megakernel::MegakernelOptions;
 use wavetrace::gpu::schedule::Schedule;
 use wavetrace::method::{render, Method, MethodOptions, RenderOutput};
-use wavetrace::scene::{builtin, Mesh, Scene};
+use wavetrace::scene::{builtin, Mesh, MeshSource, Scene};
 use wavetrace::settings::{Accel, RenderSettings};
 
 fn settings(width: u32, height: u32, spp: u32, nee: bool) -> RenderSettings {
@@ -31,7 +31,11 @@ fn every_kind() -> Scene {
     let mut scene = builtin::by_name("cornell").unwrap();
     let (a, b, c) =
         (Vec3::new(150.0, 0.1, 300.0), Vec3::new(300.0, 0.1, 300.0), Vec3::new(225.0, 250.0, 350.0));
-    scene.meshes.push(Mesh { file: "inline.obj".into(), triangles: vec![[a, b, c]], material: 0 });
+    scene.meshes.push(Mesh {
+        source: MeshSource::File("inline.obj".into()),
+        triangles: vec![[a, b, c]],
+        material: 0,
+    });
     scene.spheres.push(wavetrace::scene::Sphere {
         center: Vec3::new(400.0, 90.0, 200.0),
         radius: 90.0,

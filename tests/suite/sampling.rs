@@ -35,7 +35,9 @@ use wavetrace::light_table;
 use wavetrace::numerics::Fresnel;
 use wavetrace::packed_scene::PackedScene;
 use wavetrace::rng::{uniform4, Purpose};
-use wavetrace::scene::{builtin, Background, CameraSpec, Material, Mesh, NamedMaterial, Quad, Scene, Sphere};
+use wavetrace::scene::{
+    builtin, Background, CameraSpec, Material, Mesh, MeshSource, NamedMaterial, Quad, Scene, Sphere,
+};
 use wavetrace::settings::Accel;
 use wavetrace::stats::{chi2_test, normal_critical, sidak, Chi2};
 
@@ -750,7 +752,7 @@ fn light_test_scene_with(spheres: Vec<Sphere>, quads: Vec<Quad>, triangles: Vec<
         ],
         spheres,
         quads,
-        meshes: vec![Mesh { file: "light-test.obj".into(), triangles, material: 0 }],
+        meshes: vec![Mesh { source: MeshSource::File("light-test.obj".into()), triangles, material: 0 }],
     }
 }
 

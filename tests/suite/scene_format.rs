@@ -740,7 +740,8 @@ fn quads_and_meshes_load_in_file_order_and_round_trip() {
     let mesh = &scene.meshes[0];
     assert_eq!(mesh.triangles.len(), 2, "one quad face fans into two triangles");
     assert_eq!(mesh.material, 1);
-    assert!(mesh.file.is_absolute() && mesh.file.ends_with("meshes/tri.obj"), "{:?}", mesh.file);
+    let wavetrace::scene::MeshSource::File(file) = &mesh.source else { panic!("{:?}", mesh.source) };
+    assert!(file.is_absolute() && file.ends_with("meshes/tri.obj"), "{file:?}");
     // Written anywhere, the export still finds its mesh (absolute path) and loads unchanged.
     let exported = export::to_json(&scene);
     std::fs::create_dir_all(dir.join("elsewhere")).unwrap();
@@ -804,4 +805,19 @@ fn bad_quads_and_meshes_are_refused_with_their_path() {
         assert!(e.reason.contains(reason) && e.reason.contains(file), "{file}: {e}");
     }
     std::fs::remove_dir_all(&dir).ok();
+    // A generated terrain takes a triangle count in range, and nothing of a file mesh's.
+    for (terrain, path, reason) in [
+        ("0", "objects[5].terrain", "expected a triangle count in 1..=10000000, found a number (0)"),
+        ("10000001", "objects[5].terrain", "found a number (10000001)"),
+        ("\"100\"", "objects[5].terrain", "found a string"),
+        ("2.5", "objects[5].terrain", "found a number (2.5)"),
+    ] {
+        let text = with_objects(&format!(r#"{{"type": "mesh", "terrain": {terrain}, "material": "red"}}"#));
+        assert_error(&text, path, &[reason]);
+    }
+    assert_error(
+        &with_objects(r#"{"type": "mesh", "terrain": 10, "file": "x.obj", "material": "red"}"#),
+        "objects[5].file",
+        &["unknown field"],
+    );
 }
