@@ -138,10 +138,11 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
         md.push_str(
             "Waits: the times the host waited for the GPU in a frame; all but the last are blocking \
              waits inside it. Reports from before waits were counted leave them blank; there every \
-             submission was waited for.\n\n",
+             submission was waited for. Scene preparation: host seconds to prepare the scene for a \
+             render (the BVH build above all), outside the frame.\n\n",
         );
-        md.push_str("| # | variant | dispatches (empty) | compute passes | submissions | waits | intersect occupancy | bytes per path | paths in flight | peak GPU memory |\n");
-        md.push_str("| ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+        md.push_str("| # | variant | dispatches (empty) | compute passes | submissions | waits | intersect occupancy | bytes per path | paths in flight | peak GPU memory | scene preparation |\n");
+        md.push_str("| ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
         for r in gpu {
             let dispatches = match (r.dispatches, r.empty_dispatches) {
                 (Some(d), Some(e)) => format!("{d} ({e})"),
@@ -150,7 +151,7 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
             };
             let _ = writeln!(
                 md,
-                "| {} | {} | {dispatches} | {} | {} | {} | {} | {} | {} | {} |",
+                "| {} | {} | {dispatches} | {} | {} | {} | {} | {} | {} | {} | {} |",
                 r.index,
                 cell(&r.label),
                 opt(r.compute_passes),
@@ -159,7 +160,8 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
                 r.intersect_occupancy.map_or("–".into(), |o| format!("{:.1}%", 100.0 * o)),
                 opt(r.bytes_per_path),
                 opt(r.pool_size),
-                r.memory.as_ref().map_or("–".into(), |m| mib(m.peak))
+                r.memory.as_ref().map_or("–".into(), |m| mib(m.peak)),
+                r.scene_prepare_seconds.map_or("–".into(), |s| format!("{} s", sig(s)))
             );
         }
         md.push('\n');
