@@ -332,6 +332,8 @@ fn comparable(report: &ExperimentReport) -> Value {
             "warmup_log",
             "stability",
             "interleaved_with",
+            "scene_prepare_seconds",
+            "preheat_seconds",
         ] {
             o.remove(k);
         }
