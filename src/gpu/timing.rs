@@ -40,8 +40,9 @@ pub enum Timing {
     Frame,
 }
 
-/// What a GPU render measures besides its image: SIMD-efficiency counters (`--instrument`) and
-/// how passes are timed (`--timing`).
+/// What a GPU render measures besides its image, and how: SIMD-efficiency counters
+/// (`--instrument`), how passes are timed (`--timing`), the shaders' runtime checks and the
+/// preheat before the frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Measure {
     pub instrument: bool,
