@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 
+use crate::experiment::overrides::Override;
 use crate::experiment::plan::{self, Shard};
 use crate::experiment::report::{ExperimentReport, RunStatus};
 use crate::experiment::resume::Resume;
@@ -26,6 +27,7 @@ Examples:
   wavetrace experiment run experiments/quick.json                 # -> out/quick/report.html
   wavetrace experiment run experiments/my_scene.json --out out/my_scene
   wavetrace experiment run experiments/quick.json --list          # the runs, without running
+  wavetrace experiment run experiments/quick.json --set 'scenes=[\"cornell\"]' --set spp=[4] --out out/cornell
   wavetrace experiment run sweep.json --out results/sweep --resume  # after a kill or preemption
   wavetrace experiment run sweep.json --out shards/$SLURM_ARRAY_TASK_ID \\
       --shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT --resume   # see scripts/slurm/
@@ -98,6 +100,12 @@ pub struct RunArgs {
     /// environment still names its build.
     #[arg(long, requires = "resume")]
     pub allow_other_build: bool,
+    /// Change the config from the command line, without copying it (repeatable, applied in
+    /// order): KEY is a dotted path into its JSON (`spp`, `warmup.max_frames`,
+    /// `methods.1.threads`), VALUE is JSON (`[4, 16]`, `true`) or else a string. Validated as the
+    /// file's fields are; the report records the overrides.
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = Override::parse)]
+    pub set: Vec<Override>,
 }
 
 #[derive(clap::Args, Debug)]
@@ -198,7 +206,7 @@ fn relative_path(from: &Path, to: &Path) -> Result<String> {
 }
 
 fn run_config(a: RunArgs) -> Result<()> {
-    let config = ExperimentConfig::from_file(&a.config)?;
+    let config = ExperimentConfig::from_file_with(&a.config, &a.set)?;
     let out = a.out.unwrap_or_else(|| Path::new("out").join(&config.name));
     if a.list {
         for r in plan::plan(&config).iter().filter(|r| a.shard.is_none_or(|s| s.takes(r))) {

@@ -79,6 +79,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{Map, Value};
 
+use super::overrides::Override;
 use super::stability::DEFAULT_UNSTABLE_SPREAD;
 use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::shader_checks::ShaderChecks;
@@ -319,6 +320,8 @@ pub struct ExperimentConfig {
     pub file: PathBuf,
     /// The config as written, echoed into the report.
     pub raw: Value,
+    /// The `--set` overrides applied to the file (already in `raw`), as given.
+    pub overrides: Vec<String>,
     /// The file's stem.
     pub name: String,
     /// The question the experiment answers (one sentence).
@@ -362,22 +365,47 @@ pub struct ExperimentConfig {
 impl ExperimentConfig {
     /// Reads and validates a config file.
     pub fn from_file(path: &Path) -> Result<Self, InputError> {
+        Self::from_file_with(path, &[])
+    }
+
+    /// [`Self::from_file`] with `--set` overrides applied to the file's JSON before it is read.
+    pub fn from_file_with(path: &Path, overrides: &[Override]) -> Result<Self, InputError> {
         let file = path.display().to_string();
         let text = std::fs::read_to_string(path).map_err(|e| InputError {
             file: file.clone(),
             path: String::new(),
             reason: format!("cannot read the file: {e}"),
         })?;
-        Self::from_str(&text, path)
+        Self::from_str_with(&text, path, overrides)
     }
 
     /// Reads a config from text; `path` locates relative scene and reference paths and labels
     /// errors.
     pub fn from_str(text: &str, path: &Path) -> Result<Self, InputError> {
+        Self::from_str_with(text, path, &[])
+    }
+
+    /// [`Self::from_str`] with `--set` overrides: each is applied in order, then the result is
+    /// validated as a file is; an error at a field an override set names it.
+    pub fn from_str_with(text: &str, path: &Path, overrides: &[Override]) -> Result<Self, InputError> {
         let cx =
             Cx { file: path.display().to_string(), dir: path.parent().unwrap_or(Path::new("")).to_owned() };
-        let raw = parse_strict(text).map_err(|(p, reason)| cx.error(&p, reason))?;
-        cx.config(&raw, path)
+        let mut raw = parse_strict(text).map_err(|(p, reason)| cx.error(&p, reason))?;
+        for o in overrides {
+            o.apply(&mut raw).map_err(|reason| cx.error(&o.path(), format!("--set {}: {reason}", o.text)))?;
+        }
+        let mut config = cx.config(&raw, path).map_err(|mut e| {
+            // The last override that set the field, or a field inside it.
+            let inside = |p: &str| {
+                e.path == p || e.path.starts_with(&format!("{p}.")) || e.path.starts_with(&format!("{p}["))
+            };
+            if let Some(o) = overrides.iter().rev().find(|o| inside(&o.path())) {
+                e.reason = format!("{} (set by --set {})", e.reason, o.text);
+            }
+            e
+        })?;
+        config.overrides = overrides.iter().map(|o| o.text.clone()).collect();
+        Ok(config)
     }
 
     /// Every run's render settings, in plan order: resolution, then max depth, then next-event
@@ -525,6 +553,7 @@ impl Cx {
         let config = ExperimentConfig {
             file: path.to_owned(),
             raw: raw.clone(),
+            overrides: Vec::new(),
             name: path.file_stem().map_or_else(|| "experiment".into(), |s| s.to_string_lossy().into_owned()),
             question,
             scenes,

@@ -25,6 +25,7 @@ pub mod html;
 pub mod markdown;
 pub mod merge;
 pub mod outputs;
+pub mod overrides;
 pub mod plan;
 pub mod reference;
 pub mod report;

@@ -41,6 +41,10 @@ pub struct ExperimentReport {
     pub config_file: String,
     /// The config as written.
     pub config: Value,
+    /// The `--set KEY=VALUE` overrides applied to the config file, as given (`config` holds the
+    /// result). Absent when there were none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub overrides: Vec<String>,
     /// Where runs ran: one entry per process (several after a merge of shards).
     pub environments: Vec<Environment>,
     /// Runs in the whole config.

@@ -54,6 +54,7 @@ pub fn run(config: &ExperimentConfig, opts: &RunnerOptions) -> Result<Experiment
         question: config.question.clone(),
         config_file: config.file.display().to_string(),
         config: config.raw.clone(),
+        overrides: config.overrides.clone(),
         environments: vec![Environment::this(opts.shard)?],
         runs_planned: planned.len(),
         runs_selected: selected.len(),

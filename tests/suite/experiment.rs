@@ -1308,3 +1308,58 @@ fn reports_record_every_knob_as_it_ran() {
     assert!(found.is_empty(), "render --report recorded as auto: {found:?}");
     assert!(r["options"]["wavefront"]["pool_size"].as_u64().is_some(), "{}", r["options"]);
 }
+
+/// `experiment run --set KEY=VALUE` changes the config without copying it: the runs planned
+/// follow, the report records the overrides beside the effective config, and a bad override
+/// gets the file, the field and the reason, naming the `--set` that caused it.
+#[test]
+fn set_overrides_the_config_and_is_recorded() {
+    let dir = scratch("set");
+    let config = small_config(serde_json::json!([{"method": "cpu"}, {"method": "cpu-f64"}]));
+    let path = write_config(&dir, "set", &config);
+    let p = path.to_str().unwrap();
+    let list = |extra: &[&str]| {
+        let mut args = vec!["experiment", "run", p, "--list"];
+        args.extend_from_slice(extra);
+        wavetrace(&args)
+    };
+    let all = String::from_utf8_lossy(&list(&[]).stdout).lines().count();
+    let o = list(&["--set", "spp=[2]"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(String::from_utf8_lossy(&o.stdout).lines().count() * 2, all, "one of two spp values");
+    let o = list(&["--set", "spp=[2]", "--set", "methods.1.method=cpu"]);
+    assert!(!o.status.success(), "two variants labelled cpu");
+    for (set, parts) in [
+        ("spp=[0]", vec!["set.json", "spp", "(set by --set spp=[0])"]),
+        ("spq=[2]", vec!["set.json", "spq", "did you mean \"spp\"", "(set by --set spq=[2])"]),
+        ("methods.5.label=x", vec!["set.json", "--set methods.5.label=x", "has 2 entries"]),
+        ("spp", vec!["KEY=VALUE"]),
+    ] {
+        let o = list(&["--set", set]);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && !stderr.contains("panicked"), "{set}: {stderr}");
+        for part in parts {
+            assert!(stderr.contains(part), "{set}: {part:?} not in {stderr}");
+        }
+    }
+    let out = dir.join("out");
+    let o = wavetrace(&[
+        "experiment",
+        "run",
+        p,
+        "--set",
+        "spp=[2]",
+        "--set",
+        "methods.1.label=reference-f64",
+        "--out",
+        out.to_str().unwrap(),
+        "--cache",
+        dir.join("cache").to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let report = assert_valid(&out);
+    assert_eq!(report["overrides"], serde_json::json!(["spp=[2]", "methods.1.label=reference-f64"]));
+    assert_eq!(report["config"]["spp"], serde_json::json!([2]));
+    assert_eq!(report["runs"].as_array().unwrap().len(), 2);
+    assert!(report["runs"].as_array().unwrap().iter().any(|r| r["label"] == "reference-f64"));
+}
