@@ -537,7 +537,10 @@ fn passes(runs: &[&RunRecord], group: &str) -> Option<StackedBarChart> {
         .collect();
     (!bars.is_empty()).then(|| StackedBarChart {
         title: format!("GPU time per pass: {group}"),
-        y_label: "GPU ms per render (median)".into(),
+        // Per-pass times come from a render of their own with a timestamp around every pass
+        // (the timed repetitions run without them), so the bars need not add up to the table's
+        // frame time.
+        y_label: "GPU ms per render (median; the profiled render's per-pass timestamps)".into(),
         bars,
     })
 }

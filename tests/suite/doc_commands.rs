@@ -61,10 +61,10 @@ const NOT_RUN: &[(&str, &str)] = &[
 /// `wavetrace` commands another test runs, with sharper checks than an exit status.
 const RUN_ELSEWHERE: &[(&str, &str)] = &[
     (
-        "wavetrace experiment run experiments/my_scene.json --out out/my_scene",
+        r#"wavetrace experiment run experiments/my_scene.json --set 'scenes=["scenes/mine.json"]' --out out/mine"#,
         "docs::the_readme_own_scene_commands_run",
     ),
-    ("wavetrace experiment report out/my_scene --markdown", "docs::the_readme_own_scene_commands_run"),
+    ("wavetrace experiment report out/mine --markdown", "docs::the_readme_own_scene_commands_run"),
 ];
 
 /// One command as the docs show it.
