@@ -49,10 +49,13 @@ pub struct RenderArgs {
     /// Built-in scene name (`wavetrace scene list`) or path to a scene JSON file.
     #[arg(long)]
     pub scene: String,
+    /// The renderer: the CPU reference (`cpu`, `cpu-f64`: the ground truth), or a GPU method.
     #[arg(long, value_enum, default_value_t = Method::Megakernel)]
     pub method: Method,
+    /// Image width in pixels.
     #[arg(long, default_value_t = 400)]
     pub width: u32,
+    /// Image height in pixels.
     #[arg(long, default_value_t = 225)]
     pub height: u32,
     /// Samples per pixel.
@@ -65,7 +68,7 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
     /// `none` tests every primitive for every ray, as the seeds did.
-    #[arg(long, value_enum, default_value_t = Accel::Bvh)]
+    #[arg(long, value_enum, default_value_t = Accel::Bvh, help_heading = "Numerics and stress", hide_short_help = true)]
     pub accel: Accel,
     /// Next-event estimation: at each diffuse hit, a shadow ray to a point sampled on an
     /// emitter (`off`: lights are found only by bounced rays, as in the book). Both converge
@@ -76,35 +79,35 @@ pub struct RenderArgs {
     /// seen from outside uniformly over the cone it subtends (none of its samples land on the
     /// hidden far side); `area`, uniformly by area (the earlier behaviour). Quads and triangles
     /// are sampled by area either way.
-    #[arg(long, value_enum, default_value_t = LightSampling::SolidAngle)]
+    #[arg(long, value_enum, default_value_t = LightSampling::SolidAngle, help_heading = "Lights (with --nee on)", hide_short_help = true)]
     pub light_sampling: LightSampling,
     /// With --nee on: how the light is chosen: in proportion to its emitted power (mean radiance
     /// × area), or `uniform`ly per emitting primitive (the earlier behaviour).
-    #[arg(long, value_enum, default_value_t = LightSelect::Power)]
+    #[arg(long, value_enum, default_value_t = LightSelect::Power, help_heading = "Lights (with --nee on)", hide_short_help = true)]
     pub light_select: LightSelect,
     /// How secondary and shadow rays leave a surface: `tmin` ignores hits nearer than the
     /// book's 1e-3 (`tmin=VALUE`: nearer than VALUE); `robust` moves the origin off the surface
     /// by a bound on the hit point's rounding error (pbrt-v4) and keeps every hit at t > 0.
-    #[arg(long, default_value = "tmin", value_parser = RayOffset::parse)]
+    #[arg(long, default_value = "tmin", value_parser = RayOffset::parse, help_heading = "Numerics and stress", hide_short_help = true)]
     pub ray_offset: RayOffset,
     /// Ray–sphere intersection: the book's quadratic, or the numerically stable form (Ray
     /// Tracing Gems ch. 7).
-    #[arg(long, value_enum, default_value_t = SphereHit::Stable)]
+    #[arg(long, value_enum, default_value_t = SphereHit::Stable, help_heading = "Numerics and stress", hide_short_help = true)]
     pub sphere_hit: SphereHit,
     /// Reflectance of glass: the book's Schlick approximation, or the exact Fresnel equations.
-    #[arg(long, value_enum, default_value_t = Fresnel::Schlick)]
+    #[arg(long, value_enum, default_value_t = Fresnel::Schlick, help_heading = "Numerics and stress", hide_short_help = true)]
     pub fresnel: Fresnel,
     /// Where the scene is rendered: moved in f64 so the camera is at the origin before it is
     /// stored in f32 (`camera`), or in its own coordinates (`world`). cpu-f64 always renders in
     /// camera space.
-    #[arg(long, value_enum, default_value_t = RenderSpace::Camera)]
+    #[arg(long, value_enum, default_value_t = RenderSpace::Camera, help_heading = "Numerics and stress", hide_short_help = true)]
     pub render_space: RenderSpace,
     /// Stress transform: scale the scene (geometry, camera, textures) about the origin by S > 0.
     /// The image is the same in exact arithmetic; what changes is numerical error.
-    #[arg(long, default_value_t = 1.0, value_parser = StressTransform::parse_scale)]
+    #[arg(long, default_value_t = 1.0, value_parser = StressTransform::parse_scale, help_heading = "Numerics and stress", hide_short_help = true)]
     pub scale: f64,
     /// Stress transform: then move it by X,Y,Z (or D for D,D,D).
-    #[arg(long, default_value = "0,0,0", value_parser = StressTransform::parse_translate)]
+    #[arg(long, default_value = "0,0,0", value_parser = StressTransform::parse_translate, help_heading = "Numerics and stress", hide_short_help = true)]
     pub translate: [f64; 3],
     /// Output EXR (linear RGB, f32).
     #[arg(long)]
@@ -119,24 +122,24 @@ pub struct RenderArgs {
     #[arg(long)]
     pub adapter: Option<String>,
     /// Threads per workgroup for GPU methods.
-    #[arg(long, default_value_t = MegakernelOptions::default().workgroup_size)]
+    #[arg(long, default_value_t = MegakernelOptions::default().workgroup_size, help_heading = "GPU methods", hide_short_help = true)]
     pub workgroup_size: u32,
     /// Megakernel: most path samples in one GPU dispatch (bounds each dispatch's time under
     /// driver watchdogs).
-    #[arg(long, default_value_t = MegakernelOptions::default().samples_per_dispatch)]
+    #[arg(long, default_value_t = MegakernelOptions::default().samples_per_dispatch, help_heading = "Megakernel", hide_short_help = true)]
     pub samples_per_dispatch: u64,
     /// Wavefront: paths in flight (default about a million, less where the adapter's storage
     /// bindings are smaller; a pool that does not fit is reduced with a notice).
-    #[arg(long)]
+    #[arg(long, help_heading = "Wavefront", hide_short_help = true)]
     pub pool_size: Option<u32>,
     /// Wavefront: keep queues dense (`off`: every pass runs over the whole pool).
-    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    #[arg(long, value_enum, default_value_t = OnOff::On, help_heading = "Wavefront", hide_short_help = true)]
     pub compaction: OnOff,
     /// Wavefront: how compaction builds queues.
-    #[arg(long, value_enum, default_value_t = CompactionMethod::Atomic)]
+    #[arg(long, value_enum, default_value_t = CompactionMethod::Atomic, help_heading = "Wavefront", hide_short_help = true)]
     pub compaction_method: CompactionMethod,
     /// Wavefront: one shade pass per material kind, or one with a material switch.
-    #[arg(long, value_enum, default_value_t = ShadePasses::PerMaterial)]
+    #[arg(long, value_enum, default_value_t = ShadePasses::PerMaterial, help_heading = "Wavefront", hide_short_help = true)]
     pub shade: ShadePasses,
     /// GPU methods: paths that start together, each thread or slot idling once its path ends
     /// (`waves`: the wavefront's waves, the megakernel's one path per thread), or threads and
@@ -147,40 +150,40 @@ pub struct RenderArgs {
     pub schedule: Schedule,
     /// Megakernel, --schedule regenerate: persistent threads per dispatch, rounded up to whole
     /// workgroups [default: 262144 on a discrete GPU, else 65536].
-    #[arg(long)]
+    #[arg(long, help_heading = "Megakernel", hide_short_help = true)]
     pub threads: Option<u32>,
     /// Wavefront, regenerate: iterations recorded between checks of the schedule's counters (the
     /// host waits for the GPU at each check, then adds complete chunks to the film; up to this
     /// many iterations idle at the image's end). With --tail megakernel, the host checks after
     /// every iteration once every sample has started, so the tail starts when it is due.
-    #[arg(long, default_value_t = WavefrontOptions::default().sync_every)]
+    #[arg(long, default_value_t = WavefrontOptions::default().sync_every, help_heading = "Wavefront", hide_short_help = true)]
     pub sync_every: u32,
     /// Wavefront, regenerate: finish paths in one megakernel-style pass: the image's last ones
     /// once at most --tail-threshold × pool are left, and the oldest chunks' last ones (each at
     /// most that many) when the sample ring would stop the refills.
-    #[arg(long, value_enum, default_value_t = WavefrontOptions::default().tail)]
+    #[arg(long, value_enum, default_value_t = WavefrontOptions::default().tail, help_heading = "Wavefront", hide_short_help = true)]
     pub tail: Tail,
     /// Wavefront, --tail megakernel: the live fraction of the pool, in (0, 1], below which the
     /// tail takes over.
-    #[arg(long, default_value_t = WavefrontOptions::default().tail_threshold)]
+    #[arg(long, default_value_t = WavefrontOptions::default().tail_threshold, help_heading = "Wavefront", hide_short_help = true)]
     pub tail_threshold: f64,
     /// Wavefront, --schedule regenerate: chunks of one pool of samples in the sample ring.
     /// Refills run at most this many chunks ahead of the oldest one not yet in the film (a
     /// larger ring waits less on its oldest chunk's longest paths); the ring takes 16 bytes a
     /// sample, within one storage binding.
-    #[arg(long, default_value_t = WavefrontOptions::default().chunk_pools)]
+    #[arg(long, default_value_t = WavefrontOptions::default().chunk_pools, help_heading = "Wavefront", hide_short_help = true)]
     pub chunk_pools: u32,
     /// Wavefront, --compaction-method scan: scan workgroups with subgroup operations (where the
     /// adapter has them: `auto`) or with the Hillis–Steele workgroup scan.
-    #[arg(long, value_enum, default_value_t = Scan::Auto)]
+    #[arg(long, value_enum, default_value_t = Scan::Auto, help_heading = "Wavefront", hide_short_help = true)]
     pub scan: Scan,
     /// Wavefront: append paths to queues with one atomic per subgroup and queue (where the
     /// adapter has subgroups: `auto`) or one per lane.
-    #[arg(long, value_enum, default_value_t = Append::Auto)]
+    #[arg(long, value_enum, default_value_t = Append::Auto, help_heading = "Wavefront", hide_short_help = true)]
     pub append: Append,
     /// Wavefront: one compute pass per dispatch, or consecutive dispatches sharing one (up to the
     /// next copy or submission; only where passes are not timed: with `--timing frame`).
-    #[arg(long, value_enum, default_value_t = ComputePasses::Shared)]
+    #[arg(long, value_enum, default_value_t = ComputePasses::Shared, help_heading = "Wavefront", hide_short_help = true)]
     pub compute_passes: ComputePasses,
     /// Wavefront: keep queues in the order their paths arrived, or build the ray queue in slot
     /// order by a pass over the pool (a subgroup reads neighbouring path states; regenerated
@@ -188,41 +191,41 @@ pub struct RenderArgs {
     /// of appends (runs of ascending slots) with atomic; optionally keyed by depth (`slot-depth`,
     /// always a scan: a refill's first bounces in one run, as in a wave); `auto`: slot order when
     /// regenerating a job of at least 4 pools of samples, arrival order otherwise.
-    #[arg(long, value_enum, default_value_t = QueueOrder::Auto)]
+    #[arg(long, value_enum, default_value_t = QueueOrder::Auto, help_heading = "Wavefront", hide_short_help = true)]
     pub queue_order: QueueOrder,
     /// Wavefront, --schedule regenerate: refill the pool only once at most this fraction of it,
     /// in (0, 1], is live (1: at every iteration, into whatever slots paths just left; less:
     /// larger batches of consecutive samples, as Cycles schedules new work only when too few
     /// paths are left).
-    #[arg(long, default_value_t = WavefrontOptions::default().refill_below)]
+    #[arg(long, default_value_t = WavefrontOptions::default().refill_below, help_heading = "Wavefront", hide_short_help = true)]
     pub refill_below: f64,
     /// Wavefront, --schedule regenerate: before each refill, move the live paths above the live
     /// count into the free slots below it (Cycles' compact_states), so the refill's consecutive
     /// samples take one contiguous run of slots. Needs --compaction on.
-    #[arg(long, value_enum, default_value_t = WavefrontOptions::default().compact_states)]
+    #[arg(long, value_enum, default_value_t = WavefrontOptions::default().compact_states, help_heading = "Wavefront", hide_short_help = true)]
     pub compact_states: CompactStates,
     /// Wavefront: before each intersect, sort the ray queue by the ray direction's octant
     /// (`octant`), or by octant and the origin's cell of a 4x4x4 grid over the scene
     /// (`octant-cell`), so a subgroup's lanes traverse the same part of the BVH (a counting sort:
     /// three passes). Needs --compaction on.
-    #[arg(long, value_enum, default_value_t = RaySort::Off)]
+    #[arg(long, value_enum, default_value_t = RaySort::Off, help_heading = "Wavefront", hide_short_help = true)]
     pub ray_sort: RaySort,
     /// GPU methods: count SIMD efficiency per pass with subgroup operations (adds atomics: use
     /// separate runs for timing).
-    #[arg(long)]
+    #[arg(long, help_heading = "GPU methods", hide_short_help = true)]
     pub instrument: bool,
     /// GPU methods: timestamps around every pass (time per pass), or the host clock per
     /// submission only (`frame`: what the per-pass instrument costs shows as the difference).
-    #[arg(long, value_enum, default_value_t = Timing::Passes)]
+    #[arg(long, value_enum, default_value_t = Timing::Passes, help_heading = "GPU methods", hide_short_help = true)]
     pub timing: Timing,
     /// GPU methods: compile the shaders with wgpu's runtime checks (bounds checks, bounded loops)
     /// or without them (`unchecked`: what the checks cost; the films are the same).
-    #[arg(long, value_enum, default_value_t = ShaderChecks::Checked)]
+    #[arg(long, value_enum, default_value_t = ShaderChecks::Checked, help_heading = "GPU methods", hide_short_help = true)]
     pub shader_checks: ShaderChecks,
     /// GPU methods: seconds of busy GPU work just before each frame (warm-up and timed), so the
     /// frame starts at the clocks continuous rendering holds rather than those of a GPU idled by
     /// the host's setup (0: none; never on a software adapter).
-    #[arg(long, default_value_t = crate::gpu::preheat::DEFAULT_SECONDS, value_name = "SECONDS", value_parser = parse_preheat)]
+    #[arg(long, default_value_t = crate::gpu::preheat::DEFAULT_SECONDS, value_name = "SECONDS", value_parser = parse_preheat, help_heading = "GPU methods", hide_short_help = true)]
     pub preheat: f64,
     /// Untimed renders before the one that is timed and written: `auto` (GPU methods: until the
     /// GPU has worked 0.5 s and two frames agree within 5%, at most 50 frames or 10 s; CPU

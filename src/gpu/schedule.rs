@@ -5,14 +5,13 @@
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Schedule {
-    /// The faster schedule as measured on the adapter's kind (README, "What it has found so
-    /// far"): for the wavefront, `regenerate` with the megakernel tail on a GPU (on an H200 it
-    /// beat waves, several times over, in all but two small jobs of `regeneration.json`) and
-    /// `waves` on a software adapter (llvmpipe, where waves lead at 64 spp); for the
-    /// megakernel, `waves` (the regenerating megakernel is slower on some H200 jobs). Resolved
-    /// before a render starts ([`crate::method::MethodOptions::resolve`]); reports record what
-    /// it chose. The command line's and experiment configs' default; the library's
-    /// `Default` is `Waves`, the fixed baseline its tests compare against.
+    /// What measured faster on the adapter's kind: for the wavefront, `regenerate` with the
+    /// megakernel tail on a GPU (it beat waves on the H200) and `waves` on a software adapter
+    /// (llvmpipe, where waves lead); for the megakernel, `waves`, the seeds' one path per thread,
+    /// kept as the baseline (the regenerating megakernel measured faster on every H200 job of
+    /// megakernel_threads.json: ask for it by name to compare against the strongest
+    /// megakernel). Resolved before a render starts; reports record what ran. The command
+    /// line's and experiment configs' default.
     Auto,
     /// Paths start together and a thread or slot whose path ends idles until the wave or
     /// dispatch is over: the wavefront's waves of at most `pool` paths, the megakernel's one

@@ -11,7 +11,8 @@ pub enum ShaderChecks {
     /// wgpu's default: bounds checks and bounded loops.
     #[default]
     Checked,
-    /// No runtime checks (`wgpu::ShaderRuntimeChecks::unchecked()`).
+    /// No runtime checks: wgpu's trusted shader modules, without bounds checks or forced loop
+    /// bounds.
     Unchecked,
 }
 

@@ -215,6 +215,33 @@ fn help_shows_examples() {
     assert!(String::from_utf8_lossy(&out.stdout).contains("wavetrace scene export"));
 }
 
+/// `render -h` shows the options most renders need, under 60 lines; `--help` shows every option,
+/// grouped by what it tunes, with no internal names (issue 45).
+#[test]
+fn render_help_is_short_and_grouped() {
+    let short = String::from_utf8_lossy(&wavetrace(&["render", "-h"]).stdout).into_owned();
+    assert!(short.lines().count() < 60, "{} lines:\n{short}", short.lines().count());
+    assert!(short.contains("--spp") && short.contains("--out") && !short.contains("--pool-size"), "{short}");
+    assert!(short.contains("--help"), "says where the rest is: {short}");
+    let long = String::from_utf8_lossy(&wavetrace(&["render", "--help"]).stdout).into_owned();
+    let heading = |h: &str| long.lines().position(|l| l == h).unwrap_or_else(|| panic!("no {h:?}"));
+    let option = |o: &str| {
+        long.lines().position(|l| l.trim_start().starts_with(o)).unwrap_or_else(|| panic!("no {o}"))
+    };
+    for (h, o) in [
+        ("Wavefront:", "--pool-size"),
+        ("Megakernel:", "--threads"),
+        ("GPU methods:", "--preheat"),
+        ("Lights (with --nee on):", "--light-select"),
+        ("Numerics and stress:", "--ray-offset"),
+    ] {
+        assert!(heading(h) < option(o), "{o} under {h}");
+    }
+    for leak in ["crate::", "AUTO_SLOT_POOLS", "the library's", "ShaderRuntimeChecks"] {
+        assert!(!long.contains(leak), "internal name {leak:?} in render --help");
+    }
+}
+
 #[test]
 fn wavefront_cli_reports_passes_histogram_and_simd() {
     let Some(ctx) = common::gpu() else { return };

@@ -20,7 +20,7 @@ use anyhow::{bail, Result};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum QueueOrder {
-    /// Slot order when regenerating with queues a job of at least 4 pools (AUTO_SLOT_POOLS),
+    /// Slot order when regenerating with queues a job of at least four pools,
     /// arrival order otherwise: what measured faster (experiments/queue_order.json): the
     /// pool-wide scan pays where many refills scatter the pool, and only costs where waves empty
     /// it or a job barely refills it.
