@@ -76,7 +76,7 @@
 # at 2x10^5, over llvmpipe's 128 MiB bindings, as the dry run runs them)
 # each step takes seconds; the dry run prints the times (scripts/device_dry_run.sh).
 #
-# With the device tool (see README "Run it on a GPU"): prepare here, then one call per group of
+# With the device tool (docs/device-tool.md): prepare here, then one call per group of
 # steps, each call well inside the tool's 10 minutes:
 #   scripts/device_prepare.sh                     # .device/ (binaries) and .gl/ (Vulkan loader)
 #   run(command="bash scripts/device_figures.sh --out $OUT tests dispatch-cost compute-passes warmup headline",
