@@ -34,7 +34,8 @@ Examples:
 
 Writes into the output directory: report.json (schema wavetrace-experiment-report/1, described in
 docs/outputs.md and experiments/report.schema.json), runs.csv and passes.csv (tidy tables of it),
-report.html, charts/*.svg, images/RUN.exr|.png|-error.png, references/*.png.
+report.html, charts/*.svg, images/RUN.exr|.png|-error.png, references/*.png|.exr (the references
+themselves, so the directory is self-contained).
 --resume keeps the runs an interrupted attempt in --out finished (same config, build and shard,
 else it refuses and says what differs), runs failed runs again and renders the rest; with no
 report.json there yet it starts afresh, so a requeued batch job can always pass it.

@@ -75,6 +75,9 @@ impl References {
             let png = format!("references/{}.png", r.record.key);
             image_io::write_png(out_dir.join(&png), &r.image)?;
             r.record.png = Some(png);
+            let copy = format!("references/{}.exr", r.record.key);
+            link_or_copy(Path::new(&r.record.exr), &out_dir.join(&copy))?;
+            r.record.exr_copy = Some(copy);
             self.loaded.insert(key.clone(), r);
         }
         Ok(self.loaded.get(&key))
@@ -115,6 +118,7 @@ impl References {
             render_seconds: 0.0,
             git_commit: None,
             png: None,
+            exr_copy: None,
         };
         // Shards sharing the cache render a missing entry once: the first claims it, the others
         // wait for its lock to go (or go stale) and then read the entry (cache_lock.rs).
@@ -231,6 +235,7 @@ fn read(path: &Path, scene: &Scene, width: u32, height: u32) -> Result<Reference
         render_seconds: 0.0,
         git_commit: attribute(&attrs, "wavetrace.git_commit"),
         png: None,
+        exr_copy: None,
     };
     Ok(Reference { image, record })
 }
@@ -312,6 +317,22 @@ fn mesh_digest(scene: &Scene) -> String {
 /// 64-bit FNV-1a: stable across builds and platforms, unlike `std`'s hasher.
 fn fnv1a(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3))
+}
+
+/// `to` becomes `from`'s content: a hard link (no second copy of a large EXR) where both are on
+/// one filesystem, else a copy; whatever was at `to` (an earlier attempt's) is replaced.
+fn link_or_copy(from: &Path, to: &Path) -> Result<()> {
+    if let Some(dir) = to.parent() {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    }
+    if to.exists() {
+        std::fs::remove_file(to).with_context(|| format!("cannot replace {}", to.display()))?;
+    }
+    if std::fs::hard_link(from, to).is_err() {
+        std::fs::copy(from, to)
+            .with_context(|| format!("cannot copy the reference {} to {}", from.display(), to.display()))?;
+    }
+    Ok(())
 }
 
 #[cfg(test)]

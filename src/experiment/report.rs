@@ -373,6 +373,11 @@ pub struct ReferenceRecord {
     pub git_commit: Option<String>,
     /// sRGB preview, relative to the report's directory.
     pub png: Option<String>,
+    /// The EXR itself inside the report's directory (`references/KEY.exr`: a hard link to `exr`
+    /// where the filesystem allows, else a copy), so the directory holds everything its runs
+    /// were measured against. Absent in reports from before it was kept.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exr_copy: Option<String>,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize)]

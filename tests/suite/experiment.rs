@@ -110,6 +110,14 @@ fn full_report_matches_the_schema_and_holds_every_output() {
     let report = ExperimentReport::read(&out).unwrap();
     assert_eq!(report.runs.len(), 8);
     assert_eq!(report.runs_planned, 8);
+    // The directory is self-contained: each reference's EXR is inside it, the same bytes as
+    // the cached one the runs were measured against.
+    assert!(!report.references.is_empty());
+    for r in &report.references {
+        let copy = out.join(r.exr_copy.as_ref().expect("the reference's EXR is kept"));
+        assert!(copy.starts_with(out.join("references")), "{}", copy.display());
+        assert_eq!(std::fs::read(&copy).unwrap(), std::fs::read(&r.exr).unwrap(), "{}", r.key);
+    }
 
     let cpu: Vec<_> = report.runs.iter().filter(|r| r.method == "cpu").collect();
     for r in &report.runs {
