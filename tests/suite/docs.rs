@@ -675,6 +675,40 @@ fn the_readme_own_scene_commands_run() {
     assert!(rows.iter().any(|r| r.contains("| 1.00×")), "the fastest megakernel is the unit: {page}");
 }
 
+/// docs/outputs.md names every column runs.csv has, as the writer writes it for a committed
+/// report of every method (`x_median|min|max` and `x_before|after` stand for several columns):
+/// a column added to the writer fails here until the page says what it holds.
+#[test]
+fn every_runs_csv_column_is_documented() {
+    let root = crate::common::root();
+    let dir = crate::common::tmp().join("docs-runs-csv");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let report = root.join("experiments/results/llvmpipe-2core/quick/report.json");
+    std::fs::copy(&report, dir.join("report.json")).unwrap();
+    let o = std::process::Command::new(crate::common::bin())
+        .args(["experiment", "report"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv = std::fs::read_to_string(dir.join("runs.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    assert!(header.contains(&"append") && header.contains(&"waits"), "{header:?}");
+    let doc = read("docs/outputs.md");
+    let documented = |c: &str| {
+        doc.contains(&format!("`{c}`"))
+            || ["_median", "_min", "_max"].iter().any(|s| {
+                c.strip_suffix(s).is_some_and(|stem| doc.contains(&format!("`{stem}_median|min|max`")))
+            })
+            || ["_before", "_after"].iter().any(|s| {
+                c.strip_suffix(s).is_some_and(|stem| doc.contains(&format!("`{stem}_before|after`")))
+            })
+    };
+    let missing: Vec<&&str> = header.iter().filter(|c| !documented(c)).collect();
+    assert!(missing.is_empty(), "runs.csv columns docs/outputs.md does not name: {missing:?}");
+}
+
 /// CI runs the README's test command.
 #[test]
 fn ci_runs_the_readmes_test_command() {
