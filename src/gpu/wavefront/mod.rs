@@ -427,6 +427,125 @@ impl Stages {
     }
 }
 
+/// What drives every share of a render: its passes, bindings and options. One method per
+/// schedule records a share's iterations and returns how many it recorded.
+struct Drive<'a> {
+    ctx: &'a GpuContext,
+    stages: &'a Stages,
+    b: &'a Bindings,
+    accumulate: &'a Accumulate,
+    opts: &'a WavefrontOptions,
+    max_depth: u32,
+    pool: u32,
+    /// Passes one iteration records (a submission's timestamp capacity).
+    per_iteration: usize,
+}
+
+impl Drive<'_> {
+    /// Waves: one iteration per bounce, the wave's paths all starting together.
+    fn waves(&self, wave: &mut WaveRecorder<'_>) -> Result<u32> {
+        for bounce in 0..self.max_depth {
+            if wave.timer.remaining() < self.per_iteration + 1 {
+                wave.submit_and_wait(self.ctx)?;
+            }
+            self.stages.record_iteration(wave, bounce, false);
+        }
+        Ok(self.max_depth)
+    }
+
+    /// Regenerating: iterations until every sample of the share (`r`) is in the film, the host
+    /// reading the schedule's counters through `check` at each check; `progress` gets the
+    /// share's finished samples.
+    fn regenerate(
+        &self,
+        wave: &mut WaveRecorder<'_>,
+        r: &schedule::Ring,
+        check: &Staging,
+        pixel_count: u32,
+        stats: &mut ScheduleStats,
+        progress: &dyn Fn(u64),
+    ) -> Result<u32> {
+        let paths = r.paths;
+        // Iterate until every sample of the share is in the film, reading the counters
+        // back only every `sync_every` iterations; after each read, add the chunks that
+        // are complete (with the tail, finish the oldest ones' last paths first where the
+        // ring needs them back) and move the refills' limit on.
+        self.b.state.write_schedule_word(self.ctx, word::FILL_LIMIT, r.fill_limit(0));
+        self.b.state.write_schedule_word(self.ctx, word::TAIL_BOUND, 0);
+        let mut i = 0;
+        let mut stall = schedule::Progress::new(paths, self.max_depth, self.opts.sync_every);
+        // Once a check finds every sample started, the refill passes would be empty.
+        let mut refill = true;
+        // The first chunk not yet in the film, and the samples started at the last check.
+        let (mut oldest, mut started_before) = (0, 0);
+        // Whether the first refill starts every sample (it starts a pool of them, up to
+        // the ring's end); later, a check says so by clearing `refill`.
+        let one_refill = paths <= self.pool.min(r.fill_limit(0));
+        loop {
+            for _ in 0..self.opts.sync_every {
+                if wave.timer.remaining() < self.per_iteration + 1 {
+                    wave.submit_and_wait(self.ctx)?;
+                }
+                self.stages.record_iteration(wave, i, refill);
+                i += 1;
+                // With the tail, once every sample has started the host checks after
+                // every iteration: the tail starts in the iteration it is due, and no
+                // idle iteration follows it.
+                if self.stages.tail.is_some() && (one_refill || !refill) {
+                    break;
+                }
+            }
+            schedule::ChunkCounters::copy(wave.encoder().0, check, &self.b.state, r);
+            wave.submit_and_wait(self.ctx)?;
+            let c = schedule::ChunkCounters::read(self.ctx, check, r, oldest)?;
+            progress(c.finished as u64);
+            refill = c.started < paths;
+            stall.check(c.finished, i)?;
+            let complete = r.complete_from(oldest, &c.ring);
+            let mut added = complete;
+            if let Some(tail) = &self.stages.tail {
+                let bound = if c.tail_due(paths, self.opts.tail_threshold, self.pool) {
+                    r.chunks()
+                } else {
+                    let max_live = self.opts.tail_threshold * self.pool as f64;
+                    r.flush_to(complete, c.started, c.started - started_before, &c.ring, max_live)
+                };
+                if bound > complete {
+                    let left = |k: u32| r.len(k) - c.ring[(k % r.ring) as usize];
+                    stats.add_tail((complete..bound).map(left).sum());
+                    self.b.state.write_schedule_word(self.ctx, word::TAIL_BOUND, r.end(bound - 1));
+                    self.stages.queue_setup.record_tail(wave, i);
+                    tail.record(wave);
+                    added = bound;
+                }
+            }
+            started_before = c.started;
+            if added > oldest {
+                let first = oldest * r.chunk;
+                let count = r.end(added - 1) - first;
+                let range = AccumulateRange { first, count, ring: r.samples(), pad: 0 };
+                let offset = wave.offset;
+                let (enc, timer) = wave.encoder();
+                self.accumulate.record_range(self.ctx, enc, timer, offset, pixel_count, range);
+                wave.dispatches += 1;
+                wave.compute_passes += 1;
+                self.b.state.clear_ring_counters(wave.encoder().0, (oldest..added).map(|k| k % r.ring));
+                oldest = added;
+                self.b.state.write_schedule_word(self.ctx, word::FILL_LIMIT, r.fill_limit(oldest));
+            }
+            if oldest == r.chunks() {
+                break Ok(i);
+            }
+            if c.finished == paths {
+                let total = r.chunks();
+                bail!(
+                    "the regenerating wavefront finished every sample but added {oldest} of {total} chunks"
+                );
+            }
+        }
+    }
+}
+
 pub fn render(
     ctx: &GpuContext,
     scene: &PackedScene,
@@ -561,6 +680,16 @@ pub fn render(
     let finished = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
     let mut ledger = (!regenerate).then(|| ShareLedger::new(ctx, &b.state, &mut memory));
     let mut compute_passes = 0u64;
+    let drive = Drive {
+        ctx,
+        stages: &stages,
+        b: &b,
+        accumulate: &accumulate,
+        opts,
+        max_depth: settings.max_depth,
+        pool,
+        per_iteration,
+    };
     for (w, d) in shares.iter().enumerate() {
         let paths = d.pixel_count * d.sample_count;
         // Regenerating: this share's sample ring (the render's chunk and ring sizes).
@@ -581,93 +710,13 @@ pub fn render(
 
         stages.generate.record_start(&mut wave);
         let iterations = match opts.schedule {
-            Schedule::Waves => {
-                for bounce in 0..settings.max_depth {
-                    if wave.timer.remaining() < per_iteration + 1 {
-                        wave.submit_and_wait(ctx)?;
-                    }
-                    stages.record_iteration(&mut wave, bounce, false);
-                }
-                settings.max_depth
-            }
+            Schedule::Waves => drive.waves(&mut wave)?,
             Schedule::Auto => unreachable!("render() resolves --schedule auto first"),
             Schedule::Regenerate => {
                 let check = check_staging.as_ref().expect("regenerating renders make a staging buffer");
-                // Iterate until every sample of the share is in the film, reading the counters
-                // back only every `sync_every` iterations; after each read, add the chunks that
-                // are complete (with the tail, finish the oldest ones' last paths first where the
-                // ring needs them back) and move the refills' limit on.
-                b.state.write_schedule_word(ctx, word::FILL_LIMIT, r.fill_limit(0));
-                b.state.write_schedule_word(ctx, word::TAIL_BOUND, 0);
-                let mut i = 0;
-                let mut progress = schedule::Progress::new(paths, settings.max_depth, opts.sync_every);
-                // Once a check finds every sample started, the refill passes would be empty.
-                let mut refill = true;
-                // The first chunk not yet in the film, and the samples started at the last check.
-                let (mut oldest, mut started_before) = (0, 0);
-                // Whether the first refill starts every sample (it starts a pool of them, up to
-                // the ring's end); later, a check says so by clearing `refill`.
-                let one_refill = paths <= pool.min(r.fill_limit(0));
-                loop {
-                    for _ in 0..opts.sync_every {
-                        if wave.timer.remaining() < per_iteration + 1 {
-                            wave.submit_and_wait(ctx)?;
-                        }
-                        stages.record_iteration(&mut wave, i, refill);
-                        i += 1;
-                        // With the tail, once every sample has started the host checks after
-                        // every iteration: the tail starts in the iteration it is due, and no
-                        // idle iteration follows it.
-                        if stages.tail.is_some() && (one_refill || !refill) {
-                            break;
-                        }
-                    }
-                    schedule::ChunkCounters::copy(wave.encoder().0, check, &b.state, &r);
-                    wave.submit_and_wait(ctx)?;
-                    let c = schedule::ChunkCounters::read(ctx, check, &r, oldest)?;
-                    on_progress(finished.load(std::sync::atomic::Ordering::Relaxed) + c.finished as u64);
-                    refill = c.started < paths;
-                    progress.check(c.finished, i)?;
-                    let complete = r.complete_from(oldest, &c.ring);
-                    let mut added = complete;
-                    if let Some(tail) = &stages.tail {
-                        let bound = if c.tail_due(paths, opts.tail_threshold, pool) {
-                            r.chunks()
-                        } else {
-                            let max_live = opts.tail_threshold * pool as f64;
-                            r.flush_to(complete, c.started, c.started - started_before, &c.ring, max_live)
-                        };
-                        if bound > complete {
-                            let left = |k: u32| r.len(k) - c.ring[(k % r.ring) as usize];
-                            stats.add_tail((complete..bound).map(left).sum());
-                            b.state.write_schedule_word(ctx, word::TAIL_BOUND, r.end(bound - 1));
-                            stages.queue_setup.record_tail(&mut wave, i);
-                            tail.record(&mut wave);
-                            added = bound;
-                        }
-                    }
-                    started_before = c.started;
-                    if added > oldest {
-                        let first = oldest * r.chunk;
-                        let count = r.end(added - 1) - first;
-                        let range = AccumulateRange { first, count, ring: r.samples(), pad: 0 };
-                        let offset = wave.offset;
-                        let (enc, timer) = wave.encoder();
-                        accumulate.record_range(ctx, enc, timer, offset, d.pixel_count, range);
-                        wave.dispatches += 1;
-                        wave.compute_passes += 1;
-                        b.state.clear_ring_counters(wave.encoder().0, (oldest..added).map(|k| k % r.ring));
-                        oldest = added;
-                        b.state.write_schedule_word(ctx, word::FILL_LIMIT, r.fill_limit(oldest));
-                    }
-                    if oldest == r.chunks() {
-                        break i;
-                    }
-                    if c.finished == paths {
-                        let total = r.chunks();
-                        bail!("the regenerating wavefront finished every sample but added {oldest} of {total} chunks");
-                    }
-                }
+                let done = finished.load(std::sync::atomic::Ordering::Relaxed);
+                drive
+                    .regenerate(&mut wave, &r, check, d.pixel_count, &mut stats, &|f| on_progress(done + f))?
             }
         };
         if regenerate {
