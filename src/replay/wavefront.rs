@@ -25,7 +25,7 @@ use crate::camera::CameraFrame;
 use crate::cpu::camera::Camera;
 use crate::gpu::schedule::Schedule;
 use crate::gpu::wavefront::schedule::{
-    check_chunk_pools, check_sync_every, shares, ChunkCounters, Progress, Ring,
+    check_chunk_pools, check_sync_every, shares, ChunkCounters, Decision, Progress, Ring,
 };
 use crate::gpu::wavefront::tail::check_threshold;
 use crate::gpu::wavefront::{Compaction, QueueOrder, ShadePasses, Tail, WavefrontOptions, DEFAULT_POOL};
@@ -528,27 +528,20 @@ impl Wave<'_> {
             }
             let started = next as u32;
             let c = ChunkCounters { started, finished: oldest * r.chunk + ring.iter().sum::<u32>(), ring };
-            refill = c.started < paths;
             progress.check(c.finished, stats.iterations as u32)?;
-            let complete = r.complete_from(oldest, &c.ring);
-            let mut added = complete;
-            if host.tail {
-                let bound = if c.tail_due(paths, host.threshold, pool as u32) {
-                    r.chunks()
-                } else {
-                    let max_live = host.threshold * pool as f64;
-                    r.flush_to(complete, c.started, c.started - started_before, &c.ring, max_live)
-                };
-                if bound > complete {
-                    let done = self.tail(&rays, r.end(bound - 1) as usize);
-                    for &l in &done {
-                        finished[l / chunk] += 1;
-                    }
-                    stats.tail_passes += 1;
-                    stats.tail_paths += done.len() as u64;
-                    added = bound;
+            // The wavefront's own rule (gpu/wavefront/schedule.rs), not a copy of it.
+            let threshold = host.tail.then_some(host.threshold);
+            let decision = Decision::after(&r, &c, oldest, started_before, pool as u32, threshold);
+            refill = decision.refill;
+            if let Some(bound) = decision.tail_bound {
+                let done = self.tail(&rays, r.end(bound - 1) as usize);
+                for &l in &done {
+                    finished[l / chunk] += 1;
                 }
+                stats.tail_passes += 1;
+                stats.tail_paths += done.len() as u64;
             }
+            let added = decision.added;
             started_before = c.started;
             if added > oldest {
                 oldest = added;

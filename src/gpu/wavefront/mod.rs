@@ -499,26 +499,18 @@ impl Drive<'_> {
             wave.submit_and_wait(self.ctx)?;
             let c = schedule::ChunkCounters::read(self.ctx, check, r, oldest)?;
             progress(c.finished as u64);
-            refill = c.started < paths;
             stall.check(c.finished, i)?;
-            let complete = r.complete_from(oldest, &c.ring);
-            let mut added = complete;
-            if let Some(tail) = &self.stages.tail {
-                let bound = if c.tail_due(paths, self.opts.tail_threshold, self.pool) {
-                    r.chunks()
-                } else {
-                    let max_live = self.opts.tail_threshold * self.pool as f64;
-                    r.flush_to(complete, c.started, c.started - started_before, &c.ring, max_live)
-                };
-                if bound > complete {
-                    let left = |k: u32| r.len(k) - c.ring[(k % r.ring) as usize];
-                    stats.add_tail((complete..bound).map(left).sum());
-                    self.b.state.write_schedule_word(self.ctx, word::TAIL_BOUND, r.end(bound - 1));
-                    self.stages.queue_setup.record_tail(wave, i);
-                    tail.record(wave);
-                    added = bound;
-                }
+            let threshold = self.stages.tail.as_ref().map(|_| self.opts.tail_threshold);
+            let decision = schedule::Decision::after(r, &c, oldest, started_before, self.pool, threshold);
+            refill = decision.refill;
+            if let (Some(tail), Some(bound)) = (&self.stages.tail, decision.tail_bound) {
+                let left = |k: u32| r.len(k) - c.ring[(k % r.ring) as usize];
+                stats.add_tail((decision.complete..bound).map(left).sum());
+                self.b.state.write_schedule_word(self.ctx, word::TAIL_BOUND, r.end(bound - 1));
+                self.stages.queue_setup.record_tail(wave, i);
+                tail.record(wave);
             }
+            let added = decision.added;
             started_before = c.started;
             if added > oldest {
                 let first = oldest * r.chunk;

@@ -201,6 +201,46 @@ impl ChunkCounters {
     }
 }
 
+/// What the host decides after a check of a regenerating share: the one rule the wavefront
+/// (`Drive::regenerate`) and its lockstep replay (`replay/wavefront.rs`) both follow.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Decision {
+    /// Whether the next iterations refill: samples are left to start.
+    pub refill: bool,
+    /// The first chunk from the oldest on that is not complete.
+    pub complete: u32,
+    /// With the tail: run it now over the chunks below this bound (above `complete`): every
+    /// chunk once the share's end is due, else the oldest ones the ring needs back.
+    pub tail_bound: Option<u32>,
+    /// The chunks `[oldest, added)` go into the film now.
+    pub added: u32,
+}
+
+impl Decision {
+    /// The decision after the check `c` of the share in ring `r`: `oldest` is the first chunk not
+    /// yet in the film, `started_before` the samples started at the previous check, and
+    /// `tail_threshold` the tail's threshold where the render has a tail.
+    pub fn after(
+        r: &Ring,
+        c: &ChunkCounters,
+        oldest: u32,
+        started_before: u32,
+        pool: u32,
+        tail_threshold: Option<f64>,
+    ) -> Self {
+        let complete = r.complete_from(oldest, &c.ring);
+        let tail_bound = tail_threshold.and_then(|t| {
+            let bound = if c.tail_due(r.paths, t, pool) {
+                r.chunks()
+            } else {
+                r.flush_to(complete, c.started, c.started - started_before, &c.ring, t * pool as f64)
+            };
+            (bound > complete).then_some(bound)
+        });
+        Self { refill: c.started < r.paths, complete, tail_bound, added: tail_bound.unwrap_or(complete) }
+    }
+}
+
 /// The guard against a regenerating share that stops advancing.
 pub struct Progress {
     paths: u32,
@@ -397,6 +437,33 @@ pub fn clear_share_counters(enc: &mut wgpu::CommandEncoder, state: &PathState) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The host's rule after a check, on a share of 4 chunks of 1000 in a ring of 2.
+    #[test]
+    fn the_decision_after_a_check() {
+        let r = Ring::new(4000, 1000, 2000);
+        assert_eq!((r.chunk, r.ring, r.chunks()), (1000, 2, 4));
+        let counters = |started, ring: [u32; 2], before_ring| ChunkCounters {
+            started,
+            finished: before_ring + ring.iter().sum::<u32>(),
+            ring: ring.to_vec(),
+        };
+        // Without the tail: the complete chunks go into the film; refills go on.
+        let c = counters(2000, [1000, 500], 0);
+        let d = Decision::after(&r, &c, 0, 1000, 1000, None);
+        assert_eq!(d, Decision { refill: true, complete: 1, tail_bound: None, added: 1 });
+        // With the tail, at the share's end: every sample started and few left, so it takes all.
+        let c = counters(4000, [990, 995], 2000);
+        let d = Decision::after(&r, &c, 2, 3000, 1000, Some(0.05));
+        assert_eq!(d, Decision { refill: false, complete: 2, tail_bound: Some(4), added: 4 });
+        // Mid-share: the oldest chunk, nearly done, is finished by the tail so that the next
+        // refills (another 1000 expected) need not stop at the ring's end.
+        let c = counters(2000, [990, 0], 0);
+        let d = Decision::after(&r, &c, 0, 1000, 1000, Some(0.05));
+        assert_eq!(d, Decision { refill: true, complete: 0, tail_bound: Some(1), added: 1 });
+        // Without the tail the same check adds nothing.
+        assert_eq!(Decision::after(&r, &c, 0, 1000, 1000, None).added, 0);
+    }
 
     /// The arithmetic, not a render: at 1920x1080 and 4096 spp, for any max depth the settings
     /// accept, every share of either schedule holds few enough samples that a counter adding up
