@@ -130,7 +130,7 @@ impl RenderOutput {
         self.timings.as_ref().map_or(0.0, |t| t.preheat_seconds)
     }
 
-    fn from_gpu(r: GpuRender, resolved: MethodOptions) -> Self {
+    fn from_gpu(r: GpuRender, resolved: MethodOptions, scene_seconds: f64) -> Self {
         Self {
             film: r.film,
             wall_seconds: r.wall_seconds,
@@ -147,7 +147,7 @@ impl RenderOutput {
             schedule: None,
             failures: r.failures,
             resolved,
-            scene_seconds: 0.0,
+            scene_seconds,
         }
     }
 }
@@ -200,7 +200,7 @@ pub fn render(
     on_progress: &(dyn Fn(u64) + Sync),
 ) -> Result<RenderOutput> {
     settings.validate().map_err(anyhow::Error::msg)?;
-    let built = std::time::Instant::now();
+    let built = Instant::now();
     let (packed, camera) = prepare(method, scene, settings, options)?;
     let scene_seconds = built.elapsed().as_secs_f64();
     // A scene whose f32 arithmetic would overflow renders silently wrong: refuse it instead.
@@ -209,7 +209,7 @@ pub fn render(
             .map_err(|e| anyhow!("{} computes in f32: {e}", method.name()))?;
     }
     let start = Instant::now();
-    let out = match method {
+    match method {
         Method::Cpu | Method::CpuF64 => {
             let done = std::sync::atomic::AtomicU64::new(0);
             let row_samples = settings.width as u64 * settings.spp as u64;
@@ -238,7 +238,7 @@ pub fn render(
                 schedule: None,
                 failures,
                 resolved: options.clone(),
-                scene_seconds: 0.0,
+                scene_seconds,
             })
         }
         Method::Megakernel => {
@@ -258,7 +258,7 @@ pub fn render(
                 on_progress,
             )?;
             let megakernel = MegakernelOptions { threads: r.threads, ..options.megakernel.resolve() };
-            Ok(RenderOutput::from_gpu(r, MethodOptions { megakernel, ..options.clone() }))
+            Ok(RenderOutput::from_gpu(r, MethodOptions { megakernel, ..options.clone() }, scene_seconds))
         }
         Method::Wavefront => {
             let ctx = gpu.ok_or_else(|| anyhow!("--method wavefront needs a GPU adapter"))?;
@@ -281,9 +281,12 @@ pub fn render(
                 histogram: r.histogram,
                 coherence: r.coherence,
                 schedule: Some(r.schedule),
-                ..RenderOutput::from_gpu(r.render, MethodOptions { wavefront: r.resolved, ..options.clone() })
+                ..RenderOutput::from_gpu(
+                    r.render,
+                    MethodOptions { wavefront: r.resolved, ..options.clone() },
+                    scene_seconds,
+                )
             })
         }
-    };
-    out.map(|o| RenderOutput { scene_seconds, ..o })
+    }
 }

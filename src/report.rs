@@ -86,8 +86,7 @@ pub struct RunReport {
     /// Frame time between a submission's completion and the next submission: the GPU idle
     /// while the host reads counters back and records (GPU methods).
     pub host_gap_seconds: Option<f64>,
-    /// Submissions in the frame, each waited for: all but the last are the host's blocking
-    /// waits inside the frame (GPU methods).
+    /// Submissions in the frame (GPU methods); `waits` counts those the host waited for.
     pub submissions: Option<u64>,
     /// Times the host waited for the GPU in the frame: all but the last inside it (GPU methods).
     pub waits: Option<u64>,

@@ -227,8 +227,8 @@ pub struct RunRecord {
     /// completion and the next submission, while the host reads back and records.
     #[serde(default)]
     pub host_gap_seconds: Option<f64>,
-    /// Submissions per frame (of the median repetition), each waited for by the host: all but
-    /// the last are blocking waits inside the frame (GPU methods; absent in reports from before).
+    /// Submissions per frame (of the median repetition; GPU methods; absent in reports from
+    /// before). Reports without `waits` waited for each one; since, `waits` counts the waits.
     #[serde(default)]
     pub submissions: Option<u64>,
     /// Host seconds to prepare the scene for a render (move into render space, packing, the BVH

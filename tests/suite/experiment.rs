@@ -31,16 +31,15 @@ pub fn wavetrace(args: &[&str]) -> Output {
 
 /// `wavetrace experiment run CONFIG --out OUT --cache CACHE`.
 pub fn run_experiment(config: &Path, out: &Path, cache: &Path) -> Output {
+    run_experiment_with(config, out, cache, &[])
+}
+
+/// [`run_experiment`] with `extra` arguments after the config.
+pub fn run_experiment_with(config: &Path, out: &Path, cache: &Path, extra: &[&str]) -> Output {
     let arg = |p: &Path| p.to_str().unwrap().to_owned();
-    let args = [
-        "experiment".into(),
-        "run".into(),
-        arg(config),
-        "--out".into(),
-        arg(out),
-        "--cache".into(),
-        arg(cache),
-    ];
+    let mut args = vec!["experiment".into(), "run".into(), arg(config)];
+    args.extend(extra.iter().map(|a| a.to_string()));
+    args.extend(["--out".into(), arg(out), "--cache".into(), arg(cache)]);
     wavetrace(&args.iter().map(String::as_str).collect::<Vec<_>>())
 }
 
@@ -1351,19 +1350,8 @@ fn set_overrides_the_config_and_is_recorded() {
         }
     }
     let out = dir.join("out");
-    let o = wavetrace(&[
-        "experiment",
-        "run",
-        p,
-        "--set",
-        "spp=[2]",
-        "--set",
-        "methods.1.label=reference-f64",
-        "--out",
-        out.to_str().unwrap(),
-        "--cache",
-        dir.join("cache").to_str().unwrap(),
-    ]);
+    let set = ["--set", "spp=[2]", "--set", "methods.1.label=reference-f64"];
+    let o = run_experiment_with(&path, &out, &dir.join("cache"), &set);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let report = assert_valid(&out);
     assert_eq!(report["overrides"], serde_json::json!(["spp=[2]", "methods.1.label=reference-f64"]));
