@@ -9,10 +9,9 @@
 #   - what a call leaves in $OUT comes back: at most 8 files, each under 16 MiB, 64 MiB in all,
 #     no more than two folders down, names of letters, digits, '.', '_' and '-' only;
 #   - every step wrote its archive, with a report (or the test log) in it.
-# Prints each step's time. WAVETRACE_DEVICE_PROFILE picks the build (default ci: the test build).
+# Prints each step's time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-export WAVETRACE_DEVICE_PROFILE=${WAVETRACE_DEVICE_PROFILE:-ci}
 limit=${WAVETRACE_DRY_RUN_CALL_LIMIT:-300}
 bash scripts/device_prepare.sh >/dev/null
 

@@ -1,28 +1,24 @@
 #!/usr/bin/env bash
 # Prepares what a GPU machine without a toolchain needs, in .device/ and .gl/ (both ignored by
 # git; name them in the device tool's `carry`):
-#   .device/wavetrace   the stripped binary (release profile; WAVETRACE_DEVICE_PROFILE=ci for
-#                       the dry run, which reuses the test build)
+#   .device/wavetrace   the stripped binary (release profile, the one build the tests share)
 #   .device/suite       the stripped integration-test binary (scripts/device_figures.sh tests)
 #   .device/BUILD       the commit and profile they were built from
 #   .gl/*.deb           Debian's Vulkan loader and its neighbours, for a bare machine (the
 #                       device README's recipe); skipped with WAVETRACE_DEVICE_LOADER=skip
 set -euo pipefail
 cd "$(dirname "$0")/.."
-profile=${WAVETRACE_DEVICE_PROFILE:-release}
 mkdir -p .device
-# In the ci profile the binary is the one `cargo test` builds beside the suite (a plain `cargo
-# build` would resolve other features and compile every dependency again).
-if [ "$profile" != ci ]; then cargo build --profile "$profile" --locked; fi
-# The suite as `cargo test` builds it (ci profile: the same code, no link-time optimisation).
-suite=$(cargo test --profile ci --locked --no-run --message-format=json 2>/dev/null |
+cargo build --release --locked
+# The suite as scripts/test.sh builds it.
+suite=$(cargo test --release --locked --no-run --message-format=json 2>/dev/null |
   sed -n 's/.*"executable":"\([^"]*\/suite-[^"]*\)".*/\1/p' | tail -n 1)
 [ -n "$suite" ] || { echo "device_prepare.sh: the test build named no suite binary" >&2; exit 1; }
-strip -o .device/wavetrace "target/$profile/wavetrace"
+strip -o .device/wavetrace target/release/wavetrace
 strip -o .device/suite "$suite"
 {
   echo "commit $(git rev-parse HEAD)$(git diff --quiet HEAD -- . ':!experiments/results' || echo -dirty)"
-  echo "profile $profile; built $(date -u +%Y-%m-%dT%H:%M:%SZ) by $(rustc --version)"
+  echo "profile release; built $(date -u +%Y-%m-%dT%H:%M:%SZ) by $(rustc --version)"
 } > .device/BUILD
 if [ "${WAVETRACE_DEVICE_LOADER:-download}" != skip ] && ! compgen -G ".gl/*.deb" >/dev/null; then
   mkdir -p .gl /tmp/amd64/partial

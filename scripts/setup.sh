@@ -3,20 +3,14 @@
 # installs Mesa's software Vulkan driver (lavapipe, Debian package mesa-vulkan-drivers).
 # An OpenGL-only adapter does not count: Mesa's GL llvmpipe is on many machines without lavapipe,
 # and it has no subgroups, so SIMD-efficiency measurements and their tests would go missing.
-# Sourced by scripts/main.sh (release profile) and scripts/test.sh (WAVETRACE_PROFILE=ci: the
-# same optimisation without link-time work); safe to run again. Sets WAVETRACE_BIN.
+# Sourced by scripts/main.sh and scripts/test.sh, which share one build (the release profile,
+# Cargo.toml): the tests compile only the crate's test binaries on top of the main job's build.
+# Safe to run again. Sets WAVETRACE_BIN.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-profile=${WAVETRACE_PROFILE:-release}
-if [ "$profile" = ci ]; then
-  # The binary exactly as `cargo test` builds it: a plain `cargo build` would resolve other
-  # features (no dev-dependencies) and compile every dependency twice.
-  cargo test --profile ci --locked --no-run
-else
-  cargo build --profile "$profile" --locked
-fi
-WAVETRACE_BIN="target/$profile/wavetrace"
+cargo build --release --locked
+WAVETRACE_BIN="target/release/wavetrace"
 export WAVETRACE_BIN
 
 if ! WGPU_BACKEND=vulkan "$WAVETRACE_BIN" info >/dev/null 2>&1; then

@@ -9,7 +9,7 @@
 # GPU; the timings are the software driver's (llvmpipe), not a GPU's.
 # Usage: scripts/simd_width.sh [BIN] [OUT]
 set -euo pipefail
-BIN=${1:-target/ci/wavetrace}
+BIN=${1:-target/release/wavetrace}
 OUT=${2:-experiments/results/llvmpipe-2core/simd_width}
 mkdir -p "$OUT"
 W=8,16,32,64

@@ -1,10 +1,9 @@
 #!/usr/bin/env bash
 # The test suite: sets up as scripts/setup.sh does, then runs every test with GPU tests
-# required (a missing adapter fails them instead of skipping them). Tests build in the `ci`
-# profile (Cargo.toml): release optimisation, no link-time optimisation, one test binary.
+# required (a missing adapter fails them instead of skipping them). Tests build in the release
+# profile, the main job's (Cargo.toml), so after scripts/main.sh only the test binaries compile.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-export WAVETRACE_PROFILE=ci
 source scripts/setup.sh
 export WAVETRACE_REQUIRE_GPU=1
 # A third-party EXR reader (the OpenEXR project's Python bindings, in a venv under target/) for
@@ -19,11 +18,11 @@ if [ -z "${XDG_RUNTIME_DIR:-}" ]; then export NODEVICE_SELECT=${NODEVICE_SELECT:
 skipped="${CARGO_TARGET_DIR:-target}/tmp/skipped-checks.txt"
 rm -f "$skipped"
 status=0
-cargo test --profile ci --locked "$@" || status=$?
+cargo test --release --locked "$@" || status=$?
 # Timing-sensitive tests (a competing load must flag a run, the same run alone must not) are
 # #[ignore]d in the parallel run above, where the other tests load the cores too, and run here
 # alone.
-cargo test --profile ci --locked --test suite -- --ignored --test-threads=1 || status=$?
+cargo test --release --locked --test suite -- --ignored --test-threads=1 || status=$?
 if [ -s "$skipped" ]; then
     echo "Checks skipped on this adapter ($(wc -l <"$skipped")):"
     sort -u "$skipped"

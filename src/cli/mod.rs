@@ -35,11 +35,9 @@ Tests, benches and scripts:
   WAVETRACE_REQUIRE_GPU=1             GPU tests fail instead of skipping without an adapter (CI=1 too)
   WAVETRACE_ADAPTER=SUBSTR            the adapter the tests and benches open
   WAVETRACE_BENCH_SCENE, WAVETRACE_BENCH_NEE=on     cargo bench --bench gpu_frame's scene and NEE
-  WAVETRACE_PROFILE=release|ci        the cargo profile scripts/setup.sh builds
   WAVETRACE_DEVICE_BUDGET=SECONDS     scripts/device_figures.sh: time this call may spend [540]
   WAVETRACE_DEVICE_WORK=DIR           scripts/device_figures.sh: reports kept between calls
   WAVETRACE_DEVICE_ALLOW_SOFTWARE=1   scripts/device_figures.sh: accept a software adapter
-  WAVETRACE_DEVICE_PROFILE=release|ci scripts/device_prepare.sh and device_dry_run.sh: the build
   WAVETRACE_DEVICE_LOADER=skip        scripts/device_prepare.sh: do not download the Vulkan loader";
 
 #[derive(Parser, Debug)]

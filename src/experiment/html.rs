@@ -325,8 +325,8 @@ fn figure(h: &mut String, dir: &Path, file: &str, caption: &str) {
 }
 
 fn thumbnail_data_uri(path: &Path) -> Option<String> {
-    let image = image::open(path).ok()?.to_rgb8();
-    let (w, h, rgb) = error_map::downscale(image.width(), image.height(), image.as_raw(), PREVIEW_WIDTH);
+    let (width, height, pixels) = crate::image_io::read_png_rgb8(path).ok()?;
+    let (w, h, rgb) = error_map::downscale(width, height, &pixels, PREVIEW_WIDTH);
     let png = crate::image_io::encode_png_rgb8(w, h, &rgb).ok()?;
     Some(format!("data:image/png;base64,{}", base64(&png)))
 }

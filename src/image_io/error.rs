@@ -23,7 +23,10 @@ pub enum ImageIoError {
     },
     /// The PNG encoder failed.
     #[error("{}: cannot write PNG: {error}", path.display())]
-    Png { path: PathBuf, error: image::ImageError },
+    Png { path: PathBuf, error: ::png::EncodingError },
+    /// The file is not a readable PNG.
+    #[error("{}: cannot read as PNG: {reason}", path.display())]
+    PngRead { path: PathBuf, reason: String },
     /// The file or the arguments are well-formed but unusable here, e.g. an EXR without RGB
     /// channels, an empty image or a duplicate attribute name.
     #[error("{}: {reason}", path.display())]
@@ -37,6 +40,7 @@ impl ImageIoError {
             Self::Io { path, .. }
             | Self::Exr { path, .. }
             | Self::Png { path, .. }
+            | Self::PngRead { path, .. }
             | Self::Unsupported { path, .. } => path,
         }
     }

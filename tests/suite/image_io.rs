@@ -311,11 +311,13 @@ fn png_pixels_follow_the_srgb_curve() {
     write_png(&path, &image).unwrap();
     assert_eq!(file_names(&dir), ["preview.png"]);
 
-    let png = image::open(&path).unwrap();
-    assert_eq!(png.color(), image::ColorType::Rgb8);
-    let png = png.to_rgb8();
-    assert_eq!((png.width(), png.height()), (3, 2));
-    assert_eq!(&png.as_raw()[..9], expected);
-    assert_eq!(png.get_pixel(2, 1).0, [0, 0, 255]);
-    assert_eq!(png.get_pixel(0, 1).0, [0, 0, 0]);
+    // The file as the png crate's decoder sees it, before any conversion: 8-bit RGB.
+    let header =
+        png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&path).unwrap())).read_info().unwrap();
+    assert_eq!(header.output_color_type(), (png::ColorType::Rgb, png::BitDepth::Eight));
+    let (width, height, rgb) = wavetrace::image_io::read_png_rgb8(&path).unwrap();
+    assert_eq!((width, height), (3, 2));
+    assert_eq!(&rgb[..9], expected);
+    assert_eq!(&rgb[3 * (3 + 2)..][..3], [0, 0, 255]);
+    assert_eq!(&rgb[3 * 3..][..3], [0, 0, 0]);
 }

@@ -191,9 +191,8 @@ fn report_from_files() {
 /// flip-evaluator does with `inputsRGB=True`).
 fn load_srgb_png(name: &str) -> RgbImage {
     let path = crate::common::root().join("tests/data").join(name);
-    let png = image::open(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display())).to_rgb8();
+    let (width, height, png) = wavetrace::image_io::read_png_rgb8(&path).unwrap_or_else(|e| panic!("{e}"));
     let data = png
-        .as_raw()
         .iter()
         .map(|&b| {
             let c = f32::from(b) / 255.0;
@@ -204,7 +203,7 @@ fn load_srgb_png(name: &str) -> RgbImage {
             }
         })
         .collect();
-    image(png.width(), png.height(), data)
+    image(width, height, data)
 }
 
 struct FlipCase {
