@@ -4,6 +4,9 @@
 
 use super::*;
 
+/// The most room category labels take under the plot: rotated labels are cut to 150 px.
+const LABELS_MAX: u32 = 150 + 14;
+
 /// One stacked bar: its category label and its segments (name, value), stacked in order.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Bar {
@@ -130,7 +133,8 @@ impl Bars<'_> {
         if self.rects.is_empty() && self.legend.is_empty() {
             return no_data(self.title);
         }
-        render(|root| self.draw(root))
+        let legend = Legend::new(&self.legend.iter().map(|e| e.0).collect::<Vec<_>>());
+        render(legend.height_for(LABELS_MAX), |root| self.draw(root, legend))
     }
 
     /// The value axis: from zero (or below, for negative values) to the data or `y_max`,
@@ -147,9 +151,9 @@ impl Bars<'_> {
         (lo, if hi > lo { hi } else { lo + 1.0 })
     }
 
-    fn draw(&self, root: &Area) -> Drawn {
+    fn draw(&self, root: &Area, legend: Legend) -> Drawn {
         let n = self.categories.len().max(1);
-        let (names, legend_w) = legend_names(root, &self.legend.iter().map(|e| e.0).collect::<Vec<_>>());
+        let legend_w = legend.width;
         // Category labels: horizontal where they fit their slot, else rotated, cut if long and,
         // in narrow slots, smaller (down to 7 px) and only then thinned.
         let slot = (WIDTH - MARGIN - Y_AXIS - legend_w) as f64 / n as f64;
@@ -201,8 +205,8 @@ impl Bars<'_> {
             root.draw_text(label, &style, (x, y + 8))?;
         }
         let entries: Vec<_> =
-            names.into_iter().zip(&self.legend).map(|(n, &(_, k))| (n, Swatch::Box(k))).collect();
-        legend(root, chart.plotting_area(), &entries)?;
+            legend.names.into_iter().zip(&self.legend).map(|(n, &(_, k))| (n, Swatch::Box(k))).collect();
+        draw_legend(root, chart.plotting_area(), &entries)?;
         footnote(root, self.omitted, "value", "not finite")
     }
 }

@@ -6,6 +6,9 @@ use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 
 use super::*;
 
+/// Height of the x axis's labels and title under the plot.
+const X_AXIS: u32 = 44;
+
 /// A named sequence of points, drawn as a line with a marker at each point, in the given order.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Series {
@@ -79,28 +82,29 @@ impl LineChart {
             |(&(x, _), &(lo, hi))| [(x, lo), (x, hi)].into_iter().filter(|&p| self.drawable(p)).map(|p| p.1),
         );
         let y = range(points.iter().map(|p| p.1).chain(bar_ends), self.y_log);
-        render(|root| match (self.x_log, self.y_log) {
-            (false, false) => self.draw(root, x, y, omitted, zero),
-            (true, false) => self.draw(root, x.log_scale(), y, omitted, zero),
-            (false, true) => self.draw(root, x, y.log_scale(), omitted, zero),
-            (true, true) => self.draw(root, x.log_scale(), y.log_scale(), omitted, zero),
+        // A lone unnamed series needs no legend.
+        let has_legend = !(self.series.len() == 1 && self.series[0].name.is_empty());
+        let named: Vec<&str> =
+            if has_legend { self.series.iter().map(|s| s.name.as_str()).collect() } else { Vec::new() };
+        let legend = Legend::new(&named);
+        render(legend.height_for(X_AXIS), |root| match (self.x_log, self.y_log) {
+            (false, false) => self.draw(root, x, y, omitted, zero, legend),
+            (true, false) => self.draw(root, x.log_scale(), y, omitted, zero, legend),
+            (false, true) => self.draw(root, x, y.log_scale(), omitted, zero, legend),
+            (true, true) => self.draw(root, x.log_scale(), y.log_scale(), omitted, zero, legend),
         })
     }
 
-    fn draw<X, Y>(&self, root: &Area, x: X, y: Y, omitted: usize, zero: Option<f64>) -> Drawn
+    fn draw<X, Y>(&self, root: &Area, x: X, y: Y, omitted: usize, zero: Option<f64>, legend: Legend) -> Drawn
     where
         X: AsRangedCoord<Value = f64>,
         Y: AsRangedCoord<Value = f64>,
         X::CoordDescType: ValueFormatter<f64>,
         Y::CoordDescType: ValueFormatter<f64>,
     {
-        // A lone unnamed series needs no legend.
-        let has_legend = !(self.series.len() == 1 && self.series[0].name.is_empty());
-        let named =
-            if has_legend { self.series.iter().map(|s| s.name.as_str()).collect() } else { Vec::new() };
-        let (names, legend_w) = legend_names(root, &named);
         title(root, &self.title)?;
-        let mut chart = layout(root, legend_w, omitted > 0).x_label_area_size(44).build_cartesian_2d(x, y)?;
+        let mut chart =
+            layout(root, legend.width, omitted > 0).x_label_area_size(X_AXIS).build_cartesian_2d(x, y)?;
         let x_title = match zero {
             Some(_) => clean(&format!("{} (log scale; 0 drawn at the tick marked 0)", self.x_label)),
             None => axis_title(&self.x_label, self.x_log),
@@ -139,8 +143,8 @@ impl LineChart {
                 bars.map(|(&(x, _), &(lo, hi))| PathElement::new(vec![(x, lo), (x, hi)], color(i))),
             )?;
         }
-        let entries: Vec<_> = names.into_iter().zip(0..).map(|(n, i)| (n, Swatch::Line(i))).collect();
-        legend(root, chart.plotting_area(), &entries)?;
+        let entries: Vec<_> = legend.names.into_iter().zip(0..).map(|(n, i)| (n, Swatch::Line(i))).collect();
+        draw_legend(root, chart.plotting_area(), &entries)?;
         let why = if self.x_log || self.y_log { "not finite, or ≤ 0 on a log axis" } else { "not finite" };
         footnote(root, omitted, "point", why)
     }

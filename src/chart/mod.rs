@@ -12,7 +12,8 @@
 //!   and a footnote counts them; a line breaks where a point was left out;
 //! - a chart with nothing to draw shows its title and a centred "no data" note;
 //! - a zero-width data range is padded instead of dividing by zero;
-//! - the legend sits beside the plot, never over the data.
+//! - the legend sits beside the plot, never over the data, and names every series in full:
+//!   long names wrap, and a chart with more entries than its height holds grows taller.
 //!
 //! ```
 //! use wavetrace::chart::{LineChart, Series};
@@ -45,6 +46,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 const WIDTH: u32 = 720;
+/// The height of a chart whose legend fits beside its plot; taller ones grow (`height_for`).
 const HEIGHT: u32 = 420;
 /// Space around the chart, above the plot for the title, and left of it for the y axis.
 const MARGIN: u32 = 10;
@@ -88,12 +90,13 @@ fn tick(v: f64) -> String {
     }
 }
 
-/// Draws a chart into a fresh SVG document. Should plotters fail (it has no failure path when
-/// writing into a string, but its API is fallible), the chart says so rather than look complete.
-fn render(draw: impl FnOnce(&Area) -> Drawn) -> String {
+/// Draws a chart `height` pixels tall into a fresh SVG document. Should plotters fail (it has no
+/// failure path when writing into a string, but its API is fallible), the chart says so rather
+/// than look complete.
+fn render(height: u32, draw: impl FnOnce(&Area) -> Drawn) -> String {
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (WIDTH, HEIGHT)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (WIDTH, height)).into_drawing_area();
         let drawn = root.fill(&WHITE).map_err(Into::into).and_then(|()| draw(&root));
         if let Err(e) = drawn {
             let _ = root.draw_text(&format!("chart not fully drawn: {e}"), &font().color(&RED), (8, 8));
@@ -125,7 +128,7 @@ fn layout<'a, 'b>(root: &'a Area<'b>, right: u32, note: bool) -> ChartBuilder<'a
 
 /// A chart with nothing to draw: its title and a centred "no data" note.
 fn no_data(text: &str) -> String {
-    render(|root| {
+    render(HEIGHT, |root| {
         title(root, text)?;
         let centre = font().pos(Pos::new(HPos::Center, VPos::Center));
         root.draw_text("no data", &centre, (WIDTH as i32 / 2, HEIGHT as i32 / 2))?;
@@ -136,6 +139,13 @@ fn no_data(text: &str) -> String {
 /// Estimated width of `text` in pixels (plotters' estimate for fonts it cannot measure).
 fn text_width(root: &Area, text: &str) -> f64 {
     root.estimate_text_size(text, &font()).map_or(0.0, |(w, _)| w as f64)
+}
+
+/// [`text_width`] before there is a chart to draw on (the legend sizes the canvas).
+fn measured_width(text: &str) -> f64 {
+    let mut sink = String::new();
+    let area = SVGBackend::with_string(&mut sink, (WIDTH, HEIGHT)).into_drawing_area();
+    text_width(&area, text)
 }
 
 /// `s` cut to at most `max` pixels wide, ending in "…" if it was cut.
@@ -150,32 +160,85 @@ fn cut(root: &Area, s: &str, max: f64) -> String {
     out + "…"
 }
 
-/// `s` cut in the middle to at most `max` pixels wide ("…" where it was cut): series names often
-/// share a start and differ at the end ("regenerate+tail batched", "… batched slot").
-fn cut_middle(root: &Area, s: &str, max: f64) -> String {
-    let chars: Vec<char> = clean(s).chars().collect();
-    let whole: String = chars.iter().collect();
-    if text_width(root, &whole) <= max {
-        return whole;
-    }
-    // Drop characters from the middle, the head keeping one more than the tail when odd.
-    for keep in (0..chars.len()).rev() {
-        let head = keep.div_ceil(2);
-        let text: String =
-            chars[..head].iter().chain(['…'].iter()).chain(&chars[chars.len() - (keep - head)..]).collect();
-        if text_width(root, &text) <= max {
-            return text;
+/// `s` in lines of at most `max` pixels: broken after spaces (which are dropped) or after
+/// `=`, `,`, `/`, `+` and `_` (kept), and inside a word only where one alone is too wide. Nothing
+/// is cut: series names often differ only at the end ("… batched", "… batched slot").
+fn wrap(s: &str, max: f64) -> Vec<String> {
+    const BREAK_AFTER: &str = "=,/+_";
+    // The pieces a line may end after, each with whether a space preceded it.
+    let (mut pieces, mut word, mut spaced, mut word_spaced) = (Vec::new(), String::new(), false, false);
+    for c in clean(s).chars() {
+        if c == ' ' {
+            if !word.is_empty() {
+                pieces.push((std::mem::take(&mut word), word_spaced));
+            }
+            spaced = true;
+            continue;
+        }
+        if word.is_empty() {
+            (word_spaced, spaced) = (spaced, false);
+        }
+        word.push(c);
+        if BREAK_AFTER.contains(c) {
+            pieces.push((std::mem::take(&mut word), word_spaced));
         }
     }
-    "…".into()
+    if !word.is_empty() {
+        pieces.push((word, word_spaced));
+    }
+    let mut lines = Vec::new();
+    let mut line = String::new();
+    for (piece, spaced) in pieces {
+        let joined = match (line.is_empty(), spaced) {
+            (true, _) => piece.clone(),
+            (false, true) => format!("{line} {piece}"),
+            (false, false) => format!("{line}{piece}"),
+        };
+        if line.is_empty() || measured_width(&joined) <= max {
+            line = joined;
+        } else {
+            lines.push(std::mem::replace(&mut line, piece));
+        }
+        // A piece wider than a line on its own is split where it must be.
+        while measured_width(&line) > max && line.chars().count() > 1 {
+            let chars: Vec<char> = line.chars().collect();
+            let k = (1..chars.len())
+                .rev()
+                .find(|&k| measured_width(&chars[..k].iter().collect::<String>()) <= max)
+                .unwrap_or(1);
+            lines.push(chars[..k].iter().collect());
+            line = chars[k..].iter().collect();
+        }
+    }
+    if !line.is_empty() || lines.is_empty() {
+        lines.push(line);
+    }
+    lines
 }
 
-/// Legend names (cut in the middle to a fifth of the chart's width) and the room the legend
-/// needs beside the plot; a small margin when there is no legend.
-fn legend_names(root: &Area, names: &[&str]) -> (Vec<String>, u32) {
-    let names: Vec<String> = names.iter().map(|n| cut_middle(root, n, WIDTH as f64 / 5.0)).collect();
-    let widest = names.iter().map(|n| text_width(root, n)).reduce(f64::max);
-    (names, widest.map_or(24, |w| w as u32 + 56))
+/// A legend beside the plot: every name whole, wrapped to a fifth of the chart's width.
+struct Legend {
+    names: Vec<Vec<String>>,
+    /// Room the legend needs right of the plot (a small margin when there is no legend).
+    width: u32,
+}
+
+impl Legend {
+    fn new(names: &[&str]) -> Self {
+        let names: Vec<Vec<String>> = names.iter().map(|n| wrap(n, WIDTH as f64 / 5.0)).collect();
+        let widest = names.iter().flatten().map(|l| measured_width(l)).reduce(f64::max);
+        Legend { names, width: widest.map_or(24, |w| w as u32 + 56) }
+    }
+
+    fn lines(&self) -> u32 {
+        self.names.iter().map(|n| n.len() as u32).sum()
+    }
+
+    /// The canvas height that shows every line beside a plot with `below` pixels under it (x
+    /// axis, labels and footnote): the usual height, or taller for a long legend.
+    fn height_for(&self, below: u32) -> u32 {
+        HEIGHT.max(TITLE_HEIGHT + self.lines() * LINE + below + MARGIN + LINE)
+    }
 }
 
 /// What a legend entry shows beside its name.
@@ -199,19 +262,19 @@ fn marker(i: usize, (x, y): (i32, i32)) -> Polygon<(i32, i32)> {
 }
 
 /// Draws the legend to the right of the plot (plotters' own legend stays inside the plot, over
-/// the data), top-aligned with it. Entries that do not fit are summarised as "+ N more".
-fn legend<X: Ranged, Y: Ranged>(
+/// the data), top-aligned with it: each swatch beside the first line of its name. The canvas was
+/// made tall enough for every line ([`Legend::height_for`]).
+fn draw_legend<X: Ranged, Y: Ranged>(
     root: &Area,
     plot: &DrawingArea<SVGBackend, Cartesian2d<X, Y>>,
-    entries: &[(String, Swatch)],
+    entries: &[(Vec<String>, Swatch)],
 ) -> Drawn {
     let (xs, ys) = plot.get_pixel_range();
-    let (x, y, bottom, line) = (xs.end + 10, ys.start, ys.end, LINE as i32);
-    let room = ((bottom - y) / line).max(2) as usize;
-    let shown = if entries.len() <= room { entries.len() } else { room - 1 };
+    let (x, top, line) = (xs.end + 10, ys.start, LINE as i32);
     let text = font().pos(Pos::new(HPos::Left, VPos::Center));
-    for (j, (name, swatch)) in entries.iter().take(shown).enumerate() {
-        let y = y + line * j as i32 + line / 2;
+    let mut row = 0;
+    for (name, swatch) in entries {
+        let y = top + line * row + line / 2;
         match *swatch {
             Swatch::Line(i) => {
                 root.draw(&PathElement::new([(x, y), (x + 18, y)], color(i).stroke_width(2)))?;
@@ -221,11 +284,10 @@ fn legend<X: Ranged, Y: Ranged>(
                 root.draw(&Rectangle::new([(x + 2, y - 5), (x + 16, y + 5)], color(i).filled()))?
             }
         }
-        root.draw_text(name, &text, (x + 24, y))?;
-    }
-    if shown < entries.len() {
-        let more = format!("+ {} more", entries.len() - shown);
-        root.draw_text(&more, &text, (x + 24, y + line * shown as i32 + line / 2))?;
+        for (k, part) in name.iter().enumerate() {
+            root.draw_text(part, &text, (x + 24, y + line * k as i32))?;
+        }
+        row += name.len() as i32;
     }
     Ok(())
 }
@@ -238,8 +300,42 @@ fn footnote(root: &Area, omitted: usize, noun: &str, why: &str) -> Drawn {
         root.draw_text(
             &text,
             &font().pos(Pos::new(HPos::Left, VPos::Bottom)),
-            (MARGIN as i32, HEIGHT as i32 - 6),
+            (MARGIN as i32, root.dim_in_pixel().1 as i32 - 6),
         )?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What a reader gets back from wrapped lines: the text without the spaces the breaks took.
+    fn unspaced(s: &str) -> String {
+        s.chars().filter(|&c| c != ' ').collect()
+    }
+
+    #[test]
+    fn wrapped_names_keep_every_character_within_the_width() {
+        let max = WIDTH as f64 / 5.0;
+        for name in [
+            "wavefront schedule=regenerate,tail=megakernel refill_below=0.5 queue_order=slot",
+            "a_single_identifier_far_wider_than_any_legend_line_can_hold_in_one_piece",
+            "short",
+            "",
+        ] {
+            let lines = wrap(name, max);
+            assert!(!lines.is_empty(), "{name:?}");
+            assert_eq!(unspaced(&lines.concat()), unspaced(name), "{lines:?}");
+            assert!(lines.iter().all(|l| measured_width(l) <= max || l.chars().count() == 1), "{lines:?}");
+            assert!(lines.iter().all(|l| !l.starts_with(' ') && !l.ends_with(' ')), "{lines:?}");
+        }
+        // Breaks fall after the separators, so each key=value stays readable.
+        let lines = wrap("schedule=regenerate,tail=megakernel,refill_below=0.5", max);
+        assert!(
+            lines.len() > 1 && lines[..lines.len() - 1].iter().all(|l| l.ends_with([',', '=', '_'])),
+            "{lines:?}"
+        );
+        assert_eq!(wrap("short", max), ["short"]);
+    }
 }

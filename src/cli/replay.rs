@@ -29,7 +29,7 @@ pub enum ReplayMethod {
 }
 
 impl ReplayMethod {
-    /// The label charts give it (short: the legend cuts long ones).
+    /// The label charts give it (short, so the legend needs one line for it).
     fn label(self) -> &'static str {
         match self {
             ReplayMethod::Megakernel => "megakernel (naive)",

@@ -9,15 +9,17 @@ use wavetrace::chart::*;
 // ---------------------------------------------------------------------------------------------
 // Reading the SVG.
 
-/// Parses `svg` and checks what every chart must be: well-formed XML with an `<svg>` root of the
-/// fixed size, standalone (nothing external, no ids that could clash when inlined in HTML, no
+/// Parses `svg` and checks what every chart must be: well-formed XML with an `<svg>` root 720
+/// wide and at least 420 tall (taller only to show a long legend whole), standalone (nothing external, no ids that could clash when inlined in HTML, no
 /// scripts), every number finite and every position on the canvas.
 fn check_svg(svg: &str) -> Document<'_> {
     let doc = Document::parse(svg).unwrap_or_else(|e| panic!("malformed SVG ({e}):\n{svg}"));
     let root = doc.root_element();
     assert_eq!(root.tag_name().name(), "svg");
     assert_eq!(root.tag_name().namespace(), Some("http://www.w3.org/2000/svg"));
-    assert_eq!(root.attribute("viewBox"), Some("0 0 720 420"));
+    let height: f64 = root.attribute("height").unwrap().parse().unwrap();
+    assert!(height >= 420.0, "height {height}");
+    assert_eq!(root.attribute("viewBox"), Some(format!("0 0 720 {height}").as_str()));
     for node in doc.descendants().filter(Node::is_element) {
         let name = node.tag_name().name();
         assert!(!["script", "image", "use", "style", "foreignObject"].contains(&name), "<{name}> in:\n{svg}");
@@ -37,8 +39,12 @@ fn check_svg(svg: &str) -> Document<'_> {
             for n in numbers {
                 let v: f64 = n.parse().unwrap_or_else(|_| panic!("{key}={value:?} is not numeric"));
                 assert!(v.is_finite(), "{key}={value:?}");
-                let limit =
-                    if matches!(key, "x" | "x1" | "x2" | "cx" | "width" | "points") { 721.0 } else { 421.0 };
+                // A polyline's points mix x and y.
+                let limit = match key {
+                    "x" | "x1" | "x2" | "cx" | "width" => 721.0,
+                    "points" => f64::max(721.0, height + 1.0),
+                    _ => height + 1.0,
+                };
                 if key != "font-size" && key != "opacity" && key != "stroke-width" {
                     assert!((-1.0..=limit).contains(&v), "{key}={v} off the canvas in <{name}>");
                 }
@@ -399,18 +405,23 @@ fn many_series_keep_the_legend_beside_the_plot() {
         names.iter().enumerate().map(|(i, n)| series(n, &[(0.0, i as f64), (1.0, i as f64 + 1.0)])).collect();
     let svg = line_chart(many).to_svg();
     let doc = check_svg(&svg);
-    // Long names are cut, and entries that do not fit are summarised.
+    // Every name is shown whole, wrapped onto lines: nothing cut, nothing summarised.
     let legend: Vec<(String, Node)> =
         text_nodes(&doc).into_iter().filter(|(t, _)| t.starts_with("a rather")).collect();
-    assert!(legend.len() >= 10 && legend.len() < 30, "{} entries", legend.len());
-    // Cut in the middle, so names that differ only at the end stay apart.
-    assert!(legend.iter().all(|(t, _)| t.contains('…') && !t.ends_with('…')), "long names are cut");
-    let shown: Vec<&String> = legend.iter().map(|(t, _)| t).collect();
-    let distinct: std::collections::BTreeSet<&&String> = shown.iter().collect();
-    assert_eq!(distinct.len(), shown.len(), "{shown:?}");
-    assert!(shows(&doc, &format!("+ {} more", 30 - legend.len())), "{:?}", texts(&doc));
-    // Every data marker is left of the legend; the legend's own markers are inside it.
+    assert_eq!(legend.len(), 30, "one entry per series");
     let left = legend.iter().map(|(_, n)| num(*n, "x")).fold(f64::INFINITY, f64::min) - 24.0;
+    let lines: Vec<(String, Node)> =
+        text_nodes(&doc).into_iter().filter(|(_, n)| num(*n, "x") >= left).collect();
+    assert!(lines.len() > 30, "long names wrap: {} lines", lines.len());
+    assert!(lines.iter().all(|(t, _)| !t.contains('…') && !t.contains("more")), "{:?}", texts(&doc));
+    let read: Vec<&str> = lines.iter().map(|(t, _)| t.as_str()).collect();
+    assert_eq!(read.join(" "), names.join(" "), "the legend reads every name in order");
+    // The canvas grew to hold them, every line inside it and below the one before.
+    let height = num(doc.root_element(), "height");
+    assert!(height > 420.0, "height {height}");
+    let ys: Vec<f64> = lines.iter().map(|(_, n)| num(*n, "y")).collect();
+    assert!(ys.windows(2).all(|w| w[1] > w[0]) && ys.iter().all(|&y| y < height), "{ys:?}");
+    // Every data marker is left of the legend; the legend's own markers are inside it.
     for i in 0..30 {
         let (data, swatch): (Vec<_>, Vec<_>) = markers(&doc, i).into_iter().partition(|m| m.0 < left - 5.0);
         // Palette colours repeat after 12 and shapes after 4: series i shares both with i ± 12k.
