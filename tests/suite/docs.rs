@@ -749,3 +749,76 @@ fn the_config_table_counts_the_runs_each_config_plans() {
     }
     assert!(wrong.is_empty() && missing.is_empty(), "{}\nnot in the table: {missing:?}", wrong.join("\n"));
 }
+
+/// A transcript line's shape: every number (and the `x` between image sizes) as `#`, a size in
+/// B, KiB, MiB or GiB as `# bytes`, runs of spaces as one, and the output path dropped, so a
+/// transcript from a large render matches a tiny one line for line while any change of wording,
+/// field or order does not.
+fn line_shape(line: &str) -> String {
+    let line = line.split(" -> ").next().unwrap();
+    let mut out = String::new();
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        if c.is_ascii_digit() {
+            while chars.peek().is_some_and(|d| d.is_ascii_digit() || *d == '.') {
+                chars.next();
+            }
+            out.push('#');
+            let rest: String = chars.clone().take(5).collect();
+            if let Some(unit) = [" B", " KiB", " MiB", " GiB"]
+                .into_iter()
+                .find(|u| rest.starts_with(u) && !rest[u.len()..].starts_with(char::is_alphabetic))
+            {
+                out.push_str(" bytes");
+                chars.nth(unit.len() - 1);
+            }
+            // "1200x675": both sizes are numbers.
+            if chars.peek() == Some(&'x') {
+                out.push('x');
+                chars.next();
+            }
+        } else if c == ' ' {
+            if !out.ends_with(' ') {
+                out.push(' ');
+            }
+        } else {
+            out.push(c);
+        }
+    }
+    out.trim_end().to_string()
+}
+
+/// docs/outputs.md opens with what `wavetrace render` prints: the same command, shrunk to a tiny
+/// image, must print every line of that transcript in the same shape (the words, the fields and
+/// their order, the pass table's rows), so a changed output fails here until the page shows it.
+#[test]
+fn the_render_transcript_in_outputs_matches_the_binary() {
+    let Some(_gpu) = crate::common::gpu() else { return };
+    let page = read("docs/outputs.md");
+    let block = &page[page.find("```\n$ ").expect("a transcript block") + 4..];
+    let block = &block[..block.find("```").unwrap()];
+    let mut lines = block.lines();
+    let command = lines.next().unwrap().strip_prefix("$ wavetrace ").expect("a wavetrace command");
+    let transcript: Vec<&str> = lines.filter(|l| l.trim() != "...").collect();
+    // The same arguments at 48×27 and 2 spp.
+    let mut args: Vec<String> = command.split_whitespace().map(String::from).collect();
+    for (flag, value) in [("--width", "48"), ("--height", "27"), ("--spp", "2")] {
+        let i = args.iter().position(|a| a == flag).unwrap_or_else(|| panic!("the transcript sets {flag}"));
+        args[i + 1] = value.into();
+    }
+    let dir = crate::common::tmp().join("docs-transcript");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let out =
+        std::process::Command::new(crate::common::bin()).args(&args).current_dir(&dir).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let printed = String::from_utf8_lossy(&out.stdout);
+    let shapes: Vec<String> = printed.lines().map(line_shape).collect();
+    for line in transcript {
+        assert!(
+            shapes.contains(&line_shape(line)),
+            "docs/outputs.md shows a line the binary no longer prints:\n  {line}\nshape {:?}; printed:\n{printed}",
+            line_shape(line)
+        );
+    }
+}
