@@ -77,7 +77,24 @@ pub fn read(path: &Path) -> Res<Import> {
 /// Reads glTF or GLB bytes. `file` labels errors; `dir` is where relative URIs are found;
 /// `source` is recorded in each mesh's [`MeshSource::Gltf`].
 pub fn from_slice(bytes: &[u8], file: &str, name: &str, dir: &Path, source: &Path) -> Res<Import> {
-    let g::Gltf { document, blob } = g::Gltf::from_slice(bytes).map_err(|e| crate_error(file, e))?;
+    let g::Gltf { document, blob } =
+        g::Gltf::from_slice_without_validation(bytes).map_err(|e| crate_error(file, e))?;
+    // The crate's validation indexes `accessors` with each POSITION unchecked (a panic on a bad
+    // index), so those indices are checked first.
+    let root = document.into_json();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            let position = prim.attributes.get(&g::json::validation::Checked::Valid(g::Semantic::Positions));
+            if let Some(a) = position.filter(|a| a.value() >= root.accessors.len()) {
+                return Err(InputError::new(
+                    file,
+                    format!("meshes[{m}].primitives[{p}].attributes.POSITION"),
+                    format!("Index out of range: accessor {} of {}", a.value(), root.accessors.len()),
+                ));
+            }
+        }
+    }
+    let document = g::Document::from_json(root).map_err(|e| crate_error(file, e))?;
     let mut cx =
         Cx { file, dir, doc: &document, buffers: Vec::new(), mapped: Vec::new(), warnings: Vec::new() };
     cx.buffers = cx.buffers(blob)?;
@@ -392,10 +409,14 @@ impl Cx<'_> {
         }
 
         let material = if emissive.max_element() > 0.0 {
-            self.warn(format!(
-                "{path}: emissive, so it only emits: its base colour, metallic, roughness and \
-                 transmission are not used (the book's lights do not reflect)"
-            ));
+            // A black, opaque emitter loses nothing; any other also reflects or transmits in glTF.
+            if base != Vec3::ZERO || transmission > 0.0 {
+                self.warn(format!(
+                    "{path}: emissive, so it only emits: its reflection (base colour {}, metallic, \
+                     roughness, transmission) is dropped (the book's lights do not reflect)",
+                    fmt_vec(base)
+                ));
+            }
             Material::Emissive { radiance: emissive }
         } else if transmission >= KIND_THRESHOLD {
             if base != Vec3::ONE {
