@@ -13,8 +13,8 @@ Examples:
   wavetrace render --scene my_scene.json --method wavefront --out mine.exr --png mine.png
 
 The scene format (wavetrace-scene/1) is described in docs/cli-and-configs.md#scene-files;
-experiments/scenes/my_scene.json is a small example. glTF 2.0 files (.gltf, .glb) are read too;
-docs/cli-and-configs.md#gltf-scenes tabulates how they are mapped.";
+experiments/scenes/my_scene.json is a small example. glTF files (.gltf, .glb) are read too
+(experiments/scenes/tetrahedra.gltf); docs/cli-and-configs.md#gltf-scenes tabulates the mapping.";
 
 #[derive(clap::Subcommand, Debug)]
 pub enum SceneCommand {
@@ -26,7 +26,7 @@ pub enum SceneCommand {
     /// Describe a scene: camera, materials, shapes; for glTF, what each object was mapped to and
     /// what could not be.
     #[command(
-        after_help = "Examples:\n  wavetrace scene info cornell\n  wavetrace scene info experiments/scenes/my_scene.json\n  wavetrace scene info model.glb"
+        after_help = "Examples:\n  wavetrace scene info cornell\n  wavetrace scene info experiments/scenes/my_scene.json\n  wavetrace scene info experiments/scenes/tetrahedra.gltf"
     )]
     Info {
         /// A built-in scene name, or a scene file (.json, .gltf, .glb).
