@@ -612,7 +612,7 @@ impl Cx<'_> {
                 return self.err(&pos_path, "a vertex is not finite after the node transform");
             }
             let corners = corners(mode, indices.len());
-            if mode == g::mesh::Mode::Triangles && indices.len() % 3 != 0 {
+            if mode == g::mesh::Mode::Triangles && !indices.len().is_multiple_of(3) {
                 self.warn(format!(
                     "{path}: {} indices is not a multiple of 3; the last {} ignored",
                     indices.len(),

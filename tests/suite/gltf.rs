@@ -62,7 +62,7 @@ fn document(mut root: Value, meshes: &[Vec<Prim>]) -> (Value, Vec<u8>) {
                 accessors.push(json!({"bufferView": views.len() - 1, "componentType": 5123,
                     "count": ind.len(), "type": "SCALAR"}));
                 prim["indices"] = json!(accessors.len() - 1);
-                while bin.len() % 4 != 0 {
+                while !bin.len().is_multiple_of(4) {
                     bin.push(0);
                 }
             }
@@ -103,11 +103,11 @@ fn write_external(path: &Path, bin_name: &str, (root, bin): &(Value, Vec<u8>)) {
 /// The document as a GLB: header, JSON chunk, BIN chunk (glTF 2.0 §4.4).
 fn write_glb(path: &Path, (root, bin): &(Value, Vec<u8>)) {
     let mut text = serde_json::to_vec(root).unwrap();
-    while text.len() % 4 != 0 {
+    while !text.len().is_multiple_of(4) {
         text.push(b' ');
     }
     let mut bin = bin.clone();
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     let total = 12 + 8 + text.len() + 8 + bin.len();
@@ -319,9 +319,12 @@ fn import_edited(name: &str, edit: impl FnOnce(&mut Value)) -> Result<gltf::Impo
     gltf::read(&path)
 }
 
+/// A change to the test document.
+type Edit = Box<dyn FnOnce(&mut Value)>;
+
 #[test]
 fn malformed_gltf_names_the_file_the_field_and_the_reason() {
-    let cases: Vec<(&str, Box<dyn FnOnce(&mut Value)>, &str, &str)> = vec![
+    let cases: Vec<(&str, Edit, &str, &str)> = vec![
         (
             "missing-bin",
             Box::new(|r| r["buffers"][0]["uri"] = json!("nowhere.bin")),
