@@ -53,7 +53,7 @@ pub enum Command {
     Render(render::RenderArgs),
     /// List GPU adapters, the one chosen and why, and the features and limits that matter.
     Info(info::InfoArgs),
-    /// List or export the built-in scenes.
+    /// List the built-in scenes, describe any scene (glTF: what was mapped), export a built-in one.
     #[command(subcommand, after_help = scene::EXAMPLES)]
     Scene(scene::SceneCommand),
     /// Error metrics (MSE, relMSE, SMAPE, MAPE, FLIP) of a test EXR against a reference EXR.

@@ -46,7 +46,8 @@ Examples:
 #[derive(clap::Args, Debug)]
 #[command(after_help = EXAMPLES)]
 pub struct RenderArgs {
-    /// Built-in scene name (`wavetrace scene list`) or path to a scene JSON file.
+    /// Built-in scene name (`wavetrace scene list`) or path to a scene file: JSON, or glTF 2.0
+    /// (`.gltf`, `.glb`).
     #[arg(long)]
     pub scene: String,
     /// The renderer: the CPU reference (`cpu`, `cpu-f64`: the ground truth), or a GPU method.

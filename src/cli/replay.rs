@@ -56,7 +56,7 @@ impl ReplayMethod {
                   wavetrace replay --scene spheres-8 --accel none --width 800 --height 600 --spp 16 --methods megakernel,wavefront --pool-size 65536 --every 4"
 )]
 pub struct ReplayArgs {
-    /// Built-in scene name or path to a scene JSON file.
+    /// Built-in scene name or path to a scene file (JSON, `.gltf`, `.glb`).
     #[arg(long)]
     pub scene: String,
     #[arg(long, default_value_t = 160)]

@@ -594,7 +594,7 @@ impl Cx {
                     if !file.exists() {
                         return self.err(&path, crate::scene::builtin::unknown_scene(&arg, &file));
                     }
-                    crate::scene::load::from_file(&file)
+                    crate::scene::Scene::from_path(&file)
                         .map_err(|e| self.error(&path, format!("in the scene file: {e}")))?
                 }
             };

@@ -53,18 +53,27 @@ pub fn read_png_rgb8(path: impl AsRef<Path>) -> Result<(u32, u32, Vec<u8>), Imag
     let path = path.as_ref();
     let fail = |reason: String| ImageIoError::PngRead { path: path.to_owned(), reason };
     let file = std::fs::File::open(path).map_err(|e| fail(e.to_string()))?;
-    let mut decoder = ::png::Decoder::new(BufReader::new(file));
+    decode_rgb8(BufReader::new(file)).map_err(fail)
+}
+
+/// [`read_png_rgb8`] for a PNG already in memory (an image embedded in a glTF file).
+pub fn decode_png_rgb8(bytes: &[u8]) -> Result<(u32, u32, Vec<u8>), String> {
+    decode_rgb8(std::io::Cursor::new(bytes))
+}
+
+fn decode_rgb8(input: impl std::io::BufRead + std::io::Seek) -> Result<(u32, u32, Vec<u8>), String> {
+    let mut decoder = ::png::Decoder::new(input);
     decoder.set_transformations(::png::Transformations::EXPAND | ::png::Transformations::STRIP_16);
-    let mut reader = decoder.read_info().map_err(|e| fail(e.to_string()))?;
-    let size = reader.output_buffer_size().ok_or_else(|| fail("image too large".into()))?;
+    let mut reader = decoder.read_info().map_err(|e| e.to_string())?;
+    let size = reader.output_buffer_size().ok_or("image too large")?;
     let mut buf = vec![0; size];
-    let info = reader.next_frame(&mut buf).map_err(|e| fail(e.to_string()))?;
+    let info = reader.next_frame(&mut buf).map_err(|e| e.to_string())?;
     let channels = match info.color_type {
         ::png::ColorType::Grayscale => 1,
         ::png::ColorType::GrayscaleAlpha => 2,
         ::png::ColorType::Rgb => 3,
         ::png::ColorType::Rgba => 4,
-        ::png::ColorType::Indexed => return Err(fail("palette not expanded".into())),
+        ::png::ColorType::Indexed => return Err("palette not expanded".into()),
     };
     let (w, h) = (info.width as usize, info.height as usize);
     let mut rgb = Vec::with_capacity(w * h * 3);

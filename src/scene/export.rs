@@ -14,8 +14,8 @@ use glam::Vec3;
 use super::{Background, Material, MeshSource, Scene, Texture, FORMAT};
 
 /// The scene as pretty-printed JSON: `format`, `camera`, `background`, `materials` (in scene
-/// order), `objects` (spheres, quads, then meshes by their absolute OBJ path or terrain size). Objects name their
-/// material.
+/// order), `objects` (spheres, quads, then meshes by their absolute OBJ path or terrain size; a glTF
+/// primitive by its file and path, which no scene file can load). Objects name their material.
 ///
 /// Expects a scene that passes [`Scene::validate`]: a non-finite number is written as `null` and
 /// an out-of-range material index as a name no material has, so such a file fails to load with
@@ -88,6 +88,14 @@ pub fn to_json(scene: &Scene) -> String {
         MeshSource::Terrain(n) => {
             format!(r#"{{"type": "mesh", "terrain": {n}, "material": {}}}"#, material(m.material))
         }
+        // Scene files cannot refer to a glTF primitive: this names it (so the text identifies
+        // the scene, as reference-cache keys need) and fails to load at `gltf`.
+        MeshSource::Gltf { file, primitive } => format!(
+            r#"{{"type": "mesh", "gltf": {}, "primitive": {}, "material": {}}}"#,
+            string(&file.to_string_lossy()),
+            string(primitive),
+            material(m.material)
+        ),
     });
     let objects = spheres.chain(quads).chain(meshes);
     block(&mut out, "objects", ('[', ']'), objects);

@@ -1,12 +1,14 @@
 //! The scene model: what Ray Tracing in One Weekend's scenes need, and nothing more.
 //!
-//! A [`Scene`] is built-in ([`builtin`]) or read from a versioned JSON file ([`load`]); it can be
-//! written back out ([`export`]) and loaded again unchanged.
+//! A [`Scene`] is built-in ([`builtin`]), read from a versioned JSON file ([`load`]) or imported
+//! from glTF 2.0 ([`gltf`]); a JSON scene can be written back out ([`export`]) and loaded again
+//! unchanged.
 
 pub mod builtin;
 pub mod cornell;
 pub mod enclosure;
 pub mod export;
+pub mod gltf;
 pub mod heavy;
 pub mod load;
 pub mod obj;
@@ -102,7 +104,8 @@ pub struct Quad {
     pub material: u32,
 }
 
-/// A triangle mesh: read from an OBJ file, its vertices used as written there, or generated.
+/// A triangle mesh: read from an OBJ file, its vertices used as written there, generated, or
+/// one primitive of a glTF scene.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Mesh {
     pub source: MeshSource,
@@ -117,6 +120,9 @@ pub enum MeshSource {
     File(std::path::PathBuf),
     /// [`terrain::triangles`] of this many triangles, generated (`"terrain"`).
     Terrain(u32),
+    /// A primitive of a glTF file (absolute), through its node's transform: `primitive` names
+    /// both, e.g. `nodes[3] meshes[0].primitives[1]`. Scene files cannot refer to one.
+    Gltf { file: std::path::PathBuf, primitive: String },
 }
 
 /// The scene's shapes. A scene file lists them in one `objects` array; here they are grouped by
@@ -143,7 +149,18 @@ impl Scene {
         if !path.exists() {
             return Err(InputError::new(arg, "", builtin::unknown_scene(arg, path)));
         }
-        load::from_file(path)
+        Scene::from_path(path)
+    }
+
+    /// Reads a scene file: glTF 2.0 for `.gltf` / `.glb` ([`gltf::read`], its warnings logged),
+    /// our JSON format ([`load::from_file`]) otherwise. Every scene path a user gives (`--scene`,
+    /// an experiment's `scenes`, `scene info`) is read through here.
+    pub fn from_path(path: &std::path::Path) -> Result<Scene, InputError> {
+        if gltf::is_gltf_path(path) {
+            gltf::read(path).map(|import| import.scene)
+        } else {
+            load::from_file(path)
+        }
     }
 
     pub fn material(&self, sphere: &Sphere) -> &Material {

@@ -16,6 +16,7 @@ mod edge_cases;
 mod experiment;
 mod exr_third_party;
 mod film;
+mod gltf;
 mod gpu_rng;
 mod image_io;
 mod indirect_args;

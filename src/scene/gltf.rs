@@ -1,0 +1,825 @@
+//! glTF 2.0 scenes (`.gltf` with external or embedded buffers, `.glb`), mapped onto the book's
+//! materials. The rule, which docs/cli-and-configs.md#gltf-scenes tabulates:
+//!
+//! - Geometry: every primitive of every mesh reached from the default scene's nodes (scene 0
+//!   when none is marked), positions taken through the node's world matrix. Triangle lists,
+//!   strips and fans become triangles; points and lines are skipped with a warning.
+//! - Camera: the first perspective camera in the node hierarchy (depth first, in file order),
+//!   looking down its node's −Z with +Y up; `yfov` becomes `vfov`, a pinhole. With none, a camera
+//!   framing the scene's bounds (with a warning).
+//! - Materials, first match: emissive (`emissiveFactor` × `KHR_materials_emissive_strength`) >
+//!   0 → emissive; `KHR_materials_transmission` ≥ 0.5 → dielectric with `KHR_materials_ior`
+//!   (1.5 when absent); `metallicFactor` ≥ 0.5 → metal, albedo `baseColorFactor`, fuzz
+//!   `roughnessFactor`; otherwise lambertian with albedo `baseColorFactor`. A primitive without
+//!   a material gets glTF's default (white, metallic 1, roughness 1), so a metal.
+//!   `baseColorTexture` is averaged (PNG only: the renderer has no UVs) into the albedo.
+//! - Background: the sky gradient (glTF has none).
+//!
+//! Whatever the rule drops is named in a warning ([`Import::warnings`], each also logged), and
+//! a malformed file is an [`InputError`] naming the file, the glTF JSON path and the reason.
+
+use std::path::{Path, PathBuf};
+
+use ::gltf as g;
+use base64::Engine as _;
+use glam::{DVec3, Mat4, Vec3};
+
+use super::{Background, CameraSpec, InputError, Material, Mesh, MeshSource, NamedMaterial, Scene};
+
+type Res<T> = Result<T, InputError>;
+
+/// The threshold on `metallicFactor` and on the transmission factor: glTF blends; the book's
+/// materials are one kind each.
+const KIND_THRESHOLD: f32 = 0.5;
+
+/// Vertical field of view of the camera made when the file has none (the book's 20 crops too
+/// tightly for a scene framed by its bounding sphere).
+const DEFAULT_VFOV: f32 = 40.0;
+
+/// The extensions the mapping reads; any other in `extensionsUsed` is named in a warning.
+const MAPPED_EXTENSIONS: &[&str] =
+    &["KHR_materials_emissive_strength", "KHR_materials_ior", "KHR_materials_transmission"];
+
+/// A glTF file read as a scene, and an account of the mapping (`wavetrace scene info`).
+#[derive(Clone, Debug)]
+pub struct Import {
+    pub scene: Scene,
+    /// One line per glTF object that became part of the scene, e.g.
+    /// `materials[0] "red" → lambertian, albedo [0.8, 0.1, 0.1]`.
+    pub mapped: Vec<String>,
+    /// What could not be mapped, each naming the glTF object and field.
+    pub warnings: Vec<String>,
+}
+
+/// Whether `path` names a glTF file (`.gltf` or `.glb`, any case).
+pub fn is_gltf_path(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"))
+}
+
+/// Reads a glTF file; the scene is named after the file's stem, external buffers and images
+/// are found relative to its folder. Warnings are logged as well as returned.
+pub fn read(path: &Path) -> Res<Import> {
+    let file = path.display().to_string();
+    let bytes =
+        std::fs::read(path).map_err(|e| InputError::new(&file, "", format!("cannot read the file: {e}")))?;
+    let name = path.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let source = std::path::absolute(path).unwrap_or_else(|_| path.to_owned());
+    let import = from_slice(&bytes, &file, &name, dir, &source)?;
+    for w in &import.warnings {
+        log::warn!("{file}: {w}");
+    }
+    Ok(import)
+}
+
+/// Reads glTF or GLB bytes. `file` labels errors; `dir` is where relative URIs are found;
+/// `source` is recorded in each mesh's [`MeshSource::Gltf`].
+pub fn from_slice(bytes: &[u8], file: &str, name: &str, dir: &Path, source: &Path) -> Res<Import> {
+    let g::Gltf { document, blob } =
+        g::Gltf::from_slice_without_validation(bytes).map_err(|e| crate_error(file, e))?;
+    // The crate's validation indexes `accessors` with each POSITION unchecked (a panic on a bad
+    // index), so those indices are checked first.
+    let root = document.into_json();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            let position = prim.attributes.get(&g::json::validation::Checked::Valid(g::Semantic::Positions));
+            if let Some(a) = position.filter(|a| a.value() >= root.accessors.len()) {
+                return Err(InputError::new(
+                    file,
+                    format!("meshes[{m}].primitives[{p}].attributes.POSITION"),
+                    format!("Index out of range: accessor {} of {}", a.value(), root.accessors.len()),
+                ));
+            }
+        }
+    }
+    let document = g::Document::from_json(root).map_err(|e| crate_error(file, e))?;
+    let mut cx =
+        Cx { file, dir, doc: &document, buffers: Vec::new(), mapped: Vec::new(), warnings: Vec::new() };
+    cx.buffers = cx.buffers(blob)?;
+    cx.unmapped_extensions();
+
+    let Some(g_scene) = document.default_scene().or_else(|| document.scenes().next()) else {
+        return cx.err("scenes", "the file has no scenes, so nothing to render");
+    };
+    if document.scenes().len() > 1 {
+        cx.warn(format!(
+            "scenes: only scenes[{}] is rendered; the file has {} scenes",
+            g_scene.index(),
+            document.scenes().len()
+        ));
+    }
+    if document.animations().len() > 0 {
+        cx.warn(format!(
+            "animations: {} animations ignored; nodes are taken at rest",
+            document.animations().len()
+        ));
+    }
+
+    let (materials, default_material) = cx.materials()?;
+    let mut materials = materials;
+    let mut meshes = Vec::new();
+    let mut camera = None;
+    // Depth first, in file order, with an explicit stack: a deep hierarchy must not overflow
+    // ours, and a node reached twice (a cycle, or two parents, which glTF forbids) is an error.
+    let mut seen = vec![false; document.nodes().len()];
+    let mut stack: Vec<(g::Node, Mat4)> = g_scene.nodes().map(|n| (n, Mat4::IDENTITY)).collect();
+    stack.reverse();
+    while let Some((node, parent)) = stack.pop() {
+        let path = format!("nodes[{}]", node.index());
+        if std::mem::replace(&mut seen[node.index()], true) {
+            return cx.err(&path, "is reached twice from the scene (a cycle, or a node with two parents)");
+        }
+        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        if !world.is_finite() {
+            return cx.err(&path, "its world transform is not finite");
+        }
+        if let Some(c) = node.camera() {
+            cx.camera(&c, &path, world, &mut camera)?;
+        }
+        if let Some(mesh) = node.mesh() {
+            let m = cx.mesh(&mesh, &path, world, source, &mut materials, default_material)?;
+            meshes.extend(m);
+        }
+        if node.skin().is_some() {
+            cx.warn(format!("{path}.skin: skinning ignored; the mesh is taken in its bind pose"));
+        }
+        for child in node.children().collect::<Vec<_>>().into_iter().rev() {
+            stack.push((child, world));
+        }
+    }
+    if meshes.is_empty() {
+        return cx.err(
+            &format!("scenes[{}]", g_scene.index()),
+            "reaches no triangles (no node with a mesh of triangle primitives)",
+        );
+    }
+
+    let camera = match camera {
+        Some(c) => c,
+        None => {
+            let c = framing_camera(&meshes);
+            cx.warn(format!(
+                "cameras: no perspective camera in the scene; using one that frames its bounds: lookfrom {}, \
+                 lookat {}, vfov {DEFAULT_VFOV}",
+                fmt_vec(c.lookfrom),
+                fmt_vec(c.lookat)
+            ));
+            c
+        }
+    };
+    cx.mapped.push("background → sky (glTF has no background)".into());
+    let scene = Scene {
+        name: name.to_owned(),
+        camera,
+        background: Background::Sky,
+        materials,
+        spheres: Vec::new(),
+        quads: Vec::new(),
+        meshes,
+    };
+    super::load::validate(&scene, file)?;
+    Ok(Import { scene, mapped: cx.mapped, warnings: cx.warnings })
+}
+
+struct Cx<'a> {
+    file: &'a str,
+    dir: &'a Path,
+    doc: &'a g::Document,
+    buffers: Vec<Vec<u8>>,
+    mapped: Vec<String>,
+    warnings: Vec<String>,
+}
+
+impl Cx<'_> {
+    fn err<T>(&self, path: &str, reason: impl Into<String>) -> Res<T> {
+        Err(InputError::new(self.file, path, reason))
+    }
+
+    fn warn(&mut self, w: String) {
+        self.warnings.push(w);
+    }
+
+    fn unmapped_extensions(&mut self) {
+        let unmapped: Vec<String> = self
+            .doc
+            .extensions_used()
+            .filter(|e| !MAPPED_EXTENSIONS.contains(e))
+            .map(str::to_owned)
+            .collect();
+        for e in unmapped {
+            self.warn(format!("extensionsUsed: {e} is not mapped; whatever it adds is ignored"));
+        }
+    }
+
+    /// Every buffer's bytes: the GLB's binary chunk, a base64 data URI or a file.
+    fn buffers(&self, blob: Option<Vec<u8>>) -> Res<Vec<Vec<u8>>> {
+        let mut blob = blob;
+        let mut out = Vec::with_capacity(self.doc.buffers().len());
+        for b in self.doc.buffers() {
+            let path = format!("buffers[{}]", b.index());
+            let data =
+                match b.source() {
+                    g::buffer::Source::Bin => match blob.take() {
+                        Some(data) => data,
+                        None => return self.err(
+                            &path,
+                            "has no \"uri\", so it is a GLB's binary chunk, but the file has no binary chunk",
+                        ),
+                    },
+                    g::buffer::Source::Uri(uri) => self
+                        .uri_bytes(uri)
+                        .map_err(|r| InputError::new(self.file, format!("{path}.uri"), r))?,
+                };
+            if data.len() < b.length() {
+                return self.err(
+                    &format!("{path}.byteLength"),
+                    format!("is {}, but the buffer's data has only {} bytes", b.length(), data.len()),
+                );
+            }
+            out.push(data);
+        }
+        Ok(out)
+    }
+
+    /// The bytes a URI names: a base64 `data:` URI, or a file relative to the glTF's folder.
+    fn uri_bytes(&self, uri: &str) -> Result<Vec<u8>, String> {
+        if let Some(rest) = uri.strip_prefix("data:") {
+            let Some((meta, data)) = rest.split_once(',') else {
+                return Err("a data URI without a comma before its data".into());
+            };
+            if !meta.ends_with(";base64") {
+                return Err(format!(
+                    "data URI {meta:?} is not base64-encoded (only base64 data URIs are read)"
+                ));
+            }
+            return base64::engine::general_purpose::STANDARD
+                .decode(data)
+                .map_err(|e| format!("the data URI's base64 is malformed: {e}"));
+        }
+        if uri.contains("://") {
+            return Err(format!("{uri:?}: only relative file paths and data URIs are read"));
+        }
+        let file: PathBuf = self.dir.join(percent_decode(uri));
+        std::fs::read(&file).map_err(|e| format!("cannot read {}: {e}", file.display()))
+    }
+
+    /// Checks that `accessor` can be read as `what` (its types and its byte range), so the
+    /// crate's reader (which asserts types and slices unchecked in places) never panics.
+    fn check_accessor(
+        &self,
+        a: &g::Accessor,
+        path: &str,
+        types: &[g::accessor::DataType],
+        dims: g::accessor::Dimensions,
+    ) -> Res<()> {
+        let id = format!("accessors[{}]", a.index());
+        if !types.contains(&a.data_type()) || a.dimensions() != dims || a.normalized() {
+            let names: Vec<String> = types.iter().map(|t| format!("{t:?}")).collect();
+            return self.err(
+                path,
+                format!(
+                    "{id} is {:?} {:?}{}; expected {dims:?} of {}",
+                    a.dimensions(),
+                    a.data_type(),
+                    if a.normalized() { " (normalized)" } else { "" },
+                    names.join(" or ")
+                ),
+            );
+        }
+        if a.count() == 0 {
+            return self.err(path, format!("{id} has count 0"));
+        }
+        if a.sparse().is_some() {
+            return self.err(path, format!("{id} is sparse, which this importer does not read"));
+        }
+        let Some(view) = a.view() else {
+            return self.err(path, format!("{id} has no bufferView (all zeros), so no geometry"));
+        };
+        let size = a.size();
+        let stride = view.stride().unwrap_or(size);
+        if stride < size {
+            return self.err(
+                path,
+                format!(
+                    "bufferViews[{}].byteStride {stride} is less than {id}'s element size {size}",
+                    view.index()
+                ),
+            );
+        }
+        let end = (a.count() - 1).checked_mul(stride).and_then(|n| n.checked_add(a.offset() + size));
+        if end.is_none_or(|end| end > view.length()) {
+            return self.err(
+                path,
+                format!(
+                    "{id} ({} elements from byte {}, stride {stride}) reads past the end of bufferViews[{}] ({} bytes)",
+                    a.count(),
+                    a.offset(),
+                    view.index(),
+                    view.length()
+                ),
+            );
+        }
+        self.view_bytes(&view).map(|_| ()).map_err(|r| InputError::new(self.file, path, r))
+    }
+
+    /// A buffer view's bytes, checked to lie in its buffer.
+    fn view_bytes(&self, view: &g::buffer::View) -> Result<&[u8], String> {
+        let buffer = &self.buffers[view.buffer().index()];
+        view.offset().checked_add(view.length()).and_then(|end| buffer.get(view.offset()..end)).ok_or_else(
+            || {
+                format!(
+                    "bufferViews[{}] (bytes {}..+{}) lies outside buffers[{}] ({} bytes)",
+                    view.index(),
+                    view.offset(),
+                    view.length(),
+                    view.buffer().index(),
+                    buffer.len()
+                )
+            },
+        )
+    }
+
+    /// Every glTF material mapped, in file order, and the index glTF's default material will
+    /// take if a primitive needs it.
+    fn materials(&mut self) -> Res<(Vec<NamedMaterial>, u32)> {
+        let mut out: Vec<NamedMaterial> = Vec::new();
+        let mut names = std::collections::HashSet::new();
+        for m in self.doc.materials() {
+            let i = m.index().unwrap_or(0);
+            let path = format!("materials[{i}]");
+            let material = self.material(&m, &path)?;
+            // Scene materials need unique, non-empty names; glTF names need neither.
+            let mut name =
+                m.name().filter(|n| !n.is_empty()).map_or_else(|| format!("material{i}"), str::to_owned);
+            if !names.insert(name.clone()) {
+                name = format!("{name}#{i}");
+                names.insert(name.clone());
+            }
+            self.mapped.push(format!("{path} {name:?} → {}", describe(&material)));
+            out.push(NamedMaterial { name, material });
+        }
+        Ok((out, self.doc.materials().len() as u32))
+    }
+
+    fn material(&mut self, m: &g::Material, path: &str) -> Res<Material> {
+        let pbr = m.pbr_metallic_roughness();
+        let ppath = format!("{path}.pbrMetallicRoughness");
+        let [r, gr, b, alpha] = pbr.base_color_factor();
+        let mut base = Vec3::new(r, gr, b);
+        if !base.is_finite() || base.min_element() < 0.0 {
+            return self.err(
+                &format!("{ppath}.baseColorFactor"),
+                format!("must be finite and ≥ 0, got {}", fmt_vec(base)),
+            );
+        }
+        let (metallic, roughness) = (pbr.metallic_factor(), pbr.roughness_factor());
+        for (field, v) in [("metallicFactor", metallic), ("roughnessFactor", roughness)] {
+            if !(0.0..=1.0).contains(&v) {
+                return self.err(&format!("{ppath}.{field}"), format!("must be in [0, 1], got {v}"));
+            }
+        }
+        if let Some(info) = pbr.base_color_texture() {
+            let tpath = format!("{ppath}.baseColorTexture");
+            match self.texture_mean(&info.texture()) {
+                Ok(mean) => {
+                    base *= mean;
+                    self.warn(format!(
+                        "{tpath}: averaged, not mapped per texel (the renderer has no UVs): albedo = \
+                         baseColorFactor × the image's mean linear colour {}",
+                        fmt_vec(mean)
+                    ));
+                }
+                Err(why) => self.warn(format!("{tpath}: ignored ({why}); albedo is baseColorFactor alone")),
+            }
+        }
+        let emissive = Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0);
+        if !emissive.is_finite() || emissive.min_element() < 0.0 {
+            return self.err(
+                &format!("{path}.emissiveFactor"),
+                format!("emission must be finite and ≥ 0, got {}", fmt_vec(emissive)),
+            );
+        }
+        let transmission = m.transmission().map_or(0.0, |t| t.transmission_factor());
+        let ior = m.ior().unwrap_or(1.5);
+        if !(ior.is_finite() && ior > 0.0) {
+            return self
+                .err(&format!("{path}.extensions.KHR_materials_ior.ior"), format!("must be > 0, got {ior}"));
+        }
+
+        let material = if emissive.max_element() > 0.0 {
+            // A black, opaque emitter loses nothing; any other also reflects or transmits in glTF.
+            if base != Vec3::ZERO || transmission > 0.0 {
+                self.warn(format!(
+                    "{path}: emissive, so it only emits: its reflection (base colour {}, metallic, \
+                     roughness, transmission) is dropped (the book's lights do not reflect)",
+                    fmt_vec(base)
+                ));
+            }
+            Material::Emissive { radiance: emissive }
+        } else if transmission >= KIND_THRESHOLD {
+            if base != Vec3::ONE {
+                self.warn(format!(
+                    "{ppath}.baseColorFactor: tint {} ignored: dielectrics are clear",
+                    fmt_vec(base)
+                ));
+            }
+            if roughness > 0.0 {
+                self.warn(format!("{ppath}.roughnessFactor: {roughness} ignored: dielectrics are smooth"));
+            }
+            Material::Dielectric { ior }
+        } else if metallic >= KIND_THRESHOLD {
+            Material::Metal { albedo: base.into(), fuzz: roughness }
+        } else {
+            Material::Lambertian { albedo: base.into() }
+        };
+        let dielectric = matches!(material, Material::Dielectric { .. });
+        let emits = matches!(material, Material::Emissive { .. });
+        if !emits && !dielectric && metallic != 0.0 && metallic != 1.0 {
+            self.warn(format!(
+                "{ppath}.metallicFactor: {metallic} is not blended: ≥ {KIND_THRESHOLD} is metal, below is lambertian"
+            ));
+        }
+        if !emits && transmission != 0.0 && transmission != 1.0 {
+            self.warn(format!(
+                "{path}.extensions.KHR_materials_transmission.transmissionFactor: {transmission} is not blended: \
+                 ≥ {KIND_THRESHOLD} is dielectric"
+            ));
+        }
+        if m.ior().is_some() && !dielectric {
+            self.warn(format!(
+                "{path}.extensions.KHR_materials_ior: ignored: the material is not transmissive"
+            ));
+        }
+        if alpha < 1.0 || m.alpha_mode() != g::material::AlphaMode::Opaque {
+            self.warn(format!(
+                "{path}: alpha ignored (baseColorFactor alpha {alpha}, alphaMode {:?}): surfaces are opaque",
+                m.alpha_mode()
+            ));
+        }
+        let textures = [
+            ("pbrMetallicRoughness.metallicRoughnessTexture", pbr.metallic_roughness_texture().is_some()),
+            ("normalTexture", m.normal_texture().is_some()),
+            ("occlusionTexture", m.occlusion_texture().is_some()),
+            ("emissiveTexture", m.emissive_texture().is_some()),
+            (
+                "extensions.KHR_materials_transmission.transmissionTexture",
+                m.transmission().is_some_and(|t| t.transmission_texture().is_some()),
+            ),
+        ];
+        for (field, present) in textures {
+            if present {
+                self.warn(format!("{path}.{field}: ignored (only baseColorTexture is used, averaged)"));
+            }
+        }
+        let others: Vec<String> = m.extensions().map(|e| e.keys().cloned().collect()).unwrap_or_default();
+        for e in others {
+            self.warn(format!("{path}.extensions.{e}: not mapped, ignored"));
+        }
+        Ok(material)
+    }
+
+    /// The mean linear colour of a texture's image (PNG; the sRGB-encoded texels are decoded to
+    /// linear before averaging, as a renderer sampling them would see them).
+    fn texture_mean(&self, texture: &g::Texture) -> Result<Vec3, String> {
+        let index = texture.source().index();
+        let image = &self.doc.as_json().images[index];
+        let bytes: Vec<u8> = match (&image.buffer_view, &image.uri) {
+            (Some(view), _) => {
+                let view = self.doc.views().nth(view.value()).ok_or("its bufferView does not exist")?;
+                self.view_bytes(&view)?.to_vec()
+            }
+            (None, Some(uri)) => self.uri_bytes(uri)?,
+            (None, None) => return Err(format!("images[{index}] has neither a uri nor a bufferView")),
+        };
+        let (width, height, rgb) = crate::image_io::decode_png_rgb8(&bytes)
+            .map_err(|e| format!("images[{index}] cannot be decoded: {e}; this build decodes PNG only"))?;
+        let n = u64::from(width) * u64::from(height);
+        if n == 0 {
+            return Err(format!("images[{index}] is empty"));
+        }
+        let code = |b: u8| srgb_to_linear(f32::from(b) / 255.0);
+        let sum = rgb.chunks(3).fold(DVec3::ZERO, |acc, p| acc + DVec3::new(code(p[0]), code(p[1]), code(p[2])));
+        Ok((sum / n as f64).as_vec3())
+    }
+
+    fn camera(
+        &mut self,
+        c: &g::Camera,
+        node_path: &str,
+        world: Mat4,
+        found: &mut Option<CameraSpec>,
+    ) -> Res<()> {
+        let path = format!("cameras[{}]", c.index());
+        if found.is_some() {
+            self.warn(format!("{node_path}: {path} not used: the first perspective camera is"));
+            return Ok(());
+        }
+        let g::camera::Projection::Perspective(p) = c.projection() else {
+            self.warn(format!(
+                "{node_path}: {path} is orthographic, which the book's camera is not; not used"
+            ));
+            return Ok(());
+        };
+        let vfov = f64::from(p.yfov()).to_degrees() as f32;
+        if !(vfov > 0.0 && vfov < 180.0) {
+            return self.err(
+                &format!("{path}.perspective.yfov"),
+                format!("must be in (0, π) radians, got {}", p.yfov()),
+            );
+        }
+        let lookfrom = world.transform_point3(Vec3::ZERO);
+        let forward = world.transform_vector3(Vec3::NEG_Z);
+        let vup = world.transform_vector3(Vec3::Y);
+        if forward.length_squared() == 0.0 || !forward.is_finite() {
+            return self.err(node_path, format!("{path}'s node transform has no view direction"));
+        }
+        let lookat = lookfrom + forward.normalize();
+        let camera = CameraSpec { lookfrom, lookat, vup, vfov, defocus_angle: 0.0, focus_dist: 1.0 };
+        if p.aspect_ratio().is_some() {
+            self.warn(format!("{path}.perspective.aspectRatio: ignored; the image size sets the aspect"));
+        }
+        self.mapped.push(format!(
+            "{node_path} {path} → camera: lookfrom {}, lookat {}, vup {}, vfov {vfov}, pinhole",
+            fmt_vec(lookfrom),
+            fmt_vec(lookat),
+            fmt_vec(vup)
+        ));
+        *found = Some(camera);
+        Ok(())
+    }
+
+    /// One scene mesh per primitive with triangles.
+    #[allow(clippy::too_many_arguments)]
+    fn mesh(
+        &mut self,
+        mesh: &g::Mesh,
+        node_path: &str,
+        world: Mat4,
+        source: &Path,
+        materials: &mut Vec<NamedMaterial>,
+        default_material: u32,
+    ) -> Res<Vec<Mesh>> {
+        use g::accessor::{DataType, Dimensions};
+        let mut out = Vec::new();
+        for prim in mesh.primitives() {
+            let path = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
+            let mode = prim.mode();
+            if matches!(
+                mode,
+                g::mesh::Mode::Points
+                    | g::mesh::Mode::Lines
+                    | g::mesh::Mode::LineLoop
+                    | g::mesh::Mode::LineStrip
+            ) {
+                self.warn(format!("{path}.mode: {mode:?} has no surface to render; skipped"));
+                continue;
+            }
+            let pos_path = format!("{path}.attributes.POSITION");
+            let Some(pos) = prim.get(&g::Semantic::Positions) else {
+                return self.err(&pos_path, "missing: a primitive needs vertex positions");
+            };
+            self.check_accessor(&pos, &pos_path, &[DataType::F32], Dimensions::Vec3)?;
+            let index_path = format!("{path}.indices");
+            if let Some(ind) = prim.indices() {
+                self.check_accessor(
+                    &ind,
+                    &index_path,
+                    &[DataType::U8, DataType::U16, DataType::U32],
+                    Dimensions::Scalar,
+                )?;
+            }
+            let reader = prim.reader(|b| self.buffers.get(b.index()).map(Vec::as_slice));
+            let Some(positions) = reader.read_positions() else {
+                return self.err(&pos_path, "cannot be read");
+            };
+            let positions: Vec<Vec3> = positions.map(|p| world.transform_point3(Vec3::from(p))).collect();
+            let indices: Vec<u32> = match reader.read_indices() {
+                Some(ind) => ind.into_u32().collect(),
+                None if prim.indices().is_some() => return self.err(&index_path, "cannot be read"),
+                None => (0..positions.len() as u32).collect(),
+            };
+            if let Some((k, &i)) = indices.iter().enumerate().find(|(_, &i)| i as usize >= positions.len()) {
+                return self.err(
+                    &index_path,
+                    format!("index {k} is {i}, but POSITION has {} vertices", positions.len()),
+                );
+            }
+            if positions.iter().any(|p| !p.is_finite()) {
+                return self.err(&pos_path, "a vertex is not finite after the node transform");
+            }
+            let corners = corners(mode, indices.len());
+            if mode == g::mesh::Mode::Triangles && !indices.len().is_multiple_of(3) {
+                self.warn(format!(
+                    "{path}: {} indices is not a multiple of 3; the last {} ignored",
+                    indices.len(),
+                    indices.len() % 3
+                ));
+            }
+            let mut triangles = Vec::with_capacity(corners.len());
+            let mut degenerate = 0;
+            for [a, b, c] in corners {
+                let t = [
+                    positions[indices[a] as usize],
+                    positions[indices[b] as usize],
+                    positions[indices[c] as usize],
+                ];
+                // Zero-area triangles have no surface to hit (as in OBJ meshes).
+                if (t[1] - t[0]).cross(t[2] - t[0]).length_squared() > 0.0 {
+                    triangles.push(t);
+                } else {
+                    degenerate += 1;
+                }
+            }
+            if degenerate > 0 {
+                self.warn(format!(
+                    "{path}: dropped {degenerate} zero-area triangles of {}",
+                    degenerate + triangles.len()
+                ));
+            }
+            if triangles.is_empty() {
+                self.warn(format!("{path}: no triangles with area; skipped"));
+                continue;
+            }
+            let material = match prim.material().index() {
+                Some(i) => i as u32,
+                None => {
+                    if materials.len() == default_material as usize {
+                        let material = Material::Metal { albedo: Vec3::ONE.into(), fuzz: 1.0 };
+                        self.mapped.push(format!("glTF's default material → {}", describe(&material)));
+                        materials.push(NamedMaterial { name: "gltf-default".into(), material });
+                    }
+                    self.warn(format!(
+                        "{path}.material: none, so glTF's default material (white, metallic 1, roughness 1): \
+                         a rough white metal"
+                    ));
+                    default_material
+                }
+            };
+            for (field, what) in [("COLOR_0", "vertex colours"), ("NORMAL", "normals")] {
+                if prim.attributes().any(|(s, _)| s.to_string() == field) {
+                    self.warn(format!(
+                        "{path}.attributes.{field}: {what} ignored (shading uses the material and the geometric normal)"
+                    ));
+                }
+            }
+            if prim.morph_targets().len() > 0 {
+                self.warn(format!("{path}.targets: morph targets ignored"));
+            }
+            let label = match mesh.name() {
+                Some(n) => format!("{node_path} {path} {n:?}"),
+                None => format!("{node_path} {path}"),
+            };
+            self.mapped.push(format!(
+                "{label} → {} triangles, material {:?}",
+                triangles.len(),
+                materials[material as usize].name
+            ));
+            out.push(Mesh {
+                source: MeshSource::Gltf {
+                    file: source.to_owned(),
+                    primitive: format!("{node_path} {path}"),
+                },
+                triangles,
+                material,
+            });
+        }
+        Ok(out)
+    }
+}
+
+/// The index-list positions of each triangle of a primitive drawn in `mode` (glTF 2.0 §3.7.2.1).
+fn corners(mode: g::mesh::Mode, n: usize) -> Vec<[usize; 3]> {
+    match mode {
+        g::mesh::Mode::Triangles => (0..n / 3).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect(),
+        g::mesh::Mode::TriangleStrip => {
+            (0..n.saturating_sub(2)).map(|i| [i, i + 1 + i % 2, i + 2 - i % 2]).collect()
+        }
+        g::mesh::Mode::TriangleFan => (1..n.saturating_sub(1)).map(|i| [i, i + 1, 0]).collect(),
+        _ => Vec::new(),
+    }
+}
+
+/// A camera that frames the meshes' bounding sphere, looking down −Z.
+fn framing_camera(meshes: &[Mesh]) -> CameraSpec {
+    let points = meshes.iter().flat_map(|m| m.triangles.iter().flatten());
+    let (lo, hi) = points.fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+    let center = (lo + hi) / 2.0;
+    let radius = ((hi - lo).length() / 2.0).max(1e-3);
+    let dist = radius / (DEFAULT_VFOV / 2.0).to_radians().sin();
+    CameraSpec {
+        lookfrom: center + Vec3::Z * dist,
+        lookat: center,
+        vup: Vec3::Y,
+        vfov: DEFAULT_VFOV,
+        defocus_angle: 0.0,
+        focus_dist: dist,
+    }
+}
+
+/// A crate error as ours: validation errors carry the glTF JSON path (`["KEY"]` written as
+/// `.KEY`, as our scene files' paths are).
+fn crate_error(file: &str, e: g::Error) -> InputError {
+    match e {
+        g::Error::Validation(errors) => {
+            let (path, error) = &errors[0];
+            let more = match errors.len() {
+                1 => String::new(),
+                n => format!(" (and {} more problems)", n - 1),
+            };
+            InputError::new(file, dotted(&path.to_string()), format!("{error}{more}"))
+        }
+        g::Error::Deserialize(e) => InputError::new(file, "", format!("not valid glTF JSON: {e}")),
+        g::Error::Binary(e) => InputError::new(file, "", format!("not a valid GLB file: {e:?}")),
+        e => InputError::new(file, "", format!("cannot read as glTF: {e}")),
+    }
+}
+
+/// `a["B"]` → `a.B`.
+fn dotted(path: &str) -> String {
+    path.replace("[\"", ".").replace("\"]", "")
+}
+
+/// `%20` and the like decoded, as glTF URIs are percent-encoded.
+fn percent_decode(uri: &str) -> String {
+    let bytes = uri.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        let hex = bytes.get(i + 1..i + 3).and_then(|h| std::str::from_utf8(h).ok());
+        match (bytes[i], hex.and_then(|h| u8::from_str_radix(h, 16).ok())) {
+            (b'%', Some(b)) => {
+                out.push(b);
+                i += 3;
+            }
+            (b, _) => {
+                out.push(b);
+                i += 1;
+            }
+        }
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+fn srgb_to_linear(c: f32) -> f64 {
+    let c = f64::from(c);
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+fn fmt_vec(v: Vec3) -> String {
+    format!("[{}, {}, {}]", v.x, v.y, v.z)
+}
+
+/// A material as `scene info` shows it.
+fn describe(m: &Material) -> String {
+    let albedo = |t: &super::Texture| match t {
+        super::Texture::Solid(c) => fmt_vec(*c),
+        t => t.kind_name().to_owned(),
+    };
+    match m {
+        Material::Lambertian { albedo: a } => format!("lambertian, albedo {}", albedo(a)),
+        Material::Metal { albedo: a, fuzz } => format!("metal, albedo {}, fuzz {fuzz}", albedo(a)),
+        Material::Dielectric { ior } => format!("dielectric, ior {ior}"),
+        Material::Emissive { radiance } => format!("emissive, radiance {}", fmt_vec(*radiance)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strips_and_fans_follow_the_spec() {
+        assert_eq!(corners(g::mesh::Mode::Triangles, 7), vec![[0, 1, 2], [3, 4, 5]]);
+        assert_eq!(corners(g::mesh::Mode::TriangleStrip, 5), vec![[0, 1, 2], [1, 3, 2], [2, 3, 4]]);
+        assert_eq!(corners(g::mesh::Mode::TriangleFan, 5), vec![[1, 2, 0], [2, 3, 0], [3, 4, 0]]);
+        assert!(corners(g::mesh::Mode::TriangleStrip, 2).is_empty());
+    }
+
+    #[test]
+    fn uris_are_percent_decoded() {
+        assert_eq!(percent_decode("my%20mesh.bin"), "my mesh.bin");
+        assert_eq!(percent_decode("100%.bin"), "100%.bin");
+        assert_eq!(percent_decode("a%zz"), "a%zz");
+    }
+
+    #[test]
+    fn crate_paths_are_dotted() {
+        assert_eq!(
+            dotted("meshes[0].primitives[1].attributes[\"POSITION\"]"),
+            "meshes[0].primitives[1].attributes.POSITION"
+        );
+    }
+
+    #[test]
+    fn srgb_mid_grey() {
+        assert!((srgb_to_linear(0.5) - 0.214).abs() < 1e-3);
+        assert_eq!(srgb_to_linear(0.0), 0.0);
+        assert!((srgb_to_linear(1.0) - 1.0).abs() < 1e-12);
+    }
+}
