@@ -500,7 +500,8 @@ impl Cx<'_> {
             return Err(format!("images[{index}] is empty"));
         }
         let code = |b: u8| srgb_to_linear(f32::from(b) / 255.0);
-        let sum = rgb.chunks(3).fold(DVec3::ZERO, |acc, p| acc + DVec3::new(code(p[0]), code(p[1]), code(p[2])));
+        let sum =
+            rgb.chunks(3).fold(DVec3::ZERO, |acc, p| acc + DVec3::new(code(p[0]), code(p[1]), code(p[2])));
         Ok((sum / n as f64).as_vec3())
     }
 

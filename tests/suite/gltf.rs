@@ -426,7 +426,7 @@ fn what_cannot_be_mapped_is_named_in_a_warning() {
     let dir = scratch("warnings");
     // A 2×1 PNG, black and white: its mean linear colour is 0.5.
     let png = dir.join("half.png");
-    image::RgbImage::from_raw(2, 1, vec![0, 0, 0, 255, 255, 255]).unwrap().save(&png).unwrap();
+    wavetrace::image_io::write_png_rgb8(&png, 2, 1, &[0, 0, 0, 255, 255, 255]).unwrap();
     // JPEG signature bytes: this build decodes PNG only.
     std::fs::write(scratch("edited").join("photo.jpg"), b"\xff\xd8\xff\xe0\0\x10JFIF\0").unwrap();
     let import = import_edited("warnings", |r| {
