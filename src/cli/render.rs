@@ -75,6 +75,12 @@ pub struct RenderArgs {
     /// to the same image.
     #[arg(long, value_enum, default_value_t = OnOff::Off)]
     pub nee: OnOff,
+    /// Russian roulette, pbrt-v4's rule: from the second hit on, a path whose throughput has
+    /// fallen below 1 ends with probability 1 − its largest component, and a survivor is
+    /// weighted up to match (`off`: every path runs to --max-depth or escape, as in the book).
+    /// Both converge to the same image; `on` traces shorter paths.
+    #[arg(long, value_enum, default_value_t = OnOff::Off)]
+    pub roulette: OnOff,
     /// With --nee on: how a point is sampled on the chosen light. `solid-angle` samples a sphere
     /// seen from outside uniformly over the cone it subtends (none of its samples land on the
     /// hidden far side); `area`, uniformly by area (the earlier behaviour). Quads and triangles
@@ -282,6 +288,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         seed: a.seed,
         accel: a.accel,
         nee: a.nee == OnOff::On,
+        roulette: a.roulette == OnOff::On,
     };
     settings.validate().map_err(anyhow::Error::msg)?;
     let compaction = match (a.compaction, a.compaction_method) {

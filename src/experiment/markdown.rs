@@ -626,13 +626,14 @@ fn gpu_state_table(runs: &[RunRecord]) -> String {
 fn job_key(r: &RunRecord) -> String {
     let o = |k: &str| r.options.get(k).map_or(String::new(), Value::to_string);
     format!(
-        "{}|{}x{}|{}|{}|{}|{}|{}",
+        "{}|{}x{}|{}|{}|{}|{}|{}|{}",
         r.scene,
         r.width,
         r.height,
         r.spp,
         r.max_depth,
         r.nee,
+        r.roulette,
         o("scale"),
         o("translate")
     )
@@ -642,6 +643,9 @@ fn job_text(r: &RunRecord) -> String {
     let mut t = format!("{}×{}×{}, depth {}", r.width, r.height, r.spp, r.max_depth);
     if r.nee {
         t.push_str(", NEE");
+    }
+    if r.roulette {
+        t.push_str(", roulette");
     }
     t
 }

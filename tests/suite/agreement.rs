@@ -10,7 +10,16 @@ use wavetrace::scene::{builtin, Material, Scene, Texture};
 use wavetrace::settings::{Accel, RenderSettings};
 
 pub(crate) fn settings(width: u32, height: u32, spp: u32) -> RenderSettings {
-    RenderSettings { width, height, spp, max_depth: 50, seed: 1, accel: Accel::Bvh, nee: false }
+    RenderSettings {
+        width,
+        height,
+        spp,
+        max_depth: 50,
+        seed: 1,
+        accel: Accel::Bvh,
+        nee: false,
+        roulette: false,
+    }
 }
 
 pub(crate) fn run(method: Method, scene: &Scene, s: &RenderSettings) -> Film {

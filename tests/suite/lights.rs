@@ -14,7 +14,16 @@ use wavetrace::settings::{Accel, RenderSettings};
 use wavetrace::stats::{binomial_tail, normal_critical, z_test};
 
 fn settings(size: u32, spp: u32, nee: bool) -> RenderSettings {
-    RenderSettings { width: size, height: size, spp, max_depth: 50, seed: 1, accel: Accel::Bvh, nee }
+    RenderSettings {
+        width: size,
+        height: size,
+        spp,
+        max_depth: 50,
+        seed: 1,
+        accel: Accel::Bvh,
+        nee,
+        roulette: false,
+    }
 }
 
 fn run_with(method: Method, scene: &Scene, s: &RenderSettings, opts: &MethodOptions) -> Film {

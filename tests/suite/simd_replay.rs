@@ -10,7 +10,16 @@ use wavetrace::scene::builtin;
 use wavetrace::settings::{Accel, RenderSettings};
 
 fn settings(nee: bool) -> RenderSettings {
-    RenderSettings { width: 24, height: 16, spp: 2, max_depth: 8, seed: 5, accel: Accel::Bvh, nee }
+    RenderSettings {
+        width: 24,
+        height: 16,
+        spp: 2,
+        max_depth: 8,
+        seed: 5,
+        accel: Accel::Bvh,
+        nee,
+        roulette: false,
+    }
 }
 
 /// (label, method, options) of every GPU method, instrumented.
@@ -435,6 +444,7 @@ fn sampled_subsets_agree_with_the_full_replay() {
         seed: 5,
         accel: Accel::Bvh,
         nee: false,
+        roulette: false,
     };
     // The pooled figures of each width: the frame's and every pass's work-weighted one.
     type Figures = Vec<BTreeMap<String, SimdEfficiency>>;
