@@ -31,6 +31,7 @@ mod render_space;
 mod report_page;
 mod repository;
 mod resume;
+mod roulette;
 mod sampling;
 mod scale;
 mod scene_format;
