@@ -34,6 +34,8 @@ Examples:
   wavetrace render --scene cornell --method wavefront --nee on --width 300 --height 300 --spp 64 \
       --out cornell.exr --png cornell.png
   wavetrace render --scene two-lights --method cpu --nee on --light-select uniform --out before.exr
+  wavetrace render --scene cornell --method wavefront --nee on --roulette on --out rr.exr \
+      --report rr.json   # Russian roulette: shorter paths, fewer rays per sample, the same image
   wavetrace render --scene rtiow-final --method megakernel --schedule regenerate --instrument \
       --out regen.exr --report regen.json   # persistent threads: SIMD efficiency, memory
   wavetrace render --scene rtiow-final --method wavefront --schedule regenerate --tail megakernel \
