@@ -149,8 +149,8 @@ pub fn trace_path_observed<T: Real>(
 #[inline(always)]
 pub fn roulette<T: Real>(throughput: V3<T>, bounce: u32, u: f32) -> Option<V3<T>> {
     let largest = throughput.x.max(throughput.y).max(throughput.z);
-    // (A NaN throughput fails the test and goes on, as in pbrt.)
-    if bounce == 0 || !(largest < T::one()) {
+    // pbrt's test, `largest < 1`, written so that clippy accepts it.
+    if bounce == 0 || largest.partial_cmp(&T::one()) != Some(std::cmp::Ordering::Less) {
         return Some(throughput);
     }
     let q = (T::one() - largest).max(T::zero());

@@ -176,7 +176,9 @@ fn time_by_scene(report: &ExperimentReport) -> Vec<Chart> {
             scene_order.push(&r.scene);
         }
     }
-    let mut settings: BTreeMap<(u32, u32, u32, u32, bool, bool), Vec<&RunRecord>> = BTreeMap::new();
+    // (width, height, spp, max depth, NEE, roulette): one chart each.
+    type Settings = (u32, u32, u32, u32, bool, bool);
+    let mut settings: BTreeMap<Settings, Vec<&RunRecord>> = BTreeMap::new();
     for r in ok {
         settings.entry((r.width, r.height, r.spp, r.max_depth, r.nee, r.roulette)).or_default().push(r);
     }
