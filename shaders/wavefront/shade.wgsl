@@ -1,7 +1,8 @@
 // shade: scattering for the paths queued at one material kind (one entry point, and pipeline,
 // per kind), or for every hit with a material switch (`shade`). Surviving paths go on the next
 // bounce's ray queue; with --nee on, diffuse hits also put a shadow ray on the shadow queue for
-// the shadow pass (or, when --roulette on ends the path, trace it here). Twin of the bounce body of src/cpu/integrator.rs. Rust: src/gpu/wavefront/shade.rs.
+// the shadow pass (or, when --roulette on ends the path, trace it here). Twin of the bounce body
+// of src/cpu/integrator.rs. Rust: src/gpu/wavefront/shade.rs.
 
 #include "shared/rng.wgsl"
 #include "shared/scene.wgsl"
