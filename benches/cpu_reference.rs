@@ -13,6 +13,7 @@ fn cpu_reference(c: &mut Criterion) {
         seed: 0,
         accel: Accel::Bvh,
         nee: false,
+        roulette: false,
     };
     let mut group = c.benchmark_group("cpu_reference");
     group.sample_size(10);

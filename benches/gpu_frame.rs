@@ -29,6 +29,7 @@ fn gpu_frame(c: &mut Criterion) {
         seed: 0,
         accel: Accel::Bvh,
         nee: std::env::var("WAVETRACE_BENCH_NEE").is_ok_and(|v| v == "on"),
+        roulette: false,
     };
     let nee = if settings.nee { "-nee" } else { "" };
     let mut group = c.benchmark_group(format!("gpu_frame/{scene_name}{nee}"));

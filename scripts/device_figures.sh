@@ -28,6 +28,9 @@
 #                       by frame with the GPU's clocks (device/warmup.json)  fixed  ~40 s
 #   headline            rtiow-final and mesh-room at 1920x1080x64, both megakernels against
 #                       the three wavefront schedules (device/headline.json) 5.3e9  ~1 min
+#   roulette            the headline's scenes and methods with Russian roulette off and on
+#                       (issue 46, the path-length axis; device/roulette.json): roulette off
+#                       repeats the headline, on traces shorter paths       10.6e9 ~2 min
 #   megakernel-threads  the regenerating megakernel's persistent threads, 65536 to 2097152,
 #                       against the naive one: rtiow-final, cornell and spheres-100000 at
 #                       1920x1080 x16 and x64, where it lost and won (issue 46;
@@ -102,6 +105,7 @@ compute-passes device/compute_passes.json
 shader-checks device/shader_checks.json
 warmup device/warmup.json
 headline device/headline.json
+roulette device/roulette.json
 megakernel-threads device/megakernel_threads.json
 shading-cost device/shading_cost.json
 decomposition device/decomposition.json

@@ -142,9 +142,10 @@ impl PackedScene {
     /// The pipeline constants every pass that binds the scene takes, besides its own:
     /// `PRIM_KINDS`, `NEE` (next-event estimation on, in a scene with lights), and how NEE
     /// samples: `LIGHT_SOLID_ANGLE` (spheres by the cone they subtend) and `LIGHT_POWER`
-    /// (choice by power); `RAY_ROBUST`, `SPHERE_BOOK` and `FRESNEL_EXACT` (`numerics`). As
+    /// (choice by power); `RAY_ROBUST`, `SPHERE_BOOK` and `FRESNEL_EXACT` (`numerics`);
+    /// `ROULETTE` (`--roulette on`). As
     /// constants rather than uniforms so that the compiler drops the code a render does not use.
-    pub fn pipeline_constants(&self, settings: &RenderSettings) -> [(&'static str, f64); 7] {
+    pub fn pipeline_constants(&self, settings: &RenderSettings) -> [(&'static str, f64); 8] {
         // An empty scene still needs a valid mask; any kind will do.
         let kinds = match self.primitive_kinds() {
             0 => 1,
@@ -161,6 +162,7 @@ impl PackedScene {
             ("RAY_ROBUST", self.robust_offsets() as u32 as f64),
             ("SPHERE_BOOK", (self.numerics.sphere_hit == SphereHit::Book) as u32 as f64),
             ("FRESNEL_EXACT", (self.numerics.fresnel == Fresnel::Exact) as u32 as f64),
+            ("ROULETTE", settings.roulette as u32 as f64),
         ]
     }
 

@@ -226,6 +226,8 @@ impl RunReport {
             ("max_depth", s.max_depth.to_string()),
             ("seed", s.seed.to_string()),
             ("nee", if s.nee { "on" } else { "off" }.to_string()),
+            // The rule, not just on: a report says which roulette its paths ended by.
+            ("roulette", if s.roulette { "pbrt-v4" } else { "off" }.to_string()),
             ("light_sampling", self.options.lights.sampling.name().to_string()),
             ("light_select", self.options.lights.select.name().to_string()),
             ("ray_offset", n.ray_offset.name()),

@@ -15,6 +15,9 @@ pub enum Purpose {
     Scatter = 1,
     /// Next-event estimation: which light (one number) and where on it (two numbers).
     Light = 2,
+    /// Russian roulette (`--roulette on`): whether the path goes on (one number). A purpose of
+    /// its own, so the draws above are the same with roulette on or off.
+    Roulette = 3,
 }
 
 /// The pcg4d hash: four 32-bit words in, four well-mixed words out.
@@ -98,7 +101,10 @@ mod tests {
         let b = uniform4(5, 3, 0, Purpose::Scatter, 1);
         let c = uniform4(5, 3, 1, Purpose::Camera, 1);
         let d = uniform4(5, 3, 0, Purpose::Camera, 2);
+        let e = uniform4(5, 3, 0, Purpose::Roulette, 1);
         assert_ne!(a, b);
+        assert_ne!(e, a);
+        assert_ne!(e, b);
         assert_ne!(a, c);
         assert_ne!(a, d);
     }

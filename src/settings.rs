@@ -24,11 +24,27 @@ pub struct RenderSettings {
     /// Emission found by the bounce that follows is then not counted again, so on and off
     /// converge to the same image.
     pub nee: bool,
+    /// Russian roulette, pbrt-v4's rule (`cpu::integrator::roulette`): from the second hit on, a
+    /// path whose throughput's largest component fell below 1 ends with probability 1 − that
+    /// component, and a survivor's throughput is divided by its survival probability. Unbiased,
+    /// so on and off converge to the same image; off is the book's (every path runs to
+    /// `max_depth` or escape). A bool rather than an enum of rules: there is one rule, and a bool
+    /// sweeps in configs as `nee` does; a second rule would make it an enum.
+    pub roulette: bool,
 }
 
 impl Default for RenderSettings {
     fn default() -> Self {
-        Self { width: 400, height: 225, spp: 16, max_depth: 50, seed: 0, accel: Accel::Bvh, nee: false }
+        Self {
+            width: 400,
+            height: 225,
+            spp: 16,
+            max_depth: 50,
+            seed: 0,
+            accel: Accel::Bvh,
+            nee: false,
+            roulette: false,
+        }
     }
 }
 

@@ -17,7 +17,7 @@ struct TracedPath {
 }
 
 // Traces one bounce of `path`: the ray it holds, what the hit adds, the next ray. Returns false
-// when the path has ended (escaped, hit an emitter or was absorbed); reaching max_depth is the
+// when the path has ended (escaped, hit an emitter, was absorbed or lost the roulette); reaching max_depth is the
 // caller's test (a path that scatters at the last bounce is counted here as cut). The
 // regenerating megakernel (megakernel_regenerate.wgsl) runs it one bounce per iteration so
 // that a lane whose path ends can start the next sample at once.
@@ -89,6 +89,15 @@ fn trace_bounce(path: ptr<function, TracedPath>, pixel: u32, sample: u32, bounce
     (*path).left = hit.prim;
     if bounce + 1u >= frame.max_depth {
         count_failure(FAILURE_DEPTH_CUT);
+    } else if ROULETTE {
+        // After this hit's shadow ray, before the next ray; not at the last bounce (a depth cut
+        // either way), as on the CPU.
+        let u_rr = uniform4(pixel, sample, bounce, PURPOSE_ROULETTE, frame.seed).x;
+        let rr = roulette((*path).throughput, bounce, u_rr);
+        if !rr.ok {
+            return false;
+        }
+        (*path).throughput = rr.throughput;
     }
     return true;
 }

@@ -123,3 +123,29 @@ fn scatter(m: Material, ray: Ray, p: vec3<f32>, normal: vec3<f32>, front_face: b
         }
     }
 }
+
+// Pipeline constant: `--roulette on` (Russian roulette, pbrt-v4's rule).
+override ROULETTE: bool = false;
+
+// What Russian roulette left of a path: whether it goes on, and its throughput if so.
+struct Survivor {
+    ok: bool,
+    throughput: vec3<f32>,
+}
+
+// pbrt-v4's Russian roulette at hit `bounce` (0: the camera ray's hit), given the throughput with
+// this hit's attenuation in it and a uniform `u` (PURPOSE_ROULETTE): from the second hit on, a
+// throughput whose largest component is below 1 ends the path with probability 1 - that
+// component, and a survivor is divided by its survival probability. etaScale is 1: the book's
+// dielectric does not scale radiance. Twin of roulette in src/cpu/integrator.rs.
+fn roulette(throughput: vec3<f32>, bounce: u32, u: f32) -> Survivor {
+    let largest = max(throughput.x, max(throughput.y, throughput.z));
+    if bounce == 0u || !(largest < 1.0) {
+        return Survivor(true, throughput);
+    }
+    let q = max(1.0 - largest, 0.0);
+    if u < q {
+        return Survivor(false, throughput);
+    }
+    return Survivor(true, throughput / (1.0 - q));
+}

@@ -4,6 +4,7 @@
 const PURPOSE_CAMERA: u32 = 0u;
 const PURPOSE_SCATTER: u32 = 1u;
 const PURPOSE_LIGHT: u32 = 2u;
+const PURPOSE_ROULETTE: u32 = 3u;
 
 fn pcg4d(key: vec4<u32>) -> vec4<u32> {
     var v = key * 1664525u + 1013904223u;

@@ -1,7 +1,8 @@
 // shade: scattering for the paths queued at one material kind (one entry point, and pipeline,
 // per kind), or for every hit with a material switch (`shade`). Surviving paths go on the next
 // bounce's ray queue; with --nee on, diffuse hits also put a shadow ray on the shadow queue for
-// the shadow pass. Twin of the bounce body of src/cpu/integrator.rs. Rust: src/gpu/wavefront/shade.rs.
+// the shadow pass (or, when --roulette on ends the path, trace it here). Twin of the bounce body
+// of src/cpu/integrator.rs. Rust: src/gpu/wavefront/shade.rs.
 
 #include "shared/rng.wgsl"
 #include "shared/scene.wgsl"
@@ -69,8 +70,19 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         finish_path(slot, bounce);
         return;
     }
+    let next_throughput = throughput * s.attenuation;
+    // Russian roulette: after the scatter, before the next ray, as on the CPU (a path at its last
+    // bounce has ended above, as a depth cut).
+    var rr = Survivor(true, next_throughput);
+    if ROULETTE {
+        let u_rr = uniform4(slot_pixel(slot), slot_sample(slot), bounce, PURPOSE_ROULETTE, frame.seed).x;
+        rr = roulette(next_throughput, bounce, u_rr);
+    }
+    // Both rays leave to the side the normal faces: the shadow ray starts here too.
+    let origin = spawn_origin(sp, outward, s.dir);
     // Direct light at diffuse hits, when the ray it stands in for is within the depth limit
-    // (which also means this path goes on, so path_origin below is the shadow ray's origin).
+    // (which also means this path goes on, unless the roulette ends it, so path_origin below is
+    // the shadow ray's origin).
     let lights_sampled = NEE && material.kind == MATERIAL_LAMBERTIAN
         && bounce + 2u <= frame.max_depth;
     var bsdf_pdf = 0.0;
@@ -79,19 +91,38 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         bsdf_pdf = diffuse_pdf(dot(normal, s.dir));
         let u_light = uniform4(slot_pixel(slot), slot_sample(slot), bounce, PURPOSE_LIGHT, frame.seed);
         let shadow = next_event(p, normal, u_light);
-        if shadow.ok {
+        if shadow.ok && rr.ok {
             shadow_ray[slot] = vec4<f32>(shadow.ray.dir, shadow.t_max);
             // w: the light's slot + 1 (0: no shadow ray pending), as bits.
-            shadow_weight[slot] = vec4<f32>(throughput * s.attenuation * shadow.weight, bitcast<f32>(shadow.light + 1u));
+            shadow_weight[slot] = vec4<f32>(next_throughput * shadow.weight, bitcast<f32>(shadow.light + 1u));
             enqueue_shadow(slot);
             shadow_queued = true;
+        } else if shadow.ok {
+            // The roulette ends the path, so its slot leaves every queue here: its shadow ray,
+            // unaffected by the roulette, is traced now, as the shadow pass would trace it (same
+            // ray, weight and counters; its steps counted as the shadow pass's traversal).
+            instrument_traversal(PASS_SHADOW_TRAVERSE);
+            let ray_s = Ray(origin, shadow.ray.dir);
+            let blocker = occluder(ray_s, frame.t_min, shadow.t_max, shadow.light);
+            var add = vec4<f32>(0.0, 0.0, 0.0, 1.0); // one more ray traced
+            if blocker.prim == NO_HIT {
+                add += vec4<f32>(next_throughput * shadow.weight, 0.0);
+            } else if is_self_hit(prim_slot, blocker.prim, ray_s, blocker.t) {
+                count_failure(FAILURE_SHADOW_SELF_HIT);
+            }
+            radiance[slot] += add;
         }
     }
-    // Both rays leave to the side the normal faces: the shadow ray starts here too.
-    path_origin[slot] = vec4<f32>(spawn_origin(sp, outward, s.dir), 0.0);
+    if !rr.ok {
+        path_dir[slot].w = bitcast<f32>(DEAD);
+        retire(slot, position);
+        finish_path(slot, bounce);
+        return;
+    }
+    path_origin[slot] = vec4<f32>(origin, 0.0);
     // w: the primitive the ray leaves, for the self-hit counters of intersect and shadow.
     path_dir[slot] = vec4<f32>(s.dir, bitcast<f32>(prim_slot));
-    path_throughput[slot] = vec4<f32>(throughput * s.attenuation, bsdf_pdf);
+    path_throughput[slot] = vec4<f32>(rr.throughput, bsdf_pdf);
     if REGENERATE {
         path_sample[slot].y = bounce + 1u;
     }

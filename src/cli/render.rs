@@ -34,6 +34,8 @@ Examples:
   wavetrace render --scene cornell --method wavefront --nee on --width 300 --height 300 --spp 64 \
       --out cornell.exr --png cornell.png
   wavetrace render --scene two-lights --method cpu --nee on --light-select uniform --out before.exr
+  wavetrace render --scene cornell --method wavefront --nee on --roulette on --out rr.exr \
+      --report rr.json   # Russian roulette: shorter paths, fewer rays per sample, the same image
   wavetrace render --scene rtiow-final --method megakernel --schedule regenerate --instrument \
       --out regen.exr --report regen.json   # persistent threads: SIMD efficiency, memory
   wavetrace render --scene rtiow-final --method wavefront --schedule regenerate --tail megakernel \
@@ -76,6 +78,12 @@ pub struct RenderArgs {
     /// to the same image.
     #[arg(long, value_enum, default_value_t = OnOff::Off)]
     pub nee: OnOff,
+    /// Russian roulette, pbrt-v4's rule: from the second hit on, a path whose throughput has
+    /// fallen below 1 ends with probability 1 − its largest component, and a survivor is
+    /// weighted up to match (`off`: every path runs to --max-depth or escape, as in the book).
+    /// Both converge to the same image; `on` traces shorter paths.
+    #[arg(long, value_enum, default_value_t = OnOff::Off)]
+    pub roulette: OnOff,
     /// With --nee on: how a point is sampled on the chosen light. `solid-angle` samples a sphere
     /// seen from outside uniformly over the cone it subtends (none of its samples land on the
     /// hidden far side); `area`, uniformly by area (the earlier behaviour). Quads and triangles
@@ -283,6 +291,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         seed: a.seed,
         accel: a.accel,
         nee: a.nee == OnOff::On,
+        roulette: a.roulette == OnOff::On,
     };
     settings.validate().map_err(anyhow::Error::msg)?;
     let compaction = match (a.compaction, a.compaction_method) {

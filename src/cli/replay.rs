@@ -71,6 +71,9 @@ pub struct ReplayArgs {
     pub seed: u32,
     #[arg(long, value_enum, default_value_t = OnOff::Off)]
     pub nee: OnOff,
+    /// Russian roulette (pbrt-v4's rule), as `wavetrace render --roulette`: shorter paths.
+    #[arg(long, value_enum, default_value_t = OnOff::Off)]
+    pub roulette: OnOff,
     /// `none`: every primitive tested in one loop, as the seeds' CUDA ports did (at most 24).
     #[arg(long, value_enum, default_value_t = Accel::Bvh)]
     pub accel: Accel,
@@ -160,6 +163,7 @@ pub fn run(a: ReplayArgs) -> Result<()> {
         seed: a.seed,
         accel: a.accel,
         nee: a.nee == OnOff::On,
+        roulette: a.roulette == OnOff::On,
     };
     settings.validate().map_err(anyhow::Error::msg)?;
     if a.workgroup_size == 0 {
@@ -201,8 +205,8 @@ pub fn run(a: ReplayArgs) -> Result<()> {
     }
     let defaults = MegakernelOptions::default();
     println!(
-        "{} {}x{}x{} nee={} max_depth={}",
-        a.scene, a.width, a.height, a.spp, settings.nee, settings.max_depth
+        "{} {}x{}x{} nee={} roulette={} max_depth={}",
+        a.scene, a.width, a.height, a.spp, settings.nee, settings.roulette, settings.max_depth
     );
     let mut methods = serde_json::Map::new();
     let mut series = Vec::new();
@@ -314,12 +318,17 @@ pub fn run(a: ReplayArgs) -> Result<()> {
     if let Some(path) = &a.json {
         let doc = serde_json::json!({
             "commit": env!("WAVETRACE_GIT_COMMIT"), "scene": a.scene, "width": a.width, "height": a.height, "spp": a.spp,
-            "max_depth": a.max_depth, "nee": settings.nee, "accel": format!("{:?}", a.accel), "methods": methods,
+            "max_depth": a.max_depth, "nee": settings.nee, "roulette": settings.roulette, "accel": format!("{:?}", a.accel), "methods": methods,
         });
         std::fs::write(path, serde_json::to_string_pretty(&doc)?)?;
     }
     if let Some(path) = &a.chart {
-        let nee = if settings.nee { ", NEE" } else { "" };
+        let nee = match (settings.nee, settings.roulette) {
+            (false, false) => "",
+            (true, false) => ", NEE",
+            (false, true) => ", roulette",
+            (true, true) => ", NEE, roulette",
+        };
         let chart = LineChart {
             title: format!(
                 "{} {}x{}x{}{nee}: predicted warp execution efficiency (lockstep replay)",

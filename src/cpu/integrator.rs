@@ -122,10 +122,68 @@ pub fn trace_path_observed<T: Real>(
             }
         }
         throughput = throughput.mul_elem(s.attenuation);
+        // Russian roulette decides after this hit's shadow ray, before the next ray. Not at the
+        // last bounce, which ends the path anyway (as a depth cut, as on the GPU).
+        if settings.roulette && bounce + 1 < max_depth {
+            let u = uniform4(pixel, sample, bounce, Purpose::Roulette, seed)[0];
+            match roulette(throughput, bounce, u) {
+                Some(t) => throughput = t,
+                None => return out,
+            }
+        }
         ray = Ray { origin, dir: s.dir };
         from = hit.prim;
     }
     // Out of depth: as in the book, the unfinished path adds nothing more.
     out.failures.depth_cut = 1;
     out
+}
+
+/// pbrt-v4's Russian roulette (`PathIntegrator::Li`) at hit `bounce` (0: the camera ray's hit),
+/// given the throughput with this hit's attenuation in it and a uniform `u`: the path's new
+/// throughput, or `None` when it ends here. pbrt's `depth > 1` counts bounces taken, this one
+/// included, so roulette starts at the second hit, `bounce >= 1`. pbrt tests `beta * etaScale`
+/// to keep refraction's η² radiance scaling out of the decision; the book's dielectric does not
+/// scale radiance (attenuation 1 both ways), so etaScale is 1 here. Twin of `roulette` in
+/// `shaders/shared/material.wgsl`.
+#[inline(always)]
+pub fn roulette<T: Real>(throughput: V3<T>, bounce: u32, u: f32) -> Option<V3<T>> {
+    let largest = throughput.x.max(throughput.y).max(throughput.z);
+    // pbrt's test, `largest < 1`, written so that clippy accepts it.
+    if bounce == 0 || largest.partial_cmp(&T::one()) != Some(std::cmp::Ordering::Less) {
+        return Some(throughput);
+    }
+    let q = (T::one() - largest).max(T::zero());
+    if T::of(u) < q {
+        return None;
+    }
+    Some(throughput / (T::one() - q))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn roulette_follows_pbrt_v4() {
+        let t = V3::new(0.25f64, 0.5, 0.125);
+        // Never at the first hit, nor once the throughput's largest component reaches 1.
+        assert_eq!(roulette(t, 0, 0.0), Some(t));
+        assert_eq!(roulette(V3::new(1.0f64, 0.1, 0.1), 3, 0.0), Some(V3::new(1.0, 0.1, 0.1)));
+        // Largest 0.5: ends with probability 0.5; a survivor is divided by 0.5.
+        assert_eq!(roulette(t, 1, 0.49), None);
+        assert_eq!(roulette(t, 1, 0.5), Some(V3::new(0.5, 1.0, 0.25)));
+        // A black throughput always ends (q = 1), so nothing is ever divided by 0.
+        assert_eq!(roulette(V3::splat(0.0f64), 5, 0.999_999_9), None);
+    }
+
+    #[test]
+    fn roulette_keeps_the_expected_throughput() {
+        // E[throughput after roulette] = throughput: the estimator stays unbiased.
+        let t = V3::new(0.3f64, 0.05, 0.2);
+        let n = 100_000;
+        let sum =
+            (0..n).map(|i| roulette(t, 2, (i as f32 + 0.5) / n as f32).map_or(0.0, |v| v.x)).sum::<f64>();
+        assert!((sum / n as f64 - 0.3).abs() < 1e-4, "mean {}", sum / n as f64);
+    }
 }

@@ -88,12 +88,12 @@ fn crossover(report: &ExperimentReport) -> Vec<Chart> {
     type Job = (u32, u32, u32, String); // width, height, spp, numerical knobs
     let ok: Vec<&RunRecord> =
         report.runs.iter().filter(|r| r.status == RunStatus::Ok && r.seconds.is_some()).collect();
-    let mut by_scene: BTreeMap<(String, u32, bool), Vec<&RunRecord>> = BTreeMap::new();
+    let mut by_scene: BTreeMap<(String, u32, bool, bool), Vec<&RunRecord>> = BTreeMap::new();
     for r in ok {
-        by_scene.entry((r.scene.clone(), r.max_depth, r.nee)).or_default().push(r);
+        by_scene.entry((r.scene.clone(), r.max_depth, r.nee, r.roulette)).or_default().push(r);
     }
     let mut out = Vec::new();
-    for ((scene, depth, nee), runs) in by_scene {
+    for ((scene, depth, nee, roulette), runs) in by_scene {
         let job = |r: &RunRecord| (r.width, r.height, r.spp, numerics_key(r));
         // Each job's fastest megakernel: its time and the interval of its median.
         let interval = |r: &RunRecord| stability::of_run(r, threshold).interval_or(r.seconds.unwrap());
@@ -141,7 +141,7 @@ fn crossover(report: &ExperimentReport) -> Vec<Chart> {
                 Series { name, points, intervals }
             })
             .collect();
-        let nee_note = if nee { ", NEE" } else { "" };
+        let nee_note = settings_note(nee, roulette);
         let title = format!("Speed-up over the fastest megakernel: {scene}, depth {depth}{nee_note}");
         let chart = LineChart {
             title: title.clone(),
@@ -153,7 +153,7 @@ fn crossover(report: &ExperimentReport) -> Vec<Chart> {
             series,
         };
         out.push(Chart {
-            stem: format!("crossover-{}-d{depth}{}", file_safe(&scene), if nee { "-nee" } else { "" }),
+            stem: format!("crossover-{}-d{depth}{}", file_safe(&scene), settings_stem(nee, roulette)),
             kind: "crossover",
             title,
             svg: chart.to_svg(),
@@ -176,12 +176,14 @@ fn time_by_scene(report: &ExperimentReport) -> Vec<Chart> {
             scene_order.push(&r.scene);
         }
     }
-    let mut settings: BTreeMap<(u32, u32, u32, u32, bool), Vec<&RunRecord>> = BTreeMap::new();
+    // (width, height, spp, max depth, NEE, roulette): one chart each.
+    type Settings = (u32, u32, u32, u32, bool, bool);
+    let mut settings: BTreeMap<Settings, Vec<&RunRecord>> = BTreeMap::new();
     for r in ok {
-        settings.entry((r.width, r.height, r.spp, r.max_depth, r.nee)).or_default().push(r);
+        settings.entry((r.width, r.height, r.spp, r.max_depth, r.nee, r.roulette)).or_default().push(r);
     }
     let mut out = Vec::new();
-    for ((w, h, spp, depth, nee), runs) in settings {
+    for ((w, h, spp, depth, nee, roulette), runs) in settings {
         let scenes: Vec<&str> =
             scene_order.iter().copied().filter(|s| runs.iter().any(|r| r.scene == *s)).collect();
         if scenes.len() < 2 {
@@ -198,7 +200,7 @@ fn time_by_scene(report: &ExperimentReport) -> Vec<Chart> {
                 (scene.to_string(), bars)
             })
             .collect();
-        let nee_note = if nee { ", NEE" } else { "" };
+        let nee_note = settings_note(nee, roulette);
         let title = format!("Time by scene: {w}x{h}, {spp} spp, depth {depth}{nee_note}");
         let chart = GroupedBarChart {
             title: title.clone(),
@@ -208,7 +210,7 @@ fn time_by_scene(report: &ExperimentReport) -> Vec<Chart> {
             groups,
         };
         out.push(Chart {
-            stem: format!("time-by-scene-{w}x{h}-{spp}spp-d{depth}{}", if nee { "-nee" } else { "" }),
+            stem: format!("time-by-scene-{w}x{h}-{spp}spp-d{depth}{}", settings_stem(nee, roulette)),
             kind: "time-by-scene",
             title,
             svg: chart.to_svg(),
@@ -220,11 +222,22 @@ fn time_by_scene(report: &ExperimentReport) -> Vec<Chart> {
     out
 }
 
+/// `, NEE`, `, roulette`: the path settings a chart's title names when on.
+fn settings_note(nee: bool, roulette: bool) -> String {
+    format!("{}{}", if nee { ", NEE" } else { "" }, if roulette { ", roulette" } else { "" })
+}
+
+/// `-nee`, `-rr`: the same in a chart's file name (none when off, so earlier names stay).
+fn settings_stem(nee: bool, roulette: bool) -> String {
+    format!("{}{}", if nee { "-nee" } else { "" }, if roulette { "-rr" } else { "" })
+}
+
 /// Which render settings besides spp vary within a group, and so must name its series.
 #[derive(Clone, Copy)]
 struct Varying {
     depth: bool,
     nee: bool,
+    roulette: bool,
 }
 
 impl Varying {
@@ -232,10 +245,11 @@ impl Varying {
         Varying {
             depth: runs.iter().any(|r| r.max_depth != runs[0].max_depth),
             nee: runs.iter().any(|r| r.nee != runs[0].nee),
+            roulette: runs.iter().any(|r| r.roulette != runs[0].roulette),
         }
     }
 
-    /// ` d8`, ` NEE` / ` no NEE`: the settings that tell this run's series apart.
+    /// ` d8`, ` NEE` / ` no NEE`, ` RR` / ` no RR`: the settings that tell this run's series apart.
     fn suffix(self, r: &RunRecord) -> String {
         let mut s = String::new();
         if self.depth {
@@ -243,6 +257,9 @@ impl Varying {
         }
         if self.nee {
             s += if r.nee { " NEE" } else { " no NEE" };
+        }
+        if self.roulette {
+            s += if r.roulette { " RR" } else { " no RR" };
         }
         s
     }

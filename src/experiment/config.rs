@@ -12,6 +12,7 @@
 //!   "spp": [4, 16, 64],
 //!   "max_depth": [50],
 //!   "nee": [false, true],
+//!   "roulette": [false, true],
 //!   "seed": 0,
 //!   "accel": "bvh",
 //!   "repetitions": 3,
@@ -61,17 +62,17 @@
 //!
 //! # The reference
 //!
-//! `{"method": M, "spp": N, "max_depth": D, "seed": S, "nee": B, "ray_offset": …,
+//! `{"method": M, "spp": N, "max_depth": D, "seed": S, "nee": B, "roulette": B, "ray_offset": …,
 //! "sphere_hit": …, "fresnel": …}`: rendered once per (scene, resolution), cached. The numerical
 //! knobs (each one value, defaults as on the methods) say how the reference itself computes; it
 //! never takes `scale` or `translate`: the reference is always the untransformed scene, which is
 //! what the stress transforms are measured against.
 //!
 //! `"spp": "match"` renders a reference for each run instead: at the run's own spp, max depth,
-//! NEE, seed and light knobs (`light_sampling`, `light_select`), so that run and reference trace
-//! the same random numbers and their difference is numerical error, not noise (e.g. `cpu` against
-//! a matched `cpu-f64` is f32's error alone). `seed`, `max_depth` and `nee` are then refused (they
-//! are the run's). Matched references are cached per spp (the cache key holds the settings and
+//! NEE, roulette, seed and light knobs (`light_sampling`, `light_select`), so that run and
+//! reference trace the same random numbers and their difference is numerical error, not noise
+//! (e.g. `cpu` against a matched `cpu-f64` is f32's error alone). `seed`, `max_depth`, `nee` and
+//! `roulette` are then refused (they are the run's). Matched references are cached per spp (the cache key holds the settings and
 //! every knob away from its default). Or `{"exr": "refs/{scene}-{width}x{height}.exr"}`.
 
 use std::collections::BTreeSet;
@@ -110,6 +111,7 @@ const TOP_FIELDS: &[&str] = &[
     "spp",
     "max_depth",
     "nee",
+    "roulette",
     "seed",
     "accel",
     "repetitions",
@@ -236,7 +238,7 @@ a list of these is a sweep, except that an array of exactly three numbers is one
 (sweep three distances as [[a], [b], [c]])";
 /// The reference's fields.
 const REFERENCE_FIELDS: &[&str] =
-    &["method", "spp", "max_depth", "seed", "nee", "ray_offset", "sphere_hit", "fresnel"];
+    &["method", "spp", "max_depth", "seed", "nee", "roulette", "ray_offset", "sphere_hit", "fresnel"];
 /// Repetitions and warm-ups above this are almost certainly typos (and would take forever).
 const MAX_REPETITIONS: u32 = 1000;
 
@@ -273,9 +275,9 @@ pub enum ReferenceSpec {
 pub enum ReferenceSamples {
     /// `"spp": N`: one reference per (scene, resolution), at these settings, with the default
     /// light knobs.
-    Fixed { spp: u32, max_depth: u32, seed: u32, nee: bool },
-    /// `"spp": "match"`: one reference per run, at the run's own spp, max depth, NEE, seed and
-    /// light knobs, so that both trace the same random numbers: their difference is numerical
+    Fixed { spp: u32, max_depth: u32, seed: u32, nee: bool, roulette: bool },
+    /// `"spp": "match"`: one reference per run, at the run's own spp, max depth, NEE, roulette,
+    /// seed and light knobs, so that both trace the same random numbers: their difference is numerical
     /// error, not noise.
     Match,
 }
@@ -292,8 +294,8 @@ impl ReferenceSpec {
         let ReferenceSpec::Render { method, samples, numerics } = *self else { return None };
         let mut o = MethodOptions { numerics, ..MethodOptions::default() };
         let settings = match samples {
-            ReferenceSamples::Fixed { spp, max_depth, seed, nee } => {
-                RenderSettings { spp, max_depth, seed, nee, ..run.clone() }
+            ReferenceSamples::Fixed { spp, max_depth, seed, nee, roulette } => {
+                RenderSettings { spp, max_depth, seed, nee, roulette, ..run.clone() }
             }
             ReferenceSamples::Match => {
                 o.lights = options.lights;
@@ -334,6 +336,8 @@ pub struct ExperimentConfig {
     pub max_depth: Vec<u32>,
     /// Next-event estimation off and/or on (default `[false]`).
     pub nee: Vec<bool>,
+    /// Russian roulette off and/or on (default `[false]`, the book's full-length paths).
+    pub roulette: Vec<bool>,
     /// Default 0.
     pub seed: u32,
     /// Default `bvh`.
@@ -409,19 +413,22 @@ impl ExperimentConfig {
     }
 
     /// Every run's render settings, in plan order: resolution, then max depth, then next-event
-    /// estimation, then spp.
+    /// estimation, then roulette, then spp.
     pub fn settings(&self) -> impl Iterator<Item = RenderSettings> + '_ {
         self.resolutions.iter().flat_map(move |&(width, height)| {
             self.max_depth.iter().flat_map(move |&max_depth| {
                 self.nee.iter().flat_map(move |&nee| {
-                    self.spp.iter().map(move |&spp| RenderSettings {
-                        width,
-                        height,
-                        spp,
-                        max_depth,
-                        seed: self.seed,
-                        accel: self.accel,
-                        nee,
+                    self.roulette.iter().flat_map(move |&roulette| {
+                        self.spp.iter().map(move |&spp| RenderSettings {
+                            width,
+                            height,
+                            spp,
+                            max_depth,
+                            seed: self.seed,
+                            accel: self.accel,
+                            nee,
+                            roulette,
+                        })
                     })
                 })
             })
@@ -523,6 +530,10 @@ impl Cx {
             Some(v) => self.list(v, "nee", |v, p| self.boolean(v, p))?,
             None => vec![false],
         };
+        let roulette = match root.get("roulette") {
+            Some(v) => self.list(v, "roulette", |v, p| self.boolean(v, p))?,
+            None => vec![false],
+        };
         let seed = self.optional(root, "seed", |v, p| self.uint32(v, p, 0, u32::MAX))?.unwrap_or(0);
         let accel = match self.optional(root, "accel", |v, p| self.choice(v, p, &["bvh", "none"]))? {
             Some("none") => Accel::None,
@@ -561,6 +572,7 @@ impl Cx {
             spp,
             max_depth,
             nee,
+            roulette,
             seed,
             accel,
             repetitions,
@@ -1094,11 +1106,12 @@ impl Cx {
         };
         let spp_value = self.field(o, "reference", "spp")?;
         if spp_value.as_str() == Some("match") {
-            if let Some(k) = ["seed", "max_depth", "nee"].into_iter().find(|k| o.contains_key(*k)) {
+            if let Some(k) = ["seed", "max_depth", "nee", "roulette"].into_iter().find(|k| o.contains_key(*k))
+            {
                 return self.err(
                     &join("reference", k),
-                    "with \"spp\": \"match\" the reference takes each run's own spp, seed, max depth \
-                     and NEE, so that both trace the same random numbers; drop this field",
+                    "with \"spp\": \"match\" the reference takes each run's own spp, seed, max depth, \
+                     NEE and roulette, so that both trace the same random numbers; drop this field",
                 );
             }
             return Ok(ReferenceSpec::Render { method, samples: ReferenceSamples::Match, numerics });
@@ -1127,7 +1140,10 @@ impl Cx {
         // Next-event estimation converges to the same image; on, a reference of lit scenes
         // such as cornell needs far fewer samples.
         let nee = self.optional(o, "nee", |v, p| self.boolean(v, p))?.unwrap_or(false);
-        let samples = ReferenceSamples::Fixed { spp, max_depth, seed: ref_seed, nee };
+        // Roulette is unbiased too, so one reference serves runs with it off and on; off (the
+        // default) spends the reference's time on full-length paths, the lower-variance choice.
+        let roulette = self.optional(o, "roulette", |v, p| self.boolean(v, p))?.unwrap_or(false);
+        let samples = ReferenceSamples::Fixed { spp, max_depth, seed: ref_seed, nee, roulette };
         Ok(ReferenceSpec::Render { method, samples, numerics })
     }
 

@@ -130,6 +130,7 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
         );
     }
     md.push('\n');
+    md.push_str(&path_length_table(report, threshold));
 
     let gpu: Vec<&RunRecord> =
         report.runs.iter().filter(|r| r.memory.is_some() || r.dispatches.unwrap_or(0) > 0).collect();
@@ -623,16 +624,80 @@ fn gpu_state_table(runs: &[RunRecord]) -> String {
     md
 }
 
+/// The path-length axis (issue 46), in reports with Russian roulette on (none before it, so their
+/// pages are unchanged): each run's rays per sample and paths cut at max depth, and for a run
+/// with roulette, its rays and its speed against the same variant's run of the same job without.
+fn path_length_table(report: &ExperimentReport, threshold: f64) -> String {
+    if !report.runs.iter().any(|r| r.roulette) {
+        return String::new();
+    }
+    let mut md = String::from(
+        "## Path length\n\nRays per sample: camera, bounce and shadow rays traced, over the samples. \
+         With roulette (pbrt-v4's rule): the run's rays, and its speed (the seconds without roulette \
+         over its own, so above 1 is faster), against the same variant's run of the same job without \
+         roulette, whose image is the same in expectation.\n\n\
+         | # | scene | job | variant | rays per sample | paths cut at max depth | × rays without roulette | × faster than without roulette |\n\
+         | ---: | --- | --- | --- | ---: | ---: | ---: | ---: |\n",
+    );
+    let key = |r: &RunRecord| {
+        let o = |k: &str| r.options.get(k).map_or(String::new(), Value::to_string);
+        (
+            r.scene.clone(),
+            r.width,
+            r.height,
+            r.spp,
+            r.max_depth,
+            r.nee,
+            r.label.clone(),
+            o("scale"),
+            o("translate"),
+        )
+    };
+    let ok = |r: &&RunRecord| r.status == RunStatus::Ok;
+    for r in report.runs.iter().filter(ok) {
+        let per_sample =
+            |r: &RunRecord| r.rays.filter(|_| r.samples > 0).map(|n| n as f64 / r.samples as f64);
+        let twin = r
+            .roulette
+            .then(|| report.runs.iter().filter(ok).find(|o| !o.roulette && key(o) == key(r)))
+            .flatten();
+        let rays = match (twin.and_then(per_sample), per_sample(r)) {
+            (Some(off), Some(on)) if off > 0.0 => format!("{:.3}×", on / off),
+            _ => "–".into(),
+        };
+        let faster = match (twin.and_then(|t| t.seconds), r.seconds) {
+            (Some(off), Some(on)) if on > 0.0 => {
+                let flagged = [r, twin.unwrap()].iter().any(|x| stability::of_run(x, threshold).flagged());
+                format!("{:.2}×{}", off / on, stability::flag(flagged))
+            }
+            _ => "–".into(),
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {rays} | {faster} |",
+            r.index,
+            r.scene,
+            job_text(r),
+            cell(&r.label),
+            per_sample(r).map_or("–".into(), |v| format!("{v:.3}")),
+            opt(r.depth_cut)
+        );
+    }
+    md.push('\n');
+    md
+}
+
 fn job_key(r: &RunRecord) -> String {
     let o = |k: &str| r.options.get(k).map_or(String::new(), Value::to_string);
     format!(
-        "{}|{}x{}|{}|{}|{}|{}|{}",
+        "{}|{}x{}|{}|{}|{}|{}|{}|{}",
         r.scene,
         r.width,
         r.height,
         r.spp,
         r.max_depth,
         r.nee,
+        r.roulette,
         o("scale"),
         o("translate")
     )
@@ -642,6 +707,9 @@ fn job_text(r: &RunRecord) -> String {
     let mut t = format!("{}×{}×{}, depth {}", r.width, r.height, r.spp, r.max_depth);
     if r.nee {
         t.push_str(", NEE");
+    }
+    if r.roulette {
+        t.push_str(", roulette");
     }
     t
 }
@@ -862,5 +930,23 @@ mod tests {
         );
         assert!(md.contains("| 0 | megakernel | 12 | 0.2700 | 50.00 | 20.00 | 20.00 | 20.00 | – | – | 20.00 | 1980 → 1870 | 40 → 51 |"), "{md}");
         assert!(md.contains("12 frames, 0.2700 s, unsettled"), "{md}");
+    }
+    /// The path-length table: only in reports with roulette, each roulette run set against the
+    /// same variant's run of the same job without (rays, and speed as off ÷ on seconds).
+    #[test]
+    fn roulette_runs_get_the_path_length_table() {
+        let mut off = run(0, "megakernel", &[2.0, 2.0], 1);
+        off["rays"] = serde_json::json!(40);
+        let mut on = run(1, "megakernel", &[1.0, 1.0], 1);
+        on["rays"] = serde_json::json!(10);
+        on["roulette"] = serde_json::json!(true);
+        let without = page(&report(serde_json::json!([off.clone()])), "d", "");
+        assert!(!without.contains("## Path length"), "{without}");
+        let md = page(&report(serde_json::json!([off, on])), "d", "");
+        assert!(md.contains("| 0 | s | 2×2×1, depth 5 | megakernel | 10.000 | – | – | – |"), "{md}");
+        assert!(
+            md.contains("| 1 | s | 2×2×1, depth 5, roulette | megakernel | 2.500 | – | 0.250× | 2.00× |"),
+            "{md}"
+        );
     }
 }

@@ -13,7 +13,7 @@ pub struct RunSpec {
     /// Position in the whole config's plan (the same in every shard).
     pub index: usize,
     /// Unique, file-name safe: `007-rtiow-final-400x225-16spp-d50-wavefront` (`-d50-nee-` with
-    /// next-event estimation).
+    /// next-event estimation, `-rr-` with roulette).
     pub id: String,
     /// Index into `config.scenes`.
     pub scene: usize,
@@ -30,13 +30,14 @@ pub fn plan(config: &ExperimentConfig) -> Vec<RunSpec> {
             for (variant, v) in config.methods.iter().enumerate() {
                 let index = runs.len();
                 let id = format!(
-                    "{index:03}-{}-{}x{}-{}spp-d{}{}-{}",
+                    "{index:03}-{}-{}x{}-{}spp-d{}{}{}-{}",
                     file_safe(&entry.scene.name),
                     settings.width,
                     settings.height,
                     settings.spp,
                     settings.max_depth,
                     if settings.nee { "-nee" } else { "" },
+                    if settings.roulette { "-rr" } else { "" },
                     file_safe(&v.label)
                 );
                 runs.push(RunSpec { index, id, scene, settings: settings.clone(), variant });

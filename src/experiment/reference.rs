@@ -111,6 +111,7 @@ impl References {
             max_depth: Some(settings.max_depth),
             seed: Some(settings.seed),
             nee: Some(settings.nee),
+            roulette: Some(settings.roulette),
             options: Some(options_json(options)),
             spp_match: matched,
             exr: path.display().to_string(),
@@ -221,6 +222,7 @@ fn read(path: &Path, scene: &Scene, width: u32, height: u32) -> Result<Reference
         spp: attribute(&attrs, "wavetrace.spp").and_then(|s| s.parse().ok()),
         max_depth: attribute(&attrs, "wavetrace.max_depth").and_then(|s| s.parse().ok()),
         nee: attribute(&attrs, "wavetrace.nee").map(|s| s == "on"),
+        roulette: attribute(&attrs, "wavetrace.roulette").map(|s| s != "off"),
         seed: attribute(&attrs, "wavetrace.seed").and_then(|s| s.parse().ok()),
         options: {
             let knobs: serde_json::Map<String, serde_json::Value> = REFERENCE_KNOBS
@@ -273,6 +275,10 @@ pub fn cache_key(scene: &Scene, s: &RenderSettings, method: &str, options: &Meth
     }
     if !options.stress.is_identity() {
         knobs += &format!("\nstress {:?} {:?}", options.stress.scale, options.stress.translate);
+    }
+    // Only when on, so that references cached before roulette existed keep their keys.
+    if s.roulette {
+        knobs += "\nroulette pbrt-v4";
     }
     let identity = format!(
         "{}\n{}\n{}\n{}x{} spp {} depth {} seed {} accel {:?} nee {} {method}{knobs}",
@@ -356,6 +362,7 @@ mod tests {
         assert_ne!(base, cache_key(&scene, &s, "cpu", &o));
         assert_ne!(base, cache_key(&scene, &RenderSettings { seed: 7, ..s.clone() }, "cpu-f64", &o));
         assert_ne!(base, cache_key(&scene, &RenderSettings { spp: 7, ..s.clone() }, "cpu-f64", &o));
+        assert_ne!(base, cache_key(&scene, &RenderSettings { roulette: true, ..s.clone() }, "cpu-f64", &o));
         let mut moved = scene.clone();
         moved.camera.vfov += 1.0;
         assert_ne!(base, cache_key(&moved, &s, "cpu-f64", &o));

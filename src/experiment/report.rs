@@ -180,6 +180,9 @@ pub struct RunRecord {
     /// Next-event estimation on (absent in reports from before it existed: off).
     #[serde(default)]
     pub nee: bool,
+    /// Russian roulette on, pbrt-v4's rule (absent in reports from before it existed: off).
+    #[serde(default)]
+    pub roulette: bool,
     pub seed: u32,
     pub accel: String,
     pub method: String,
@@ -355,12 +358,16 @@ pub struct ReferenceRecord {
     /// Next-event estimation on (rendered references).
     #[serde(default)]
     pub nee: Option<bool>,
+    /// Russian roulette on (rendered references; absent in reports from before it existed).
+    #[serde(default)]
+    pub roulette: Option<bool>,
     /// The knobs it was rendered with, as the config spells them: `ray_offset`, `sphere_hit`,
     /// `fresnel`, `light_sampling`, `light_select` (EXR references: those the file's attributes
     /// name; None when it names none, and in reports from before the knobs existed).
     #[serde(default)]
     pub options: Option<Value>,
-    /// Rendered for `"spp": "match"`: at its run's own spp, seed, depth, NEE and light knobs.
+    /// Rendered for `"spp": "match"`: at its run's own spp, seed, depth, NEE, roulette and light
+    /// knobs.
     #[serde(default)]
     pub spp_match: bool,
     /// The EXR: in the cache (rendered) or as configured.

@@ -590,6 +590,7 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         spp: s.spp,
         max_depth: s.max_depth,
         nee: s.nee,
+        roulette: s.roulette,
         seed: s.seed,
         accel: serde_json::to_value(s.accel)
             .ok()

@@ -122,6 +122,7 @@ fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
         rcol("spp", |r| int(r.spp)),
         rcol("max_depth", |r| int(r.max_depth)),
         rcol("nee", |r| flag(r.nee)),
+        rcol("roulette", |r| flag(r.roulette)),
         rcol("seed", |r| int(r.seed)),
         rcol("accel", |r| text(&r.accel)),
         rcol("method", |r| text(&r.method)),

@@ -23,7 +23,7 @@ pub struct SceneBuffers {
     /// self-hits, depth-cut paths, each a u64 as two u32 words, low first.
     pub failures: wgpu::Buffer,
     /// Pipeline constants of the scene's shaders (`PackedScene::pipeline_constants`).
-    scene_constants: [(&'static str, f64); 7],
+    scene_constants: [(&'static str, f64); 8],
 }
 
 impl SceneBuffers {

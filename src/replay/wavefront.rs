@@ -624,8 +624,27 @@ impl Wave<'_> {
         };
         for (k, name) in passes {
             let queue = self.queue(&material[k]);
-            self.pass(&name, &queue, |_, _| {});
+            // A path the roulette ends right after its shadow ray leaves every queue in shade,
+            // which traces that shadow ray itself (shade.wgsl): in the shade pass's lockstep,
+            // its steps counted as the shadow pass's traversal, and not on the shadow queue.
+            let ends_in_shade: std::collections::HashSet<usize> =
+                material[k].iter().copied().filter(|&l| ends_after_its_shadow_ray(&self.lanes[l])).collect();
+            self.pass(&name, &queue, |wave, active| {
+                let ended: Vec<usize> =
+                    active.iter().copied().filter(|l| ends_in_shade.contains(l)).collect();
+                ended.iter().for_each(|&l| wave.lanes[l].at += 2); // the hit, then the shadow ray
+                traverse(
+                    &mut wave.lanes,
+                    &ended,
+                    slot("shadow_traverse_inner"),
+                    wave.width,
+                    &mut wave.counts,
+                );
+            });
             for &l in &material[k] {
+                if ends_in_shade.contains(&l) {
+                    continue;
+                }
                 let lane = &mut self.lanes[l];
                 lane.at += 1;
                 if lane.next() == Some(SHADOW) {
@@ -680,6 +699,13 @@ impl Wave<'_> {
             }
         }
     }
+}
+
+/// Whether the lane, at a hit, traces a shadow ray there and then nothing more: only Russian
+/// roulette ends a path after a shadow ray (NEE samples a light only where the path may go on).
+fn ends_after_its_shadow_ray(lane: &Lane) -> bool {
+    let after_hit = Lane { events: lane.events, at: lane.at + 1 };
+    after_hit.next() == Some(SHADOW) && after_shadow(&after_hit).is_none()
 }
 
 /// The lane's next event past a pending shadow ray's traversal (what follows the bounce).

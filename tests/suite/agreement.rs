@@ -10,7 +10,16 @@ use wavetrace::scene::{builtin, Material, Scene, Texture};
 use wavetrace::settings::{Accel, RenderSettings};
 
 pub(crate) fn settings(width: u32, height: u32, spp: u32) -> RenderSettings {
-    RenderSettings { width, height, spp, max_depth: 50, seed: 1, accel: Accel::Bvh, nee: false }
+    RenderSettings {
+        width,
+        height,
+        spp,
+        max_depth: 50,
+        seed: 1,
+        accel: Accel::Bvh,
+        nee: false,
+        roulette: false,
+    }
 }
 
 pub(crate) fn run(method: Method, scene: &Scene, s: &RenderSettings) -> Film {
@@ -192,8 +201,13 @@ fn check_furnace(method: Method) {
 /// [`check_furnace`] on `scene`, whose sphere is claimed to have albedo 0.5 (`truth` is what the
 /// analytic image assumes).
 fn check_furnace_scene(method: Method, scene: &Scene, truth: f64) {
+    check_furnace_settings(method, scene, truth, &settings(48, 32, 16));
+}
+
+/// [`check_furnace_scene`] at settings `s`.
+fn check_furnace_settings(method: Method, scene: &Scene, truth: f64, s: &RenderSettings) {
     let scene = scene.clone();
-    let s = settings(48, 32, 16);
+    let s = s.clone();
     let film = run(method, &scene, &s);
     let (mut want, mut got) = (0.0, 0.0);
     for y in 0..s.height {
@@ -248,6 +262,24 @@ fn furnace_rejects_an_albedo_one_percent_off() {
         assert!(caught.is_err(), "{method:?}: an albedo of 0.495 passed the furnace bar");
         // And the check is not failing for another reason: told the truth, it passes.
         check_furnace_scene(method, &scene, 0.495);
+    }
+}
+
+/// Roulette keeps the furnace's answer, exactly: pbrt-v4's rule never ends a path before its
+/// second hit, and the furnace's paths escape after their first, so every sample is unchanged
+/// (the exact pixels stay exact) on every method.
+#[test]
+fn roulette_keeps_the_furnace() {
+    let scene = builtin::by_name("furnace").unwrap();
+    let s = RenderSettings { roulette: true, ..settings(48, 32, 16) };
+    let mut methods = vec![Method::Cpu, Method::CpuF64];
+    if common::gpu().is_some() {
+        methods.extend([Method::Megakernel, Method::Wavefront]);
+    }
+    for method in methods {
+        check_furnace_settings(method, &scene, 0.5, &s);
+        let off = run(method, &scene, &RenderSettings { roulette: false, ..s.clone() });
+        assert_eq!(run(method, &scene, &s), off, "{method:?}: the same samples");
     }
 }
 

@@ -119,6 +119,8 @@ fn render_flags_reach_the_report_and_the_exr() {
             "exact",
             "--nee",
             "on",
+            "--roulette",
+            "on",
             "--out",
             s(&exr),
             "--report",
@@ -128,7 +130,7 @@ fn render_flags_reach_the_report_and_the_exr() {
     };
     let ((img, attrs), r) = render("a", "7");
     let want = serde_json::json!({"width": 12, "height": 8, "spp": 2, "max_depth": 7, "seed": 7,
-        "accel": "none", "nee": true});
+        "accel": "none", "nee": true, "roulette": true});
     assert_eq!(r["settings"], want);
     assert_eq!(r["options"]["sphere_hit"], "book");
     assert_eq!(r["options"]["fresnel"], "exact");
@@ -136,6 +138,8 @@ fn render_flags_reach_the_report_and_the_exr() {
     assert_eq!(attr("wavetrace.max_depth"), "7");
     assert_eq!(attr("wavetrace.seed"), "7");
     assert_eq!(attr("wavetrace.nee"), "on");
+    // The rule, not just "on": pbrt-v4's.
+    assert_eq!(attr("wavetrace.roulette"), "pbrt-v4");
     let commit = attr("wavetrace.git_commit");
     assert_eq!(commit, r["build"]["git_commit"].as_str().unwrap());
     assert!(commit.len() >= 40 || commit == "unknown", "a commit hash: {commit:?}");

@@ -11,7 +11,16 @@ use wavetrace::gpu::wavefront::{Compaction, QueueOrder, Schedule, Tail, Wavefron
 use wavetrace::settings::{Accel, RenderSettings};
 
 fn settings(spp: u32, nee: bool) -> RenderSettings {
-    RenderSettings { width: 40, height: 24, spp, max_depth: 12, seed: 5, accel: Accel::Bvh, nee }
+    RenderSettings {
+        width: 40,
+        height: 24,
+        spp,
+        max_depth: 12,
+        seed: 5,
+        accel: Accel::Bvh,
+        nee,
+        roulette: false,
+    }
 }
 
 /// Slot order, keyed by depth or not, with both compaction methods, waves and regeneration, with

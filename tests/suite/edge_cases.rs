@@ -14,7 +14,7 @@ use wavetrace::settings::{Accel, RenderSettings};
 const METHODS: [Method; 4] = [Method::Cpu, Method::CpuF64, Method::Megakernel, Method::Wavefront];
 
 fn settings(width: u32, height: u32, spp: u32, max_depth: u32, nee: bool) -> RenderSettings {
-    RenderSettings { width, height, spp, max_depth, seed: 7, accel: Accel::Bvh, nee }
+    RenderSettings { width, height, spp, max_depth, seed: 7, accel: Accel::Bvh, nee, roulette: false }
 }
 
 /// A scene with the three-spheres camera and sky, and these shapes.

@@ -449,6 +449,26 @@ fn bad_configs_name_the_file_the_field_and_the_reason() {
         ),
         ("empty-methods", Box::new(|c| c["methods"] = serde_json::json!([])), "methods", "at least one"),
         (
+            "roulette-word",
+            Box::new(|c| c["roulette"] = serde_json::json!([false, "pbrt"])),
+            "roulette[1]",
+            "expected true or false",
+        ),
+        (
+            "roulette-repeat",
+            Box::new(|c| c["roulette"] = serde_json::json!([true, true])),
+            "roulette[1]",
+            "repeats",
+        ),
+        (
+            "matched-reference-roulette",
+            Box::new(|c| {
+                c["reference"] = serde_json::json!({"method": "cpu-f64", "spp": "match", "roulette": true})
+            }),
+            "reference.roulette",
+            "drop this field",
+        ),
+        (
             "bad-method",
             Box::new(|c| c["methods"][0]["method"] = "wavefrnt".into()),
             "methods[0].method",
@@ -677,6 +697,7 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
             "device/refill.json",
             "device/regeneration_1080p.json",
             "device/regeneration_recheck.json",
+            "device/roulette.json",
             "device/scene_size.json",
             "device/seeds_1080p.json",
             "device/shader_checks.json",
@@ -698,6 +719,7 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
             "refill_1080p.json",
             "regeneration.json",
             "regeneration_1080p.json",
+            "roulette.json",
             "scene_scale.json",
             "scene_size.json",
             "shader_checks.json",

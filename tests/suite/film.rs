@@ -33,7 +33,16 @@ fn constant(background: Vec3) -> Scene {
 }
 
 fn one_pixel(spp: u32) -> RenderSettings {
-    RenderSettings { width: 1, height: 1, spp, max_depth: 4, seed: 0, accel: Accel::Bvh, nee: false }
+    RenderSettings {
+        width: 1,
+        height: 1,
+        spp,
+        max_depth: 4,
+        seed: 0,
+        accel: Accel::Bvh,
+        nee: false,
+        roulette: false,
+    }
 }
 
 fn films(scene: &Scene, s: &RenderSettings) -> Vec<(Method, Film)> {

@@ -14,7 +14,8 @@ fn wgsl_rng_is_bit_identical_to_rust() {
     let mut keys: Vec<[u32; 4]> = vec![[0; 4], [u32::MAX; 4], [1, 0, 0, 0], [0, 0, ((1 << 24) - 1) << 8, 0]];
     for i in 0..4096u32 {
         let word = |s: &mut Stream| (s.next_f32() * 16_777_216.0) as u32 ^ (i << 24);
-        let purpose = [Purpose::Camera, Purpose::Scatter][i as usize % 2] as u32;
+        let purpose =
+            [Purpose::Camera, Purpose::Scatter, Purpose::Light, Purpose::Roulette][i as usize % 4] as u32;
         keys.push([word(&mut s), word(&mut s), (word(&mut s) << 8) | purpose, word(&mut s)]);
     }
     let n = keys.len() as u64;

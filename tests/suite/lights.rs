@@ -14,7 +14,16 @@ use wavetrace::settings::{Accel, RenderSettings};
 use wavetrace::stats::{binomial_tail, normal_critical, z_test};
 
 fn settings(size: u32, spp: u32, nee: bool) -> RenderSettings {
-    RenderSettings { width: size, height: size, spp, max_depth: 50, seed: 1, accel: Accel::Bvh, nee }
+    RenderSettings {
+        width: size,
+        height: size,
+        spp,
+        max_depth: 50,
+        seed: 1,
+        accel: Accel::Bvh,
+        nee,
+        roulette: false,
+    }
 }
 
 fn run_with(method: Method, scene: &Scene, s: &RenderSettings, opts: &MethodOptions) -> Film {
@@ -147,7 +156,7 @@ fn mean_and_se(f: &Film) -> (f64, f64) {
 /// pixels by chance, so the number that fail must be unremarkable for Binomial(pixels, 0.01)
 /// (tail probability ≥ 1e-3), and the image means must agree within 4 standard errors.
 #[track_caller]
-fn assert_same_image(name: &str, a: &Film, b: &Film) {
+pub(crate) fn assert_same_image(name: &str, a: &Film, b: &Film) {
     let t = z_test(a, b, 0.01);
     let tail = binomial_tail(a.pixels.len(), t.failed_pixels, 0.01);
     let ((ma, sa), (mb, sb)) = (mean_and_se(a), mean_and_se(b));

@@ -32,6 +32,7 @@ mod render_space;
 mod report_page;
 mod repository;
 mod resume;
+mod roulette;
 mod sampling;
 mod scale;
 mod scene_format;

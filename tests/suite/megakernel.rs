@@ -13,7 +13,7 @@ use wavetrace::scene::{builtin, Mesh, MeshSource, Scene};
 use wavetrace::settings::{Accel, RenderSettings};
 
 fn settings(width: u32, height: u32, spp: u32, nee: bool) -> RenderSettings {
-    RenderSettings { width, height, spp, max_depth: 16, seed: 3, accel: Accel::Bvh, nee }
+    RenderSettings { width, height, spp, max_depth: 16, seed: 3, accel: Accel::Bvh, nee, roulette: false }
 }
 
 fn run(method: Method, scene: &Scene, s: &RenderSettings, mk: MegakernelOptions) -> RenderOutput {

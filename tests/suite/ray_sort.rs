@@ -10,7 +10,7 @@ use wavetrace::gpu::wavefront::{Compaction, QueueOrder, RaySort, Schedule, Tail,
 use wavetrace::settings::{Accel, RenderSettings};
 
 fn settings(width: u32, height: u32, spp: u32, nee: bool) -> RenderSettings {
-    RenderSettings { width, height, spp, max_depth: 12, seed: 7, accel: Accel::Bvh, nee }
+    RenderSettings { width, height, spp, max_depth: 12, seed: 7, accel: Accel::Bvh, nee, roulette: false }
 }
 
 /// Waves and regenerate (with the tail, arrival and slot order), both compaction methods, with

@@ -12,7 +12,7 @@ use wavetrace::gpu::wavefront::{
 use wavetrace::settings::{Accel, RenderSettings};
 
 fn settings(width: u32, height: u32, spp: u32, nee: bool) -> RenderSettings {
-    RenderSettings { width, height, spp, max_depth: 12, seed: 5, accel: Accel::Bvh, nee }
+    RenderSettings { width, height, spp, max_depth: 12, seed: 5, accel: Accel::Bvh, nee, roulette: false }
 }
 
 fn regenerating(pool: u32) -> WavefrontOptions {

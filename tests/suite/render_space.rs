@@ -18,7 +18,16 @@ use wavetrace::stats::z_test;
 /// Small enough for the software driver: the methods trace the same paths as the reference
 /// (same seed), so a few samples suffice to tell rounding from a different scene.
 fn settings() -> RenderSettings {
-    RenderSettings { width: 40, height: 24, spp: 4, max_depth: 50, seed: 5, accel: Accel::Bvh, nee: false }
+    RenderSettings {
+        width: 40,
+        height: 24,
+        spp: 4,
+        max_depth: 50,
+        seed: 5,
+        accel: Accel::Bvh,
+        nee: false,
+        roulette: false,
+    }
 }
 
 fn try_run(method: Method, scene: &Scene, o: &MethodOptions) -> anyhow::Result<RenderOutput> {

@@ -136,7 +136,16 @@ fn scenes_too_big_for_the_adapter_are_refused_naming_the_buffer() {
 }
 
 fn settings() -> RenderSettings {
-    RenderSettings { width: 32, height: 18, spp: 4, max_depth: 50, seed: 1, accel: Accel::Bvh, nee: false }
+    RenderSettings {
+        width: 32,
+        height: 18,
+        spp: 4,
+        max_depth: 50,
+        seed: 1,
+        accel: Accel::Bvh,
+        nee: false,
+        roulette: false,
+    }
 }
 
 fn run(method: Method) -> Film {

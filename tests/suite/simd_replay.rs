@@ -10,7 +10,16 @@ use wavetrace::scene::builtin;
 use wavetrace::settings::{Accel, RenderSettings};
 
 fn settings(nee: bool) -> RenderSettings {
-    RenderSettings { width: 24, height: 16, spp: 2, max_depth: 8, seed: 5, accel: Accel::Bvh, nee }
+    RenderSettings {
+        width: 24,
+        height: 16,
+        spp: 2,
+        max_depth: 8,
+        seed: 5,
+        accel: Accel::Bvh,
+        nee,
+        roulette: false,
+    }
 }
 
 /// (label, method, options) of every GPU method, instrumented.
@@ -100,6 +109,11 @@ fn validation_scenes() -> Vec<(&'static str, wavetrace::scene::Scene, bool)> {
 /// every validation scene: the same slots reached, each within 3 percentage points, pooled
 /// figures included. None where the driver picks the width per pipeline (nothing to replay).
 fn assert_replay_matches(label: &str, method: Method, opts: &MethodOptions) {
+    assert_replay_matches_with(label, method, opts, false);
+}
+
+/// [`assert_replay_matches`], with Russian roulette on or off.
+fn assert_replay_matches_with(label: &str, method: Method, opts: &MethodOptions, roulette: bool) {
     use wavetrace::replay::{megakernel, regenerate, wavefront};
     let Some(ctx) = common::gpu() else { return };
     let w = ctx.summary.subgroup_min_size;
@@ -107,7 +121,7 @@ fn assert_replay_matches(label: &str, method: Method, opts: &MethodOptions) {
         return; // a width the driver picks per pipeline cannot be replayed as one
     }
     for (scene, scene_data, nee) in validation_scenes() {
-        let s = settings(nee);
+        let s = RenderSettings { roulette, ..settings(nee) };
         let out = render(method, &scene_data, &s, opts, Some(ctx), &|_| {}).unwrap();
         let device = out.simd.unwrap();
         // The queue order the device took (`auto` resolved), from its own report.
@@ -202,6 +216,25 @@ fn megakernel_replay_matches_the_device() {
 }
 
 /// The regenerating megakernel: persistent threads taking samples per subgroup.
+/// With Russian roulette the replay still sees the device's paths: the megakernel ends them in
+/// its bounce loop, the wavefront in shade, which traces the shadow ray of a path it ends there
+/// (slot order, so the shadow slots are compared too; regenerating, with the tail).
+#[test]
+fn replay_matches_the_device_with_roulette() {
+    use wavetrace::gpu::wavefront::{Compaction, QueueOrder, Tail};
+    let opts = MethodOptions { instrument: true, ..Default::default() };
+    assert_replay_matches_with("megakernel, roulette", Method::Megakernel, &opts, true);
+    let mut opts = MethodOptions { instrument: true, ..Default::default() };
+    opts.wavefront.compaction = Compaction::Scan;
+    opts.wavefront.queue_order = QueueOrder::Slot;
+    assert_replay_matches_with("wavefront slot, roulette", Method::Wavefront, &opts, true);
+    opts.wavefront.schedule = Schedule::Regenerate;
+    opts.wavefront.tail = Tail::Megakernel;
+    opts.wavefront.tail_threshold = 0.5;
+    opts.wavefront.pool_size = Some(128);
+    assert_replay_matches_with("wavefront regenerate slot, tail, roulette", Method::Wavefront, &opts, true);
+}
+
 #[test]
 fn regenerate_replay_matches_the_device() {
     let (_, _, opts) = methods().into_iter().find(|m| m.0 == "regenerate").unwrap();
@@ -435,6 +468,7 @@ fn sampled_subsets_agree_with_the_full_replay() {
         seed: 5,
         accel: Accel::Bvh,
         nee: false,
+        roulette: false,
     };
     // The pooled figures of each width: the frame's and every pass's work-weighted one.
     type Figures = Vec<BTreeMap<String, SimdEfficiency>>;

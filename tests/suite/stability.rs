@@ -16,7 +16,16 @@ use wavetrace::settings::{Accel, RenderSettings};
 use wavetrace::stats::z_test;
 
 fn settings(spp: u32) -> RenderSettings {
-    RenderSettings { width: 48, height: 27, spp, max_depth: 50, seed: 3, accel: Accel::Bvh, nee: false }
+    RenderSettings {
+        width: 48,
+        height: 27,
+        spp,
+        max_depth: 50,
+        seed: 3,
+        accel: Accel::Bvh,
+        nee: false,
+        roulette: false,
+    }
 }
 
 fn try_run(

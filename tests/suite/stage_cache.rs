@@ -18,8 +18,16 @@ fn a_second_render_reuses_every_pipeline() {
     }
     let ctx = GpuContext::new(std::env::var("WAVETRACE_ADAPTER").ok().as_deref()).unwrap();
     let scene = builtin::by_name("cornell").unwrap();
-    let s =
-        RenderSettings { width: 16, height: 12, spp: 2, max_depth: 4, seed: 3, accel: Accel::Bvh, nee: true };
+    let s = RenderSettings {
+        width: 16,
+        height: 12,
+        spp: 2,
+        max_depth: 4,
+        seed: 3,
+        accel: Accel::Bvh,
+        nee: true,
+        roulette: false,
+    };
     let regenerate = WavefrontOptions {
         schedule: Schedule::Regenerate,
         tail: Tail::Megakernel,

@@ -101,6 +101,7 @@ pub fn assert_tidy(dir: &Path) -> (Vec<String>, Vec<Vec<String>>) {
             "spp",
             "max_depth",
             "nee",
+            "roulette",
             "seed",
             "accel",
             "method",

@@ -27,6 +27,7 @@ fn the_frame_time_holds_the_passes_and_the_host_gaps() {
         seed: 1,
         accel: Accel::Bvh,
         nee: false,
+        roulette: false,
     };
     let regenerate = WavefrontOptions { schedule: Schedule::Regenerate, ..Default::default() };
     for (method, wavefront) in [
@@ -93,8 +94,16 @@ fn the_preheat_runs_for_the_time_asked_and_outside_the_frame() {
     assert_eq!(wavetrace::gpu::preheat::run(ctx, 0.0).unwrap(), 0.0);
     assert!(wavetrace::gpu::preheat::check(11.0).is_err() && wavetrace::gpu::preheat::check(0.2).is_ok());
     let scene = builtin::by_name("three-spheres").unwrap();
-    let s =
-        RenderSettings { width: 16, height: 8, spp: 2, max_depth: 8, seed: 1, accel: Accel::Bvh, nee: false };
+    let s = RenderSettings {
+        width: 16,
+        height: 8,
+        spp: 2,
+        max_depth: 8,
+        seed: 1,
+        accel: Accel::Bvh,
+        nee: false,
+        roulette: false,
+    };
     let opts = MethodOptions { preheat_seconds: 0.3, timing: Timing::Frame, ..Default::default() };
     let out = render(Method::Megakernel, &scene, &s, &opts, Some(ctx), &|_| {}).unwrap();
     let r = RunReport::new(&scene, Method::Megakernel, &s, Some(&ctx.summary), &out);

@@ -11,7 +11,16 @@ use wavetrace::scene::builtin;
 use wavetrace::settings::{Accel, RenderSettings};
 
 fn settings(spp: u32) -> RenderSettings {
-    RenderSettings { width: 40, height: 24, spp, max_depth: 50, seed: 3, accel: Accel::Bvh, nee: false }
+    RenderSettings {
+        width: 40,
+        height: 24,
+        spp,
+        max_depth: 50,
+        seed: 3,
+        accel: Accel::Bvh,
+        nee: false,
+        roulette: false,
+    }
 }
 
 fn run(method: Method, scene: &str, s: &RenderSettings, opts: &MethodOptions) -> RenderOutput {
