@@ -284,8 +284,16 @@ fn gltf_renders_the_same_image_as_the_json_scene_on_every_method() {
     let gltf_scene = Scene::resolve(dir.join("scene.glb").to_str().unwrap()).unwrap();
     let gpu = common::gpu();
     for nee in [false, true] {
-        let s =
-            RenderSettings { width: 20, height: 14, spp: 4, max_depth: 8, seed: 5, accel: Accel::Bvh, nee };
+        let s = RenderSettings {
+            width: 20,
+            height: 14,
+            spp: 4,
+            max_depth: 8,
+            seed: 5,
+            accel: Accel::Bvh,
+            nee,
+            roulette: false,
+        };
         for method in [Method::Cpu, Method::CpuF64, Method::Megakernel, Method::Wavefront] {
             if method.needs_gpu() && gpu.is_none() {
                 continue; // common::gpu() has already failed the test where a GPU is required.
