@@ -1,6 +1,6 @@
 //! A megakernel frame and a wavefront frame (each knob setting) on a small scene, timed by GPU
 //! time (the sum of the passes' timestamp intervals, via criterion's `iter_custom`), so
-//! `cargo bench --bench gpu_frame` compares the methods on this machine's adapter. Set
+//! `cargo bench --features bench --bench gpu_frame` compares the methods on this machine's adapter. Set
 //! `WAVETRACE_BENCH_SCENE` to bench another built-in scene and `WAVETRACE_BENCH_NEE=on` for
 //! next-event estimation (e.g. `WAVETRACE_BENCH_SCENE=cornell WAVETRACE_BENCH_NEE=on`).
 

@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # A Python with a third-party EXR reader, the OpenEXR project's own bindings (PyPI `OpenEXR`, with
-# numpy), for scripts/check_exr.py and the test that runs it (tests/suite/exr_third_party.rs):
-# a venv under the target directory, made once. Installs python3 and python3-venv (Debian) where
+# numpy), for scripts/check_exr.py and the test that runs it (tests/suite/exr_third_party.rs), and
+# the reference JSON Schema validator (PyPI `jsonschema`) for scripts/check_schema.py, which the
+# tests run on every report.json they make: a venv under the target directory, made once. Installs python3 and python3-venv (Debian) where
 # they are missing. Prints the venv's python; scripts/test.sh exports it as WAVETRACE_EXR_PYTHON.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 venv="${CARGO_TARGET_DIR:-target}/exr-venv"
 py="$venv/bin/python"
-if "$py" -c 'import OpenEXR, numpy' 2>/dev/null; then
+if "$py" -c 'import OpenEXR, numpy, jsonschema' 2>/dev/null; then
   echo "$(cd "$(dirname "$py")" && pwd)/python"
   exit 0
 fi
@@ -20,6 +21,6 @@ if ! { command -v python3 >/dev/null && python3 -m venv --help >/dev/null 2>&1 &
 fi
 rm -rf "$venv"
 python3 -m venv "$venv" >&2
-"$venv/bin/pip" install --quiet --disable-pip-version-check 'OpenEXR==3.5.3' 'numpy>=1.26' >&2
-"$py" -c 'import OpenEXR, numpy' >&2
+"$venv/bin/pip" install --quiet --disable-pip-version-check 'OpenEXR==3.5.3' 'numpy>=1.26' 'jsonschema==4.25.1' >&2
+"$py" -c 'import OpenEXR, numpy, jsonschema' >&2
 echo "$(cd "$(dirname "$py")" && pwd)/python"

@@ -34,7 +34,7 @@ Environment (docs/cli-and-configs.md#environment-variables has the full table):
 Tests, benches and scripts:
   WAVETRACE_REQUIRE_GPU=1             GPU tests fail instead of skipping without an adapter (CI=1 too)
   WAVETRACE_ADAPTER=SUBSTR            the adapter the tests and benches open
-  WAVETRACE_BENCH_SCENE, WAVETRACE_BENCH_NEE=on     cargo bench --bench gpu_frame's scene and NEE
+  WAVETRACE_BENCH_SCENE, WAVETRACE_BENCH_NEE=on     cargo bench --features bench --bench gpu_frame's scene and NEE
   WAVETRACE_DEVICE_BUDGET=SECONDS     scripts/device_figures.sh: time this call may spend [540]
   WAVETRACE_DEVICE_WORK=DIR           scripts/device_figures.sh: reports kept between calls
   WAVETRACE_DEVICE_ALLOW_SOFTWARE=1   scripts/device_figures.sh: accept a software adapter

@@ -212,6 +212,11 @@ const ACCEPTED_SOURCES: &[(&str, &str)] = &[
         "scripts/simd_width.sh's whole `wavetrace replay --every 16` output (deterministic)",
     ),
     (
+        "experiments/results/llvmpipe-2core/build_time/profile_ab.txt",
+        "scripts/interleave.py's summary tables: the release profile with and without thin LTO \
+         and one codegen unit, each command and build in the file",
+    ),
+    (
         "experiments/results/nvidia-h200/dispatch_cost/table.txt",
         "the table `wavetrace dispatch-cost` printed in the device step dispatch-cost (its JSON, \
          dispatch_cost.json beside it, records the build and adapter)",
