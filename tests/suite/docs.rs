@@ -212,6 +212,11 @@ const ACCEPTED_SOURCES: &[(&str, &str)] = &[
         "scripts/simd_width.sh's whole `wavetrace replay --every 16` output (deterministic)",
     ),
     (
+        "experiments/results/llvmpipe-2core/build_time/fresh_machine.txt",
+        "the README's two commands timed on a fresh checkout with an empty cargo cache: the \
+         commands, the build and the machine in the file",
+    ),
+    (
         "experiments/results/llvmpipe-2core/build_time/profile_ab.txt",
         "scripts/interleave.py's summary tables: the release profile with and without thin LTO \
          and one codegen unit, each command and build in the file",
