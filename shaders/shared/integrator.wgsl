@@ -76,11 +76,8 @@ fn trace_bounce(path: ptr<function, TracedPath>, pixel: u32, sample: u32, bounce
             (*path).rays += 1u;
             let shadow_ray = Ray(origin, shadow.ray.dir);
             instrument_traversal(PASS_MEGAKERNEL_SHADOW_TRAVERSE);
-            let blocker = occluder(shadow_ray, frame.t_min, shadow.t_max, shadow.light);
-            if blocker.prim == NO_HIT {
+            if shadow_unblocked(shadow_ray, shadow.t_max, shadow.light, hit.prim) {
                 (*path).radiance += throughput * s.attenuation * shadow.weight;
-            } else if is_self_hit(hit.prim, blocker.prim, shadow_ray, blocker.t) {
-                count_failure(FAILURE_SHADOW_SELF_HIT);
             }
         }
     }

@@ -23,6 +23,20 @@
 #include "shared/camera.wgsl"
 #include "shared/background.wgsl"
 
+// Whether a shadow ray leaving primitive `left` reaches the light in slot `light` within `t_max`.
+// A blocker that is the primitive it left is counted as a shadow self-hit. One rule for the
+// megakernels' NEE, the wavefront's shadow pass, and shade when the roulette ends a path.
+fn shadow_unblocked(ray: Ray, t_max: f32, light: u32, left: u32) -> bool {
+    let blocker = occluder(ray, frame.t_min, t_max, light);
+    if blocker.prim == NO_HIT {
+        return true;
+    }
+    if is_self_hit(left, blocker.prim, ray, blocker.t) {
+        count_failure(FAILURE_SHADOW_SELF_HIT);
+    }
+    return false;
+}
+
 // Where the texture of a surface at `p` is looked up: the stress transform undone.
 fn texture_point(p: vec3<f32>) -> vec3<f32> {
     return (p - frame.texture_origin) * frame.texture_inv_scale;

@@ -103,12 +103,9 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
             // ray, weight and counters; its steps counted as the shadow pass's traversal).
             instrument_traversal(PASS_SHADOW_TRAVERSE);
             let ray_s = Ray(origin, shadow.ray.dir);
-            let blocker = occluder(ray_s, frame.t_min, shadow.t_max, shadow.light);
             var add = vec4<f32>(0.0, 0.0, 0.0, 1.0); // one more ray traced
-            if blocker.prim == NO_HIT {
+            if shadow_unblocked(ray_s, shadow.t_max, shadow.light, prim_slot) {
                 add += vec4<f32>(next_throughput * shadow.weight, 0.0);
-            } else if is_self_hit(prim_slot, blocker.prim, ray_s, blocker.t) {
-                count_failure(FAILURE_SHADOW_SELF_HIT);
             }
             radiance[slot] += add;
         }

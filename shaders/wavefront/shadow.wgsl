@@ -28,12 +28,9 @@ fn shadow(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*
     var add = vec4<f32>(0.0, 0.0, 0.0, 1.0); // one more ray traced
     let ray = Ray(path_origin[slot].xyz, r.xyz);
     instrument_traversal(PASS_SHADOW_TRAVERSE);
-    let blocker = occluder(ray, frame.t_min, r.w, light - 1u);
-    if blocker.prim == NO_HIT {
+    // path_dir.w: the primitive the shadow ray left (shade wrote it with the next ray).
+    if shadow_unblocked(ray, r.w, light - 1u, bitcast<u32>(path_dir[slot].w)) {
         add += vec4<f32>(w.xyz, 0.0);
-    } else if is_self_hit(bitcast<u32>(path_dir[slot].w), blocker.prim, ray, blocker.t) {
-        // path_dir.w: the primitive the shadow ray left (shade wrote it with the next ray).
-        count_failure(FAILURE_SHADOW_SELF_HIT);
     }
     radiance[slot] += add;
     shadow_weight[slot].w = 0.0;
