@@ -141,11 +141,12 @@ fn text_width(root: &Area, text: &str) -> f64 {
     root.estimate_text_size(text, &font()).map_or(0.0, |(w, _)| w as f64)
 }
 
-/// [`text_width`] before there is a chart to draw on (the legend sizes the canvas).
-fn measured_width(text: &str) -> f64 {
+/// Runs `f` with an area to measure text on before there is a chart to draw on (the legend
+/// sizes the canvas).
+fn measuring<T>(f: impl FnOnce(&Area) -> T) -> T {
     let mut sink = String::new();
     let area = SVGBackend::with_string(&mut sink, (WIDTH, HEIGHT)).into_drawing_area();
-    text_width(&area, text)
+    f(&area)
 }
 
 /// `s` cut to at most `max` pixels wide, ending in "…" if it was cut.
@@ -163,7 +164,7 @@ fn cut(root: &Area, s: &str, max: f64) -> String {
 /// `s` in lines of at most `max` pixels: broken after spaces (which are dropped) or after
 /// `=`, `,`, `/`, `+` and `_` (kept), and inside a word only where one alone is too wide. Nothing
 /// is cut: series names often differ only at the end ("… batched", "… batched slot").
-fn wrap(s: &str, max: f64) -> Vec<String> {
+fn wrap(area: &Area, s: &str, max: f64) -> Vec<String> {
     const BREAK_AFTER: &str = "=,/+_";
     // The pieces a line may end after, each with whether a space preceded it.
     let (mut pieces, mut word, mut spaced, mut word_spaced) = (Vec::new(), String::new(), false, false);
@@ -194,17 +195,17 @@ fn wrap(s: &str, max: f64) -> Vec<String> {
             (false, true) => format!("{line} {piece}"),
             (false, false) => format!("{line}{piece}"),
         };
-        if line.is_empty() || measured_width(&joined) <= max {
+        if line.is_empty() || text_width(area, &joined) <= max {
             line = joined;
         } else {
             lines.push(std::mem::replace(&mut line, piece));
         }
         // A piece wider than a line on its own is split where it must be.
-        while measured_width(&line) > max && line.chars().count() > 1 {
+        while text_width(area, &line) > max && line.chars().count() > 1 {
             let chars: Vec<char> = line.chars().collect();
             let k = (1..chars.len())
                 .rev()
-                .find(|&k| measured_width(&chars[..k].iter().collect::<String>()) <= max)
+                .find(|&k| text_width(area, &chars[..k].iter().collect::<String>()) <= max)
                 .unwrap_or(1);
             lines.push(chars[..k].iter().collect());
             line = chars[k..].iter().collect();
@@ -225,9 +226,11 @@ struct Legend {
 
 impl Legend {
     fn new(names: &[&str]) -> Self {
-        let names: Vec<Vec<String>> = names.iter().map(|n| wrap(n, WIDTH as f64 / 5.0)).collect();
-        let widest = names.iter().flatten().map(|l| measured_width(l)).reduce(f64::max);
-        Legend { names, width: widest.map_or(24, |w| w as u32 + 56) }
+        measuring(|area| {
+            let names: Vec<Vec<String>> = names.iter().map(|n| wrap(area, n, WIDTH as f64 / 5.0)).collect();
+            let widest = names.iter().flatten().map(|l| text_width(area, l)).reduce(f64::max);
+            Legend { names, width: widest.map_or(24, |w| w as u32 + 56) }
+        })
     }
 
     fn lines(&self) -> u32 {
@@ -318,24 +321,29 @@ mod tests {
     #[test]
     fn wrapped_names_keep_every_character_within_the_width() {
         let max = WIDTH as f64 / 5.0;
-        for name in [
-            "wavefront schedule=regenerate,tail=megakernel refill_below=0.5 queue_order=slot",
-            "a_single_identifier_far_wider_than_any_legend_line_can_hold_in_one_piece",
-            "short",
-            "",
-        ] {
-            let lines = wrap(name, max);
-            assert!(!lines.is_empty(), "{name:?}");
-            assert_eq!(unspaced(&lines.concat()), unspaced(name), "{lines:?}");
-            assert!(lines.iter().all(|l| measured_width(l) <= max || l.chars().count() == 1), "{lines:?}");
-            assert!(lines.iter().all(|l| !l.starts_with(' ') && !l.ends_with(' ')), "{lines:?}");
-        }
-        // Breaks fall after the separators, so each key=value stays readable.
-        let lines = wrap("schedule=regenerate,tail=megakernel,refill_below=0.5", max);
-        assert!(
-            lines.len() > 1 && lines[..lines.len() - 1].iter().all(|l| l.ends_with([',', '=', '_'])),
-            "{lines:?}"
-        );
-        assert_eq!(wrap("short", max), ["short"]);
+        measuring(|area| {
+            for name in [
+                "wavefront schedule=regenerate,tail=megakernel refill_below=0.5 queue_order=slot",
+                "a_single_identifier_far_wider_than_any_legend_line_can_hold_in_one_piece",
+                "short",
+                "",
+            ] {
+                let lines = wrap(area, name, max);
+                assert!(!lines.is_empty(), "{name:?}");
+                assert_eq!(unspaced(&lines.concat()), unspaced(name), "{lines:?}");
+                assert!(
+                    lines.iter().all(|l| text_width(area, l) <= max || l.chars().count() == 1),
+                    "{lines:?}"
+                );
+                assert!(lines.iter().all(|l| !l.starts_with(' ') && !l.ends_with(' ')), "{lines:?}");
+            }
+            // Breaks fall after the separators, so each key=value stays readable.
+            let lines = wrap(area, "schedule=regenerate,tail=megakernel,refill_below=0.5", max);
+            assert!(
+                lines.len() > 1 && lines[..lines.len() - 1].iter().all(|l| l.ends_with([',', '=', '_'])),
+                "{lines:?}"
+            );
+            assert_eq!(wrap(area, "short", max), ["short"]);
+        });
     }
 }
