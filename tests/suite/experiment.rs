@@ -56,11 +56,9 @@ pub fn write_config(dir: &Path, name: &str, config: &Value) -> PathBuf {
 pub fn assert_valid(dir: &Path) -> Value {
     let report_path = dir.join("report.json");
     let report: Value = serde_json::from_str(&std::fs::read_to_string(&report_path).unwrap()).unwrap();
-    let Some(python) = std::env::var_os("WAVETRACE_EXR_PYTHON") else {
-        crate::common::skipped(
-            "report.json against experiments/report.schema.json",
-            "WAVETRACE_EXR_PYTHON is not set (scripts/test.sh sets it with scripts/exr_reader.sh)",
-        );
+    let Some(python) =
+        crate::common::third_party_python("report.json against experiments/report.schema.json")
+    else {
         return report;
     };
     let root = crate::common::root();

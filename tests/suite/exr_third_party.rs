@@ -21,14 +21,7 @@ fn s(p: &Path) -> &str {
 }
 
 fn python() -> Option<PathBuf> {
-    let py = std::env::var_os("WAVETRACE_EXR_PYTHON").map(PathBuf::from);
-    if py.is_none() {
-        crate::common::skipped(
-            "EXRs read by a third-party reader",
-            "WAVETRACE_EXR_PYTHON is not set (scripts/test.sh sets it with scripts/exr_reader.sh)",
-        );
-    }
-    py
+    crate::common::third_party_python("EXRs read by a third-party reader")
 }
 
 fn check_exr(py: &Path, pairs: &[(PathBuf, PathBuf)]) -> Output {

@@ -120,6 +120,20 @@ pub fn skipped(check: &str, why: &str) {
     }
 }
 
+/// The Python with third-party checkers (the OpenEXR bindings, `jsonschema`) that scripts/test.sh
+/// makes with scripts/exr_reader.sh and exports as `WAVETRACE_EXR_PYTHON`; without it `check` is
+/// listed as [`skipped`].
+pub fn third_party_python(check: &str) -> Option<std::path::PathBuf> {
+    let py = std::env::var_os("WAVETRACE_EXR_PYTHON").map(std::path::PathBuf::from);
+    if py.is_none() {
+        skipped(
+            check,
+            "WAVETRACE_EXR_PYTHON is not set (scripts/test.sh sets it with scripts/exr_reader.sh)",
+        );
+    }
+    py
+}
+
 /// Where [`skipped`] lists the checks a run skipped (under [`tmp`]).
 pub const SKIPPED_FILE: &str = "skipped-checks.txt";
 
