@@ -532,6 +532,7 @@ impl<'a> Run<'a> {
             rec.iterations = Some(s.iterations);
             rec.idle_iterations = Some(s.idle_iterations);
             rec.intersect_occupancy = Some(s.intersect_occupancy);
+            rec.state_traffic = s.state_traffic.clone();
         }
         rec.rays = Some(median_rep.rays);
         if let Some(s) = seconds.filter(|&s| s > 0.0) {
@@ -629,6 +630,7 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         iterations: None,
         idle_iterations: None,
         intersect_occupancy: None,
+        state_traffic: None,
         samples: s.sample_count(),
         samples_per_second: None,
         rays: None,

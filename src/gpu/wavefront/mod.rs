@@ -61,6 +61,7 @@ pub mod shadow;
 pub mod share_ledger;
 pub mod slot_sweep;
 pub mod tail;
+pub mod traffic;
 
 use super::accumulate::Accumulate;
 use super::buffers::{read_back, storage_zeroed, Staging};
@@ -745,6 +746,17 @@ pub fn render(
     if let Some(h) = &mut histogram {
         h.trim();
     }
+    if opts.compaction != Compaction::Off {
+        let shape = traffic::Shape {
+            layout,
+            regenerate,
+            atomic: opts.compaction == Compaction::Atomic,
+            slot_order: queue_order.is_slot(),
+            sweep: uses_sweep,
+        };
+        stats.state_traffic =
+            Some(traffic::StateTraffic::model(&shape, &traffic_items(&stats, settings, pool, shares.len())));
+    }
     memory.transient(film_bytes);
     let data: Vec<FilmPixel> = read_back(ctx, &film, film_bytes)?;
     let film = Film::from_gpu(settings.width, settings.height, settings.spp, &data);
@@ -778,6 +790,32 @@ pub fn render(
             ..*opts
         },
     })
+}
+
+/// The item counts of [`traffic::StateTraffic::model`] from a render's counters.
+fn traffic_items(
+    stats: &ScheduleStats,
+    settings: &RenderSettings,
+    pool: u32,
+    shares: usize,
+) -> traffic::Items {
+    let q = &stats.queued;
+    let samples = settings.sample_count();
+    let regenerate = stats.schedule == Schedule::Regenerate;
+    traffic::Items {
+        samples,
+        rays: q[0] + q[1],
+        hits: [q[2], q[3], q[4], q[5]],
+        shadow: q[QUEUE_SHADOW as usize],
+        tail_paths: stats.tail_paths,
+        // Passes over every slot: the pool per iteration, or each wave's paths per bounce.
+        slot_visits: if regenerate {
+            stats.iterations * pool as u64
+        } else {
+            settings.max_depth as u64 * samples
+        },
+        init_slots: if regenerate { shares as u64 * pool as u64 } else { 0 },
+    }
 }
 
 fn choose_pool(ctx: &GpuContext, opts: &WavefrontOptions) -> Result<u32> {

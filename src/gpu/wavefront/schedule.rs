@@ -5,7 +5,9 @@
 use super::super::buffers::{read_back, Staging};
 use super::super::context::GpuContext;
 use super::super::dispatch_plan;
-use super::path_state::{schedule_word as word, PathState, COUNTER_RING, COUNTER_SCHEDULE};
+use super::path_state::{
+    schedule_word as word, PathState, COUNTER_RING, COUNTER_SCHEDULE, COUNTER_STATS, QUEUE_COUNT,
+};
 use crate::layout::DispatchParams;
 use anyhow::{bail, Result};
 
@@ -329,6 +331,13 @@ pub struct ScheduleStats {
     /// The key the ray queue was sorted by before each intersect (`--ray-sort`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ray_sort: Option<&'static str>,
+    /// Bytes of path state the passes read and wrote, modelled from the queue counts
+    /// ([`super::traffic`]; with compaction, whose queues are counted).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub state_traffic: Option<super::traffic::StateTraffic>,
+    /// Entries queued on each queue (`QUEUE_COUNT` regions), summed over bounces and shares.
+    #[serde(skip)]
+    pub queued: [u64; QUEUE_COUNT as usize],
     #[serde(skip)]
     intersected: u64,
     #[serde(skip)]
@@ -357,8 +366,20 @@ impl ScheduleStats {
             compactions: 0,
             states_moved: 0,
             ray_sort: None,
+            state_traffic: None,
+            queued: [0; QUEUE_COUNT as usize],
             intersected: 0,
             pool,
+        }
+    }
+
+    /// Adds a share's queue counts per bounce (`rows` × `QUEUE_COUNT` words from
+    /// `COUNTER_STATS`, recorded with compaction only).
+    pub fn add_rows(&mut self, rows: &[u32]) {
+        for row in rows.chunks_exact(QUEUE_COUNT as usize) {
+            for (total, &n) in self.queued.iter_mut().zip(row) {
+                *total += n as u64;
+            }
         }
     }
 
@@ -381,7 +402,10 @@ impl ScheduleStats {
     ) -> Result<()> {
         let words: Vec<u32> = read_back(ctx, &state.counters, (COUNTER_SCHEDULE + word::WORDS) * 4)?;
         self.add_share_words(ctx, &words[COUNTER_SCHEDULE as usize..], units, iterations, dispatches)?;
+        let rows = state.stats_bounces as u64 * QUEUE_COUNT;
+        self.add_rows(&words[COUNTER_STATS as usize..(COUNTER_STATS + rows) as usize]);
         let mut enc = ctx.device.create_command_encoder(&Default::default());
+        enc.clear_buffer(&state.counters, COUNTER_STATS * 4, Some(rows * 4));
         clear_share_counters(&mut enc, state);
         ctx.queue.submit([enc.finish()]);
         Ok(())
