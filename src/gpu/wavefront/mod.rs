@@ -586,6 +586,10 @@ pub fn render(
     let ring_budget = schedule::ring_budget(ctx, pool, opts.chunk_pools);
     let largest_share = shares.iter().map(|d| d.pixel_count * d.sample_count).max().unwrap_or(1);
     let ring = schedule::Ring::new(largest_share, pool, ring_budget);
+    // Camera rays made where they are used (shared/path_camera.wgsl) need queues (a pass over
+    // the whole pool tells live slots by their stored direction) and no ray sort (whose keys
+    // read the stored ray).
+    let camera_in_place = opts.compaction != Compaction::Off && opts.ray_sort == RaySort::Off;
     let wave = WaveUniform {
         compaction: opts.compaction as u32,
         per_material: per_material as u32,
@@ -596,7 +600,7 @@ pub fn render(
         order: queue_order.word(),
         refill_live: refill::refill_live(opts.refill_below, pool),
         compact_states: (opts.compact_states == CompactStates::On) as u32,
-        pad1: 0,
+        camera_in_place: camera_in_place as u32,
         pad2: 0,
     };
     let stats_bounces = if regenerate { 1 } else { settings.max_depth.min(STATS_BOUNCES) };
@@ -753,9 +757,15 @@ pub fn render(
             atomic: opts.compaction == Compaction::Atomic,
             slot_order: queue_order.is_slot(),
             sweep: uses_sweep,
+            camera_in_place,
         };
-        stats.state_traffic =
-            Some(traffic::StateTraffic::model(&shape, &traffic_items(&stats, settings, pool, shares.len())));
+        let mut items = traffic_items(&stats, settings, pool, shares.len());
+        // Waves' queue histogram has the camera rays' bounce apart.
+        items.first_bounce = histogram.as_ref().map(|h| {
+            let camera_hits = h.materials.iter().map(|m| m.first().copied().unwrap_or(0)).sum();
+            (camera_hits, h.rays.get(1).copied().unwrap_or(0))
+        });
+        stats.state_traffic = Some(traffic::StateTraffic::model(&shape, &items));
     }
     memory.transient(film_bytes);
     let data: Vec<FilmPixel> = read_back(ctx, &film, film_bytes)?;
@@ -815,6 +825,7 @@ fn traffic_items(
             settings.max_depth as u64 * samples
         },
         init_slots: if regenerate { shares as u64 * pool as u64 } else { 0 },
+        first_bounce: None,
     }
 }
 

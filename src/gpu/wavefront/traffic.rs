@@ -34,6 +34,11 @@ pub struct Items {
     pub slot_visits: u64,
     /// Slots emptied at a regenerating share's start (`regenerate_init`): pool × shares.
     pub init_slots: u64,
+    /// Camera rays that hit, and paths that go on from their camera ray's hit (rays traced at
+    /// bounce 1): known per bounce in waves (the queue histogram); `None` when regenerating,
+    /// whose queues mix bounces, and the model then charges an upper bound (every escape and
+    /// hit as a later bounce's, every path as going on from bounce 0).
+    pub first_bounce: Option<(u64, u64)>,
 }
 
 /// How the render was configured, as far as the traffic depends on it.
@@ -48,6 +53,8 @@ pub struct Shape {
     pub slot_order: bool,
     /// Slot order with atomic appends: the sweep after shade.
     pub sweep: bool,
+    /// Camera rays made where they are used, not stored (`WaveUniform::camera_in_place`).
+    pub camera_in_place: bool,
 }
 
 /// One pass's modelled traffic.
@@ -95,15 +102,15 @@ impl Shape {
         }
     }
 
-    /// A path ends (`finish_path`): its ray count into the radiance's w, and when regenerating
-    /// its sample into the ring (the sample index read) and its slot onto the free list.
+    /// A path ends (`finish_path`) with its radiance in registers, written once: when
+    /// regenerating into the sample ring (its sample index read) and its slot onto the free
+    /// list; in waves into `radiance`.
     fn finish(&self) -> (u64, u64) {
-        let (mut read, mut written) = (WORD, WORD);
         if self.regenerate {
-            read += PATH_SAMPLE + VEC4; // the sample index; the radiance for the ring
-            written += VEC4 + if self.slot_order { 0 } else { WORD };
+            (PATH_SAMPLE, VEC4 + if self.slot_order { 0 } else { WORD })
+        } else {
+            (0, VEC4)
         }
-        (read, written)
     }
 }
 
@@ -123,50 +130,75 @@ impl StateTraffic {
         };
         let nee = s.layout.shadow;
         let hits: u64 = n.hits.iter().sum();
-        let emissive = n.hits[crate::layout::material_kind::EMISSIVE as usize];
         let escapes = n.rays.saturating_sub(hits);
         // Every sample ends once: escaping in intersect, in shade, or in the tail.
         let shade_ends = n.samples.saturating_sub(escapes + n.tail_paths).min(hits);
         let continuing = hits - shade_ends;
+        // Camera rays' escapes and hits read no radiance or throughput (none is stored yet);
+        // the paths going on from bounce 0 write their first radiance.
+        // Without the per-bounce counts: no camera ray's escape or hit spared a read, and every
+        // path charged a first radiance.
+        let (camera_escapes, camera_hits, first_continuing) = match n.first_bounce {
+            Some((h, c)) => (n.samples.saturating_sub(h).min(escapes), h.min(hits), c.min(continuing)),
+            None => (0, 0, continuing.min(n.samples)),
+        };
+        let first_ends = camera_hits.saturating_sub(first_continuing).min(shade_ends);
         let (finish_r, finish_w) = s.finish();
 
-        // Camera rays: origin, direction, throughput, radiance, the pending shadow weight
-        // cleared (NEE), the slot's sample and bounce (regenerate); the queue entry (waves:
-        // written; regenerate: the free slot read and the ray queue entry written).
-        let start_w = 4 * VEC4 + if nee { VEC4 } else { 0 } + if s.regenerate { PATH_SAMPLE } else { 0 };
+        // Camera rays: origin and direction (unless made in place), the slot's sample and bounce
+        // (regenerate); the queue entry (waves: written, and the slot-order mark; regenerate:
+        // the free slot read and the ray queue entry written).
+        let camera_ray = if s.camera_in_place { 0 } else { 2 * VEC4 };
+        let start_w = camera_ray + if s.regenerate { PATH_SAMPLE } else { 0 };
         let (start_qr, start_qw) = if s.regenerate { (WORD, WORD) } else { (0, WORD) };
         let slot_mark = if s.slot_order && !s.regenerate { WORD } else { 0 };
         let label = if s.regenerate { label::REGENERATE } else { label::GENERATE };
         add(label, n.samples, n.samples * start_qr, n.samples * (start_w + start_qw + slot_mark));
         if s.regenerate {
-            // Every slot freed: its queue entry, dead direction word, slot-order mark, shadow weight.
-            let w = WORD + WORD + if s.slot_order { WORD } else { 0 } + if nee { VEC4 } else { 0 };
+            // Every slot freed: its queue entry, dead direction word and slot-order mark.
+            let w = WORD + WORD + if s.slot_order { WORD } else { 0 };
             add(label::REGENERATE_INIT, n.init_slots, 0, n.init_slots * w);
         }
 
         // intersect: the queue entry, the ray (origin.xyz, direction with the primitive it
-        // left); a hit writes its distance and primitive and queues the material; an escape adds
-        // the background to the radiance and ends the path.
+        // left; a camera ray made in place reads only, when regenerating, its sample); a hit
+        // writes its distance and primitive and queues the material; an escape adds the
+        // background to the radiance (past bounce 0: read with the throughput) and ends.
         let hit_w = 2 * WORD + s.enqueue();
-        let escape_r = XYZ + VEC4 + finish_r;
-        let escape_w = VEC4 + WORD + s.retire() + finish_w;
+        let later_escapes = escapes - camera_escapes;
+        let (camera_rays, camera_read) = match (s.camera_in_place, s.regenerate) {
+            (false, _) => (0, 0),
+            (true, regenerate) => (n.samples.min(n.rays), if regenerate { PATH_SAMPLE } else { 0 }),
+        };
         add(
             label::INTERSECT,
             n.rays,
-            n.rays * (WORD + XYZ + VEC4) + escapes * escape_r,
-            hits * hit_w + escapes * escape_w,
+            n.rays * WORD
+                + camera_rays * camera_read
+                + (n.rays - camera_rays) * (XYZ + VEC4)
+                + later_escapes * (XYZ + VEC4)
+                + escapes * finish_r,
+            hits * hit_w + escapes * (WORD + s.retire() + finish_w),
         );
 
-        // shade: the queue entry, the ray with its hit, the throughput (and MIS density), the
-        // slot's sample and bounce; a path going on writes its next ray and throughput (and its
-        // bounce) and queues it, and at a diffuse hit with NEE its shadow ray and weight; an
-        // ending path adds its emission (emissive hits) and ends.
-        let shade_r = WORD + 3 * VEC4 + if s.regenerate { PATH_SAMPLE } else { 0 };
+        // shade: the queue entry, the ray with its hit, the throughput and MIS density (past
+        // bounce 0), the slot's sample and bounce; a path going on writes its next ray and
+        // throughput (and bounce; from bounce 0 its first radiance) and queues it, and at a
+        // diffuse hit with NEE its shadow ray and weight; an ending path adds what it found to
+        // its radiance (past bounce 0: read) and ends.
+        let shade_r = WORD + 2 * VEC4 + if s.regenerate { PATH_SAMPLE } else { 0 };
+        // A camera hit made in place reads its hit's distance and primitive, not the ray.
+        let camera_spared = if s.camera_in_place { 2 * VEC4 - 2 * WORD } else { 0 };
         let go_w = 3 * VEC4 + if s.regenerate { WORD } else { 0 } + s.enqueue();
         let end_w = WORD + s.retire() + finish_w;
         let shadow_w = 2 * VEC4 + if s.atomic && !s.slot_order { WORD } else { 0 };
-        let shade_read = hits * shade_r + shade_ends * finish_r + emissive * VEC4;
-        let shade_written = continuing * go_w + shade_ends * end_w + emissive * VEC4 + n.shadow * shadow_w;
+        let shade_read = hits * shade_r
+            + (hits - camera_hits) * VEC4
+            + shade_ends * finish_r
+            + (shade_ends - first_ends) * VEC4
+            - camera_hits * camera_spared;
+        let shade_written =
+            continuing * go_w + first_continuing * VEC4 + shade_ends * end_w + n.shadow * shadow_w;
         add("shade", hits, shade_read, shade_written);
 
         if s.sweep {
@@ -186,17 +218,16 @@ impl StateTraffic {
         }
 
         if nee {
-            // shadow: the queue entry, weight and light, ray, origin, the primitive it left; the
-            // radiance gets the unblocked light and the ray's count; the pending mark cleared.
+            // shadow: the queue entry, weight and light, ray, origin, the primitive it left, and
+            // the radiance, which gets the unblocked light and the ray's count.
             let r = WORD + VEC4 + VEC4 + XYZ + WORD + VEC4;
-            let w = VEC4 + WORD;
-            add(label::SHADOW, n.shadow, n.shadow * r, n.shadow * w);
+            add(label::SHADOW, n.shadow, n.shadow * r, n.shadow * VEC4);
         }
         if n.tail_paths > 0 {
             // The tail reads the whole path (queue entry, ray, throughput, radiance, sample) and
-            // writes the finished radiance, the flushed mark and the sample into the ring.
+            // writes the flushed mark and the finished sample into the ring.
             let r = WORD + 4 * VEC4 + PATH_SAMPLE;
-            let w = VEC4 + WORD + VEC4;
+            let w = WORD + VEC4;
             add(label::TAIL, n.tail_paths, n.tail_paths * r, n.tail_paths * w);
         }
         // The film's input: each sample's radiance (regenerate: from the ring).
@@ -226,11 +257,12 @@ mod tests {
             atomic,
             slot_order,
             sweep,
+            camera_in_place: false,
         }
     }
 
-    /// A wave of 100 samples: 100 camera rays, 60 hit (40 escape), 50 of the hits go on and
-    /// are traced (all escape), 20 shadow rays. Every sample ends once.
+    /// A wave of 100 samples: 100 camera rays, 60 hit (40 escape); 50 of the hits go on and are
+    /// traced at bounce 1 (all escape), 10 end; 20 shadow rays. Every sample ends once.
     #[test]
     fn the_model_adds_up_a_small_wave() {
         let items = Items {
@@ -241,21 +273,29 @@ mod tests {
             tail_paths: 0,
             slot_visits: 0,
             init_slots: 0,
+            first_bounce: Some((60, 50)),
         };
         let t = StateTraffic::model(&shape(false, true, false, true), &items);
         let pass = |l: &str| t.passes.iter().find(|p| p.label == l).unwrap().clone();
-        // generate: 5 vec4 (with the shadow weight) and the queue entry per sample.
-        assert_eq!(pass("generate").bytes_written, 100 * (5 * 16 + 4));
-        // intersect: 150 rays read (entry, origin.xyz, direction); 60 hits write 12 bytes; 90
-        // escapes read throughput.xyz, radiance and its ray count, write radiance, dead word, count.
-        assert_eq!(pass("intersect").bytes_read, 150 * 32 + 90 * (12 + 16 + 4));
-        assert_eq!(pass("intersect").bytes_written, 60 * 12 + 90 * (16 + 4 + 4));
-        // shade: 60 hits read 52 bytes; 10 end (100 samples − 90 escapes), 50 go on.
-        assert_eq!(pass("shade").bytes_read, 60 * 52 + 10 * 4);
-        assert_eq!(pass("shade").bytes_written, 50 * 52 + 10 * 8 + 20 * 36);
-        assert_eq!(pass("shadow").bytes_written, 20 * 20);
+        // generate: origin and direction, and the queue entry, per sample.
+        assert_eq!(pass("generate").bytes_written, 100 * (2 * 16 + 4));
+        // intersect: 150 rays read (entry, origin.xyz, direction); the 50 escapes past bounce 0
+        // read throughput.xyz and radiance; 60 hits write 12 bytes; 90 escapes write the dead
+        // word and the radiance.
+        assert_eq!(pass("intersect").bytes_read, 150 * 32 + 50 * 28);
+        assert_eq!(pass("intersect").bytes_written, 60 * 12 + 90 * 20);
+        // shade: 60 camera hits read 36 bytes (no throughput); 50 go on (52 bytes and their
+        // first radiance), 10 end (dead word and radiance); 20 shadow rays and weights queued.
+        assert_eq!(pass("shade").bytes_read, 60 * 36);
+        assert_eq!(pass("shade").bytes_written, 50 * (52 + 16) + 10 * 20 + 20 * 36);
+        assert_eq!(pass("shadow").bytes_read, 20 * 68);
+        assert_eq!(pass("shadow").bytes_written, 20 * 16);
         let total: u64 = t.passes.iter().map(|p| p.bytes_read + p.bytes_written).sum();
         assert_eq!(t.bytes_per_sample, total as f64 / 100.0);
+        // Without the per-bounce counts (regenerating) the model charges at least as much.
+        let bound =
+            StateTraffic::model(&shape(false, true, false, true), &Items { first_bounce: None, ..items });
+        assert!(bound.bytes_per_sample > t.bytes_per_sample);
     }
 
     /// Path-state variables, as `shaders/shared/path_state.wgsl` names them.
@@ -333,25 +373,11 @@ mod tests {
     /// The fields the model charges a pass with, under any of the shapes.
     fn modelled(label: &str) -> BTreeSet<String> {
         let fields: &[&str] = match label {
-            "generate" => &[
-                "path_origin",
-                "path_dir",
-                "path_throughput",
-                "radiance",
-                "shadow_weight",
-                "queues",
-                "next_queue",
-                "path_sample",
-            ],
-            "regenerate" => &[
-                "path_origin",
-                "path_dir",
-                "path_throughput",
-                "radiance",
-                "shadow_weight",
-                "queues",
-                "path_sample",
-            ],
+            // shadow_weight: cleared without queues only, where the model does not apply.
+            "generate" => {
+                &["path_origin", "path_dir", "shadow_weight", "queues", "next_queue", "path_sample"]
+            }
+            "regenerate" => &["path_origin", "path_dir", "shadow_weight", "queues", "path_sample"],
             "regenerate_init" => &["queues", "path_dir", "next_queue", "shadow_weight"],
             "intersect" => &[
                 "queues",
