@@ -47,6 +47,12 @@ const COUNTER_COMPACTIONS: u32 = COUNTER_SHADE_BASE + 16u;
 const COUNTER_COMPACT_FREE: u32 = COUNTER_SHADE_BASE + 17u;
 const COUNTER_COMPACT_MISMATCH: u32 = COUNTER_SHADE_BASE + 18u;
 const COUNTER_RING_0: u32 = COUNTER_SHADE_BASE + 19u;      // + ring chunk: its samples finished
+// (regenerate, wave.camera_in_place) Camera rays that hit, and paths going on from that hit: in
+// the histogram's second row, which regenerating renders (one row) leave unused. In waves the
+// histogram has them per bounce. The bounce-0 counts of the path-state traffic model
+// (src/gpu/wavefront/traffic.rs).
+const COUNTER_CAMERA_HITS: u32 = COUNTER_STATS + QUEUE_COUNT;
+const COUNTER_FIRST_CONTINUING: u32 = COUNTER_STATS + QUEUE_COUNT + 1u;
 // Indirect-dispatch argument slots (3 words each) in queue_setup's `indirect`.
 const ARGS_INTERSECT: u32 = 0u;
 const ARGS_SHADE_0: u32 = 1u;       // + material kind
@@ -328,6 +334,16 @@ fn queued_slot(q: u32, i: u32) -> u32 {
         return DEAD;
     }
     return entry & ~CAMERA_RAY;
+}
+
+// The entry at position `i` of the ray queue this iteration traces, CAMERA_RAY mark and all: a
+// wave's camera rays made in place have no entries, their slots in order (generate writes none).
+fn ray_queue_entry(i: u32) -> u32 {
+    let q = QUEUE_RAY_0 + current_bounce() % 2u;
+    if !REGENERATE && wave.camera_in_place != 0u && current_bounce() == 0u {
+        return select(DEAD, i, i < atomicLoad(&counters[q]));
+    }
+    return queued_entry(q, i);
 }
 
 // `queued_slot` with its CAMERA_RAY mark, if any.

@@ -26,7 +26,10 @@ fn generate(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_para
     }
     instrument(PASS_GENERATE);
     start_path(slot, slot);
-    queues[QUEUE_RAY_0 * wave.pool + slot] = slot;
+    // With camera rays made in place, intersect takes the wave's slots in order without a queue.
+    if wave.camera_in_place == 0u {
+        queues[QUEUE_RAY_0 * wave.pool + slot] = slot;
+    }
     if slot_order() {
         next_queue[slot] = DEAD; // intersect sets it: until then the slot goes nowhere
     }

@@ -13,7 +13,7 @@ override WORKGROUP_SIZE: u32 = 64u;
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn intersect(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
     instrument_begin(/*@subgroup_size_arg*/);
-    let entry = queued_entry(QUEUE_RAY_0 + current_bounce() % 2u, gid.x);
+    let entry = ray_queue_entry(gid.x);
     if entry == DEAD {
         return;
     }
@@ -68,6 +68,9 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_par
     }
     path_origin[slot].w = hit.t;
     path_dir[slot].w = bitcast<f32>(hit.prim);
+    if REGENERATE && camera {
+        count_one(COUNTER_CAMERA_HITS);
+    }
     var q = QUEUE_MATERIAL_0;
     if wave.per_material == 1u {
         q += materials[primitives[hit.prim].material].kind;

@@ -134,6 +134,9 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     path_throughput[slot] = vec4<f32>(rr.throughput, bsdf_pdf);
     if bounce == 0u {
         radiance[slot] = vec4<f32>(0.0); // the first write of the path's radiance (generate's none)
+        if REGENERATE && wave.camera_in_place != 0u {
+            count_one(COUNTER_FIRST_CONTINUING);
+        }
     }
     if REGENERATE {
         path_sample[slot].y = bounce + 1u;

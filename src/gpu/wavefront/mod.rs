@@ -760,11 +760,15 @@ pub fn render(
             camera_in_place,
         };
         let mut items = traffic_items(&stats, settings, pool, shares.len());
-        // Waves' queue histogram has the camera rays' bounce apart.
-        items.first_bounce = histogram.as_ref().map(|h| {
-            let camera_hits = h.materials.iter().map(|m| m.first().copied().unwrap_or(0)).sum();
-            (camera_hits, h.rays.get(1).copied().unwrap_or(0))
-        });
+        // The camera rays' bounce apart: in waves' queue histogram; regenerating, counted where
+        // camera rays are made in place (their marks tell them apart).
+        items.first_bounce = match &histogram {
+            Some(h) => {
+                let camera_hits = h.materials.iter().map(|m| m.first().copied().unwrap_or(0)).sum();
+                Some((camera_hits, h.rays.get(1).copied().unwrap_or(0)))
+            }
+            None => (regenerate && camera_in_place).then_some(stats.first_bounce),
+        };
         stats.state_traffic = Some(traffic::StateTraffic::model(&shape, &items));
     }
     memory.transient(film_bytes);

@@ -338,6 +338,10 @@ pub struct ScheduleStats {
     /// Entries queued on each queue (`QUEUE_COUNT` regions), summed over bounces and shares.
     #[serde(skip)]
     pub queued: [u64; QUEUE_COUNT as usize],
+    /// Regenerating with camera rays made in place: camera rays that hit, and paths that went on
+    /// from that hit (`COUNTER_CAMERA_HITS`, `COUNTER_FIRST_CONTINUING`), summed over shares.
+    #[serde(skip)]
+    pub first_bounce: (u64, u64),
     #[serde(skip)]
     intersected: u64,
     #[serde(skip)]
@@ -368,6 +372,7 @@ impl ScheduleStats {
             ray_sort: None,
             state_traffic: None,
             queued: [0; QUEUE_COUNT as usize],
+            first_bounce: (0, 0),
             intersected: 0,
             pool,
         }
@@ -404,8 +409,12 @@ impl ScheduleStats {
         self.add_share_words(ctx, &words[COUNTER_SCHEDULE as usize..], units, iterations, dispatches)?;
         let rows = state.stats_bounces as u64 * QUEUE_COUNT;
         self.add_rows(&words[COUNTER_STATS as usize..(COUNTER_STATS + rows) as usize]);
+        // The bounce-0 counts in the row after the share's (regenerating: one row).
+        let hits = (COUNTER_STATS + rows) as usize;
+        self.first_bounce.0 += words[hits] as u64;
+        self.first_bounce.1 += words[hits + 1] as u64;
         let mut enc = ctx.device.create_command_encoder(&Default::default());
-        enc.clear_buffer(&state.counters, COUNTER_STATS * 4, Some(rows * 4));
+        enc.clear_buffer(&state.counters, COUNTER_STATS * 4, Some((rows + QUEUE_COUNT) * 4));
         clear_share_counters(&mut enc, state);
         ctx.queue.submit([enc.finish()]);
         Ok(())
