@@ -13,8 +13,8 @@ import sys
 
 def runs(path):
     report = json.load(open(path))
-    env = report.get("environment", {})
-    build = f"{env.get('git_commit', '?')}{' (dirty)' if env.get('git_dirty') else ''}"
+    envs = report.get("environments") or [{}]
+    build = envs[0].get("build", {}).get("git_commit", "?")
     out = {}
     for r in report["runs"]:
         t = r.get("state_traffic")
