@@ -532,7 +532,9 @@ impl<'a> Run<'a> {
             rec.iterations = Some(s.iterations);
             rec.idle_iterations = Some(s.idle_iterations);
             rec.intersect_occupancy = Some(s.intersect_occupancy);
-            rec.state_traffic = s.state_traffic.clone();
+            // The profiled render's, where there is one: the same counts, with pass times.
+            let profiled = pass_rep.schedule.as_ref().and_then(|p| p.state_traffic.clone());
+            rec.state_traffic = profiled.or_else(|| s.state_traffic.clone());
         }
         rec.rays = Some(median_rep.rays);
         if let Some(s) = seconds.filter(|&s| s > 0.0) {

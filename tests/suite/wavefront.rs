@@ -916,5 +916,20 @@ fn path_state_traffic_is_charged_with_counted_items() {
         // No queues, no counts: no model.
         let off = WavefrontOptions { compaction: Compaction::Off, ..waves };
         assert!(run_wavefront(scene, &s, off).schedule.unwrap().state_traffic.is_none());
+        // With per-pass timestamps each entry has its passes' time and its bytes over it; a frame
+        // timed whole has neither.
+        let timed = |timing| {
+            let opts = MethodOptions { wavefront: waves, timing, ..Default::default() };
+            traffic(&run(Method::Wavefront, scene, &s, &opts))
+        };
+        let framed = timed(Timing::Frame);
+        assert!(framed.passes.iter().all(|p| p.seconds.is_none() && p.bytes_per_second.is_none()));
+        let profiled = timed(Timing::Passes);
+        let intersect = profiled.passes.iter().find(|p| p.label == "intersect").unwrap();
+        let seconds = intersect.seconds.expect("intersect was timed");
+        let bytes = (intersect.bytes_read + intersect.bytes_written) as f64;
+        assert!(seconds > 0.0);
+        assert_eq!(intersect.bytes_per_second, Some(bytes / seconds));
+        assert_eq!(profiled.bytes_per_sample, framed.bytes_per_sample, "{scene}: the same counts");
     }
 }

@@ -771,6 +771,10 @@ pub fn render(
         };
         stats.state_traffic = Some(traffic::StateTraffic::model(&shape, &items));
     }
+    let timings = timer.into_timings();
+    if let Some(t) = &mut stats.state_traffic {
+        t.add_times(&timings);
+    }
     memory.transient(film_bytes);
     let data: Vec<FilmPixel> = read_back(ctx, &film, film_bytes)?;
     let film = Film::from_gpu(settings.width, settings.height, settings.spp, &data);
@@ -780,7 +784,7 @@ pub fn render(
     Ok(WavefrontRender {
         render: GpuRender {
             film,
-            timings: timer.into_timings(),
+            timings,
             dispatches: stats.dispatches,
             compute_passes,
             empty_dispatches: Some(stats.empty_dispatches),

@@ -65,6 +65,37 @@ pub struct PassTraffic {
     pub items: u64,
     pub bytes_read: u64,
     pub bytes_written: u64,
+    /// With per-pass timestamps: the GPU seconds of the passes this entry covers, and the bytes
+    /// moved per second over them (the achieved bandwidth, a lower bound as the bytes are).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub seconds: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bytes_per_second: Option<f64>,
+}
+
+impl PassTraffic {
+    /// The GPU passes (labels) this entry's bytes are charged to: one pass, or the shade passes
+    /// together (one per material kind, or the single one) and the scan's three.
+    pub fn labels(&self) -> Vec<&'static str> {
+        match self.label.as_str() {
+            "shade" => label::SHADE_BY_KIND.iter().copied().chain([label::SHADE]).collect(),
+            "compact" => vec![label::COMPACT_SCAN, label::COMPACT_BLOCKS, label::COMPACT_SCATTER],
+            other => [
+                label::GENERATE,
+                label::REGENERATE,
+                label::REGENERATE_INIT,
+                label::INTERSECT,
+                label::SLOT_SWEEP,
+                label::SHADOW,
+                label::TAIL,
+                label::ACCUMULATE,
+                label::ACCUMULATE_RANGE,
+            ]
+            .into_iter()
+            .filter(|l| *l == other)
+            .collect(),
+        }
+    }
 }
 
 /// A render's modelled path-state traffic.
@@ -119,6 +150,22 @@ impl Shape {
 }
 
 impl StateTraffic {
+    /// Adds each entry's pass time and achieved bandwidth from a render's `timings`, where they
+    /// are per pass (timestamps).
+    pub fn add_times(&mut self, timings: &crate::gpu::timing::Timings) {
+        if !timings.per_pass() {
+            return;
+        }
+        for p in &mut self.passes {
+            let seconds: f64 =
+                p.labels().iter().filter_map(|l| timings.passes.get(l)).map(|t| t.seconds).sum();
+            if seconds > 0.0 {
+                p.seconds = Some(seconds);
+                p.bytes_per_second = Some((p.bytes_read + p.bytes_written) as f64 / seconds);
+            }
+        }
+    }
+
     /// The model for a render of `shape` with `items`.
     pub fn model(shape: &Shape, items: &Items) -> Self {
         let s = shape;
@@ -130,6 +177,8 @@ impl StateTraffic {
                 items,
                 bytes_read: read,
                 bytes_written: written,
+                seconds: None,
+                bytes_per_second: None,
             })
         };
         let nee = s.layout.shadow;
@@ -319,6 +368,21 @@ mod tests {
         let bound =
             StateTraffic::model(&shape(false, true, false, true), &Items { first_bounce: None, ..items });
         assert!(bound.bytes_per_sample > t.bytes_per_sample);
+    }
+
+    /// Every entry of the model is charged to passes that exist (their static labels), so its
+    /// time can be found.
+    #[test]
+    fn every_entry_names_its_passes() {
+        for regenerate in [false, true] {
+            for (atomic, slot_order) in [(true, false), (true, true), (false, false), (false, true)] {
+                let items = Items { samples: 10, rays: 10, tail_paths: 1, ..Default::default() };
+                let t = StateTraffic::model(&shape(regenerate, atomic, slot_order, true), &items);
+                for p in &t.passes {
+                    assert!(!p.labels().is_empty(), "{}: no pass label", p.label);
+                }
+            }
+        }
     }
 
     /// Path-state variables, as `shaders/shared/path_state.wgsl` names them.
