@@ -67,6 +67,9 @@ for call in "${calls[@]}"; do
     [ "$step" = dispatch-cost ] && want=dispatch_cost.json
     listing=$(tar -tzf "$out/$step.tar.gz")
     grep -qx "./$want" <<<"$listing" || fail "$step.tar.gz holds no $want"
+    if [ "$step" = dispatch-cost ]; then
+      grep -qx "./bandwidth.json" <<<"$listing" || fail "$step.tar.gz holds no bandwidth.json"
+    fi
   done
   echo "device dry run: call $n ($call): $took s, $files files, $(mib "$total")"
 done

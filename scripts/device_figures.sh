@@ -17,7 +17,9 @@
 #                       subgroup width), from the carried test binary       ~2 min
 #   dispatch-cost       what one dispatch costs: a chain of 1000 tiny dispatches recorded six
 #                       ways (a pass each or one pass, direct or indirect, read-write or
-#                       read-only), 9 repetitions (wavetrace dispatch-cost)  tiny   <1 min
+#                       read-only), 9 repetitions (wavetrace dispatch-cost); and what the
+#                       memory delivers to a streaming pass, 256 MiB copied and read
+#                       (wavetrace bandwidth)                                tiny   <1 min
 #   compute-passes      the wavefront's dispatches in one compute pass each or sharing passes
 #                       (--compute-passes), waves and regenerate + tail, rtiow-final and
 #                       mesh-room at 1920x1080x64 NEE (device/compute_passes.json) 5.3e9 ~1 min
@@ -277,8 +279,16 @@ for step in "${steps[@]}"; do
     timeout --kill-after=10 "$left" "$bin" dispatch-cost "${n[@]}" --json "$dir/dispatch_cost.json" \
       > "$dir/step.log" 2>&1
     rc=$?
-    tee -a "$log" < "$dir/step.log" | tail -n 8
-    [ $rc = 0 ] || { say "FAILED: dispatch-cost (exit $rc; step.log in the archive)"; failed=1; }
+    # Issue 44: what the device's memory delivers to a streaming pass (src/gpu/bandwidth.rs), the
+    # floor the passes' achieved bandwidth (state_traffic) is read against. Tiny: 4 MiB.
+    b=(--repetitions 9)
+    [ "$scale" = tiny ] && b=(--mib 4 --repetitions 2)
+    timeout --kill-after=10 "$left" "$bin" bandwidth "${b[@]}" --json "$dir/bandwidth.json" \
+      >> "$dir/step.log" 2>&1
+    brc=$?
+    [ $rc = 0 ] && rc=$brc
+    tee -a "$log" < "$dir/step.log" | tail -n 14
+    [ $rc = 0 ] || { say "FAILED: dispatch-cost or bandwidth (exit $rc; step.log in the archive)"; failed=1; }
   elif [ "$step" = simd-replay ]; then
     # Issue 25: the device's counters against the replay at the device's width (32 lanes on
     # NVIDIA), every GPU method on the same frames; report.json holds both per scene, per method,

@@ -1,5 +1,6 @@
 //! The `wavetrace` command line.
 
+pub mod bandwidth;
 pub mod compare;
 pub mod dispatch_cost;
 pub mod experiment;
@@ -65,6 +66,9 @@ pub enum Command {
     Replay(replay::ReplayArgs),
     /// Time a chain of tiny dispatches recorded six ways: what a dispatch costs by itself.
     DispatchCost(dispatch_cost::DispatchCostArgs),
+    /// What this GPU's memory delivers to a pass streaming 16-byte elements: GB/s of a compute
+    /// copy, a compute read and a buffer copy (issue 44).
+    Bandwidth(bandwidth::BandwidthArgs),
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
@@ -76,5 +80,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Experiment(c) => experiment::run(c),
         Command::Replay(a) => replay::run(a),
         Command::DispatchCost(a) => dispatch_cost::run(a),
+        Command::Bandwidth(a) => bandwidth::run(a),
     }
 }

@@ -1,6 +1,7 @@
 //! The GPU methods on wgpu, and the plumbing they share.
 
 pub mod accumulate;
+pub mod bandwidth;
 pub mod buffers;
 pub mod context;
 pub mod dispatch_cost;
@@ -75,6 +76,12 @@ pub mod label {
     pub const CHAIN_LINK: &str = "chain_link";
     /// `wavetrace dispatch-cost`: a tiny dispatch that only reads (no barrier between them).
     pub const CHAIN_READ: &str = "chain_read";
+    /// `wavetrace bandwidth`: each thread copies one 16-byte element.
+    pub const STREAM_COPY: &str = "stream_copy";
+    /// `wavetrace bandwidth`: each thread reads one 16-byte element.
+    pub const STREAM_READ: &str = "stream_read";
+    /// `wavetrace bandwidth`: `copy_buffer_to_buffer` between two timestamped passes.
+    pub const BUFFER_COPY: &str = "buffer_copy";
     /// Busy work just before a timed frame, so the GPU's clocks are up (`preheat_seconds`).
     pub const PREHEAT: &str = "preheat";
 }

@@ -58,6 +58,7 @@ pub const MEGAKERNEL_REGENERATE: Variants = variants!("megakernel_regenerate");
 pub const MEGAKERNEL_REGENERATE_SUBGROUP: Variants = variants!("megakernel_regenerate_subgroup");
 pub const ACCUMULATE: &str = composed!("accumulate");
 pub const DISPATCH_CHAIN: &str = composed!("dispatch_chain");
+pub const BANDWIDTH: &str = composed!("bandwidth");
 pub const PREHEAT: &str = composed!("preheat");
 pub const RNG_PROBE: &str = composed!("tests_rng_probe");
 pub const INDIRECT_PROBE: &str = composed!("tests_indirect_probe");

@@ -5,6 +5,7 @@
 mod common;
 
 mod agreement;
+mod bandwidth;
 mod chart;
 mod cli;
 mod cli_paths;
