@@ -63,7 +63,7 @@ pub fn measure(ctx: &GpuContext, mib: u64, repetitions: u32) -> Result<Bandwidth
         bail!("--repetitions must be at least 1");
     }
     let limit = ctx.summary.max_storage_buffer_binding_size.min(ctx.summary.max_buffer_size);
-    let bytes = mib.checked_mul(1 << 20).unwrap_or(u64::MAX);
+    let bytes = mib.saturating_mul(1 << 20);
     if mib == 0 || bytes > limit {
         bail!(
             "--mib must be in 1..={} on {} (its largest storage binding is {}), got {mib}",
