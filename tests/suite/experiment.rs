@@ -741,6 +741,7 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
             "speed_vs_accuracy.json",
             "stability_distance.json",
             "stability_scale.json",
+            "state_traffic.json",
             "workgroup_size.json"
         ]
     );
