@@ -61,6 +61,7 @@ pub const DISPATCH_CHAIN: &str = composed!("dispatch_chain");
 pub const PREHEAT: &str = composed!("preheat");
 pub const RNG_PROBE: &str = composed!("tests_rng_probe");
 pub const INDIRECT_PROBE: &str = composed!("tests_indirect_probe");
+pub const SCHEDULE_PROBE: &str = composed!("tests_schedule_probe");
 pub const GENERATE: Variants = variants!("wavefront_generate", appends);
 pub const INTERSECT: Variants = variants!("wavefront_intersect", appends);
 pub const SHADE: Variants = variants!("wavefront_shade", appends);

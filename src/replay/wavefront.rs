@@ -521,7 +521,7 @@ impl Wave<'_> {
                     break;
                 }
             }
-            // The check: the counters as ChunkCounters::read gives them.
+            // The check: the counters as ChunkCounters::parse gives them.
             let mut ring = vec![0u32; r.ring as usize];
             for c in oldest..r.chunks().min(oldest + r.ring) {
                 ring[(c % r.ring) as usize] = finished[c as usize];
