@@ -6,17 +6,11 @@
 //! shares as large as a dispatch's parameters allow (usually the whole image), whose slots are
 //! refilled as paths end (Laine et al.'s "new path" stage), so intersect and shade see a full
 //! pool until the image's last samples. Finished samples wait in a ring of one-pool chunks
-//! until the host adds the oldest complete ones to the film. Per share:
+//! until the GPU's decision pass adds the oldest complete ones to the film. Per share:
 //!
 //! ```text
 //! generate | regenerate_init                camera rays (waves) | every slot free (regenerate)
-//! for each iteration (waves: max_depth; regenerate: until the share's samples are done):
-//!     (regenerate, every --sync-every iterations, and with the tail every iteration once
-//!      every sample has started: read the counters back, then
-//!      [queue_setup_tail, tail]             finish the oldest chunks' last paths if the ring
-//!                                           needs them back, or the share's last paths
-//!      accumulate_range                     complete chunks → film, in sample order
-//!      and move the refill limit to the ring's new end)
+//! for each iteration (waves: max_depth; regenerate: until a read-back says the share is done):
 //!     [queue_setup_regenerate,              (regenerate, once at most --refill-below × pool are
 //!      [compact_states_find,                 live) next samples into the free slots (slot order:
 //!       queue_setup_compact_states,          the lowest, in ascending order; --compact-states on:
@@ -36,13 +30,27 @@
 //!     [slot_sweep]                          (slot order, atomic method) the same lists, by
 //!                                           appends over every slot
 //!     [queue_setup_shadow, shadow]          (--nee on, scene has lights) shadow rays
+//!     [schedule_decide,                     (regenerate: after every iteration with the tail,
+//!      [tail]                                else every --sync-every) the host's old check on
+//!      accumulate_range]                     the GPU: at a check (every --sync-every; with the
+//!                                           tail every iteration once every sample started)
+//!                                           size the tail over the oldest chunks' last paths if
+//!                                           the ring needs them back, or the share's last ones;
+//!                                           complete chunks → film, in sample order; move the
+//!                                           refill limit to the ring's new end; DONE once every
+//!                                           chunk is in; elsewhere both passes are empty
+//!     (regenerate, every --sync-every iterations: submit without waiting, the counters copied
+//!      into the next staging buffer of a ring of BATCHES_IN_FLIGHT, whose mapping is polled;
+//!      at that many batches in flight, wait for the oldest's read-back; stop recording once
+//!      one says DONE: the iterations recorded after are speculative, zero workgroups)
 //! accumulate                                (waves) the wave's radiance → film, in sample order
 //! ```
 //!
-//! The host never reads a counter inside a batch of iterations: passes whose queues are empty
-//! dispatch zero workgroups (and are counted as empty). Each sample keeps its counter-based
-//! random numbers and the film adds each pixel's samples in sample order under both schedules,
-//! so they give bit-identical films.
+//! The host never reads a counter to go on: passes whose queues are empty dispatch zero
+//! workgroups (and are counted as empty), and the regenerating schedule's decisions are the GPU's.
+//! It waits once per share, at its end (and with per-pass timestamps after every batch). Each
+//! sample keeps its counter-based random numbers and the film adds each pixel's samples in
+//! sample order under both schedules, so they give bit-identical films.
 
 pub mod append;
 pub mod compact;
@@ -124,8 +132,9 @@ pub struct WavefrontOptions {
     pub compaction: Compaction,
     pub shade: ShadePasses,
     pub schedule: Schedule,
-    /// Regenerating: iterations recorded between read-backs of the schedule's counters (more:
-    /// fewer host waits, up to this many idle iterations at the image's end; with the tail,
+    /// Regenerating: iterations between the GPU's checks of the schedule's counters, and per
+    /// batch the host submits (more: fewer submissions and read-backs, up to this many idle
+    /// iterations at the image's end and more speculative ones; with the tail, the check runs
     /// every iteration once every sample has started).
     pub sync_every: u32,
     /// Regenerating: whether the last paths (of the image, and of the oldest chunks when the
@@ -514,8 +523,9 @@ impl Drive<'_> {
         let bytes = schedule::ChunkCounters::bytes(r);
         let mut pending = std::collections::VecDeque::new();
         let mut next_staging = 0;
-        // Iterations recorded, and the dispatches recorded up to each one's end (its decision
-        // passes included): the share's own count once the GPU says how many it ran.
+        // Iterations recorded, and the dispatches and compute passes recorded up to each one's
+        // end (its decision passes included): the share's own counts once the GPU says how many
+        // it ran.
         let mut recorded = 0u32;
         let mut dispatches_at = Vec::new();
         let mut ran = None;
@@ -566,7 +576,7 @@ impl Drive<'_> {
                 if tail || recorded % sync_every == 0 {
                     self.record_decide(wave, recorded - 1);
                 }
-                dispatches_at.push(wave.dispatches);
+                dispatches_at.push((wave.dispatches, wave.compute_passes));
             }
             let k = next_staging;
             next_staging = (k + 1) % staging.len();
@@ -592,9 +602,10 @@ impl Drive<'_> {
             bail!("the regenerating wavefront's GPU counted {ran} iterations of the {recorded} recorded");
         }
         stats.speculative_iterations += (recorded - ran) as u64;
-        let own = dispatches_at[ran as usize - 1];
+        let (own, own_passes) = dispatches_at[ran as usize - 1];
         stats.speculative_dispatches += wave.dispatches - own;
         wave.dispatches = own;
+        wave.compute_passes = own_passes;
         Ok(ran)
     }
 

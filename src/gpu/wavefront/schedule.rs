@@ -11,8 +11,9 @@ use anyhow::{bail, Result};
 
 pub use super::super::schedule::Schedule;
 
-/// Iterations between read-backs when regenerating: a read-back makes the host wait for the
-/// GPU; each iteration recorded after the work ran out costs its (empty) dispatches.
+/// Iterations between checks (and per submitted batch) when regenerating: each check's passes
+/// and each batch's submission and read-back cost fixed time; each iteration recorded after the
+/// work ran out costs its (empty) dispatches.
 pub const DEFAULT_SYNC_EVERY: u32 = 8;
 /// Most iterations between read-backs.
 pub const MAX_SYNC_EVERY: u32 = 1024;
