@@ -573,7 +573,7 @@ impl Drive<'_> {
                 recorded += 1;
                 // With the tail the GPU may check after any iteration (every one once every
                 // sample has started), so it decides after each; else after every batch.
-                if tail || recorded % sync_every == 0 {
+                if tail || recorded.is_multiple_of(sync_every) {
                     self.record_decide(wave, recorded - 1);
                 }
                 dispatches_at.push((wave.dispatches, wave.compute_passes));
