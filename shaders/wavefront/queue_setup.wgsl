@@ -208,6 +208,20 @@ fn ring_finished(slot: u32) -> u32 {
 // DONE once every chunk is in the film. Anywhere else both passes get zero workgroups.
 @compute @workgroup_size(1)
 fn schedule_decide() {
+    decide();
+}
+
+// (regenerate, --nee on) queue_setup_shadow and schedule_decide in one dispatch, on the iterations
+// that have both: the shadow pass after it changes neither the ring's counts nor the ray queue
+// the decision reads, and the tail and accumulate_range it sizes are recorded after the shadow
+// pass. The shadow pass is sized first: DONE, set last, empties what comes after.
+@compute @workgroup_size(1)
+fn queue_setup_shadow_decide() {
+    setup_shadow();
+    decide();
+}
+
+fn decide() {
     let tail = atomicLoad(&counters[COUNTER_TAIL_ON]) != 0u;
     var tail_threads = 0u;
     var film_threads = 0u;
@@ -290,6 +304,10 @@ fn schedule_decide() {
 // Before the shadow pass (--nee on): size it from the shadow rays the shade passes queued.
 @compute @workgroup_size(1)
 fn queue_setup_shadow() {
+    setup_shadow();
+}
+
+fn setup_shadow() {
     var n = pool_slots();
     if wave.compaction != 0u {
         n = atomicLoad(&counters[QUEUE_SHADOW]);

@@ -29,7 +29,9 @@
 //!                                           list and the shadow queue)
 //!     [slot_sweep]                          (slot order, atomic method) the same lists, by
 //!                                           appends over every slot
-//!     [queue_setup_shadow, shadow]          (--nee on, scene has lights) shadow rays
+//!     [queue_setup_shadow, shadow]          (--nee on, scene has lights) shadow rays (with the
+//!                                           decision pass below folded into the setup:
+//!                                           queue_setup_shadow_decide)
 //!     [schedule_decide,                     (regenerate: after every iteration with the tail,
 //!      [tail]                                else every --sync-every) the host's old check on
 //!      accumulate_range]                     the GPU: at a check (every --sync-every; with the
@@ -417,7 +419,9 @@ impl Stages {
     /// One iteration: a bounce of every path in waves; when regenerating, a refill (while the
     /// share has samples left to start) and then a bounce of every path in the pool, whatever
     /// its depth.
-    fn record_iteration(&self, wave: &mut WaveRecorder<'_>, i: u32, refill: bool) {
+    /// `decide` (regenerate): the iteration ends with the schedule's decision pass (with NEE
+    /// folded into queue_setup_shadow); the caller records the passes it sizes after.
+    fn record_iteration(&self, wave: &mut WaveRecorder<'_>, i: u32, refill: bool, decide: bool) {
         if self.regenerate && refill {
             self.queue_setup.record_regenerate(wave, i);
             if let Some(c) = &self.compact_states {
@@ -442,8 +446,14 @@ impl Stages {
             sweep.record(wave, i);
         }
         if let Some(shadow) = &self.shadow {
-            self.queue_setup.record_shadow(wave, i);
+            if decide {
+                self.queue_setup.record_shadow_decide(wave, i);
+            } else {
+                self.queue_setup.record_shadow(wave, i);
+            }
             shadow.record(wave, i);
+        } else if decide {
+            self.queue_setup.record_decide(wave, i);
         }
     }
 
@@ -482,14 +492,14 @@ impl Drive<'_> {
             if wave.timer.remaining() < self.per_iteration + 1 {
                 wave.submit_and_wait(self.ctx)?;
             }
-            self.stages.record_iteration(wave, bounce, false);
+            self.stages.record_iteration(wave, bounce, false, false);
         }
         Ok(self.max_depth)
     }
 
     /// Regenerating: iterations until every sample of the share (`r`) is in the film. The GPU
     /// decides after each check (queue_setup.wgsl's `schedule_decide`, recorded by
-    /// [`Self::record_decide`]): the host records batches of `--sync-every` iterations and
+    /// [`Self::record_decided`]): the host records batches of `--sync-every` iterations and
     /// submits them without waiting, each batch's counters copied into the next of the `staging`
     /// ring, whose mapping it polls; it stops recording once a read-back says the share is done.
     /// At [`BATCHES_IN_FLIGHT`] batches it waits for the oldest one's read-back, newer batches
@@ -569,13 +579,14 @@ impl Drive<'_> {
                 if wave.timer.remaining() < self.per_iteration + 1 {
                     wave.submit_and_wait(ctx)?;
                 }
-                self.stages.record_iteration(wave, recorded, recorded == 0 || !one_refill);
-                recorded += 1;
                 // With the tail the GPU may check after any iteration (every one once every
                 // sample has started), so it decides after each; else after every batch.
-                if tail || recorded.is_multiple_of(sync_every) {
-                    self.record_decide(wave, recorded - 1);
+                let decide = tail || (recorded + 1).is_multiple_of(sync_every);
+                self.stages.record_iteration(wave, recorded, recorded == 0 || !one_refill, decide);
+                if decide {
+                    self.record_decided(wave);
                 }
+                recorded += 1;
                 dispatches_at.push((wave.dispatches, wave.compute_passes));
             }
             let k = next_staging;
@@ -609,10 +620,9 @@ impl Drive<'_> {
         Ok(ran)
     }
 
-    /// (regenerate) After an iteration: the decision pass, then the passes it sizes (zero
-    /// workgroups unless it decided to run them): the tail, and the film's new chunks.
-    fn record_decide(&self, wave: &mut WaveRecorder<'_>, i: u32) {
-        self.stages.queue_setup.record_decide(wave, i);
+    /// (regenerate) After an iteration that ends with the decision pass: the passes it sizes
+    /// (zero workgroups unless it decided to run them): the tail, and the film's new chunks.
+    fn record_decided(&self, wave: &mut WaveRecorder<'_>) {
         if let Some(tail) = &self.stages.tail {
             tail.record(wave);
         }

@@ -12,6 +12,8 @@ use anyhow::Result;
 /// `accumulate_range` adds, which it writes.
 struct Decide {
     stage: Stage,
+    /// queue_setup_shadow and the decision in one dispatch (`--nee on`).
+    with_shadow: Stage,
     film_range: wgpu::BindGroup,
 }
 
@@ -52,7 +54,9 @@ impl QueueSetup {
                 });
                 let layouts = &[layouts[0], layouts[1], layouts[2], &range_layout];
                 let stage = Stage::new(ctx, label::SCHEDULE_DECIDE, &module, layouts, &constants)?;
-                Ok(Decide { stage, film_range })
+                let with_shadow =
+                    Stage::new(ctx, label::QUEUE_SETUP_SHADOW_DECIDE, &module, layouts, &constants)?;
+                Ok(Decide { stage, with_shadow, film_range })
             })
             .transpose()?;
         Ok(Self {
@@ -83,12 +87,14 @@ impl QueueSetup {
     /// recorded after it.
     pub fn record_decide(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
         let d = self.decide.as_ref().expect("QueueSetup built without the decision pass");
-        let b = wave.b;
-        let mut g = b.groups(wave.offset);
-        g.truncate(2);
-        g.push((&wave.b.state.indirect_group, vec![]));
-        g.push((&d.film_range, vec![]));
-        wave.record_groups(&d.stage, Some(bounce), &g, Workgroups::Direct(1));
+        record_with_range(&d.stage, d, wave, bounce);
+    }
+
+    /// (regenerate, `--nee on`) [`Self::record_shadow`] and [`Self::record_decide`] as one
+    /// dispatch, before the shadow pass.
+    pub fn record_shadow_decide(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
+        let d = self.decide.as_ref().expect("QueueSetup built without the decision pass");
+        record_with_range(&d.with_shadow, d, wave, bounce);
     }
 
     pub fn record_intersect(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
@@ -108,4 +114,14 @@ impl QueueSetup {
 fn record(stage: &Stage, wave: &mut WaveRecorder<'_>, bounce: u32) {
     let indirect = (&wave.b.state.indirect_group, vec![]);
     wave.record_with(stage, Some(bounce), 2, Some(indirect), Workgroups::Direct(1));
+}
+
+/// Single-thread pass with scene, path state, the indirect arguments and the film range bound.
+fn record_with_range(stage: &Stage, d: &Decide, wave: &mut WaveRecorder<'_>, bounce: u32) {
+    let b = wave.b;
+    let mut g = b.groups(wave.offset);
+    g.truncate(2);
+    g.push((&b.state.indirect_group, vec![]));
+    g.push((&d.film_range, vec![]));
+    wave.record_groups(stage, Some(bounce), &g, Workgroups::Direct(1));
 }
