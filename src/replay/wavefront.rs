@@ -14,8 +14,9 @@
 //! approach when subgroups append in dispatch order. With
 //! `--compaction off` every pass runs over the whole wave, one thread per path, and the lanes
 //! whose path is not in that pass's queue idle. `--schedule regenerate`: see
-//! [`Wave::regenerate`]: the host's checks every `--sync-every` iterations, the sample ring's
-//! refill limit they move and the megakernel tail (`--tail megakernel`), as the host runs them.
+//! [`Wave::regenerate`]: the schedule's checks every `--sync-every` iterations, the sample ring's
+//! refill limit they move and the megakernel tail (`--tail megakernel`), by the rule the GPU's
+//! decision pass runs (`schedule::Decision::after`).
 
 use super::lockstep::{extrapolate, slot, traverse, Lane, SlotCounts};
 use super::megakernel::bounce;
