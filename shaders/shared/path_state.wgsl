@@ -25,7 +25,7 @@ const COUNTER_BOUNCE: u32 = 8u;     // current iteration (= bounce in waves), ad
 const COUNTER_POSITIONS: u32 = 9u;  // queue positions the next scan compaction covers
 const COUNTER_STATS: u32 = 10u;     // + bounce * QUEUE_COUNT + queue: paths queued, summed over waves
 const COUNTER_SHADE_BASE: u32 = 10u + 64u * QUEUE_COUNT; // + kind: first scan position of each shade pass
-// Scheduling counters, read by the host after each submission (src/gpu/wavefront/schedule.rs).
+// Scheduling counters, read back by the host after each batch (src/gpu/wavefront/schedule.rs).
 const COUNTER_NEXT_SAMPLE: u32 = COUNTER_SHADE_BASE + 4u;  // (regenerate) the share's next sample to start
 // (regenerate) first ray-queue entry of this iteration's refill: queue_setup_regenerate reserves
 // the refill's entries, so `regenerate` appends without an atomic.

@@ -20,8 +20,9 @@ pub const COUNTER_STATS: u64 = 10;
 pub const MAX_STATS_BOUNCES: u64 = 64;
 /// `COUNTER_SHADE_BASE`: the four shade passes' first scan positions.
 const COUNTER_SHADE_BASE: u64 = COUNTER_STATS + MAX_STATS_BOUNCES * QUEUE_COUNT;
-/// The scheduling counters (`COUNTER_NEXT_SAMPLE` … `COUNTER_FREE_BASE`): the host reads them
-/// after submissions, and writes the fill limit and the tail bound.
+/// The scheduling counters (`COUNTER_NEXT_SAMPLE` … `COUNTER_FAILED`): the host reads them back
+/// after batches of submissions; the regenerating schedule's decision pass writes the fill limit
+/// and the tail bound.
 pub const COUNTER_SCHEDULE: u64 = COUNTER_SHADE_BASE + 4;
 /// Offsets from [`COUNTER_SCHEDULE`].
 pub mod schedule_word {
