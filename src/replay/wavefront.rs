@@ -58,7 +58,7 @@ pub struct Launch {
     pub schedule: Schedule,
     /// The order of the queues (`auto` resolved as the device resolves it).
     pub queue_order: QueueOrder,
-    /// Regenerating: iterations between the host's checks (`--sync-every`).
+    /// Regenerating: iterations between the schedule's checks (`--sync-every`).
     pub sync_every: u32,
     /// Regenerating: whether the megakernel tail finishes the last paths (`--tail`).
     pub tail: Tail,
