@@ -190,7 +190,8 @@ pub struct WaveUniform {
     pub refill_live: u32,
     /// Regenerating: 1 to compact the live states before each refill (`--compact-states on`).
     pub compact_states: u32,
-    pub pad1: u32,
+    /// 1: camera rays are made where they are used, not stored (queues on, no ray sort).
+    pub camera_in_place: u32,
     pub pad2: u32,
 }
 

@@ -6,3 +6,8 @@ fn append(q: u32, slot: u32) {
     let at = atomicAdd(&counters[q], 1u);
     queues[q * wave.pool + at] = slot;
 }
+
+// Adds one to the statistic in counter word `w`, the same word for every lane.
+fn count_one(w: u32) {
+    atomicAdd(&counters[w], 1u);
+}

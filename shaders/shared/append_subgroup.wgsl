@@ -20,3 +20,12 @@ fn append(q: u32, slot: u32) {
         }
     }
 }
+
+// Adds one to the statistic in counter word `w`, the same word for every lane: one atomic per
+// subgroup.
+fn count_one(w: u32) {
+    let count = subgroupAdd(1u);
+    if subgroupExclusiveAdd(1u) == 0u {
+        atomicAdd(&counters[w], count);
+    }
+}

@@ -2,4 +2,4 @@
 // variant swaps in shared/coherence_on.wgsl (build.rs), which needs the path pool and the
 // SIMD counters, so only wavefront passes include this file, after both.
 
-fn instrument_coherence(slot: u32) {}
+fn instrument_coherence(slot: u32, d: vec3<f32>) {}

@@ -32,9 +32,8 @@ fn coherence_bucket(iteration: u32) -> u32 {
     return min(8u + firstLeadingBit(iteration) - 3u, COHERENCE_BUCKETS - 1u);
 }
 
-fn instrument_coherence(slot: u32) {
+fn instrument_coherence(slot: u32, d: vec3<f32>) {
     let lines = subgroup_distinct(slot / 4u);
-    let d = path_dir[slot].xyz;
     let octants = subgroup_distinct(select(0u, 1u, d.x < 0.0) | select(0u, 2u, d.y < 0.0) | select(0u, 4u, d.z < 0.0));
     let pixel = slot_pixel(slot);
     let x = pixel % frame.width;

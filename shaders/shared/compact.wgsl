@@ -35,7 +35,8 @@ fn one_hot(q: u32) -> vec4<u32> {
 }
 
 // The slot at scan position `p`: as the producing pass recorded it (arrival order); in slot
-// order the intersected ray queue's p-th entry (after intersect) or p itself (after shade).
+// order the intersected ray queue's p-th entry, without its camera-ray mark (after intersect),
+// or p itself (after shade).
 fn slot_at(p: u32) -> u32 {
     if !slot_order() {
         return scan_slot[p];
@@ -43,7 +44,7 @@ fn slot_at(p: u32) -> u32 {
     if TARGET_RAYS {
         return p;
     }
-    return queues[(QUEUE_RAY_0 + current_bounce() % 2u) * wave.pool + p];
+    return ray_queue_entry(p) & ~CAMERA_RAY;
 }
 
 // The queues position `p` goes to, one lane each: the material queues (after intersect); the

@@ -64,6 +64,12 @@ const COUNTER_TAIL_ON: u32 = COUNTER_SHADE_BASE + 28u;
 const COUNTER_TAIL_MAX_LIVE: u32 = COUNTER_SHADE_BASE + 29u;
 const COUNTER_FAILED: u32 = COUNTER_SHADE_BASE + 30u;
 const COUNTER_RING_0: u32 = COUNTER_SHADE_BASE + 31u;      // + ring chunk: its samples finished
+// (regenerate, wave.camera_in_place) Camera rays that hit, and paths going on from that hit: in
+// the histogram's second row, which regenerating renders (one row) leave unused. In waves the
+// histogram has them per bounce. The bounce-0 counts of the path-state traffic model
+// (src/gpu/wavefront/traffic.rs).
+const COUNTER_CAMERA_HITS: u32 = COUNTER_STATS + QUEUE_COUNT;
+const COUNTER_FIRST_CONTINUING: u32 = COUNTER_STATS + QUEUE_COUNT + 1u;
 // Indirect-dispatch argument slots (3 words each) in queue_setup's `indirect`.
 const ARGS_INTERSECT: u32 = 0u;
 const ARGS_SHADE_0: u32 = 1u;       // + material kind
@@ -80,6 +86,10 @@ const SCAN_WG: u32 = 256u;
 
 // A path that no pass should touch again.
 const DEAD: u32 = 0xffffffffu;
+// (regenerate, wave.camera_in_place) The mark of a refill's ray-queue entries: the slot traces its
+// camera ray, which intersect makes (a slot's bounce is not known there without reading it). Slots
+// stay below 2^31: the pool is bounded by one binding of 4-byte queue entries per slot and queue.
+const CAMERA_RAY: u32 = 0x80000000u;
 // (regenerate) A path the tail finished while its slot was still on the ray queue: the next
 // intersect frees the slot (a slot must leave every queue before a refill takes it).
 const FLUSHED: u32 = 0xfffffffdu;
@@ -109,7 +119,10 @@ struct Wave {
     // (regenerate) 1: compact the live states below the live count before each refill
     // (`--compact-states on`).
     compact_states: u32,
-    pad1: u32,
+    // 1: camera rays are not stored (queues on, no ray sort): intersect and shade make a camera
+    // ray from its slot's pixel and sample (shared/path_camera.wgsl), and generate writes only
+    // the queue entry (and, regenerating, the slot's sample).
+    camera_in_place: u32,
     pad2: u32,
 }
 
@@ -204,23 +217,43 @@ fn path_bounce(slot: u32) -> u32 {
     return current_bounce();
 }
 
-// The path in `slot` has ended at `bounce`: its radiance is final once its rays are counted (w:
-// the bounce + 1 rays it traced, added here so that intersect need not touch `radiance` on a
-// hit, and the shadow rays, added as they were traced). Regenerating, its sample's radiance goes
-// to the sample ring and the slot to the free queue, for the next iteration's refill; in waves
-// the accumulate pass reads `radiance` itself.
-fn finish_path(slot: u32, bounce: u32) {
-    radiance[slot].w += f32(bounce + 1u);
+// A camera ray's path has gathered nothing and its throughput is one: generate writes neither, so
+// a path's radiance and throughput are read from memory only after its first bounce (shade writes
+// both for a path that goes on from bounce 0, and a shadow ray's light is added after that).
+fn path_radiance(slot: u32, bounce: u32) -> vec4<f32> {
+    if bounce == 0u {
+        return vec4<f32>(0.0);
+    }
+    return radiance[slot];
+}
+
+// xyz: the throughput; w: the MIS density of the ray now traced (0: none), as `path_throughput`.
+fn path_throughput_at(slot: u32, bounce: u32) -> vec4<f32> {
+    if bounce == 0u {
+        return vec4<f32>(1.0, 1.0, 1.0, 0.0);
+    }
+    return path_throughput[slot];
+}
+
+// The path in `slot` has ended at `bounce` with `value` (rgb: its radiance; w: the shadow rays it
+// traced): final once its rays are counted (w + the bounce + 1 rays it traced, added here so that
+// intersect need not touch `radiance` on a hit). Computed by the caller in registers and written
+// once: regenerating, straight into the sample ring (and the slot to the free queue, for the next
+// iteration's refill); in waves into `radiance`, which the accumulate pass reads.
+fn finish_path(slot: u32, bounce: u32, value: vec4<f32>) {
+    let done = value + vec4<f32>(0.0, 0.0, 0.0, f32(bounce + 1u));
     if REGENERATE {
-        store_sample(slot);
+        store_sample(slot, done);
         free_slot(slot);
+    } else {
+        radiance[slot] = done;
     }
 }
 
-// (regenerate) The finished path's radiance into the sample ring, counted for its chunk.
-fn store_sample(slot: u32) {
+// (regenerate) A finished path's `value` into the sample ring, counted for its chunk.
+fn store_sample(slot: u32, value: vec4<f32>) {
     let l = path_sample[slot].x;
-    samples[l % (wave.chunk * wave.ring)] = radiance[slot];
+    samples[l % (wave.chunk * wave.ring)] = value;
     atomicAdd(&counters[COUNTER_RING_0 + (l / wave.chunk) % wave.ring], 1u);
 }
 
@@ -314,6 +347,25 @@ fn retire(slot: u32, position: u32) {
 // The path slot handled by thread `i` of a pass over queue `q`, or DEAD past the queue's end.
 // Without compaction, thread i handles slot i of the whole pool.
 fn queued_slot(q: u32, i: u32) -> u32 {
+    let entry = queued_entry(q, i);
+    if entry == DEAD {
+        return DEAD;
+    }
+    return entry & ~CAMERA_RAY;
+}
+
+// The entry at position `i` of the ray queue this iteration traces, CAMERA_RAY mark and all: a
+// wave's camera rays made in place have no entries, their slots in order (generate writes none).
+fn ray_queue_entry(i: u32) -> u32 {
+    let q = QUEUE_RAY_0 + current_bounce() % 2u;
+    if !REGENERATE && wave.camera_in_place != 0u && current_bounce() == 0u {
+        return select(DEAD, i, i < atomicLoad(&counters[q]));
+    }
+    return queued_entry(q, i);
+}
+
+// `queued_slot` with its CAMERA_RAY mark, if any.
+fn queued_entry(q: u32, i: u32) -> u32 {
     if wave.compaction == 0u {
         return select(DEAD, i, i < pool_slots());
     }

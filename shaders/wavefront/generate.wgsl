@@ -6,6 +6,7 @@
 #include "shared/rng.wgsl"
 #include "shared/scene.wgsl"
 #include "shared/path_state.wgsl"
+#include "shared/path_camera.wgsl"
 #include "shared/instrument.wgsl"
 
 override WORKGROUP_SIZE: u32 = 64u;
@@ -25,7 +26,10 @@ fn generate(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_para
     }
     instrument(PASS_GENERATE);
     start_path(slot, slot);
-    queues[QUEUE_RAY_0 * wave.pool + slot] = slot;
+    // With camera rays made in place, intersect takes the wave's slots in order without a queue.
+    if wave.camera_in_place == 0u {
+        queues[QUEUE_RAY_0 * wave.pool + slot] = slot;
+    }
     if slot_order() {
         next_queue[slot] = DEAD; // intersect sets it: until then the slot goes nowhere
     }
@@ -33,20 +37,20 @@ fn generate(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_para
 
 // Slot `slot` starts tracing sample `l` of the share: its camera ray, at bounce 0.
 fn start_path(slot: u32, l: u32) {
-    let pixel = sample_pixel(l);
-    let x = pixel % frame.width;
-    let y = pixel / frame.width;
-    let ray = camera_ray(x, y, uniform4(pixel, sample_number(l), 0u, PURPOSE_CAMERA, frame.seed));
-    path_origin[slot] = vec4<f32>(ray.origin, 0.0);
-    // w: the primitive the ray leaves, none (intersect counts self-hits against it).
-    path_dir[slot] = vec4<f32>(ray.dir, bitcast<f32>(NO_ORIGIN));
-    path_throughput[slot] = vec4<f32>(1.0, 1.0, 1.0, 0.0);
-    radiance[slot] = vec4<f32>(0.0);
-    if NEE {
-        shadow_weight[slot] = vec4<f32>(0.0);
-    }
     if REGENERATE {
         path_sample[slot] = vec2<u32>(l, 0u);
+    }
+    if wave.camera_in_place == 0u {
+        let ray = sample_camera_ray(l);
+        path_origin[slot] = vec4<f32>(ray.origin, 0.0);
+        // w: the primitive the ray leaves, none (intersect counts self-hits against it).
+        path_dir[slot] = vec4<f32>(ray.dir, bitcast<f32>(NO_ORIGIN));
+    }
+    // No throughput or radiance: a camera ray's are known (path_throughput_at, path_radiance).
+    // Without queues the shadow pass visits every slot and skips those with no shadow ray
+    // pending; with them only queued shadow rays are visited, and their weight is written first.
+    if NEE && wave.compaction == 0u {
+        shadow_weight[slot] = vec4<f32>(0.0);
     }
 }
 
@@ -75,7 +79,7 @@ fn regenerate_init(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_si
     if slot_order() {
         next_queue[slot] = DEAD; // no path: the scans skip it, and list it as free
     }
-    if NEE {
+    if NEE && wave.compaction == 0u {
         shadow_weight[slot] = vec4<f32>(0.0);
     }
 }
@@ -96,6 +100,7 @@ fn regenerate(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_pa
     start_path(slot, base + gid.x);
     if wave.compaction != 0u {
         let q = next_ray_queue();
-        queues[q * wave.pool + atomicLoad(&counters[COUNTER_REFILL_QUEUED]) + gid.x] = slot;
+        let mark = select(0u, CAMERA_RAY, wave.camera_in_place != 0u);
+        queues[q * wave.pool + atomicLoad(&counters[COUNTER_REFILL_QUEUED]) + gid.x] = slot | mark;
     }
 }

@@ -4,6 +4,7 @@
 #include "shared/rng.wgsl"
 #include "shared/scene.wgsl"
 #include "shared/path_state.wgsl"
+#include "shared/path_camera.wgsl"
 #include "shared/instrument.wgsl"
 #include "shared/coherence.wgsl"
 
@@ -12,42 +13,64 @@ override WORKGROUP_SIZE: u32 = 64u;
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn intersect(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
     instrument_begin(/*@subgroup_size_arg*/);
-    let slot = queued_slot(QUEUE_RAY_0 + current_bounce() % 2u, gid.x);
-    if slot == DEAD {
+    let entry = ray_queue_entry(gid.x);
+    if entry == DEAD {
         return;
     }
-    let dir = path_dir[slot];
-    if bitcast<u32>(dir.w) == DEAD {
-        return; // only without compaction: an ended path in the pool
-    }
-    if REGENERATE && bitcast<u32>(dir.w) == FLUSHED {
-        // The tail finished this path after it was queued: off the queue now, so free.
-        path_dir[slot].w = bitcast<f32>(DEAD);
-        free_slot(slot);
-        retire(slot, gid.x);
-        if wave.compaction != 0u {
-            atomicSub(&counters[COUNTER_INTERSECTED], 1u); // queued, but no ray traced
+    let slot = entry & ~CAMERA_RAY;
+    // A camera ray made here (wave.camera_in_place): regenerating, the refill marked its entry; in
+    // waves every path is at the iteration's bounce.
+    var camera = false;
+    if wave.camera_in_place != 0u {
+        if REGENERATE {
+            camera = (entry & CAMERA_RAY) != 0u;
+        } else {
+            camera = current_bounce() == 0u;
         }
-        return;
+    }
+    var ray: Ray;
+    // The primitive the ray left (set by shade, NO_ORIGIN for a camera ray).
+    var left = NO_ORIGIN;
+    if camera {
+        ray = sample_camera_ray(slot_index(slot));
+    } else {
+        let dir = path_dir[slot];
+        if bitcast<u32>(dir.w) == DEAD {
+            return; // only without compaction: an ended path in the pool
+        }
+        if REGENERATE && bitcast<u32>(dir.w) == FLUSHED {
+            // The tail finished this path after it was queued: off the queue now, so free.
+            path_dir[slot].w = bitcast<f32>(DEAD);
+            free_slot(slot);
+            retire(slot, gid.x);
+            if wave.compaction != 0u {
+                atomicSub(&counters[COUNTER_INTERSECTED], 1u); // queued, but no ray traced
+            }
+            return;
+        }
+        ray = Ray(path_origin[slot].xyz, dir.xyz);
+        left = bitcast<u32>(dir.w);
     }
     instrument(PASS_INTERSECT);
-    instrument_coherence(slot);
-    let ray = Ray(path_origin[slot].xyz, dir.xyz);
+    instrument_coherence(slot, ray.dir);
     instrument_traversal(PASS_INTERSECT_TRAVERSE);
     let hit = closest_hit(ray, frame.t_min);
     if hit.prim == NO_HIT {
-        radiance[slot] += vec4<f32>(path_throughput[slot].xyz * background(ray.dir), 0.0);
+        let bounce = select(path_bounce(slot), 0u, camera);
+        let sky = path_throughput_at(slot, bounce).xyz * background(ray.dir);
         path_dir[slot].w = bitcast<f32>(DEAD);
         retire(slot, gid.x);
-        finish_path(slot, path_bounce(slot));
+        finish_path(slot, bounce, path_radiance(slot, bounce) + vec4<f32>(sky, 0.0));
         return;
     }
-    // dir.w: the primitive the ray left (set by shade, NO_ORIGIN by generate).
-    if is_self_hit(bitcast<u32>(dir.w), hit.prim, ray, hit.t) {
+    if is_self_hit(left, hit.prim, ray, hit.t) {
         count_failure(FAILURE_SELF_HIT);
     }
     path_origin[slot].w = hit.t;
     path_dir[slot].w = bitcast<f32>(hit.prim);
+    if REGENERATE && camera {
+        count_one(COUNTER_CAMERA_HITS);
+    }
     var q = QUEUE_MATERIAL_0;
     if wave.per_material == 1u {
         q += materials[primitives[hit.prim].material].kind;

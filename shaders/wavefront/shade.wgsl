@@ -7,6 +7,7 @@
 #include "shared/rng.wgsl"
 #include "shared/scene.wgsl"
 #include "shared/path_state.wgsl"
+#include "shared/path_camera.wgsl"
 #include "shared/instrument.wgsl"
 
 override WORKGROUP_SIZE: u32 = 64u;
@@ -25,8 +26,19 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     if slot == DEAD {
         return;
     }
-    let o = path_origin[slot];
-    let d = path_dir[slot];
+    let bounce = path_bounce(slot);
+    // xyz: the ray; w: the hit's distance and primitive (intersect). A camera ray made in place
+    // is made again here: only its hit is stored.
+    var o: vec4<f32>;
+    var d: vec4<f32>;
+    if wave.camera_in_place != 0u && bounce == 0u {
+        let camera = sample_camera_ray(slot_index(slot));
+        o = vec4<f32>(camera.origin, path_origin[slot].w);
+        d = vec4<f32>(camera.dir, path_dir[slot].w);
+    } else {
+        o = path_origin[slot];
+        d = path_dir[slot];
+    }
     let prim_slot = bitcast<u32>(d.w);
     if prim_slot == DEAD {
         return; // only without compaction
@@ -37,8 +49,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         return; // only without compaction
     }
     instrument(pass_id);
-    let bounce = path_bounce(slot);
-    let state = path_throughput[slot];
+    let state = path_throughput_at(slot, bounce);
     let throughput = state.xyz;
     let ray = Ray(o.xyz, d.xyz);
     let sp = surface_point(prim, ray, o.w);
@@ -49,10 +60,10 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         if state.w > 0.0 {
             w = emission_weight(prim_slot, ray.origin, p, ray.dir, o.w, state.w);
         }
-        radiance[slot] += vec4<f32>(throughput * material.color * w, 0.0);
+        let emitted = vec4<f32>(throughput * material.color * w, 0.0);
         path_dir[slot].w = bitcast<f32>(DEAD);
         retire(slot, position);
-        finish_path(slot, bounce);
+        finish_path(slot, bounce, path_radiance(slot, bounce) + emitted);
         return;
     }
     let outward = outward_normal(prim, p);
@@ -67,7 +78,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         }
         path_dir[slot].w = bitcast<f32>(DEAD);
         retire(slot, position);
-        finish_path(slot, bounce);
+        finish_path(slot, bounce, path_radiance(slot, bounce));
         return;
     }
     let next_throughput = throughput * s.attenuation;
@@ -87,6 +98,8 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         && bounce + 2u <= frame.max_depth;
     var bsdf_pdf = 0.0;
     var shadow_queued = false;
+    // What a shadow ray traced here adds (the roulette ended the path, below).
+    var shadow_add = vec4<f32>(0.0);
     if lights_sampled {
         bsdf_pdf = diffuse_pdf(dot(normal, s.dir));
         let u_light = uniform4(slot_pixel(slot), slot_sample(slot), bounce, PURPOSE_LIGHT, frame.seed);
@@ -103,23 +116,28 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
             // ray, weight and counters; its steps counted as the shadow pass's traversal).
             instrument_traversal(PASS_SHADOW_TRAVERSE);
             let ray_s = Ray(origin, shadow.ray.dir);
-            var add = vec4<f32>(0.0, 0.0, 0.0, 1.0); // one more ray traced
+            shadow_add = vec4<f32>(0.0, 0.0, 0.0, 1.0); // one more ray traced
             if shadow_unblocked(ray_s, shadow.t_max, shadow.light, prim_slot) {
-                add += vec4<f32>(next_throughput * shadow.weight, 0.0);
+                shadow_add += vec4<f32>(next_throughput * shadow.weight, 0.0);
             }
-            radiance[slot] += add;
         }
     }
     if !rr.ok {
         path_dir[slot].w = bitcast<f32>(DEAD);
         retire(slot, position);
-        finish_path(slot, bounce);
+        finish_path(slot, bounce, path_radiance(slot, bounce) + shadow_add);
         return;
     }
     path_origin[slot] = vec4<f32>(origin, 0.0);
     // w: the primitive the ray leaves, for the self-hit counters of intersect and shadow.
     path_dir[slot] = vec4<f32>(s.dir, bitcast<f32>(prim_slot));
     path_throughput[slot] = vec4<f32>(rr.throughput, bsdf_pdf);
+    if bounce == 0u {
+        radiance[slot] = vec4<f32>(0.0); // the first write of the path's radiance (generate's none)
+        if REGENERATE && wave.camera_in_place != 0u {
+            count_one(COUNTER_FIRST_CONTINUING);
+        }
+    }
     if REGENERATE {
         path_sample[slot].y = bounce + 1u;
     }

@@ -29,14 +29,13 @@ fn tail(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/)
         return; // a younger chunk's path: the passes go on with it
     }
     let o = path_origin[slot];
-    let t = path_throughput[slot];
-    let r = radiance[slot];
     let bounce = path_bounce(slot);
+    let t = path_throughput_at(slot, bounce);
+    let r = path_radiance(slot, bounce);
     // r.w: the shadow rays traced so far; the path traced `bounce` rays before this one.
     var path = TracedPath(Ray(o.xyz, d.xyz), t.xyz, r.xyz, u32(r.w) + bounce, t.w, bitcast<u32>(d.w));
     continue_path(&path, slot_pixel(slot), slot_sample(slot), bounce);
-    radiance[slot] = vec4<f32>(path.radiance, f32(path.rays));
     // Still on the ray queue: the next intersect frees the slot.
     path_dir[slot].w = bitcast<f32>(FLUSHED);
-    store_sample(slot);
+    store_sample(slot, vec4<f32>(path.radiance, f32(path.rays)));
 }

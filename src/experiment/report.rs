@@ -292,6 +292,10 @@ pub struct RunRecord {
     /// Wavefront: mean over intersect passes of the paths traced ÷ the pool.
     #[serde(default)]
     pub intersect_occupancy: Option<f64>,
+    /// Wavefront with compaction: bytes of path state its passes read and wrote, modelled from
+    /// the queue counts (`gpu::wavefront::traffic`), per sample and per pass.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub state_traffic: Option<crate::gpu::wavefront::traffic::StateTraffic>,
     pub samples: u64,
     pub samples_per_second: Option<f64>,
     pub rays: Option<u64>,

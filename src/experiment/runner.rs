@@ -534,6 +534,7 @@ impl<'a> Run<'a> {
             rec.blocking_reads = Some(s.blocking_reads);
             rec.speculative_iterations = Some(s.speculative_iterations);
             rec.intersect_occupancy = Some(s.intersect_occupancy);
+            rec.state_traffic = s.state_traffic.clone();
         }
         rec.rays = Some(median_rep.rays);
         if let Some(s) = seconds.filter(|&s| s > 0.0) {
@@ -633,6 +634,7 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         iterations: None,
         idle_iterations: None,
         intersect_occupancy: None,
+        state_traffic: None,
         samples: s.sample_count(),
         samples_per_second: None,
         rays: None,

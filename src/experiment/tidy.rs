@@ -172,6 +172,7 @@ fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
         rcol("iterations", |r| r.iterations.and_then(int)),
         rcol("idle_iterations", |r| r.idle_iterations.and_then(int)),
         rcol("intersect_occupancy", |r| r.intersect_occupancy.map(float)),
+        rcol("state_bytes_per_sample", |r| r.state_traffic.as_ref().map(|t| float(t.bytes_per_sample))),
         // Instrumented runs only: the work-weighted frame figure (nvprof's counterpart).
         rcol(FRAME_KEY, |r| r.simd.as_ref().and_then(|s| s.get(FRAME_KEY)).map(|e| float(e.efficiency))),
         rcol("invalid_samples", |r| r.invalid_samples.and_then(int)),

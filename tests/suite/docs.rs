@@ -212,6 +212,12 @@ const ACCEPTED_SOURCES: &[(&str, &str)] = &[
         "scripts/simd_width.sh's whole `wavetrace replay --every 16` output (deterministic)",
     ),
     (
+        "experiments/results/llvmpipe-2core/state_traffic/comparison.md",
+        "scripts/traffic_compare.py's table of two committed report.json files (before/ and \
+         after/ beside it), each run's modelled path-state bytes from its queue counts; the \
+         builds named in the file",
+    ),
+    (
         "experiments/results/llvmpipe-2core/build_time/fresh_machine.txt",
         "the README's two commands timed on a fresh checkout with an empty cargo cache: the \
          commands, the build and the machine in the file",

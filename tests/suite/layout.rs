@@ -125,7 +125,7 @@ fn wave() {
             order,
             refill_live,
             compact_states,
-            pad1,
+            camera_in_place,
             pad2
         ]
     );

@@ -947,3 +947,49 @@ fn speculative_iterations_change_no_film() {
     );
     assert_eq!((b.dispatches, b.empty_dispatches), (a.dispatches, a.empty_dispatches), "{a:?} vs {b:?}");
 }
+
+/// The path-state traffic model (issue 44) is charged with counts the render made: in waves the
+/// intersect and shadow passes' items are every ray the film counts; regenerating, the camera
+/// rays' hits and the paths going on from them are counted on the GPU (their queue entries are
+/// marked) and equal the waves' histogram's bounce 0, since both trace the same camera rays, so
+/// its figure is exact, not a bound. Where camera rays are stored (a ray sort), regenerating
+/// renders have no such count and the model says its figure is a bound.
+#[test]
+fn path_state_traffic_is_charged_with_counted_items() {
+    use wavetrace::gpu::wavefront::RaySort;
+    if common::gpu().is_none() {
+        return;
+    }
+    let cases = [
+        ("rtiow-final", settings(8)),
+        ("cornell", RenderSettings { nee: true, max_depth: 12, ..settings(8) }),
+    ];
+    for (scene, s) in cases {
+        let waves = WavefrontOptions { pool_size: Some(700), ..Default::default() };
+        let w = run_wavefront(scene, &s, waves);
+        let tail = WavefrontOptions { tail: Tail::Megakernel, ..regenerating(waves) };
+        let r = run_wavefront(scene, &s, tail);
+        let traffic = |o: &RenderOutput| o.schedule.as_ref().unwrap().state_traffic.clone().unwrap();
+        let (wt, rt) = (traffic(&w), traffic(&r));
+        let items = |t: &wavetrace::gpu::wavefront::traffic::StateTraffic, label: &str| {
+            t.passes.iter().find(|p| p.label == label).map_or(0, |p| p.items)
+        };
+        assert_eq!(
+            items(&wt, "intersect") + items(&wt, "shadow"),
+            w.film.rays(),
+            "{scene}: every ray traced"
+        );
+        assert!(s.nee == (items(&wt, "shadow") > 0), "{scene}: shadow rays where lights are sampled");
+        let bounce0 = wt.first_bounce.expect("waves count bounce 0");
+        assert!(bounce0[0] > 0 && bounce0[1] > 0, "{scene}: camera rays hit and go on");
+        assert_eq!(rt.first_bounce, Some(bounce0), "{scene}: counted on the GPU as in the waves");
+        assert!(wt.bytes_per_sample > 0.0 && rt.bytes_per_sample > 0.0);
+        // A ray sort reads stored rays: camera rays are stored, and not counted apart.
+        let sorted = WavefrontOptions { ray_sort: RaySort::Octant, ..regenerating(waves) };
+        let st = traffic(&run_wavefront(scene, &s, sorted));
+        assert_eq!(st.first_bounce, None, "{scene}: a bound without the counts");
+        // No queues, no counts: no model.
+        let off = WavefrontOptions { compaction: Compaction::Off, ..waves };
+        assert!(run_wavefront(scene, &s, off).schedule.unwrap().state_traffic.is_none());
+    }
+}

@@ -71,6 +71,7 @@ pub mod shadow;
 pub mod share_ledger;
 pub mod slot_sweep;
 pub mod tail;
+pub mod traffic;
 
 use super::accumulate::Accumulate;
 use super::buffers::{self, read_back, storage_zeroed, Staging};
@@ -679,6 +680,10 @@ pub fn render(
     let ring_budget = schedule::ring_budget(ctx, pool, opts.chunk_pools);
     let largest_share = shares.iter().map(|d| d.pixel_count * d.sample_count).max().unwrap_or(1);
     let ring = schedule::Ring::new(largest_share, pool, ring_budget);
+    // Camera rays made where they are used (shared/path_camera.wgsl) need queues (a pass over
+    // the whole pool tells live slots by their stored direction) and no ray sort (whose keys
+    // read the stored ray).
+    let camera_in_place = opts.compaction != Compaction::Off && opts.ray_sort == RaySort::Off;
     let wave = WaveUniform {
         compaction: opts.compaction as u32,
         per_material: per_material as u32,
@@ -689,7 +694,7 @@ pub fn render(
         order: queue_order.word(),
         refill_live: refill::refill_live(opts.refill_below, pool),
         compact_states: (opts.compact_states == CompactStates::On) as u32,
-        pad1: 0,
+        camera_in_place: camera_in_place as u32,
         pad2: 0,
     };
     let stats_bounces = if regenerate { 1 } else { settings.max_depth.min(STATS_BOUNCES) };
@@ -845,6 +850,27 @@ pub fn render(
     if let Some(h) = &mut histogram {
         h.trim();
     }
+    if opts.compaction != Compaction::Off {
+        let shape = traffic::Shape {
+            layout,
+            regenerate,
+            atomic: opts.compaction == Compaction::Atomic,
+            slot_order: queue_order.is_slot(),
+            sweep: uses_sweep,
+            camera_in_place,
+        };
+        let mut items = traffic_items(&stats, settings, pool, shares.len());
+        // The camera rays' bounce apart: in waves' queue histogram; regenerating, counted where
+        // camera rays are made in place (their marks tell them apart).
+        items.first_bounce = match &histogram {
+            Some(h) => {
+                let camera_hits = h.materials.iter().map(|m| m.first().copied().unwrap_or(0)).sum();
+                Some((camera_hits, h.rays.get(1).copied().unwrap_or(0)))
+            }
+            None => (regenerate && camera_in_place).then_some(stats.first_bounce),
+        };
+        stats.state_traffic = Some(traffic::StateTraffic::model(&shape, &items));
+    }
     memory.transient(film_bytes);
     let data: Vec<FilmPixel> = read_back(ctx, &film, film_bytes)?;
     let film = Film::from_gpu(settings.width, settings.height, settings.spp, &data);
@@ -878,6 +904,33 @@ pub fn render(
             ..*opts
         },
     })
+}
+
+/// The item counts of [`traffic::StateTraffic::model`] from a render's counters.
+fn traffic_items(
+    stats: &ScheduleStats,
+    settings: &RenderSettings,
+    pool: u32,
+    shares: usize,
+) -> traffic::Items {
+    let q = &stats.queued;
+    let samples = settings.sample_count();
+    let regenerate = stats.schedule == Schedule::Regenerate;
+    traffic::Items {
+        samples,
+        rays: q[0] + q[1],
+        hits: [q[2], q[3], q[4], q[5]],
+        shadow: q[QUEUE_SHADOW as usize],
+        tail_paths: stats.tail_paths,
+        // Passes over every slot: the pool per iteration, or each wave's paths per bounce.
+        slot_visits: if regenerate {
+            stats.iterations * pool as u64
+        } else {
+            settings.max_depth as u64 * samples
+        },
+        init_slots: if regenerate { shares as u64 * pool as u64 } else { 0 },
+        first_bounce: None,
+    }
 }
 
 fn choose_pool(ctx: &GpuContext, opts: &WavefrontOptions) -> Result<u32> {

@@ -5,7 +5,9 @@
 use super::super::buffers::{read_back, Staging};
 use super::super::context::GpuContext;
 use super::super::dispatch_plan;
-use super::path_state::{schedule_word as word, PathState, COUNTER_RING, COUNTER_SCHEDULE};
+use super::path_state::{
+    schedule_word as word, PathState, COUNTER_RING, COUNTER_SCHEDULE, COUNTER_STATS, QUEUE_COUNT,
+};
 use crate::layout::DispatchParams;
 use anyhow::{bail, Result};
 
@@ -368,6 +370,17 @@ pub struct ScheduleStats {
     /// The dispatches those iterations recorded (not in `dispatches`).
     #[serde(default)]
     pub speculative_dispatches: u64,
+    /// Bytes of path state the passes read and wrote, modelled from the queue counts
+    /// ([`super::traffic`]; with compaction, whose queues are counted).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub state_traffic: Option<super::traffic::StateTraffic>,
+    /// Entries queued on each queue (`QUEUE_COUNT` regions), summed over bounces and shares.
+    #[serde(skip)]
+    pub queued: [u64; QUEUE_COUNT as usize],
+    /// Regenerating with camera rays made in place: camera rays that hit, and paths that went on
+    /// from that hit (`COUNTER_CAMERA_HITS`, `COUNTER_FIRST_CONTINUING`), summed over shares.
+    #[serde(skip)]
+    pub first_bounce: (u64, u64),
     #[serde(skip)]
     intersected: u64,
     #[serde(skip)]
@@ -400,8 +413,21 @@ impl ScheduleStats {
             throttles: 0,
             speculative_iterations: 0,
             speculative_dispatches: 0,
+            state_traffic: None,
+            queued: [0; QUEUE_COUNT as usize],
+            first_bounce: (0, 0),
             intersected: 0,
             pool,
+        }
+    }
+
+    /// Adds a share's queue counts per bounce (`rows` × `QUEUE_COUNT` words from
+    /// `COUNTER_STATS`, recorded with compaction only).
+    pub fn add_rows(&mut self, rows: &[u32]) {
+        for row in rows.chunks_exact(QUEUE_COUNT as usize) {
+            for (total, &n) in self.queued.iter_mut().zip(row) {
+                *total += n as u64;
+            }
         }
     }
 
@@ -418,7 +444,14 @@ impl ScheduleStats {
     ) -> Result<()> {
         let words: Vec<u32> = read_back(ctx, &state.counters, (COUNTER_SCHEDULE + word::WORDS) * 4)?;
         self.add_share_words(ctx, &words[COUNTER_SCHEDULE as usize..], units, iterations, dispatches)?;
+        let rows = state.stats_bounces as u64 * QUEUE_COUNT;
+        self.add_rows(&words[COUNTER_STATS as usize..(COUNTER_STATS + rows) as usize]);
+        // The bounce-0 counts in the row after the share's (regenerating: one row).
+        let hits = (COUNTER_STATS + rows) as usize;
+        self.first_bounce.0 += words[hits] as u64;
+        self.first_bounce.1 += words[hits + 1] as u64;
         let mut enc = ctx.device.create_command_encoder(&Default::default());
+        enc.clear_buffer(&state.counters, COUNTER_STATS * 4, Some((rows + QUEUE_COUNT) * 4));
         clear_share_counters(&mut enc, state);
         ctx.queue.submit([enc.finish()]);
         Ok(())

@@ -91,6 +91,7 @@ impl ShareLedger {
         let (stride, rows) = ((self.stride() / 4) as usize, self.rows as usize);
         for (slot, work) in words.chunks_exact(stride).zip(std::mem::take(&mut self.pending)) {
             stats.add_share_words(ctx, &slot[rows..], work.units, work.iterations, work.dispatches)?;
+            stats.add_rows(&slot[..rows]);
             if let Some(h) = histogram.as_deref_mut() {
                 super::add_histogram_rows(h, &slot[..rows], rows / QUEUE_COUNT as usize);
             }

@@ -1,0 +1,472 @@
+//! Bytes of path state each wavefront pass reads and writes (issue 44, item 1c): a model of what
+//! the shaders name, per item a pass handles (a queued ray, a hit, a shadow ray, a sample), times
+//! the item counts the render's queue counters give. Divided by a pass's time it is the pass's
+//! achieved bandwidth; per sample, what the wavefront streams that a megakernel keeps in
+//! registers.
+//!
+//! Counted at the granularity the shader code names (a `.xyz` read is 12 bytes, a `.w` write
+//! 4), for the common path of each item: a GPU moves whole 32-byte sectors, so this is a lower
+//! bound on the memory traffic, and exact for what the layout asks of it. The film and the
+//! scene (BVH, primitives, materials) are not path state and are not counted; neither are the
+//! single-thread queue-setup passes, nor the state compaction's passes (`--compact-states on`,
+//! counted as not modelled) and the ray sort's (`--ray-sort`). The unit test at the end checks
+//! every modelled pass against the path-state variables its entry point reaches (naga), so a
+//! shader that starts touching a field the model does not know fails it.
+
+use super::path_state::PoolLayout;
+use crate::gpu::label;
+
+/// The item counts a render's counters give (summed over its shares).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Items {
+    /// Samples (paths started).
+    pub samples: u64,
+    /// Rays queued for intersect.
+    pub rays: u64,
+    /// Hits queued for shading, by material kind (`layout::material_kind` order).
+    pub hits: [u64; 4],
+    /// Shadow rays queued.
+    pub shadow: u64,
+    /// Paths the megakernel tail finished.
+    pub tail_paths: u64,
+    /// Slot visits of the passes that run over every slot of the pool (slot order's sweep, the
+    /// slot-order scan): iterations × pool when regenerating, bounces × paths in waves.
+    pub slot_visits: u64,
+    /// Slots emptied at a regenerating share's start (`regenerate_init`): pool × shares.
+    pub init_slots: u64,
+    /// Camera rays that hit, and paths that go on from their camera ray's hit (rays traced at
+    /// bounce 1): known per bounce in waves (the queue histogram); `None` when regenerating,
+    /// whose queues mix bounces, and the model then charges an upper bound (every escape and
+    /// hit as a later bounce's, every path as going on from bounce 0).
+    pub first_bounce: Option<(u64, u64)>,
+}
+
+/// How the render was configured, as far as the traffic depends on it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shape {
+    pub layout: PoolLayout,
+    /// `--schedule regenerate`.
+    pub regenerate: bool,
+    /// Queues appended atomically (`false`: the scan method).
+    pub atomic: bool,
+    /// Slot order (`--queue-order slot` / `slot-depth`).
+    pub slot_order: bool,
+    /// Slot order with atomic appends: the sweep after shade.
+    pub sweep: bool,
+    /// Camera rays made where they are used, not stored (`WaveUniform::camera_in_place`).
+    pub camera_in_place: bool,
+}
+
+/// One pass's modelled traffic.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PassTraffic {
+    pub label: String,
+    /// Items it handled (rays, hits, shadow rays, samples or slots, per the pass).
+    pub items: u64,
+    pub bytes_read: u64,
+    pub bytes_written: u64,
+}
+
+/// A render's modelled path-state traffic.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct StateTraffic {
+    /// Bytes read and written per sample, all passes together.
+    pub bytes_per_sample: f64,
+    pub passes: Vec<PassTraffic>,
+    /// The camera rays that hit and the paths that went on from them, as counted
+    /// ([`Items::first_bounce`]); absent where they were not, and the figures are upper bounds.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub first_bounce: Option<[u64; 2]>,
+}
+
+// Bytes of the fields, as the shaders access them.
+const VEC4: u64 = 16;
+const XYZ: u64 = 12;
+const WORD: u64 = 4;
+const PATH_SAMPLE: u64 = 8;
+
+impl Shape {
+    /// Bytes to put a path on a queue: an atomic append writes its entry; the scan marks its
+    /// target (and, in arrival order, its slot) for the scatter pass; in slot order the pass
+    /// after shade reads the mark instead.
+    fn enqueue(&self) -> u64 {
+        match (self.atomic, self.slot_order) {
+            (_, true) => WORD,
+            (true, false) => WORD,
+            (false, false) => 2 * WORD,
+        }
+    }
+
+    /// Bytes to mark an ended path for the scans (`retire`).
+    fn retire(&self) -> u64 {
+        if self.slot_order || !self.atomic {
+            WORD
+        } else {
+            0
+        }
+    }
+
+    /// A path ends (`finish_path`) with its radiance in registers, written once: when
+    /// regenerating into the sample ring (its sample index read) and its slot onto the free
+    /// list; in waves into `radiance`.
+    fn finish(&self) -> (u64, u64) {
+        if self.regenerate {
+            (PATH_SAMPLE, VEC4 + if self.slot_order { 0 } else { WORD })
+        } else {
+            (0, VEC4)
+        }
+    }
+}
+
+impl StateTraffic {
+    /// The model for a render of `shape` with `items`.
+    pub fn model(shape: &Shape, items: &Items) -> Self {
+        let s = shape;
+        let n = items;
+        let mut passes = Vec::new();
+        let mut add = |label: &str, items: u64, read: u64, written: u64| {
+            passes.push(PassTraffic {
+                label: label.to_string(),
+                items,
+                bytes_read: read,
+                bytes_written: written,
+            })
+        };
+        let nee = s.layout.shadow;
+        let hits: u64 = n.hits.iter().sum();
+        let escapes = n.rays.saturating_sub(hits);
+        // Every sample ends once: escaping in intersect, in shade, or in the tail.
+        let shade_ends = n.samples.saturating_sub(escapes + n.tail_paths).min(hits);
+        let continuing = hits - shade_ends;
+        // Camera rays' escapes and hits read no radiance or throughput (none is stored yet);
+        // the paths going on from bounce 0 write their first radiance.
+        // Without the per-bounce counts: no camera ray's escape or hit spared a read, and every
+        // path charged a first radiance.
+        let (camera_escapes, camera_hits, first_continuing) = match n.first_bounce {
+            Some((h, c)) => (n.samples.saturating_sub(h).min(escapes), h.min(hits), c.min(continuing)),
+            None => (0, 0, continuing.min(n.samples)),
+        };
+        let first_ends = camera_hits.saturating_sub(first_continuing).min(shade_ends);
+        let (finish_r, finish_w) = s.finish();
+
+        // Camera rays: origin and direction (unless made in place), the slot's sample and bounce
+        // (regenerate); the queue entry (waves: written, and the slot-order mark; regenerate:
+        // the free slot read and the ray queue entry written).
+        let camera_ray = if s.camera_in_place { 0 } else { 2 * VEC4 };
+        let start_w = camera_ray + if s.regenerate { PATH_SAMPLE } else { 0 };
+        // (A wave's camera rays made in place need no queue: intersect takes its slots in order.)
+        let (start_qr, start_qw) = match (s.regenerate, s.camera_in_place) {
+            (true, _) => (WORD, WORD),
+            (false, true) => (0, 0),
+            (false, false) => (0, WORD),
+        };
+        let slot_mark = if s.slot_order && !s.regenerate { WORD } else { 0 };
+        let label = if s.regenerate { label::REGENERATE } else { label::GENERATE };
+        add(label, n.samples, n.samples * start_qr, n.samples * (start_w + start_qw + slot_mark));
+        if s.regenerate {
+            // Every slot freed: its queue entry, dead direction word and slot-order mark.
+            let w = WORD + WORD + if s.slot_order { WORD } else { 0 };
+            add(label::REGENERATE_INIT, n.init_slots, 0, n.init_slots * w);
+        }
+
+        // intersect: the queue entry, the ray (origin.xyz, direction with the primitive it
+        // left; a camera ray made in place reads only, when regenerating, its sample); a hit
+        // writes its distance and primitive and queues the material; an escape adds the
+        // background to the radiance (past bounce 0: read with the throughput) and ends.
+        let hit_w = 2 * WORD + s.enqueue();
+        let later_escapes = escapes - camera_escapes;
+        // (In place: regenerating, the marked queue entry and the sample; a wave's, nothing.)
+        let (camera_rays, camera_read) = match (s.camera_in_place, s.regenerate) {
+            (false, _) => (0, 0),
+            (true, true) => (n.samples.min(n.rays), WORD + PATH_SAMPLE),
+            (true, false) => (n.samples.min(n.rays), 0),
+        };
+        add(
+            label::INTERSECT,
+            n.rays,
+            camera_rays * camera_read
+                + (n.rays - camera_rays) * (WORD + XYZ + VEC4)
+                + later_escapes * (XYZ + VEC4)
+                + escapes * finish_r,
+            hits * hit_w + escapes * (WORD + s.retire() + finish_w),
+        );
+
+        // shade: the queue entry, the ray with its hit, the throughput and MIS density (past
+        // bounce 0), the slot's sample and bounce; a path going on writes its next ray and
+        // throughput (and bounce; from bounce 0 its first radiance) and queues it, and at a
+        // diffuse hit with NEE its shadow ray and weight; an ending path adds what it found to
+        // its radiance (past bounce 0: read) and ends.
+        let shade_r = WORD + 2 * VEC4 + if s.regenerate { PATH_SAMPLE } else { 0 };
+        // A camera hit made in place reads its hit's distance and primitive, not the ray.
+        let camera_spared = if s.camera_in_place { 2 * VEC4 - 2 * WORD } else { 0 };
+        let go_w = 3 * VEC4 + if s.regenerate { WORD } else { 0 } + s.enqueue();
+        let end_w = WORD + s.retire() + finish_w;
+        let shadow_w = 2 * VEC4 + if s.atomic && !s.slot_order { WORD } else { 0 };
+        let shade_read = hits * shade_r
+            + (hits - camera_hits) * VEC4
+            + shade_ends * finish_r
+            + (shade_ends - first_ends) * VEC4
+            - camera_hits * camera_spared;
+        let shade_written =
+            continuing * go_w + first_continuing * VEC4 + shade_ends * end_w + n.shadow * shadow_w;
+        add("shade", hits, shade_read, shade_written);
+
+        if s.sweep {
+            // Every slot's mark read; continuing rays, shadow rays and (regenerate) ended paths'
+            // slots appended.
+            let appends = continuing + n.shadow + if s.regenerate { n.samples } else { 0 };
+            add(label::SLOT_SWEEP, n.slot_visits, n.slot_visits * WORD, appends * WORD);
+        } else if !s.atomic || s.slot_order {
+            // The scan: each position's mark read by the scan and the scatter, its offset written
+            // and read, its slot read (arrival order), its queue entry written; after intersect
+            // (scan method: the material queues) and after shade (the next ray queue).
+            let per = 2 * WORD + 2 * WORD + if s.slot_order { 0 } else { WORD };
+            let after_shade = if s.slot_order { n.slot_visits } else { hits };
+            let positions = after_shade + if s.atomic { 0 } else { n.rays };
+            let entries = continuing + if s.atomic { 0 } else { hits };
+            add("compact", positions, positions * (per - WORD), positions * WORD + entries * WORD);
+        }
+
+        if nee {
+            // shadow: the queue entry, weight and light, ray, origin, the primitive it left, and
+            // the radiance, which gets the unblocked light and the ray's count.
+            let r = WORD + VEC4 + VEC4 + XYZ + WORD + VEC4;
+            add(label::SHADOW, n.shadow, n.shadow * r, n.shadow * VEC4);
+        }
+        if n.tail_paths > 0 {
+            // The tail reads the whole path (queue entry, ray, throughput, radiance, sample) and
+            // writes the flushed mark and the finished sample into the ring.
+            let r = WORD + 4 * VEC4 + PATH_SAMPLE;
+            let w = WORD + VEC4;
+            add(label::TAIL, n.tail_paths, n.tail_paths * r, n.tail_paths * w);
+        }
+        // The film's input: each sample's radiance (regenerate: from the ring).
+        let label = if s.regenerate { label::ACCUMULATE_RANGE } else { label::ACCUMULATE };
+        add(label, n.samples, n.samples * VEC4, 0);
+
+        let total: u64 = passes.iter().map(|p| p.bytes_read + p.bytes_written).sum();
+        Self {
+            bytes_per_sample: total as f64 / n.samples.max(1) as f64,
+            passes,
+            first_bounce: n.first_bounce.map(|(h, c)| [h, c]),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeSet;
+
+    fn shape(regenerate: bool, atomic: bool, slot_order: bool, nee: bool) -> Shape {
+        let sweep = slot_order && atomic;
+        Shape {
+            layout: PoolLayout {
+                targets: slot_order || !atomic,
+                scan: !atomic || (slot_order && !sweep),
+                shadow: nee,
+                ring_samples: regenerate.then_some(1 << 20),
+            },
+            regenerate,
+            atomic,
+            slot_order,
+            sweep,
+            camera_in_place: false,
+        }
+    }
+
+    /// A wave of 100 samples: 100 camera rays, 60 hit (40 escape); 50 of the hits go on and are
+    /// traced at bounce 1 (all escape), 10 end; 20 shadow rays. Every sample ends once.
+    #[test]
+    fn the_model_adds_up_a_small_wave() {
+        let items = Items {
+            samples: 100,
+            rays: 150,
+            hits: [40, 20, 0, 0],
+            shadow: 20,
+            tail_paths: 0,
+            slot_visits: 0,
+            init_slots: 0,
+            first_bounce: Some((60, 50)),
+        };
+        let t = StateTraffic::model(&shape(false, true, false, true), &items);
+        let pass = |l: &str| t.passes.iter().find(|p| p.label == l).unwrap().clone();
+        // generate: origin and direction, and the queue entry, per sample.
+        assert_eq!(pass("generate").bytes_written, 100 * (2 * 16 + 4));
+        // intersect: 150 rays read (entry, origin.xyz, direction); the 50 escapes past bounce 0
+        // read throughput.xyz and radiance; 60 hits write 12 bytes; 90 escapes write the dead
+        // word and the radiance.
+        assert_eq!(pass("intersect").bytes_read, 150 * 32 + 50 * 28);
+        assert_eq!(pass("intersect").bytes_written, 60 * 12 + 90 * 20);
+        // shade: 60 camera hits read 36 bytes (no throughput); 50 go on (52 bytes and their
+        // first radiance), 10 end (dead word and radiance); 20 shadow rays and weights queued.
+        assert_eq!(pass("shade").bytes_read, 60 * 36);
+        assert_eq!(pass("shade").bytes_written, 50 * (52 + 16) + 10 * 20 + 20 * 36);
+        assert_eq!(pass("shadow").bytes_read, 20 * 68);
+        assert_eq!(pass("shadow").bytes_written, 20 * 16);
+        let total: u64 = t.passes.iter().map(|p| p.bytes_read + p.bytes_written).sum();
+        assert_eq!(t.bytes_per_sample, total as f64 / 100.0);
+        // Camera rays made in place: generate writes nothing (a wave's queue is its slots),
+        // intersect reads nothing for its 100 camera rays, shade 24 bytes less per camera hit.
+        let in_place = Shape { camera_in_place: true, ..shape(false, true, false, true) };
+        let t2 = StateTraffic::model(&in_place, &items);
+        let pass2 = |l: &str| t2.passes.iter().find(|p| p.label == l).unwrap().clone();
+        assert_eq!(pass2("generate").bytes_written, 0);
+        assert_eq!(pass2("intersect").bytes_read, 50 * 32 + 50 * 28);
+        assert_eq!(pass2("shade").bytes_read, 60 * (36 - 24));
+        assert_eq!(pass2("shade").bytes_written, pass("shade").bytes_written);
+        // Without the per-bounce counts (regenerating) the model charges at least as much.
+        let bound =
+            StateTraffic::model(&shape(false, true, false, true), &Items { first_bounce: None, ..items });
+        assert!(bound.bytes_per_sample > t.bytes_per_sample);
+    }
+
+    /// Path-state variables, as `shaders/shared/path_state.wgsl` names them.
+    const STATE: [&str; 12] = [
+        "path_origin",
+        "path_dir",
+        "path_throughput",
+        "radiance",
+        "queues",
+        "next_queue",
+        "scan_offset",
+        "scan_slot",
+        "shadow_ray",
+        "shadow_weight",
+        "path_sample",
+        "samples",
+    ];
+
+    /// The path-state variables an entry point of `source` reaches (through the functions it
+    /// calls), read or written.
+    fn reached(source: &str, entry: &str) -> BTreeSet<String> {
+        let module = naga::front::wgsl::parse_str(source).expect("the composed shader parses");
+        let ep = module.entry_points.iter().find(|e| e.name == entry).expect("entry point");
+        let mut names = BTreeSet::new();
+        let mut stack = vec![&ep.function];
+        let mut seen = BTreeSet::new();
+        while let Some(f) = stack.pop() {
+            for (_, e) in f.expressions.iter() {
+                match e {
+                    naga::Expression::GlobalVariable(g) => {
+                        if let Some(n) = &module.global_variables[*g].name {
+                            if STATE.contains(&n.as_str()) {
+                                names.insert(n.clone());
+                            }
+                        }
+                    }
+                    naga::Expression::CallResult(h) if seen.insert(*h) => stack.push(&module.functions[*h]),
+                    _ => {}
+                }
+            }
+            // Calls without a result are statements.
+            fn calls(block: &naga::Block, out: &mut Vec<naga::Handle<naga::Function>>) {
+                for s in block.iter() {
+                    match s {
+                        naga::Statement::Call { function, .. } => out.push(*function),
+                        naga::Statement::Block(b) => calls(b, out),
+                        naga::Statement::If { accept, reject, .. } => {
+                            calls(accept, out);
+                            calls(reject, out);
+                        }
+                        naga::Statement::Loop { body, continuing, .. } => {
+                            calls(body, out);
+                            calls(continuing, out);
+                        }
+                        naga::Statement::Switch { cases, .. } => {
+                            for c in cases {
+                                calls(&c.body, out);
+                            }
+                        }
+                        _ => {}
+                    }
+                }
+            }
+            let mut called = Vec::new();
+            calls(&f.body, &mut called);
+            for h in called {
+                if seen.insert(h) {
+                    stack.push(&module.functions[h]);
+                }
+            }
+        }
+        names
+    }
+
+    /// The fields the model charges a pass with, under any of the shapes.
+    fn modelled(label: &str) -> BTreeSet<String> {
+        let fields: &[&str] = match label {
+            // shadow_weight: cleared without queues only, where the model does not apply.
+            "generate" => {
+                &["path_origin", "path_dir", "shadow_weight", "queues", "next_queue", "path_sample"]
+            }
+            "regenerate" => &["path_origin", "path_dir", "shadow_weight", "queues", "path_sample"],
+            "regenerate_init" => &["queues", "path_dir", "next_queue", "shadow_weight"],
+            "intersect" => &[
+                "queues",
+                "path_origin",
+                "path_dir",
+                "path_throughput",
+                "radiance",
+                "next_queue",
+                "scan_slot",
+                "path_sample",
+                "samples",
+            ],
+            "shade" => &[
+                "queues",
+                "path_origin",
+                "path_dir",
+                "path_throughput",
+                "radiance",
+                "next_queue",
+                "scan_slot",
+                "path_sample",
+                "samples",
+                "shadow_ray",
+                "shadow_weight",
+            ],
+            "shadow" => &["queues", "shadow_weight", "shadow_ray", "path_origin", "path_dir", "radiance"],
+            "tail" => &[
+                "queues",
+                "path_origin",
+                "path_dir",
+                "path_throughput",
+                "radiance",
+                "path_sample",
+                "samples",
+            ],
+            "slot_sweep" => &["next_queue", "queues"],
+            other => panic!("no model for {other}"),
+        };
+        fields.iter().map(|s| s.to_string()).collect()
+    }
+
+    /// Each modelled pass's shader reaches exactly the path-state variables the model charges it
+    /// with: a field added to a pass, or dropped from it, must be added to (or dropped from) the
+    /// model too.
+    #[test]
+    fn the_model_names_what_each_pass_reaches() {
+        use crate::gpu::shaders;
+        let cases = [
+            (shaders::GENERATE.plain, "generate"),
+            (shaders::GENERATE.plain, "regenerate"),
+            (shaders::GENERATE.plain, "regenerate_init"),
+            (shaders::INTERSECT.plain, "intersect"),
+            (shaders::SHADE.plain, "shade"),
+            (shaders::SHADE.plain, "shade_lambertian"),
+            (shaders::SHADOW.plain, "shadow"),
+            (shaders::TAIL.plain, "tail"),
+            (shaders::SLOT_SWEEP[0], "slot_sweep"),
+        ];
+        let mut wrong = Vec::new();
+        for (source, entry) in cases {
+            let model = modelled(if entry.starts_with("shade") { "shade" } else { entry });
+            let shader = reached(source, entry);
+            if shader != model {
+                wrong.push(format!("{entry}: the shader reaches {shader:?}, the model charges {model:?}"));
+            }
+        }
+        assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+    }
+}
