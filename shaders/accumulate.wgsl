@@ -19,7 +19,8 @@ struct Range {
 @group(0) @binding(0) var<storage, read> samples: array<vec4<f32>>;
 @group(0) @binding(1) var<storage, read_write> film: array<FilmPixel>;
 @group(0) @binding(2) var<uniform> dispatch: Dispatch;
-@group(0) @binding(3) var<uniform> range: Range;
+// Written on the GPU by the wavefront's schedule_decide (wavefront/queue_setup.wgsl).
+@group(0) @binding(3) var<storage, read> range: Range;
 
 // Adds one sample to a pixel's sums (the film's arithmetic, one place for both entry points).
 fn add_sample(sum: ptr<function, array<vec3<f32>, 2>>, sum_sq: ptr<function, array<vec3<f32>, 2>>,

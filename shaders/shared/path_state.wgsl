@@ -6,8 +6,8 @@
 // pool: each slot stores the sample it traces and its bounce, and a slot whose path ended takes
 // the share's next sample (generate.wgsl's `regenerate`), so the pool stays full. Finished
 // samples wait in a ring of `wave.ring` chunks of `wave.chunk` samples for the accumulate pass,
-// which the host records as the oldest chunks complete; refills stop at the ring's end
-// (COUNTER_FILL_LIMIT, advanced by the host), so the pool drains once per share, not per chunk.
+// which runs as the oldest chunks complete; refills stop at the ring's end (COUNTER_FILL_LIMIT,
+// advanced on the GPU by schedule_decide), so the pool drains once per share, not per chunk.
 
 #include "shared/dispatch.wgsl"
 
@@ -25,7 +25,7 @@ const COUNTER_BOUNCE: u32 = 8u;     // current iteration (= bounce in waves), ad
 const COUNTER_POSITIONS: u32 = 9u;  // queue positions the next scan compaction covers
 const COUNTER_STATS: u32 = 10u;     // + bounce * QUEUE_COUNT + queue: paths queued, summed over waves
 const COUNTER_SHADE_BASE: u32 = 10u + 64u * QUEUE_COUNT; // + kind: first scan position of each shade pass
-// Scheduling counters, read by the host after each submission (src/gpu/wavefront/schedule.rs).
+// Scheduling counters, read back by the host after each batch (src/gpu/wavefront/schedule.rs).
 const COUNTER_NEXT_SAMPLE: u32 = COUNTER_SHADE_BASE + 4u;  // (regenerate) the share's next sample to start
 // (regenerate) first ray-queue entry of this iteration's refill: queue_setup_regenerate reserves
 // the refill's entries, so `regenerate` appends without an atomic.
@@ -35,7 +35,7 @@ const COUNTER_EMPTY: u32 = COUNTER_SHADE_BASE + 7u;        // indirect dispatche
 const COUNTER_INDIRECT: u32 = COUNTER_SHADE_BASE + 8u;     // indirect dispatches sized
 const COUNTER_INTERSECTED: u32 = COUNTER_SHADE_BASE + 9u;  // paths queued for intersect, summed
 const COUNTER_IDLE: u32 = COUNTER_SHADE_BASE + 10u;        // iterations that found no ray to trace
-// (regenerate) Written by the host between submissions:
+// (regenerate) Written by schedule_decide (queue_setup.wgsl):
 const COUNTER_FILL_LIMIT: u32 = COUNTER_SHADE_BASE + 11u;  // refills start samples below this (the ring's end)
 const COUNTER_TAIL_BOUND: u32 = COUNTER_SHADE_BASE + 12u;  // the tail finishes the paths of samples below this
 const COUNTER_FREE_BASE: u32 = COUNTER_SHADE_BASE + 13u;   // (regenerate) first free-queue entry of this refill
@@ -46,7 +46,24 @@ const COUNTER_STATES_MOVED: u32 = COUNTER_SHADE_BASE + 15u;
 const COUNTER_COMPACTIONS: u32 = COUNTER_SHADE_BASE + 16u;
 const COUNTER_COMPACT_FREE: u32 = COUNTER_SHADE_BASE + 17u;
 const COUNTER_COMPACT_MISMATCH: u32 = COUNTER_SHADE_BASE + 18u;
-const COUNTER_RING_0: u32 = COUNTER_SHADE_BASE + 19u;      // + ring chunk: its samples finished
+// (regenerate) The decision pass's words (schedule_word in path_state.rs; queue_setup.wgsl's
+// schedule_decide): the first chunk not in the film, the samples started at the last check, the
+// share done, its iterations, iterations since the last check, the last check found every sample
+// started, tail passes and paths; written by the host at the share's start: --sync-every, the
+// tail on, the most live paths it runs at; every sample finished with chunks left out (a bug).
+const COUNTER_OLDEST: u32 = COUNTER_SHADE_BASE + 19u;
+const COUNTER_STARTED_BEFORE: u32 = COUNTER_SHADE_BASE + 20u;
+const COUNTER_DONE: u32 = COUNTER_SHADE_BASE + 21u;
+const COUNTER_ITERATION: u32 = COUNTER_SHADE_BASE + 22u;
+const COUNTER_SINCE_CHECK: u32 = COUNTER_SHADE_BASE + 23u;
+const COUNTER_REFILL_DONE: u32 = COUNTER_SHADE_BASE + 24u;
+const COUNTER_TAIL_PASSES: u32 = COUNTER_SHADE_BASE + 25u;
+const COUNTER_TAIL_PATHS: u32 = COUNTER_SHADE_BASE + 26u;
+const COUNTER_SYNC_EVERY: u32 = COUNTER_SHADE_BASE + 27u;
+const COUNTER_TAIL_ON: u32 = COUNTER_SHADE_BASE + 28u;
+const COUNTER_TAIL_MAX_LIVE: u32 = COUNTER_SHADE_BASE + 29u;
+const COUNTER_FAILED: u32 = COUNTER_SHADE_BASE + 30u;
+const COUNTER_RING_0: u32 = COUNTER_SHADE_BASE + 31u;      // + ring chunk: its samples finished
 // (regenerate, wave.camera_in_place) Camera rays that hit, and paths going on from that hit: in
 // the histogram's second row, which regenerating renders (one row) leave unused. In waves the
 // histogram has them per bounce. The bounce-0 counts of the path-state traffic model
@@ -62,6 +79,7 @@ const ARGS_REGENERATE: u32 = 7u;
 const ARGS_TAIL: u32 = 8u;
 const ARGS_COMPACT_STATES_FIND: u32 = 9u;  // (--compact-states on) the find pass, then the move pass
 const ARGS_COMPACT_STATES_MOVE: u32 = 10u;
+const ARGS_ACCUMULATE: u32 = 11u;  // (regenerate) accumulate_range, sized by schedule_decide
 // Workgroup size of the passes ARGS_COMPACT sizes: the scan (shared/compact.wgsl) and slot
 // order's sweep (wavefront/slot_sweep.wgsl). SCAN_WG in path_state.rs.
 const SCAN_WG: u32 = 256u;

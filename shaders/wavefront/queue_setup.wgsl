@@ -5,6 +5,7 @@
 
 #include "shared/path_state.wgsl"
 #include "shared/indirect_args.wgsl"
+#include "shared/schedule_rule.wgsl"
 
 // Its own group: a buffer bound as storage cannot also feed an indirect dispatch in the same
 // pass, so only this pass binds it.
@@ -14,9 +15,17 @@
 override STATS_BOUNCES: u32 = 64u;
 override WORKGROUP_SIZE: u32 = 64u;
 
+// (regenerate) Once schedule_decide has put every chunk in the film, the host may still have
+// iterations queued (it reads the DONE word back later): they dispatch zero workgroups and
+// count nothing, so the report's figures are those of the share's own iterations.
+fn share_done() -> bool {
+    return REGENERATE && atomicLoad(&counters[COUNTER_DONE]) != 0u;
+}
+
 // One indirect dispatch's arguments: workgroups of `group` threads covering `threads`, clamped
 // to the adapter's limit (shared/indirect_args.wgsl); a clamp is counted for the host to refuse.
-fn set_group_args(slot: u32, threads: u32, group: u32) {
+fn set_group_args(slot: u32, all_threads: u32, group: u32) {
+    let threads = select(all_threads, 0u, share_done());
     if workgroups_needed(threads, group) > MAX_WORKGROUPS {
         atomicAdd(&counters[COUNTER_CLAMPED], 1u);
     }
@@ -32,6 +41,9 @@ fn set_args(slot: u32, threads: u32) {
 // Counts `dispatches` recorded indirect dispatches sized to `threads` (empty ones apart): the
 // fixed cost the report shows.
 fn count_dispatches(threads: u32, dispatches: u32) {
+    if share_done() {
+        return;
+    }
     atomicAdd(&counters[COUNTER_INDIRECT], dispatches);
     if threads == 0u {
         atomicAdd(&counters[COUNTER_EMPTY], dispatches);
@@ -120,9 +132,11 @@ fn queue_setup_intersect() {
     }
     set_args(ARGS_INTERSECT, n);
     count_dispatches(n, 1u);
-    atomicAdd(&counters[COUNTER_INTERSECTED], n);
-    if n == 0u {
-        atomicAdd(&counters[COUNTER_IDLE], 1u);
+    if !share_done() {
+        atomicAdd(&counters[COUNTER_INTERSECTED], n);
+        if n == 0u {
+            atomicAdd(&counters[COUNTER_IDLE], 1u);
+        }
     }
     record(bounce, QUEUE_RAY_0, n);
     // A scan after intersect (scan method) covers the ray queue's positions.
@@ -167,21 +181,133 @@ fn queue_setup_shade() {
     }
 }
 
-// (regenerate, --tail megakernel) Before the tail: every path on the ray queue the last shade
-// pass filled (the tail itself skips those of samples from COUNTER_TAIL_BOUND on).
+// (regenerate) The range of the share's samples accumulate_range adds to the film (twin of
+// AccumulateRange in src/layout.rs), written here for the pass after; only schedule_decide binds
+// it (group 3).
+struct FilmRange {
+    first: u32,
+    count: u32,
+    ring: u32,
+    pad: u32,
+}
+@group(3) @binding(0) var<storage, read_write> film_range: FilmRange;
+
+// accumulate_range's workgroup size (accumulate::WORKGROUP_SIZE).
+const ACCUMULATE_WG: u32 = 64u;
+
+fn ring_finished(slot: u32) -> u32 {
+    return atomicLoad(&counters[COUNTER_RING_0 + slot]);
+}
+
+// (regenerate) After an iteration (every one with --tail megakernel, else every --sync-every):
+// the host's check, on the GPU, so the host never reads a counter to go on. At a check (every
+// --sync-every iterations; with the tail, every iteration once every sample has started) it
+// decides as `schedule::Decision::after` (shared/schedule_rule.wgsl): sizes the tail (finishing
+// the chunks below the bound) and accumulate_range over the chunks that go into the film, takes
+// those chunks out of the ring's counts, moves the refills' limit to the ring's new end, and says
+// DONE once every chunk is in the film. Anywhere else both passes get zero workgroups.
 @compute @workgroup_size(1)
-fn queue_setup_tail() {
-    var n = pool_slots();
-    if wave.compaction != 0u {
-        n = atomicLoad(&counters[next_ray_queue()]);
+fn schedule_decide() {
+    decide();
+}
+
+// (regenerate, --nee on) queue_setup_shadow and schedule_decide in one dispatch, on the iterations
+// that have both: the shadow pass after it changes neither the ring's counts nor the ray queue
+// the decision reads, and the tail and accumulate_range it sizes are recorded after the shadow
+// pass. The shadow pass is sized first: DONE, set last, empties what comes after.
+@compute @workgroup_size(1)
+fn queue_setup_shadow_decide() {
+    setup_shadow();
+    decide();
+}
+
+fn decide() {
+    let tail = atomicLoad(&counters[COUNTER_TAIL_ON]) != 0u;
+    var tail_threads = 0u;
+    var film_threads = 0u;
+    var done = share_done();
+    if !done {
+        let sync_every = atomicLoad(&counters[COUNTER_SYNC_EVERY]);
+        // The host records this pass after every iteration with the tail, else after every
+        // --sync-every: the iterations each recording stands for.
+        let step = select(sync_every, 1u, tail);
+        atomicAdd(&counters[COUNTER_ITERATION], step);
+        var since = atomicLoad(&counters[COUNTER_SINCE_CHECK]) + step;
+        let r = RingShape(wave_paths(), wave.chunk, wave.ring);
+        // Whether the first refill starts every sample (a pool of them, up to the ring's end).
+        let one_refill = r.paths <= min(wave.pool, ring_fill_limit(r, 0u));
+        let refill_done = atomicLoad(&counters[COUNTER_REFILL_DONE]) != 0u;
+        if since >= sync_every || (tail && (one_refill || refill_done)) {
+            since = 0u;
+            let oldest = atomicLoad(&counters[COUNTER_OLDEST]);
+            let started = atomicLoad(&counters[COUNTER_NEXT_SAMPLE]);
+            var finished = oldest * r.chunk;
+            for (var k = 0u; k < r.ring; k++) {
+                finished += ring_finished(k);
+            }
+            let max_live = atomicLoad(&counters[COUNTER_TAIL_MAX_LIVE]);
+            let before = atomicLoad(&counters[COUNTER_STARTED_BEFORE]);
+            let d = schedule_decision(r, oldest, started, before, finished, max_live, tail);
+            atomicStore(&counters[COUNTER_REFILL_DONE], select(1u, 0u, d.refill));
+            atomicStore(&counters[COUNTER_STARTED_BEFORE], started);
+            if d.tail_bound != 0u {
+                atomicStore(&counters[COUNTER_TAIL_BOUND], ring_end(r, d.tail_bound - 1u));
+                // Every path on the ray queue the last shade pass filled (the tail skips those
+                // of samples from the bound on).
+                tail_threads = pool_slots();
+                if wave.compaction != 0u {
+                    tail_threads = atomicLoad(&counters[next_ray_queue()]);
+                }
+                var left = 0u;
+                for (var k = d.complete; k < d.tail_bound; k++) {
+                    left += ring_len(r, k) - ring_finished(k % r.ring);
+                }
+                atomicAdd(&counters[COUNTER_TAIL_PASSES], 1u);
+                atomicAdd(&counters[COUNTER_TAIL_PATHS], left);
+            }
+            if d.added > oldest {
+                let first = oldest * r.chunk;
+                let count = ring_end(r, d.added - 1u) - first;
+                film_range = FilmRange(first, count, r.chunk * r.ring, 0u);
+                film_threads = min(dispatch.pixel_count, count);
+                // Each added chunk ends complete (the tail, next, finishes what it lacks): taking
+                // its length off its ring count leaves the zero a refill of the ring's next round
+                // starts from, whatever the tail still adds.
+                for (var k = oldest; k < d.added; k++) {
+                    atomicSub(&counters[COUNTER_RING_0 + k % r.ring], ring_len(r, k));
+                }
+                atomicStore(&counters[COUNTER_OLDEST], d.added);
+                atomicStore(&counters[COUNTER_FILL_LIMIT], ring_fill_limit(r, d.added));
+            }
+            if d.added == ring_chunks(r) {
+                done = true;
+            } else if finished == r.paths {
+                // Every sample finished, yet chunks are left out: a bug the host reports.
+                atomicStore(&counters[COUNTER_FAILED], 1u);
+                done = true;
+            }
+        }
+        atomicStore(&counters[COUNTER_SINCE_CHECK], since);
     }
-    set_args(ARGS_TAIL, n);
-    count_dispatches(n, 1u);
+    // Sized and counted before DONE is set, which empties every dispatch after.
+    if tail {
+        set_args(ARGS_TAIL, tail_threads);
+        count_dispatches(tail_threads, 1u);
+    }
+    set_group_args(ARGS_ACCUMULATE, film_threads, ACCUMULATE_WG);
+    count_dispatches(film_threads, 1u);
+    if done {
+        atomicStore(&counters[COUNTER_DONE], 1u);
+    }
 }
 
 // Before the shadow pass (--nee on): size it from the shadow rays the shade passes queued.
 @compute @workgroup_size(1)
 fn queue_setup_shadow() {
+    setup_shadow();
+}
+
+fn setup_shadow() {
     var n = pool_slots();
     if wave.compaction != 0u {
         n = atomicLoad(&counters[QUEUE_SHADOW]);

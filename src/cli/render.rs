@@ -161,10 +161,11 @@ pub struct RenderArgs {
     /// workgroups [default: 262144 on a discrete GPU, else 65536].
     #[arg(long, help_heading = "Megakernel", hide_short_help = true)]
     pub threads: Option<u32>,
-    /// Wavefront, regenerate: iterations recorded between checks of the schedule's counters (the
-    /// host waits for the GPU at each check, then adds complete chunks to the film; up to this
-    /// many iterations idle at the image's end). With --tail megakernel, the host checks after
-    /// every iteration once every sample has started, so the tail starts when it is due.
+    /// Wavefront, regenerate: iterations between checks of the schedule's counters (on the GPU,
+    /// which then adds complete chunks to the film; up to this many iterations idle at the
+    /// image's end), and per batch the host submits and reads back without waiting. With --tail
+    /// megakernel, the check runs after every iteration once every sample has started, so the
+    /// tail starts when it is due.
     #[arg(long, default_value_t = WavefrontOptions::default().sync_every, help_heading = "Wavefront", hide_short_help = true)]
     pub sync_every: u32,
     /// Wavefront, regenerate: finish paths in one megakernel-style pass: the image's last ones

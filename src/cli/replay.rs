@@ -127,7 +127,7 @@ pub struct ReplayArgs {
     /// Wavefront: the queues' order, as `render` (`auto` resolved as the device resolves it).
     #[arg(long, value_enum, default_value_t = QueueOrder::Auto)]
     pub queue_order: QueueOrder,
-    /// Regenerating wavefront: iterations between the host's checks of the counters, as
+    /// Regenerating wavefront: iterations between the schedule's checks of the counters, as
     /// `render` (when the refill limit moves and, with the tail, when it starts).
     #[arg(long, default_value_t = WavefrontOptions::default().sync_every)]
     pub sync_every: u32,

@@ -243,6 +243,14 @@ pub struct RunRecord {
     /// are blocking waits inside the frame (GPU methods; absent in reports from before).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub waits: Option<u64>,
+    /// Wavefront (median repetition): read-backs inside a share's loop the host waited for with
+    /// no newer batch queued, the GPU idle (0 unless passes are timed). Absent before it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub blocking_reads: Option<u64>,
+    /// Regenerating wavefront (median repetition): iterations recorded past a share's end (zero
+    /// workgroups; not in `iterations`). Absent in reports from before it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speculative_iterations: Option<u64>,
     /// Seconds of busy GPU work before each frame (`preheat_seconds` in the config; the median
     /// repetition's; 0 on a software adapter). Absent in reports written before it existed.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -531,6 +531,8 @@ impl<'a> Run<'a> {
         if let Some(s) = &median_rep.schedule {
             rec.iterations = Some(s.iterations);
             rec.idle_iterations = Some(s.idle_iterations);
+            rec.blocking_reads = Some(s.blocking_reads);
+            rec.speculative_iterations = Some(s.speculative_iterations);
             rec.intersect_occupancy = Some(s.intersect_occupancy);
             // The profiled render's, where there is one: the same counts, with pass times.
             let profiled = pass_rep.schedule.as_ref().and_then(|p| p.state_traffic.clone());
@@ -617,6 +619,8 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         host_gap_seconds: None,
         submissions: None,
         waits: None,
+        blocking_reads: None,
+        speculative_iterations: None,
         scene_prepare_seconds: None,
         preheat_seconds: None,
         between_passes_seconds: None,

@@ -223,6 +223,8 @@ fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
         rcol("compute_passes_used", |r| r.compute_passes.and_then(int)),
         rcol("submissions", |r| r.submissions.and_then(int)),
         rcol("waits", |r| r.waits.and_then(int)),
+        rcol("blocking_reads", |r| r.blocking_reads.and_then(int)),
+        rcol("speculative_iterations", |r| r.speculative_iterations.and_then(int)),
         rcol("preheat_seconds", |r| r.preheat_seconds.map(float)),
         rcol("scene_prepare_seconds", |r| r.scene_prepare_seconds.map(float)),
         rcol("interleaved_with", |r| {

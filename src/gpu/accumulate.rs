@@ -37,13 +37,14 @@ impl Accumulate {
                 storage_entry(0, true),
                 storage_entry(1, false),
                 uniform_entry(2, true),
-                uniform_entry(3, false),
+                storage_entry(3, true),
             ],
         );
         let range = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("accumulate range"),
             contents: bytemuck::bytes_of(&AccumulateRange::default()),
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            // Written by the regenerating wavefront's decision pass (storage there too).
+            usage: wgpu::BufferUsages::STORAGE,
         });
         let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(label::ACCUMULATE),
@@ -72,22 +73,16 @@ impl Accumulate {
         self.stage.record(enc, timer, None, &groups, Workgroups::Direct(pixels.div_ceil(WORKGROUP_SIZE)));
     }
 
-    /// Records the pass over `range` of the share at `offset` covering `pixels`. The range is
-    /// written with the queue, so it takes effect at the next submission: at most one range pass
-    /// per submission, recorded before it.
-    pub fn record_range(
-        &self,
-        ctx: &GpuContext,
-        enc: &mut wgpu::CommandEncoder,
-        timer: &mut GpuTimer,
-        offset: u32,
-        pixels: u32,
-        range: AccumulateRange,
-    ) {
-        ctx.queue.write_buffer(&self.range, 0, bytemuck::bytes_of(&range));
-        let groups = [(&self.bind_group, vec![offset])];
-        let threads = pixels.min(range.count);
+    /// `accumulate_range` and its bind group at the share's `offset`, for the regenerating
+    /// wavefront to record as an indirect pass sized by its decision pass.
+    pub fn range_pass(&self, offset: u32) -> (&Stage, [(&wgpu::BindGroup, Vec<u32>); 1]) {
         let stage = self.range_stage.as_ref().expect("Accumulate built without ranges");
-        stage.record(enc, timer, None, &groups, Workgroups::Direct(threads.div_ceil(WORKGROUP_SIZE)));
+        (stage, [(&self.bind_group, vec![offset])])
+    }
+
+    /// The range `accumulate_range` adds ([`AccumulateRange`]), written on the GPU by the
+    /// regenerating wavefront's decision pass.
+    pub fn range_buffer(&self) -> &wgpu::Buffer {
+        &self.range
     }
 }

@@ -131,6 +131,40 @@ impl Staging {
         enc.copy_buffer_to_buffer(src, 0, &self.buffer, 0, size);
     }
 
+    /// Asks for the first `size` bytes to be mapped once the submissions before have run,
+    /// without waiting: the device's polls complete it ([`MapRequest::is_ready`]), and
+    /// [`Self::take`] reads it then.
+    pub fn request(&self, size: u64) -> MapRequest {
+        let state = std::sync::Arc::new(std::sync::atomic::AtomicU8::new(MAP_PENDING));
+        let done = state.clone();
+        self.buffer.slice(..size).map_async(wgpu::MapMode::Read, move |r| {
+            done.store(if r.is_ok() { MAP_OK } else { MAP_FAILED }, std::sync::atomic::Ordering::Release);
+        });
+        MapRequest { state, size }
+    }
+
+    /// The bytes of a [`Self::request`] that is ready, as `T`s; unmaps for the next copy.
+    pub fn take<T: bytemuck::Pod>(&self, req: &MapRequest) -> Result<Vec<T>> {
+        match req.state.load(std::sync::atomic::Ordering::Acquire) {
+            MAP_OK => {}
+            MAP_FAILED => bail!("mapping the read-back buffer failed"),
+            _ => bail!("read-back taken before it was mapped"),
+        }
+        let slice = self.buffer.slice(..req.size);
+        let view = slice.get_mapped_range().map_err(|e| anyhow!("read-back: {e}"))?;
+        let out = bytemuck::cast_slice::<u8, T>(&view).to_vec();
+        drop(view);
+        self.buffer.unmap();
+        Ok(out)
+    }
+
+    /// Unmaps after a request whose bytes are not needed (once it is ready).
+    pub fn discard(&self, req: &MapRequest) {
+        if req.state.load(std::sync::atomic::Ordering::Acquire) == MAP_OK {
+            self.buffer.unmap();
+        }
+    }
+
     /// The first `size` bytes as `T`s, once the submission holding the copy has run (waits
     /// for it).
     pub fn read<T: bytemuck::Pod>(&self, ctx: &GpuContext, size: u64) -> Result<Vec<T>> {
@@ -148,5 +182,22 @@ impl Staging {
         drop(view);
         self.buffer.unmap();
         Ok(out)
+    }
+}
+
+const MAP_PENDING: u8 = 0;
+const MAP_OK: u8 = 1;
+const MAP_FAILED: u8 = 2;
+
+/// A read-back asked for with [`Staging::request`], completed by the device's polls.
+pub struct MapRequest {
+    state: std::sync::Arc<std::sync::atomic::AtomicU8>,
+    size: u64,
+}
+
+impl MapRequest {
+    /// Whether the mapping has completed (or failed: [`Staging::take`] says so).
+    pub fn is_ready(&self) -> bool {
+        self.state.load(std::sync::atomic::Ordering::Acquire) != MAP_PENDING
     }
 }

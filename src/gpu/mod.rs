@@ -67,8 +67,12 @@ pub mod label {
     pub const QUEUE_SETUP_SHADOW: &str = "queue_setup_shadow";
     /// Shadow rays of next-event estimation (`--nee on`).
     pub const SHADOW: &str = "shadow";
-    /// `--tail megakernel`: sizes the tail from the paths left.
-    pub const QUEUE_SETUP_TAIL: &str = "queue_setup_tail";
+    /// `--schedule regenerate`: the host's check on the GPU after an iteration: which chunks go
+    /// into the film, the refill limit, whether the tail runs (and its size), the share done.
+    pub const SCHEDULE_DECIDE: &str = "schedule_decide";
+    /// `--schedule regenerate --nee on`: queue_setup_shadow and schedule_decide in one dispatch,
+    /// on the iterations that have both.
+    pub const QUEUE_SETUP_SHADOW_DECIDE: &str = "queue_setup_shadow_decide";
     /// `--tail megakernel`: finishes paths megakernel-style: a share's last ones, and the oldest
     /// chunks' last ones when the sample ring needs them back.
     pub const TAIL: &str = "tail";

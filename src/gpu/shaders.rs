@@ -62,6 +62,7 @@ pub const BANDWIDTH: &str = composed!("bandwidth");
 pub const PREHEAT: &str = composed!("preheat");
 pub const RNG_PROBE: &str = composed!("tests_rng_probe");
 pub const INDIRECT_PROBE: &str = composed!("tests_indirect_probe");
+pub const SCHEDULE_PROBE: &str = composed!("tests_schedule_probe");
 pub const GENERATE: Variants = variants!("wavefront_generate", appends);
 pub const INTERSECT: Variants = variants!("wavefront_intersect", appends);
 pub const SHADE: Variants = variants!("wavefront_shade", appends);

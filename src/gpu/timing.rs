@@ -272,16 +272,24 @@ impl GpuTimer {
     /// Submits without waiting: the GPU works through it while the host records more, and the
     /// next [`GpuTimer::submit_batch`] waits for both. Only without per-pass timestamps, which
     /// are read back batch by batch.
-    pub fn submit(&mut self, ctx: &GpuContext, encoder: wgpu::CommandEncoder) -> Result<()> {
+    pub fn submit(
+        &mut self,
+        ctx: &GpuContext,
+        encoder: wgpu::CommandEncoder,
+    ) -> Result<wgpu::SubmissionIndex> {
         assert!(!self.times_passes(), "per-pass timestamps are read back per batch: submit_batch");
         self.submit_only(ctx, encoder)
     }
 
-    fn submit_only(&mut self, ctx: &GpuContext, encoder: wgpu::CommandEncoder) -> Result<()> {
+    fn submit_only(
+        &mut self,
+        ctx: &GpuContext,
+        encoder: wgpu::CommandEncoder,
+    ) -> Result<wgpu::SubmissionIndex> {
         if self.first_submitted.is_none() && self.preheat > 0.0 {
             self.timings.preheat_seconds = super::preheat::run(ctx, std::mem::take(&mut self.preheat))?;
         }
-        ctx.queue.submit([encoder.finish()]);
+        let index = ctx.queue.submit([encoder.finish()]);
         self.timings.submissions += 1;
         let now = Instant::now();
         // The GPU idled from the last wait's end until now (only the first submission after a
@@ -291,7 +299,7 @@ impl GpuTimer {
         }
         self.submitted_at.get_or_insert(now);
         self.first_submitted.get_or_insert(now);
-        Ok(())
+        Ok(index)
     }
 
     /// Waits for the batch and adds its pass times.

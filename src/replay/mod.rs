@@ -9,8 +9,8 @@
 //! Methods: the naive megakernel (one thread per sample, dispatch order), the regenerating
 //! megakernel (persistent threads taking samples), the wavefront with `--schedule waves` (per
 //! pass, queue order as the scan compaction leaves it) and with `--schedule regenerate` (the
-//! refills, the host's checks, the sample ring's refill limit and the megakernel tail, as the
-//! host runs them). Large frames: a sampled subset per method (`--every`, see each module).
+//! refills, the schedule's checks, the sample ring's refill limit and the megakernel tail, as the
+//! GPU's decision pass runs them). Large frames: a sampled subset per method (`--every`, see each module).
 
 pub mod lockstep;
 pub mod megakernel;

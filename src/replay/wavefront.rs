@@ -14,8 +14,9 @@
 //! approach when subgroups append in dispatch order. With
 //! `--compaction off` every pass runs over the whole wave, one thread per path, and the lanes
 //! whose path is not in that pass's queue idle. `--schedule regenerate`: see
-//! [`Wave::regenerate`]: the host's checks every `--sync-every` iterations, the sample ring's
-//! refill limit they move and the megakernel tail (`--tail megakernel`), as the host runs them.
+//! [`Wave::regenerate`]: the schedule's checks every `--sync-every` iterations, the sample ring's
+//! refill limit they move and the megakernel tail (`--tail megakernel`), by the rule the GPU's
+//! decision pass runs (`schedule::Decision::after`).
 
 use super::lockstep::{extrapolate, slot, traverse, Lane, SlotCounts};
 use super::megakernel::bounce;
@@ -57,7 +58,7 @@ pub struct Launch {
     pub schedule: Schedule,
     /// The order of the queues (`auto` resolved as the device resolves it).
     pub queue_order: QueueOrder,
-    /// Regenerating: iterations between the host's checks (`--sync-every`).
+    /// Regenerating: iterations between the schedule's checks (`--sync-every`).
     pub sync_every: u32,
     /// Regenerating: whether the megakernel tail finishes the last paths (`--tail`).
     pub tail: Tail,
@@ -521,7 +522,7 @@ impl Wave<'_> {
                     break;
                 }
             }
-            // The check: the counters as ChunkCounters::read gives them.
+            // The check: the counters as ChunkCounters::parse gives them.
             let mut ring = vec![0u32; r.ring as usize];
             for c in oldest..r.chunks().min(oldest + r.ring) {
                 ring[(c % r.ring) as usize] = finished[c as usize];

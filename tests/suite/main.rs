@@ -37,6 +37,7 @@ mod roulette;
 mod sampling;
 mod scale;
 mod scene_format;
+mod schedule_rule;
 mod simd_replay;
 mod slurm;
 mod stability;

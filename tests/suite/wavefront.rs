@@ -747,8 +747,8 @@ fn shared_compute_passes_give_the_same_film_from_fewer_passes() {
         // Shared passes are the default.
         let shared = frame(wf);
         assert_eq!(each.compute_passes, Some(each.dispatches), "{name}: a pass per dispatch");
-        // Every submission is waited for; regenerating, the host reads the counters back at its
-        // checks, so some waits fall inside the frame (issue 42 counts them).
+        // Regenerating, the host submits a batch of --sync-every iterations at a time (and
+        // waits only at the share's end: issue 42).
         let submissions = each.timings.as_ref().unwrap().submissions;
         assert!(
             submissions >= if wf.schedule == Schedule::Regenerate { 2 } else { 1 },
@@ -871,6 +871,81 @@ fn waves_never_wait_inside_the_frame_and_count_the_same() {
         let bits = |f: &wavetrace::film::Film| f.mean_rgb().iter().map(|v| v.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&frame.film), bits(&passes.film), "pool {pool}: the same film");
     }
+}
+
+/// Issue 42: the regenerating host loop never waits inside a share. The GPU decides after each
+/// check (schedule_decide); the host submits batches ahead and reads their counters back through
+/// a ring of staging buffers it polls, so the only wait is the share's end: one per share, no
+/// read-back that found the GPU idle, with and without the tail, in one chunk or many, with a
+/// ring of one or two chunks.
+#[test]
+fn the_regenerating_host_never_waits_inside_a_share() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let s = settings(8); // 7 680 samples
+    for tail in [Tail::Off, Tail::Megakernel] {
+        for (pool, chunk_pools) in [(None, 8), (Some(700), 8), (Some(700), 2), (Some(1024), 1)] {
+            let wf = WavefrontOptions {
+                pool_size: pool,
+                chunk_pools,
+                tail,
+                sync_every: 2,
+                ..regenerating(Default::default())
+            };
+            let opts = MethodOptions { wavefront: wf, timing: Timing::Frame, ..Default::default() };
+            let out = run(Method::Wavefront, "rtiow-final", &s, &opts);
+            let (stats, timings) = (out.schedule.unwrap(), out.timings.unwrap());
+            let what =
+                format!("{wf:?}: {stats:?}, {} submissions, {} waits", timings.submissions, timings.waits);
+            assert_eq!(stats.blocking_reads, 0, "{what}");
+            assert_eq!(timings.waits, 1, "{what}: one share, one wait at its end");
+            if pool.is_some() {
+                assert!(
+                    stats.shares > 1 && timings.submissions > 2,
+                    "{what}: several chunks, several batches"
+                );
+            }
+            if tail == Tail::Megakernel {
+                assert!(stats.tail_passes >= 1, "{what}");
+            }
+        }
+    }
+}
+
+/// The iterations the host records past a share's end (it has not yet read that the share is
+/// done) dispatch zero workgroups: however far ahead the host runs — batches of 1 iteration or
+/// of 24, three in flight — the film is the waved one, bit for bit, and the share's own counts
+/// (iterations, dispatches, empty ones, tail passes) are those of a host one batch ahead.
+#[test]
+fn speculative_iterations_change_no_film() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let s = settings(8);
+    let base = WavefrontOptions { pool_size: Some(700), ..Default::default() };
+    let waves = run_wavefront("rtiow-final", &s, base).film;
+    for sync_every in [1, 24] {
+        let wf = WavefrontOptions { sync_every, chunk_pools: 2, ..regenerating(base) };
+        let r = run_wavefront("rtiow-final", &s, wf);
+        assert_eq!(r.film, waves, "sync every {sync_every}");
+    }
+    // With the tail on a job of one pool, the share ends inside the first batch of 24: the rest
+    // of that batch at least is speculative, and changes neither the film nor the counts.
+    let s = settings(16);
+    let wf =
+        |k| WavefrontOptions { tail: Tail::Megakernel, sync_every: k, ..regenerating(Default::default()) };
+    let (one, ahead) =
+        (run_wavefront("three-spheres", &s, wf(1)), run_wavefront("three-spheres", &s, wf(24)));
+    let (a, b) = (one.schedule.unwrap(), ahead.schedule.unwrap());
+    eprintln!("batches of 1: {a:?}\nbatches of 24: {b:?}");
+    assert!(b.speculative_iterations > 0 && b.speculative_dispatches > 0, "{b:?}");
+    assert_eq!(ahead.film, one.film);
+    assert_eq!(
+        (b.iterations, b.idle_iterations, b.tail_passes, b.tail_paths),
+        (a.iterations, 0, a.tail_passes, a.tail_paths)
+    );
+    assert_eq!((b.dispatches, b.empty_dispatches), (a.dispatches, a.empty_dispatches), "{a:?} vs {b:?}");
 }
 
 /// The path-state traffic model (issue 44) is charged with counts the render made: in waves the

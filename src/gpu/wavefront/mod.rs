@@ -6,17 +6,11 @@
 //! shares as large as a dispatch's parameters allow (usually the whole image), whose slots are
 //! refilled as paths end (Laine et al.'s "new path" stage), so intersect and shade see a full
 //! pool until the image's last samples. Finished samples wait in a ring of one-pool chunks
-//! until the host adds the oldest complete ones to the film. Per share:
+//! until the GPU's decision pass adds the oldest complete ones to the film. Per share:
 //!
 //! ```text
 //! generate | regenerate_init                camera rays (waves) | every slot free (regenerate)
-//! for each iteration (waves: max_depth; regenerate: until the share's samples are done):
-//!     (regenerate, every --sync-every iterations, and with the tail every iteration once
-//!      every sample has started: read the counters back, then
-//!      [queue_setup_tail, tail]             finish the oldest chunks' last paths if the ring
-//!                                           needs them back, or the share's last paths
-//!      accumulate_range                     complete chunks → film, in sample order
-//!      and move the refill limit to the ring's new end)
+//! for each iteration (waves: max_depth; regenerate: until a read-back says the share is done):
 //!     [queue_setup_regenerate,              (regenerate, once at most --refill-below × pool are
 //!      [compact_states_find,                 live) next samples into the free slots (slot order:
 //!       queue_setup_compact_states,          the lowest, in ascending order; --compact-states on:
@@ -35,14 +29,30 @@
 //!                                           list and the shadow queue)
 //!     [slot_sweep]                          (slot order, atomic method) the same lists, by
 //!                                           appends over every slot
-//!     [queue_setup_shadow, shadow]          (--nee on, scene has lights) shadow rays
+//!     [queue_setup_shadow, shadow]          (--nee on, scene has lights) shadow rays (with the
+//!                                           decision pass below folded into the setup:
+//!                                           queue_setup_shadow_decide)
+//!     [schedule_decide,                     (regenerate: after every iteration with the tail,
+//!      [tail]                                else every --sync-every) the host's old check on
+//!      accumulate_range]                     the GPU: at a check (every --sync-every; with the
+//!                                           tail every iteration once every sample started)
+//!                                           size the tail over the oldest chunks' last paths if
+//!                                           the ring needs them back, or the share's last ones;
+//!                                           complete chunks → film, in sample order; move the
+//!                                           refill limit to the ring's new end; DONE once every
+//!                                           chunk is in; elsewhere both passes are empty
+//!     (regenerate, every --sync-every iterations: submit without waiting, the counters copied
+//!      into the next staging buffer of a ring of BATCHES_IN_FLIGHT, whose mapping is polled;
+//!      at that many batches in flight, wait for the oldest's read-back; stop recording once
+//!      one says DONE: the iterations recorded after are speculative, zero workgroups)
 //! accumulate                                (waves) the wave's radiance → film, in sample order
 //! ```
 //!
-//! The host never reads a counter inside a batch of iterations: passes whose queues are empty
-//! dispatch zero workgroups (and are counted as empty). Each sample keeps its counter-based
-//! random numbers and the film adds each pixel's samples in sample order under both schedules,
-//! so they give bit-identical films.
+//! The host never reads a counter to go on: passes whose queues are empty dispatch zero
+//! workgroups (and are counted as empty), and the regenerating schedule's decisions are the GPU's.
+//! It waits once per share, at its end (and with per-pass timestamps after every batch). Each
+//! sample keeps its counter-based random numbers and the film adds each pixel's samples in
+//! sample order under both schedules, so they give bit-identical films.
 
 pub mod append;
 pub mod compact;
@@ -64,7 +74,7 @@ pub mod tail;
 pub mod traffic;
 
 use super::accumulate::Accumulate;
-use super::buffers::{read_back, storage_zeroed, Staging};
+use super::buffers::{self, read_back, storage_zeroed, Staging};
 use super::context::GpuContext;
 use super::dispatch_plan::DispatchUniforms;
 use super::gpu_render::GpuRender;
@@ -76,7 +86,7 @@ use super::stage::{Stage, Workgroups};
 use super::timing::{GpuTimer, Measure};
 use crate::camera::CameraFrame;
 use crate::film::Film;
-use crate::layout::{AccumulateRange, FilmPixel, WaveUniform};
+use crate::layout::{FilmPixel, WaveUniform};
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
@@ -125,8 +135,9 @@ pub struct WavefrontOptions {
     pub compaction: Compaction,
     pub shade: ShadePasses,
     pub schedule: Schedule,
-    /// Regenerating: iterations recorded between read-backs of the schedule's counters (more:
-    /// fewer host waits, up to this many idle iterations at the image's end; with the tail,
+    /// Regenerating: iterations between the GPU's checks of the schedule's counters, and per
+    /// batch the host submits (more: fewer submissions and read-backs, up to this many idle
+    /// iterations at the image's end and more speculative ones; with the tail, the check runs
     /// every iteration once every sample has started).
     pub sync_every: u32,
     /// Regenerating: whether the last paths (of the image, and of the oldest chunks when the
@@ -193,6 +204,11 @@ impl WavefrontOptions {
         self
     }
 }
+
+/// Batches of `--sync-every` iterations the regenerating host loop keeps in flight (each with
+/// its own staging buffer for the counters' read-back): enough that waiting for the oldest
+/// leaves newer ones queued, so the GPU never idles for the host inside a share.
+pub const BATCHES_IN_FLIGHT: usize = 3;
 
 /// Default pool: about a million paths in flight (pbrt-v4's choice), less where limits say so.
 pub const DEFAULT_POOL: u32 = 1 << 20;
@@ -296,13 +312,25 @@ impl WaveRecorder<'_> {
         extra: Option<(&wgpu::BindGroup, Vec<u32>)>,
         workgroups: Workgroups<'_>,
     ) {
-        let mut g = self.b.groups(self.offset);
+        let b = self.b;
+        let mut g = b.groups(self.offset);
         g.truncate(groups);
         g.extend(extra);
+        self.record_groups(stage, bounce, &g, workgroups);
+    }
+
+    /// Records `stage` as a timed pass with the bind groups `g` (group i: `g[i]`).
+    pub fn record_groups(
+        &mut self,
+        stage: &Stage,
+        bounce: Option<u32>,
+        g: &[(&wgpu::BindGroup, Vec<u32>)],
+        workgroups: Workgroups<'_>,
+    ) {
         let bounce = bounce.filter(|_| self.per_bounce);
         self.dispatches += 1;
         if !self.shared {
-            stage.record(&mut self.enc, self.timer, bounce, &g, workgroups);
+            stage.record(&mut self.enc, self.timer, bounce, g, workgroups);
             self.compute_passes += 1;
             return;
         }
@@ -317,7 +345,7 @@ impl WaveRecorder<'_> {
             self.pass = Some(pass.forget_lifetime());
             self.compute_passes += 1;
         }
-        stage.dispatch(self.pass.as_mut().expect("opened above"), &g, workgroups);
+        stage.dispatch(self.pass.as_mut().expect("opened above"), g, workgroups);
     }
 
     /// The encoder, for copies and passes of other recorders: ends the shared compute pass.
@@ -329,12 +357,19 @@ impl WaveRecorder<'_> {
     /// Submits what is recorded and opens a new encoder, without waiting where passes are not
     /// timed (their timestamps are read back per batch, so then it waits).
     pub fn submit(&mut self, ctx: &GpuContext) -> Result<()> {
+        self.submit_ahead(ctx).map(|_| ())
+    }
+
+    /// [`Self::submit`], giving the submission's index where it did not wait (None: per-pass
+    /// timestamps, read back per batch, so it waited).
+    pub fn submit_ahead(&mut self, ctx: &GpuContext) -> Result<Option<wgpu::SubmissionIndex>> {
         if self.timer.times_passes() {
-            return self.submit_and_wait(ctx);
+            self.submit_and_wait(ctx)?;
+            return Ok(None);
         }
         self.pass = None;
         let enc = std::mem::replace(&mut self.enc, ctx.device.create_command_encoder(&Default::default()));
-        self.timer.submit(ctx, enc)
+        self.timer.submit(ctx, enc).map(Some)
     }
 
     /// Submits what is recorded, waits for it (adding its pass times) and opens a new encoder.
@@ -385,7 +420,9 @@ impl Stages {
     /// One iteration: a bounce of every path in waves; when regenerating, a refill (while the
     /// share has samples left to start) and then a bounce of every path in the pool, whatever
     /// its depth.
-    fn record_iteration(&self, wave: &mut WaveRecorder<'_>, i: u32, refill: bool) {
+    /// `decide` (regenerate): the iteration ends with the schedule's decision pass (with NEE
+    /// folded into queue_setup_shadow); the caller records the passes it sizes after.
+    fn record_iteration(&self, wave: &mut WaveRecorder<'_>, i: u32, refill: bool, decide: bool) {
         if self.regenerate && refill {
             self.queue_setup.record_regenerate(wave, i);
             if let Some(c) = &self.compact_states {
@@ -410,8 +447,14 @@ impl Stages {
             sweep.record(wave, i);
         }
         if let Some(shadow) = &self.shadow {
-            self.queue_setup.record_shadow(wave, i);
+            if decide {
+                self.queue_setup.record_shadow_decide(wave, i);
+            } else {
+                self.queue_setup.record_shadow(wave, i);
+            }
             shadow.record(wave, i);
+        } else if decide {
+            self.queue_setup.record_decide(wave, i);
         }
     }
 
@@ -422,7 +465,8 @@ impl Stages {
             + if self.slot_sweep.is_some() { 1 } else { 0 }
             + if self.scan_materials { 3 } else { 0 }
             + if self.shadow.is_some() { 2 } else { 0 }
-            + if self.regenerate { 2 } else { 0 }
+            // The refill's two passes, and the decision pass with the tail and accumulate_range.
+            + if self.regenerate { 5 } else { 0 }
             + if self.compact_states.is_some() { 3 } else { 0 }
             + if self.ray_sort.is_some() { 3 } else { 0 }
     }
@@ -449,93 +493,143 @@ impl Drive<'_> {
             if wave.timer.remaining() < self.per_iteration + 1 {
                 wave.submit_and_wait(self.ctx)?;
             }
-            self.stages.record_iteration(wave, bounce, false);
+            self.stages.record_iteration(wave, bounce, false, false);
         }
         Ok(self.max_depth)
     }
 
-    /// Regenerating: iterations until every sample of the share (`r`) is in the film, the host
-    /// reading the schedule's counters through `check` at each check; `progress` gets the
-    /// share's finished samples.
+    /// Regenerating: iterations until every sample of the share (`r`) is in the film. The GPU
+    /// decides after each check (queue_setup.wgsl's `schedule_decide`, recorded by
+    /// [`Self::record_decided`]): the host records batches of `--sync-every` iterations and
+    /// submits them without waiting, each batch's counters copied into the next of the `staging`
+    /// ring, whose mapping it polls; it stops recording once a read-back says the share is done.
+    /// At [`BATCHES_IN_FLIGHT`] batches it waits for the oldest one's read-back, newer batches
+    /// queued behind it (a throttle). `progress` gets the share's finished samples. Returns the
+    /// iterations the share ran (those recorded after its end are counted as speculative).
     fn regenerate(
         &self,
         wave: &mut WaveRecorder<'_>,
         r: &schedule::Ring,
-        check: &Staging,
-        pixel_count: u32,
+        staging: &[Staging],
         stats: &mut ScheduleStats,
         progress: &dyn Fn(u64),
     ) -> Result<u32> {
-        let paths = r.paths;
-        // Iterate until every sample of the share is in the film, reading the counters
-        // back only every `sync_every` iterations; after each read, add the chunks that
-        // are complete (with the tail, finish the oldest ones' last paths first where the
-        // ring needs them back) and move the refills' limit on.
-        self.b.state.write_schedule_word(self.ctx, word::FILL_LIMIT, r.fill_limit(0));
-        self.b.state.write_schedule_word(self.ctx, word::TAIL_BOUND, 0);
-        let mut i = 0;
-        let mut stall = schedule::Progress::new(paths, self.max_depth, self.opts.sync_every);
-        // Once a check finds every sample started, the refill passes would be empty.
-        let mut refill = true;
-        // The first chunk not yet in the film, and the samples started at the last check.
-        let (mut oldest, mut started_before) = (0, 0);
-        // Whether the first refill starts every sample (it starts a pool of them, up to
-        // the ring's end); later, a check says so by clearing `refill`.
-        let one_refill = paths <= self.pool.min(r.fill_limit(0));
-        loop {
-            for _ in 0..self.opts.sync_every {
-                if wave.timer.remaining() < self.per_iteration + 1 {
-                    wave.submit_and_wait(self.ctx)?;
-                }
-                self.stages.record_iteration(wave, i, refill);
-                i += 1;
-                // With the tail, once every sample has started the host checks after
-                // every iteration: the tail starts in the iteration it is due, and no
-                // idle iteration follows it.
-                if self.stages.tail.is_some() && (one_refill || !refill) {
-                    break;
-                }
-            }
-            schedule::ChunkCounters::copy(wave.encoder().0, check, &self.b.state, r);
-            wave.submit_and_wait(self.ctx)?;
-            let c = schedule::ChunkCounters::read(self.ctx, check, r, oldest)?;
-            progress(c.finished as u64);
-            stall.check(c.finished, i)?;
-            let threshold = self.stages.tail.as_ref().map(|_| self.opts.tail_threshold);
-            let decision = schedule::Decision::after(r, &c, oldest, started_before, self.pool, threshold);
-            refill = decision.refill;
-            if let (Some(tail), Some(bound)) = (&self.stages.tail, decision.tail_bound) {
-                let left = |k: u32| r.len(k) - c.ring[(k % r.ring) as usize];
-                stats.add_tail((decision.complete..bound).map(left).sum());
-                self.b.state.write_schedule_word(self.ctx, word::TAIL_BOUND, r.end(bound - 1));
-                self.stages.queue_setup.record_tail(wave, i);
-                tail.record(wave);
-            }
-            let added = decision.added;
-            started_before = c.started;
-            if added > oldest {
-                let first = oldest * r.chunk;
-                let count = r.end(added - 1) - first;
-                let range = AccumulateRange { first, count, ring: r.samples(), pad: 0 };
-                let offset = wave.offset;
-                let (enc, timer) = wave.encoder();
-                self.accumulate.record_range(self.ctx, enc, timer, offset, pixel_count, range);
-                wave.dispatches += 1;
-                wave.compute_passes += 1;
-                self.b.state.clear_ring_counters(wave.encoder().0, (oldest..added).map(|k| k % r.ring));
-                oldest = added;
-                self.b.state.write_schedule_word(self.ctx, word::FILL_LIMIT, r.fill_limit(oldest));
-            }
-            if oldest == r.chunks() {
-                break Ok(i);
-            }
-            if c.finished == paths {
-                let total = r.chunks();
+        let (ctx, state) = (self.ctx, &self.b.state);
+        let tail = self.stages.tail.is_some();
+        let sync_every = self.opts.sync_every;
+        // The decision pass's knobs and the refills' first limit; its own words start at zero
+        // (the buffer's creation, or the clear after the last share).
+        state.write_schedule_word(ctx, word::FILL_LIMIT, r.fill_limit(0));
+        state.write_schedule_word(ctx, word::TAIL_BOUND, 0);
+        state.write_schedule_word(ctx, word::SYNC_EVERY, sync_every);
+        state.write_schedule_word(ctx, word::TAIL_ON, tail as u32);
+        // `Decision::after` compares a path count with threshold × pool: for whole counts, the
+        // same as comparing with its floor.
+        let max_live = (self.opts.tail_threshold * self.pool as f64).floor() as u32;
+        state.write_schedule_word(ctx, word::TAIL_MAX_LIVE, max_live);
+        let mut stall = schedule::Progress::new(r.paths, self.max_depth, sync_every);
+        // Whether the first refill starts every sample (it starts a pool of them, up to the
+        // ring's end): then later iterations record no refill passes.
+        let one_refill = r.paths <= self.pool.min(r.fill_limit(0));
+        let bytes = schedule::ChunkCounters::bytes(r);
+        let mut pending = std::collections::VecDeque::new();
+        let mut next_staging = 0;
+        // Iterations recorded, and the dispatches and compute passes recorded up to each one's
+        // end (its decision passes included): the share's own counts once the GPU says how many
+        // it ran.
+        let mut recorded = 0u32;
+        let mut dispatches_at = Vec::new();
+        let mut ran = None;
+        // Reads a batch's counters back once mapped: Some(iterations) when the share is done.
+        let mut read = |req: buffers::MapRequest, k: usize| -> Result<Option<u32>> {
+            let words: Vec<u32> = staging[k].take(&req)?;
+            let (c, back) = schedule::ChunkCounters::parse(&words, r);
+            if back.failed {
                 bail!(
-                    "the regenerating wavefront finished every sample but added {oldest} of {total} chunks"
+                    "the regenerating wavefront finished every sample but added {} of {} chunks",
+                    back.oldest,
+                    r.chunks()
                 );
             }
+            progress(c.finished.min(r.paths) as u64);
+            if back.done {
+                return Ok(Some(back.iteration));
+            }
+            stall.check(c.finished, back.iteration)?;
+            Ok(None)
+        };
+        while ran.is_none() {
+            if pending.len() == staging.len() {
+                let (req, k, index): (buffers::MapRequest, usize, Option<wgpu::SubmissionIndex>) =
+                    pending.pop_front().expect("a batch in flight");
+                if !req.is_ready() {
+                    // Newer batches queued behind this one keep the GPU busy meanwhile.
+                    if pending.is_empty() {
+                        stats.blocking_reads += 1;
+                    } else {
+                        stats.throttles += 1;
+                    }
+                    ctx.device
+                        .poll(wgpu::PollType::Wait { submission_index: index, timeout: None })
+                        .map_err(|e| anyhow::anyhow!("waiting for the GPU failed: {e}"))?;
+                }
+                ran = read(req, k)?;
+                continue;
+            }
+            for _ in 0..sync_every {
+                if wave.timer.remaining() < self.per_iteration + 1 {
+                    wave.submit_and_wait(ctx)?;
+                }
+                // With the tail the GPU may check after any iteration (every one once every
+                // sample has started), so it decides after each; else after every batch.
+                let decide = tail || (recorded + 1).is_multiple_of(sync_every);
+                self.stages.record_iteration(wave, recorded, recorded == 0 || !one_refill, decide);
+                if decide {
+                    self.record_decided(wave);
+                }
+                recorded += 1;
+                dispatches_at.push((wave.dispatches, wave.compute_passes));
+            }
+            let k = next_staging;
+            next_staging = (k + 1) % staging.len();
+            staging[k].copy(wave.encoder().0, &state.counters, bytes);
+            let index = wave.submit_ahead(ctx)?;
+            pending.push_back((staging[k].request(bytes), k, index));
+            // Completes the mappings of whatever has finished, without waiting.
+            ctx.device
+                .poll(wgpu::PollType::Poll)
+                .map_err(|e| anyhow::anyhow!("polling the GPU failed: {e}"))?;
+            while ran.is_none() && pending.front().is_some_and(|p| p.0.is_ready()) {
+                let (req, k, _) = pending.pop_front().expect("checked above");
+                ran = read(req, k)?;
+            }
         }
+        // The share's end: wait for the iterations queued past it, then release their read-backs.
+        wave.submit_and_wait(ctx)?;
+        for (req, k, _) in pending {
+            staging[k].discard(&req);
+        }
+        let ran = ran.expect("the loop ends once a read-back says the share is done");
+        if ran == 0 || ran > recorded {
+            bail!("the regenerating wavefront's GPU counted {ran} iterations of the {recorded} recorded");
+        }
+        stats.speculative_iterations += (recorded - ran) as u64;
+        let (own, own_passes) = dispatches_at[ran as usize - 1];
+        stats.speculative_dispatches += wave.dispatches - own;
+        wave.dispatches = own;
+        wave.compute_passes = own_passes;
+        Ok(ran)
+    }
+
+    /// (regenerate) After an iteration that ends with the decision pass: the passes it sizes
+    /// (zero workgroups unless it decided to run them): the tail, and the film's new chunks.
+    fn record_decided(&self, wave: &mut WaveRecorder<'_>) {
+        if let Some(tail) = &self.stages.tail {
+            tail.record(wave);
+        }
+        let (stage, groups) = self.accumulate.range_pass(wave.offset);
+        let args = Workgroups::Indirect(&self.b.state.indirect, path_state::ARGS_ACCUMULATE * 12);
+        wave.record_groups(stage, None, &groups, args);
     }
 }
 
@@ -628,10 +722,17 @@ pub fn render(
     let film = memory
         .track(MemoryCategory::Film, storage_zeroed(ctx, "film", film_bytes, wgpu::BufferUsages::COPY_SRC)?);
 
+    let samples = if regenerate { &b.state.samples } else { &b.state.radiance };
+    let accumulate = Accumulate::new(ctx, samples, &film, &params, regenerate, measure.shader_checks)?;
     let shade_kinds = per_material.then_some(kinds.as_slice());
     let stages = Stages {
         generate: generate::Generate::new(ctx, &b, opts.schedule, pool, wg, instrument)?,
-        queue_setup: queue_setup::QueueSetup::new(ctx, &b, wg)?,
+        queue_setup: queue_setup::QueueSetup::new(
+            ctx,
+            &b,
+            wg,
+            regenerate.then(|| accumulate.range_buffer()),
+        )?,
         intersect: intersect::Intersect::new(ctx, &b, wg, instrument)?,
         shade: shade::Shade::new(ctx, &b, shade_kinds, wg, instrument)?,
         compact: uses_scan.then(|| compact::Compact::new(ctx, &b, subgroup_scan)).transpose()?,
@@ -649,15 +750,16 @@ pub fn render(
         scan_materials: opts.compaction == Compaction::Scan,
         regenerate,
     };
-    let samples = if regenerate { &b.state.samples } else { &b.state.radiance };
-    let accumulate = Accumulate::new(ctx, samples, &film, &params, regenerate, measure.shader_checks)?;
 
-    // Regenerating: the staging buffer every check reads the schedule's counters through.
-    let check_staging = regenerate.then(|| {
-        let bytes = schedule::ChunkCounters::bytes(&ring);
-        memory.add(MemoryCategory::Counters, bytes);
-        Staging::new(ctx, "schedule counters read-back", bytes)
-    });
+    // Regenerating: the ring of staging buffers the batches in flight read the schedule's
+    // counters back through.
+    let staging: Vec<Staging> = (0..if regenerate { BATCHES_IN_FLIGHT } else { 0 })
+        .map(|_| {
+            let bytes = schedule::ChunkCounters::bytes(&ring);
+            memory.add(MemoryCategory::Counters, bytes);
+            Staging::new(ctx, "schedule counters read-back", bytes)
+        })
+        .collect();
     let per_iteration = stages.per_iteration();
     let mut timer = GpuTimer::new(ctx, measure.timing, measure.preheat_seconds, &mut memory);
     // Per-pass timestamps need a pass per dispatch.
@@ -710,14 +812,12 @@ pub fn render(
             Schedule::Waves => drive.waves(&mut wave)?,
             Schedule::Auto => unreachable!("render() resolves --schedule auto first"),
             Schedule::Regenerate => {
-                let check = check_staging.as_ref().expect("regenerating renders make a staging buffer");
                 let done = finished.load(std::sync::atomic::Ordering::Relaxed);
-                drive
-                    .regenerate(&mut wave, &r, check, d.pixel_count, &mut stats, &|f| on_progress(done + f))?
+                drive.regenerate(&mut wave, &r, &staging, &mut stats, &|f| on_progress(done + f))?
             }
         };
         if regenerate {
-            wave.submit_and_wait(ctx)?;
+            // (Drive::regenerate waited for the share's last batch.)
             stats.add_share(ctx, &b.state, r.chunks(), iterations, wave.dispatches)?;
         } else {
             let offset = wave.offset;

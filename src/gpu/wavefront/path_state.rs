@@ -20,8 +20,9 @@ pub const COUNTER_STATS: u64 = 10;
 pub const MAX_STATS_BOUNCES: u64 = 64;
 /// `COUNTER_SHADE_BASE`: the four shade passes' first scan positions.
 const COUNTER_SHADE_BASE: u64 = COUNTER_STATS + MAX_STATS_BOUNCES * QUEUE_COUNT;
-/// The scheduling counters (`COUNTER_NEXT_SAMPLE` … `COUNTER_FREE_BASE`): the host reads them
-/// after submissions, and writes the fill limit and the tail bound.
+/// The scheduling counters (`COUNTER_NEXT_SAMPLE` … `COUNTER_FAILED`): the host reads them back
+/// after batches of submissions; the regenerating schedule's decision pass writes the fill limit
+/// and the tail bound.
 pub const COUNTER_SCHEDULE: u64 = COUNTER_SHADE_BASE + 4;
 /// Offsets from [`COUNTER_SCHEDULE`].
 pub mod schedule_word {
@@ -41,7 +42,27 @@ pub mod schedule_word {
     pub const COMPACT_FREE: usize = 13;
     /// Compactions whose free list and ray queue disagreed (nothing moved; a bug if > 0).
     pub const COMPACT_MISMATCH: usize = 14;
-    pub const WORDS: u64 = 15;
+    /// (regenerate) The schedule's decision pass (`schedule_decide` in queue_setup.wgsl): the
+    /// first chunk not yet in the film, the samples started at the last check, whether every
+    /// chunk is in the film (the host stops recording once a read-back says so), the share's
+    /// iterations up to then, iterations since the last check, whether the last check found every
+    /// sample started, the tail passes run and the paths they finished, and whether every sample
+    /// finished with chunks left out (a bug: the host refuses the render).
+    pub const OLDEST: usize = 15;
+    pub const STARTED_BEFORE: usize = 16;
+    pub const DONE: usize = 17;
+    pub const ITERATION: usize = 18;
+    pub const SINCE_CHECK: usize = 19;
+    pub const REFILL_DONE: usize = 20;
+    pub const TAIL_PASSES: usize = 21;
+    pub const TAIL_PATHS: usize = 22;
+    /// Written by the host at a share's start: `--sync-every`, whether the render has the tail,
+    /// and the most live paths at which it runs (`--tail-threshold` × pool, rounded down).
+    pub const SYNC_EVERY: usize = 23;
+    pub const TAIL_ON: usize = 24;
+    pub const TAIL_MAX_LIVE: usize = 25;
+    pub const FAILED: usize = 26;
+    pub const WORDS: u64 = 27;
 }
 /// `COUNTER_RING_0`: the finished samples of each chunk of the sample ring.
 pub const COUNTER_RING: u64 = COUNTER_SCHEDULE + schedule_word::WORDS;
@@ -50,8 +71,8 @@ pub const MAX_RING_CHUNKS: u64 = 1024;
 /// Words of `counters`: header, histogram, shade positions, scheduling counters, ring counters.
 const COUNTER_WORDS: u64 = COUNTER_RING + MAX_RING_CHUNKS;
 /// Indirect-argument slots: intersect, one per material kind, the scan passes, the shadow pass,
-/// the refill, the tail, the state compaction's two passes.
-const ARGS_SLOTS: u64 = 11;
+/// the refill, the tail, the state compaction's two passes, the regenerating accumulate.
+const ARGS_SLOTS: u64 = 12;
 pub const ARGS_INTERSECT: u64 = 0;
 pub const ARGS_SHADE_0: u64 = 1;
 pub const ARGS_COMPACT: u64 = 5;
@@ -60,6 +81,8 @@ pub const ARGS_REGENERATE: u64 = 7;
 pub const ARGS_TAIL: u64 = 8;
 pub const ARGS_COMPACT_STATES_FIND: u64 = 9;
 pub const ARGS_COMPACT_STATES_MOVE: u64 = 10;
+/// (regenerate) `accumulate_range`, sized by the decision pass.
+pub const ARGS_ACCUMULATE: u64 = 11;
 /// Which per-slot buffers a render's pool holds beyond the path itself: a buffer no pass of
 /// the render reads is bound as one 16-byte element, so memory follows the scene and the knobs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -13,8 +13,9 @@ use anyhow::{bail, Result};
 
 pub use super::super::schedule::Schedule;
 
-/// Iterations between read-backs when regenerating: a read-back makes the host wait for the
-/// GPU; each iteration recorded after the work ran out costs its (empty) dispatches.
+/// Iterations between checks (and per submitted batch) when regenerating: each check's passes
+/// and each batch's submission and read-back cost fixed time; each iteration recorded after the
+/// work ran out costs its (empty) dispatches.
 pub const DEFAULT_SYNC_EVERY: u32 = 8;
 /// Most iterations between read-backs.
 pub const MAX_SYNC_EVERY: u32 = 1024;
@@ -178,17 +179,23 @@ impl ChunkCounters {
         staging.copy(enc, &state.counters, Self::bytes(r));
     }
 
-    /// The counters of `r` copied by [`Self::copy`] when the chunks before `oldest` are in the
-    /// film (their ring counts cleared).
-    pub fn read(ctx: &GpuContext, staging: &Staging, r: &Ring, oldest: u32) -> Result<Self> {
-        let words: Vec<u32> = staging.read(ctx, Self::bytes(r))?;
-        let ring = words[COUNTER_RING as usize..].to_vec();
-        let in_ring: u32 = ring.iter().sum();
-        Ok(Self {
-            started: words[COUNTER_SCHEDULE as usize + word::NEXT_SAMPLE],
-            finished: oldest * r.chunk + in_ring,
-            ring,
-        })
+    /// The counters of `r` as [`Self::copy`] copied them (`words`, from the buffer's start), with
+    /// what the GPU's decision pass adds: the iterations so far and whether the share is done.
+    pub fn parse(words: &[u32], r: &Ring) -> (Self, Readback) {
+        let w = |i: usize| words[COUNTER_SCHEDULE as usize + i];
+        let ring = words[COUNTER_RING as usize..(COUNTER_RING + r.ring as u64) as usize].to_vec();
+        // Chunks in the film have their counts taken off the ring (queue_setup.wgsl's
+        // schedule_decide), so the ring holds only the others' finished samples.
+        let in_ring = ring.iter().fold(0u32, |a, &n| a.wrapping_add(n));
+        let started = w(word::NEXT_SAMPLE);
+        let finished = w(word::OLDEST).wrapping_mul(r.chunk).wrapping_add(in_ring);
+        let back = Readback {
+            iteration: w(word::ITERATION),
+            done: w(word::DONE) != 0,
+            failed: w(word::FAILED) != 0,
+            oldest: w(word::OLDEST),
+        };
+        (Self { started, finished, ring }, back)
     }
 
     /// Paths in flight.
@@ -203,8 +210,24 @@ impl ChunkCounters {
     }
 }
 
-/// What the host decides after a check of a regenerating share: the one rule the wavefront
-/// (`Drive::regenerate`) and its lockstep replay (`replay/wavefront.rs`) both follow.
+/// What a read-back of a regenerating share's counters says beyond [`ChunkCounters`]: the GPU's
+/// decision pass keeps the schedule's state (queue_setup.wgsl's `schedule_decide`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Readback {
+    /// Iterations the GPU has run (those after the share's end apart).
+    pub iteration: u32,
+    /// Whether every chunk is in the film: the host stops recording iterations.
+    pub done: bool,
+    /// Whether every sample finished with chunks left out of the film (a bug).
+    pub failed: bool,
+    /// The first chunk not yet in the film.
+    pub oldest: u32,
+}
+
+/// What is decided after a check of a regenerating share: the one rule the wavefront's decision
+/// pass (`schedule_decide` in shaders/wavefront/queue_setup.wgsl, its twin in
+/// shaders/shared/schedule_rule.wgsl, checked against this one by tests/suite/schedule_rule.rs)
+/// and its lockstep replay (`replay/wavefront.rs`) both follow.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Decision {
     /// Whether the next iterations refill: samples are left to start.
@@ -331,6 +354,22 @@ pub struct ScheduleStats {
     /// The key the ray queue was sorted by before each intersect (`--ray-sort`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ray_sort: Option<&'static str>,
+    /// Read-backs inside a share's loop that the host waited for with no newer batch queued
+    /// (the GPU idle meanwhile): 0 where the host runs ahead (`--schedule regenerate` without
+    /// per-pass timestamps; waves never read back inside the loop).
+    #[serde(default)]
+    pub blocking_reads: u64,
+    /// Waits for an older batch's read-back while newer ones were queued (the host at its bound
+    /// of batches in flight; the GPU kept busy).
+    #[serde(default)]
+    pub throttles: u64,
+    /// Regenerating: iterations recorded past a share's end (the host had not yet read that it
+    /// was done); they dispatch zero workgroups and are counted nowhere else.
+    #[serde(default)]
+    pub speculative_iterations: u64,
+    /// The dispatches those iterations recorded (not in `dispatches`).
+    #[serde(default)]
+    pub speculative_dispatches: u64,
     /// Bytes of path state the passes read and wrote, modelled from the queue counts
     /// ([`super::traffic`]; with compaction, whose queues are counted).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -370,6 +409,10 @@ impl ScheduleStats {
             compactions: 0,
             states_moved: 0,
             ray_sort: None,
+            blocking_reads: 0,
+            throttles: 0,
+            speculative_iterations: 0,
+            speculative_dispatches: 0,
             state_traffic: None,
             queued: [0; QUEUE_COUNT as usize],
             first_bounce: (0, 0),
@@ -386,12 +429,6 @@ impl ScheduleStats {
                 *total += n as u64;
             }
         }
-    }
-
-    /// Counts a tail pass that finished `paths` paths.
-    pub fn add_tail(&mut self, paths: u32) {
-        self.tail_passes += 1;
-        self.tail_paths += paths as u64;
     }
 
     /// Adds a finished share of `units` waves or chunks (`iterations` recorded, `dispatches`
@@ -449,6 +486,9 @@ impl ScheduleStats {
         }
         self.shares += units as u64;
         self.compactions += w(word::COMPACTIONS);
+        // (regenerate) Counted on the GPU by the decision pass.
+        self.tail_passes += w(word::TAIL_PASSES);
+        self.tail_paths += w(word::TAIL_PATHS);
         self.states_moved += w(word::STATES_MOVED);
         self.iterations += iterations as u64;
         self.idle_iterations += w(word::IDLE);

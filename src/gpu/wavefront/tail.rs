@@ -1,7 +1,8 @@
 //! tail (`shaders/wavefront/tail.wgsl`, `--tail megakernel`): finishes regenerated paths
-//! megakernel-style, in one pass sized on the GPU by queue_setup_tail: the image's last ones
-//! once the live paths fall below a fraction of the pool, and the oldest chunks' last ones when
-//! the sample ring needs them back (the paths of samples below the bound the host sets).
+//! megakernel-style, in one pass sized on the GPU by the schedule's decision pass
+//! (queue_setup.wgsl's schedule_decide): the image's last ones once the live paths fall below a
+//! fraction of the pool, and the oldest chunks' last ones when the sample ring needs them back
+//! (the paths of samples below the bound it sets).
 
 use super::super::stage::{Stage, Workgroups};
 use super::super::{context::GpuContext, label, shaders};
