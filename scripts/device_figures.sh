@@ -23,6 +23,9 @@
 #                       mesh-room at 1920x1080x64 NEE (device/compute_passes.json) 5.3e9 ~1 min
 #   shader-checks       wgpu's runtime shader checks on and off, every GPU method, rtiow-final
 #                       and mesh-room at 1920x1080x64 NEE (device/shader_checks.json) 11e9 ~2 min
+#   specialize          shaders with only the scene's kinds compiled in or every kind
+#                       (--specialize scene|none), every GPU method, rtiow-final and mesh-room
+#                       at 1920x1080x64 NEE (device/specialize.json)      11e9   ~2 min
 #   warmup              the warm-up itself: rtiow-final 1920x1080x16 NEE, the regenerating
 #                       megakernel and regenerate + tail, each a fixed 15 s warm-up traced frame
 #                       by frame with the GPU's clocks (device/warmup.json)  fixed  ~40 s
@@ -103,6 +106,7 @@ tests
 dispatch-cost
 compute-passes device/compute_passes.json
 shader-checks device/shader_checks.json
+specialize device/specialize.json
 warmup device/warmup.json
 headline device/headline.json
 roulette device/roulette.json

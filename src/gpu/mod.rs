@@ -16,6 +16,7 @@ pub mod scene_buffers;
 pub mod schedule;
 pub mod shader_checks;
 pub mod shaders;
+pub mod specialize;
 pub mod stage;
 pub mod stage_cache;
 pub mod timing;

@@ -38,6 +38,7 @@ mod scale;
 mod scene_format;
 mod simd_replay;
 mod slurm;
+mod specialize;
 mod stability;
 mod stage_cache;
 mod steadiness;
