@@ -20,6 +20,7 @@ mod gltf;
 mod gpu_rng;
 mod image_io;
 mod indirect_args;
+mod intersect_cost;
 mod layout;
 mod lights;
 mod megakernel;

@@ -50,6 +50,7 @@ pub mod compact_states;
 pub mod compute_passes;
 pub mod generate;
 pub mod intersect;
+pub mod intersect_registers;
 pub mod path_state;
 pub mod queue_order;
 pub mod queue_setup;
