@@ -65,6 +65,7 @@ for call in "${calls[@]}"; do
     want=report.json
     [ "$step" = tests ] && want=tests.log
     [ "$step" = dispatch-cost ] && want=dispatch_cost.json
+    [ "$step" = intersect-cost ] && want=intersect_cost.rtiow-final.json
     listing=$(tar -tzf "$out/$step.tar.gz")
     grep -qx "./$want" <<<"$listing" || fail "$step.tar.gz holds no $want"
   done
