@@ -25,6 +25,9 @@
 #                       mesh-room at 1920x1080x64 NEE (device/compute_passes.json) 5.3e9 ~1 min
 #   shader-checks       wgpu's runtime shader checks on and off, every GPU method, rtiow-final
 #                       and mesh-room at 1920x1080x64 NEE (device/shader_checks.json) 11e9 ~2 min
+#   specialize          shaders with only the scene's kinds compiled in or every kind
+#                       (--specialize scene|none), every GPU method, rtiow-final and mesh-room
+#                       at 1920x1080x64 NEE (device/specialize.json)      11e9   ~2 min
 #   warmup              the warm-up itself: rtiow-final 1920x1080x16 NEE, the regenerating
 #                       megakernel and regenerate + tail, each a fixed 15 s warm-up traced frame
 #                       by frame with the GPU's clocks (device/warmup.json)  fixed  ~40 s
@@ -43,6 +46,10 @@
 #   decomposition       rtiow-final 1920x1080x64 NEE cut at depth 1, 2, 4 and 50: the same rays
 #                       in both megakernels, waves and regenerate + tail, so depth 1 isolates the
 #                       wavefront's own cost (issue 44; device/decomposition.json) 8.5e9  ~2 min
+#   intersect-cost      the wavefront's intersect of rtiow-final's and mesh-room's 1920x1080x64
+#                       camera rays against a twin that keeps each ray in registers and writes
+#                       no path state, 6 rounds of each (issue 44; wavetrace intersect-cost)
+#                                                                 1.6e9 at depth 1 <1 min
 #   pool-size           waves and regenerate + tail with pools of 262144 to 4194304 paths,
 #                       rtiow-final and mesh-room at 1920x1080x64 NEE (issue 44: Cycles' rule
 #                       gives ~4.3 M on an H200; device/pool_size.json)       8.5e9  ~2 min
@@ -105,12 +112,14 @@ tests
 dispatch-cost
 compute-passes device/compute_passes.json
 shader-checks device/shader_checks.json
+specialize device/specialize.json
 warmup device/warmup.json
 headline device/headline.json
 roulette device/roulette.json
 megakernel-threads device/megakernel_threads.json
 shading-cost device/shading_cost.json
 decomposition device/decomposition.json
+intersect-cost
 pool-size device/pool_size.json
 scene-size device/scene_size.json
 simd device/simd.json
@@ -136,7 +145,7 @@ out=${OUT:-out/device}
 steps=()
 while [ $# -gt 0 ]; do
   case "$1" in
-    --list) steps_table | awk '{ printf "%-24s %s\n", $1, ($2 != "" ? "experiments/" $2 : $1 == "tests" ? "(test suite)" : $1 == "dispatch-cost" ? "(wavetrace dispatch-cost)" : "(render + replay)") }'; exit 0 ;;
+    --list) steps_table | awk '{ printf "%-24s %s\n", $1, ($2 != "" ? "experiments/" $2 : $1 == "tests" ? "(test suite)" : $1 == "dispatch-cost" ? "(wavetrace dispatch-cost)" : $1 == "intersect-cost" ? "(wavetrace intersect-cost)" : "(render + replay)") }'; exit 0 ;;
     --scale) scale=${2:?--scale needs full or tiny}; shift 2 ;;
     --out) out=${2:?--out needs a directory}; shift 2 ;;
     -h | --help) sed -n '2,/^set -uo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
@@ -289,6 +298,18 @@ for step in "${steps[@]}"; do
     [ $rc = 0 ] && rc=$brc
     tee -a "$log" < "$dir/step.log" | tail -n 14
     [ $rc = 0 ] || { say "FAILED: dispatch-cost or bandwidth (exit $rc; step.log in the archive)"; failed=1; }
+  elif [ "$step" = intersect-cost ]; then
+    # Issue 44, item 1b: intersect's traversal apart from its state traffic (src/gpu/intersect_cost.rs).
+    n=(--width 1920 --height 1080 --spp 64 --repetitions 5)
+    [ "$scale" = tiny ] && n=(--width 32 --height 18 --spp 2 --repetitions 1)
+    rc=0
+    : > "$dir/step.log"
+    for sc in rtiow-final:rtiow-final mesh-room:experiments/scenes/mesh-room.json; do
+      timeout --kill-after=10 "$left" "$bin" intersect-cost --scene "${sc#*:}" "${n[@]}" \
+        --json "$dir/intersect_cost.${sc%%:*}.json" >> "$dir/step.log" 2>&1 || rc=$?
+    done
+    tee -a "$log" < "$dir/step.log" | tail -n 10
+    [ $rc = 0 ] || { say "FAILED: intersect-cost (exit $rc; step.log in the archive)"; failed=1; }
   elif [ "$step" = simd-replay ]; then
     # Issue 25: the device's counters against the replay at the device's width (32 lanes on
     # NVIDIA), every GPU method on the same frames; report.json holds both per scene, per method,

@@ -72,6 +72,9 @@ pub struct MethodOptions {
     pub timing: Timing,
     /// GPU methods: shaders compiled with wgpu's runtime checks, or without them.
     pub shader_checks: crate::gpu::shader_checks::ShaderChecks,
+    /// GPU methods: shaders compiled with only the scene's primitive, material and texture
+    /// kinds, or with every kind.
+    pub specialize: crate::gpu::specialize::Specialize,
     /// GPU methods: seconds of busy GPU work just before the first submission, so the frame
     /// starts at the clocks continuous rendering holds (`gpu::preheat`; 0: none). Set by the
     /// experiment runner and `wavetrace render`, not a knob of the method.
@@ -253,6 +256,7 @@ pub fn render(
                     instrument: options.instrument,
                     timing: options.timing,
                     shader_checks: options.shader_checks,
+                    specialize: options.specialize,
                     preheat_seconds: options.preheat_seconds,
                 },
                 on_progress,
@@ -272,6 +276,7 @@ pub fn render(
                     instrument: options.instrument,
                     timing: options.timing,
                     shader_checks: options.shader_checks,
+                    specialize: options.specialize,
                     preheat_seconds: options.preheat_seconds,
                 },
                 on_progress,

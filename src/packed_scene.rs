@@ -5,6 +5,7 @@
 
 use crate::bvh::{Aabb, Bvh};
 use crate::camera::CameraFrame;
+use crate::gpu::specialize::Specialize;
 use crate::layout::{
     background_kind, material_kind, primitive_kind, texture_kind, BvhNode, FrameUniform, LightEntry,
     MaterialRecord, PrimitiveRecord,
@@ -16,6 +17,12 @@ use crate::scene::stress::StressTransform;
 use crate::scene::{Background, Material, Scene, Texture};
 use crate::settings::{Accel, RenderSettings};
 use glam::Vec3;
+
+/// Masks with every `layout::primitive_kind`, `material_kind` and `texture_kind` (each list runs
+/// from 0 to its last kind): what `--specialize none` compiles in, and the WGSL defaults.
+pub const EVERY_PRIMITIVE_KIND: u32 = (1 << (primitive_kind::TRIANGLE + 1)) - 1;
+pub const EVERY_MATERIAL_KIND: u32 = (1 << (material_kind::EMISSIVE + 1)) - 1;
+pub const EVERY_TEXTURE_KIND: u32 = (1 << (texture_kind::MARBLE + 1)) - 1;
 
 #[derive(Clone, Debug)]
 pub struct PackedScene {
@@ -139,23 +146,47 @@ impl PackedScene {
         self.primitives.iter().fold(0, |m, p| m | 1 << p.kind)
     }
 
-    /// The pipeline constants every pass that binds the scene takes, besides its own:
-    /// `PRIM_KINDS`, `NEE` (next-event estimation on, in a scene with lights), and how NEE
-    /// samples: `LIGHT_SOLID_ANGLE` (spheres by the cone they subtend) and `LIGHT_POWER`
-    /// (choice by power); `RAY_ROBUST`, `SPHERE_BOOK` and `FRESNEL_EXACT` (`numerics`);
-    /// `ROULETTE` (`--roulette on`). As
-    /// constants rather than uniforms so that the compiler drops the code a render does not use.
-    pub fn pipeline_constants(&self, settings: &RenderSettings) -> [(&'static str, f64); 8] {
-        // An empty scene still needs a valid mask; any kind will do.
-        let kinds = match self.primitive_kinds() {
-            0 => 1,
-            k => k,
+    /// Bit k set when some primitive's material has `layout::material_kind` k: the
+    /// `MATERIAL_KINDS` pipeline constant.
+    pub fn material_kinds(&self) -> u32 {
+        self.material_kinds_used().iter().fold(0, |m, k| m | 1 << k)
+    }
+
+    /// Bit k set when some primitive's material looks up a texture of `layout::texture_kind` k:
+    /// the `TEXTURE_KINDS` pipeline constant. Only lambertian and metal look theirs up; the
+    /// other kinds' records carry a solid colour no shader reads as a texture.
+    pub fn texture_kinds(&self) -> u32 {
+        self.primitives
+            .iter()
+            .map(|p| &self.materials[p.material as usize])
+            .filter(|m| matches!(m.kind, material_kind::LAMBERTIAN | material_kind::METAL))
+            .fold(0, |mask, m| mask | 1 << m.texture)
+    }
+
+    /// The pipeline constants every pass that binds the scene takes, besides its own: the kinds
+    /// compiled in, `PRIM_KINDS`, `MATERIAL_KINDS` and `TEXTURE_KINDS` (the scene's with
+    /// `--specialize scene`, every kind with `none`); `NEE` (next-event estimation on, in a scene
+    /// with lights), and how NEE samples: `LIGHT_SOLID_ANGLE` (spheres by the cone they subtend)
+    /// and `LIGHT_POWER` (choice by power); `RAY_ROBUST`, `SPHERE_BOOK` and `FRESNEL_EXACT`
+    /// (`numerics`); `ROULETTE` (`--roulette on`). As constants rather than uniforms so that the
+    /// compiler drops the code a render does not use.
+    pub fn pipeline_constants(
+        &self,
+        settings: &RenderSettings,
+        specialize: Specialize,
+    ) -> [(&'static str, f64); 10] {
+        let (prims, materials, textures) = match specialize {
+            // An empty scene still needs a valid primitive mask; any kind will do.
+            Specialize::Scene => (self.primitive_kinds().max(1), self.material_kinds(), self.texture_kinds()),
+            Specialize::None => (EVERY_PRIMITIVE_KIND, EVERY_MATERIAL_KIND, EVERY_TEXTURE_KIND),
         };
         let nee = settings.nee && !self.lights.is_empty();
         let solid_angle = self.light_options.sampling == LightSampling::SolidAngle;
         let power = self.light_select() == LightSelect::Power;
         [
-            ("PRIM_KINDS", kinds as f64),
+            ("PRIM_KINDS", prims as f64),
+            ("MATERIAL_KINDS", materials as f64),
+            ("TEXTURE_KINDS", textures as f64),
             ("NEE", nee as u32 as f64),
             ("LIGHT_SOLID_ANGLE", solid_angle as u32 as f64),
             ("LIGHT_POWER", power as u32 as f64),

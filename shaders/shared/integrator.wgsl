@@ -47,7 +47,7 @@ fn trace_bounce(path: ptr<function, TracedPath>, pixel: u32, sample: u32, bounce
     }
     let sp = surface_point(prim, ray, hit.t);
     let p = sp.p;
-    if material.kind == MATERIAL_EMISSIVE {
+    if material_is(material.kind, MATERIAL_EMISSIVE) {
         var w = 1.0;
         if (*path).bsdf_pdf > 0.0 {
             w = emission_weight(hit.prim, ray.origin, p, ray.dir, hit.t, (*path).bsdf_pdf);
@@ -66,7 +66,7 @@ fn trace_bounce(path: ptr<function, TracedPath>, pixel: u32, sample: u32, bounce
     // Both rays leave to the side the normal faces, so they share the origin (as on the CPU).
     let origin = spawn_origin(sp, outward, s.dir);
     // Direct light at diffuse hits, when the ray it stands in for is within the depth limit.
-    let lights_sampled = NEE && material.kind == MATERIAL_LAMBERTIAN && bounce + 2u <= frame.max_depth;
+    let lights_sampled = NEE && material_is(material.kind, MATERIAL_LAMBERTIAN) && bounce + 2u <= frame.max_depth;
     (*path).bsdf_pdf = 0.0;
     if lights_sampled {
         (*path).bsdf_pdf = diffuse_pdf(dot(normal, s.dir));

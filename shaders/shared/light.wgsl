@@ -40,7 +40,7 @@ struct ShadowRay {
 
 // A sphere, in a scene that has spheres (PRIM_KINDS): without them the sphere code is dropped.
 fn is_sphere(p: Primitive) -> bool {
-    return (PRIM_KINDS & (1u << PRIM_SPHERE)) != 0u && p.kind == PRIM_SPHERE;
+    return prim_is(p.kind, PRIM_SPHERE);
 }
 
 // The slot of the light chosen by u0 (column) and u3 (keep its light or take its alias).

@@ -20,6 +20,18 @@ struct Material {
     color2: vec3<f32>,
 }
 
+// Bit k is set when the scene has materials of kind k (PackedScene::material_kinds), set per
+// pipeline so that only the scene's materials are compiled in. 15: every kind (`--specialize
+// none`).
+override MATERIAL_KINDS: u32 = 15u;
+
+// Whether a material of kind `kind` is a `k`, in a scene with the kinds MATERIAL_KINDS: without
+// emitters in the scene, the emission code (and its MIS weight) is dropped.
+fn material_is(kind: u32, k: u32) -> bool {
+    return kind_is(MATERIAL_KINDS, kind, k);
+}
+
+#include "shared/kinds.wgsl"
 #include "shared/texture.wgsl"
 
 struct Scatter {
@@ -106,22 +118,21 @@ fn scatter_dielectric(m: Material, ray: Ray, normal: vec3<f32>, front_face: bool
     return Scatter(vec3<f32>(1.0), normalize(d), true);
 }
 
-// `p`: the hit point, where textures are evaluated.
+// `p`: the hit point, where textures are evaluated. Never called for an emitter (its path ends
+// at the hit), so the kinds that scatter are the scene's less emissive: a scene with one of them
+// branches on no kind at all.
 fn scatter(m: Material, ray: Ray, p: vec3<f32>, normal: vec3<f32>, front_face: bool, u: vec4<f32>) -> Scatter {
-    switch m.kind {
-        case MATERIAL_LAMBERTIAN: {
-            return scatter_lambertian(m, p, normal, u);
-        }
-        case MATERIAL_METAL: {
-            return scatter_metal(m, ray, p, normal, u);
-        }
-        case MATERIAL_DIELECTRIC: {
-            return scatter_dielectric(m, ray, normal, front_face, u);
-        }
-        default: {
-            return Scatter(vec3<f32>(0.0), vec3<f32>(0.0), false);
-        }
+    let scattering = MATERIAL_KINDS & ~(1u << MATERIAL_EMISSIVE);
+    if kind_is(scattering, m.kind, MATERIAL_LAMBERTIAN) {
+        return scatter_lambertian(m, p, normal, u);
     }
+    if kind_is(scattering, m.kind, MATERIAL_METAL) {
+        return scatter_metal(m, ray, p, normal, u);
+    }
+    if kind_is(scattering, m.kind, MATERIAL_DIELECTRIC) {
+        return scatter_dielectric(m, ray, normal, front_face, u);
+    }
+    return Scatter(vec3<f32>(0.0), vec3<f32>(0.0), false);
 }
 
 // Pipeline constant: `--roulette on` (Russian roulette, pbrt-v4's rule).

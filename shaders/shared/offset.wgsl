@@ -30,7 +30,7 @@ fn surface_point(prim: Primitive, ray: Ray, t: f32) -> SurfacePoint {
     if !RAY_ROBUST {
         return SurfacePoint(p, vec3<f32>(0.0));
     }
-    if prim.kind == PRIM_SPHERE {
+    if prim_is(prim.kind, PRIM_SPHERE) {
         // Reprojected onto the sphere.
         var l = p - prim.a;
         l = l * (prim.radius / length(l));
@@ -90,7 +90,7 @@ fn is_self_hit(left: u32, hit: u32, ray: Ray, t: f32) -> bool {
         return false;
     }
     let p = primitives[hit];
-    if p.kind != PRIM_SPHERE {
+    if !prim_is(p.kind, PRIM_SPHERE) {
         return true;
     }
     let half_chord = -dot(ray.origin - p.a, ray.dir);

@@ -22,7 +22,7 @@ fn hit_planar(kind: u32, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>, ray: Ray, t_m
     let alpha = dot(w, cross(h, c));
     let beta = dot(w, cross(b, h));
     var inside: bool;
-    if kind == PRIM_QUAD {
+    if prim_is(kind, PRIM_QUAD) {
         inside = alpha >= 0.0 && alpha <= 1.0 && beta >= 0.0 && beta <= 1.0;
     } else {
         inside = alpha >= 0.0 && beta >= 0.0 && alpha + beta <= 1.0;

@@ -14,13 +14,21 @@ struct Primitive {
     material: u32,
 }
 
-#include "shared/sphere.wgsl"
-#include "shared/planar.wgsl"
+#include "shared/kinds.wgsl"
 
 // Bit k is set when the scene has primitives of kind k (PackedScene::primitive_kinds), set per
 // pipeline so that a scene of one shape compiles that shape's test alone: the branch on the kind
-// inside the BVH loop made the book's sphere scenes about 1.4x slower on llvmpipe. 7: any kind.
+// inside the BVH loop made the book's sphere scenes about 1.4x slower on llvmpipe. 7: any kind
+// (`--specialize none`).
 override PRIM_KINDS: u32 = 7u;
+
+// Whether a primitive of kind `kind` is a `k`, in a scene with the kinds PRIM_KINDS.
+fn prim_is(kind: u32, k: u32) -> bool {
+    return kind_is(PRIM_KINDS, kind, k);
+}
+
+#include "shared/sphere.wgsl"
+#include "shared/planar.wgsl"
 
 // Distance to the nearest hit on primitive `slot` in (t_min, t_max), or -1 for none. Reads only
 // the fields the shape needs (a sphere, 20 of the record's 48 bytes).
@@ -29,7 +37,7 @@ fn hit_primitive(slot: u32, ray: Ray, t_min: f32, t_max: f32) -> f32 {
         return hit_sphere_by(primitives[slot].a, primitives[slot].radius, ray, t_min, t_max);
     }
     let kind = primitives[slot].kind;
-    if (PRIM_KINDS & (1u << PRIM_SPHERE)) != 0u && kind == PRIM_SPHERE {
+    if prim_is(kind, PRIM_SPHERE) {
         return hit_sphere_by(primitives[slot].a, primitives[slot].radius, ray, t_min, t_max);
     }
     return hit_planar(kind, primitives[slot].a, primitives[slot].b, primitives[slot].c, ray, t_min, t_max);
@@ -37,18 +45,18 @@ fn hit_primitive(slot: u32, ray: Ray, t_min: f32, t_max: f32) -> f32 {
 
 // Unit normal at `point`: outward for a sphere, b × c for a quad or triangle.
 fn outward_normal(p: Primitive, point: vec3<f32>) -> vec3<f32> {
-    if p.kind == PRIM_SPHERE {
+    if prim_is(p.kind, PRIM_SPHERE) {
         return sphere_normal(p, point);
     }
     return planar_normal(p);
 }
 
 fn primitive_area(p: Primitive) -> f32 {
-    if p.kind == PRIM_SPHERE {
+    if prim_is(p.kind, PRIM_SPHERE) {
         return 4.0 * PI * p.radius * p.radius;
     }
     let area = length(cross(p.b, p.c));
-    if p.kind == PRIM_QUAD {
+    if prim_is(p.kind, PRIM_QUAD) {
         return area;
     }
     return 0.5 * area;
@@ -56,10 +64,10 @@ fn primitive_area(p: Primitive) -> f32 {
 
 // A point distributed uniformly by area (Shirley's warp for triangles).
 fn sample_point(p: Primitive, u1: f32, u2: f32) -> vec3<f32> {
-    if p.kind == PRIM_SPHERE {
+    if prim_is(p.kind, PRIM_SPHERE) {
         return p.a + unit_vector(u1, u2) * p.radius;
     }
-    if p.kind == PRIM_QUAD {
+    if prim_is(p.kind, PRIM_QUAD) {
         return p.a + p.b * u1 + p.c * u2;
     }
     let s = sqrt(u1);

@@ -4,6 +4,7 @@
 // CPU bit for bit. Its cost grows with `octaves`, the shading-cost knob of material_cost.json.
 
 #include "shared/rng.wgsl"
+#include "shared/kinds.wgsl"
 
 const TEXTURE_SOLID: u32 = 0u;
 const TEXTURE_CHECKER: u32 = 1u;
@@ -54,21 +55,22 @@ fn turbulence(p: vec3<f32>, octaves: u32) -> f32 {
     return abs(accum);
 }
 
+// Bit k is set when a textured material of the scene (lambertian, metal) has texture kind k
+// (PackedScene::texture_kinds), set per pipeline so that only the scene's textures are compiled
+// in: noise and marble's octave loops above all. 15: every kind (`--specialize none`).
+override TEXTURE_KINDS: u32 = 15u;
+
 fn texture_albedo(m: Material, p: vec3<f32>) -> vec3<f32> {
-    switch m.texture {
-        case TEXTURE_CHECKER: {
-            let c = floor(p / m.scale);
-            let parity = (i32(c.x) + i32(c.y) + i32(c.z)) & 1;
-            return select(m.color, m.color2, parity != 0);
-        }
-        case TEXTURE_NOISE: {
-            return m.color * turbulence(p * m.scale, m.octaves);
-        }
-        case TEXTURE_MARBLE: {
-            return m.color * (0.5 * (1.0 + sin(m.scale * p.z + 10.0 * turbulence(p, m.octaves))));
-        }
-        default: {
-            return m.color;
-        }
+    if kind_is(TEXTURE_KINDS, m.texture, TEXTURE_CHECKER) {
+        let c = floor(p / m.scale);
+        let parity = (i32(c.x) + i32(c.y) + i32(c.z)) & 1;
+        return select(m.color, m.color2, parity != 0);
     }
+    if kind_is(TEXTURE_KINDS, m.texture, TEXTURE_NOISE) {
+        return m.color * turbulence(p * m.scale, m.octaves);
+    }
+    if kind_is(TEXTURE_KINDS, m.texture, TEXTURE_MARBLE) {
+        return m.color * (0.5 * (1.0 + sin(m.scale * p.z + 10.0 * turbulence(p, m.octaves))));
+    }
+    return m.color;
 }

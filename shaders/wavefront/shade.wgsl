@@ -54,7 +54,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     let ray = Ray(o.xyz, d.xyz);
     let sp = surface_point(prim, ray, o.w);
     let p = sp.p;
-    if material.kind == MATERIAL_EMISSIVE {
+    if material_is(material.kind, MATERIAL_EMISSIVE) {
         // MIS-weighted when the previous hit sampled the lights (state.w: its bounce density).
         var w = 1.0;
         if state.w > 0.0 {
@@ -94,7 +94,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     // Direct light at diffuse hits, when the ray it stands in for is within the depth limit
     // (which also means this path goes on, unless the roulette ends it, so path_origin below is
     // the shadow ray's origin).
-    let lights_sampled = NEE && material.kind == MATERIAL_LAMBERTIAN
+    let lights_sampled = NEE && material_is(material.kind, MATERIAL_LAMBERTIAN)
         && bounce + 2u <= frame.max_depth;
     var bsdf_pdf = 0.0;
     var shadow_queued = false;

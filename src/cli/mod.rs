@@ -5,6 +5,7 @@ pub mod compare;
 pub mod dispatch_cost;
 pub mod experiment;
 pub mod info;
+pub mod intersect_cost;
 pub mod render;
 pub mod replay;
 pub mod scene;
@@ -23,6 +24,7 @@ Examples:
   wavetrace compare test.exr reference.exr --json
   wavetrace experiment run experiments/quick.json     # -> out/quick/report.html
   wavetrace dispatch-cost --json cost.json            # what one dispatch costs on this GPU
+  wavetrace intersect-cost --json intersect.json      # intersect: traversal or state traffic?
 
 Environment (docs/cli-and-configs.md#environment-variables has the full table):
   RUST_LOG=info|debug                 logging (adapter choice, dispatch plan, loop-cap estimate)
@@ -69,6 +71,9 @@ pub enum Command {
     /// What this GPU's memory delivers to a pass streaming 16-byte elements: GB/s of a compute
     /// copy, a compute read and a buffer copy (issue 44).
     Bandwidth(bandwidth::BandwidthArgs),
+    /// Time the wavefront's intersect of a frame's camera rays against a twin that keeps each ray
+    /// in registers and writes no path state: traversal apart from state traffic.
+    IntersectCost(intersect_cost::IntersectCostArgs),
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
@@ -81,5 +86,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Replay(a) => replay::run(a),
         Command::DispatchCost(a) => dispatch_cost::run(a),
         Command::Bandwidth(a) => bandwidth::run(a),
+        Command::IntersectCost(a) => intersect_cost::run(a),
     }
 }

@@ -4,6 +4,7 @@ use crate::gpu::buffers::human_bytes;
 use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::memory::{GpuMemory, MemoryCategory};
 use crate::gpu::shader_checks::ShaderChecks;
+use crate::gpu::specialize::Specialize;
 use crate::gpu::timing::{TimeSource, Timing, Timings, FRAME_LABEL};
 use crate::gpu::wavefront::{
     Append, CompactStates, Compaction, ComputePasses, QueueOrder, RaySort, Scan, Schedule, ShadePasses, Tail,
@@ -232,6 +233,11 @@ pub struct RenderArgs {
     /// or without them (`unchecked`: what the checks cost; the films are the same).
     #[arg(long, value_enum, default_value_t = ShaderChecks::Checked, help_heading = "GPU methods", hide_short_help = true)]
     pub shader_checks: ShaderChecks,
+    /// GPU methods: compile the shaders with only the primitive, material and texture kinds the
+    /// scene has (`scene`), or with every kind (`none`: the unspecialized baseline; the films are
+    /// the same).
+    #[arg(long, value_enum, default_value_t = Specialize::Scene, help_heading = "GPU methods", hide_short_help = true)]
+    pub specialize: Specialize,
     /// GPU methods: seconds of busy GPU work just before each frame (warm-up and timed), so the
     /// frame starts at the clocks continuous rendering holds rather than those of a GPU idled by
     /// the host's setup (0: none; never on a software adapter).
@@ -337,6 +343,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         instrument: a.instrument,
         timing: a.timing,
         shader_checks: a.shader_checks,
+        specialize: a.specialize,
         preheat_seconds: a.preheat,
     };
     let gpu = if a.method.needs_gpu() { Some(GpuContext::new(a.adapter.as_deref())?) } else { None };

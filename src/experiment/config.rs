@@ -84,6 +84,7 @@ use super::overrides::Override;
 use super::stability::DEFAULT_UNSTABLE_SPREAD;
 use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::shader_checks::ShaderChecks;
+use crate::gpu::specialize::Specialize;
 use crate::gpu::timing::Timing;
 use crate::gpu::wavefront::{
     Append, CompactStates, Compaction, ComputePasses, QueueOrder, RaySort, Scan, Schedule, ShadePasses, Tail,
@@ -163,6 +164,7 @@ pub const KNOBS: &[&str] = &[
     "ray_sort",
     "compute_passes",
     "shader_checks",
+    "specialize",
 ];
 /// Every method's knobs: how next-event estimation samples lights, the numerical choices and the
 /// stress transforms.
@@ -191,6 +193,7 @@ const MEGAKERNEL_KNOBS: &[&str] = &[
     "threads",
     "timing",
     "shader_checks",
+    "specialize",
 ];
 const WAVEFRONT_KNOBS: &[&str] = &[
     "light_sampling",
@@ -219,6 +222,7 @@ const WAVEFRONT_KNOBS: &[&str] = &[
     "compute_passes",
     "timing",
     "shader_checks",
+    "specialize",
 ];
 const SCANS: &[&str] = &["auto", "subgroup", "workgroup"];
 const APPENDS: &[&str] = &["auto", "lane", "subgroup"];
@@ -226,6 +230,7 @@ const ON_OFF: &[&str] = &["off", "on"];
 const RAY_SORTS: &[&str] = &["off", "octant", "octant-cell"];
 const COMPUTE_PASSES: &[&str] = &["per-dispatch", "shared"];
 const SHADER_CHECKS: &[&str] = &["checked", "unchecked"];
+const SPECIALIZES: &[&str] = &["scene", "none"];
 const QUEUE_ORDERS: &[&str] = &["auto", "arrival", "slot", "slot-depth"];
 const LIGHT_SAMPLINGS: &[&str] = &["area", "solid-angle"];
 const LIGHT_SELECTS: &[&str] = &["uniform", "power"];
@@ -837,6 +842,9 @@ impl Cx {
                 _ => ShaderChecks::Checked,
             })
         })?;
+        let specialize = self.knob(o, &opt_path("specialize"), "specialize", |v, p| {
+            Ok(if self.choice(v, p, SPECIALIZES)? == "none" { Specialize::None } else { Specialize::Scene })
+        })?;
         let timing = self.knob(o, &opt_path("timing"), "timing", |v, p| {
             Ok(if self.choice(v, p, TIMINGS)? == "frame" { Timing::Frame } else { Timing::Passes })
         })?;
@@ -1010,6 +1018,10 @@ impl Cx {
         expand(&mut variants, &shader_checks, ShaderChecks::Checked, labelled, |o, &c| {
             o.shader_checks = c;
             format!("shader-checks={}", c.name())
+        });
+        expand(&mut variants, &specialize, Specialize::Scene, labelled, |o, &s| {
+            o.specialize = s;
+            format!("specialize={}", s.name())
         });
         expand(&mut variants, &timing, Timing::Passes, labelled, |o, &t| {
             o.timing = t;

@@ -677,6 +677,7 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
             "threads": o.megakernel.threads,
             "timing": o.timing,
             "shader_checks": o.shader_checks,
+            "specialize": o.specialize,
         }),
         Wavefront => serde_json::json!({
             "light_sampling": o.lights.sampling,
@@ -699,6 +700,7 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
             "ray_sort": o.wavefront.ray_sort,
             "timing": o.timing,
             "shader_checks": o.shader_checks,
+            "specialize": o.specialize,
         }),
     };
     // Every method's numerical knobs and stress transform.

@@ -48,7 +48,8 @@ pub struct Spread {
 }
 
 impl Spread {
-    pub(crate) fn of(values: &[f64]) -> Self {
+    /// Of one or more values (`gpu::intersect_cost` uses it too).
+    pub fn of(values: &[f64]) -> Self {
         let mut v = values.to_vec();
         v.sort_by(f64::total_cmp);
         Self { median: crate::stats::median_of_sorted(&v), min: v[0], max: v[v.len() - 1] }

@@ -143,7 +143,7 @@ pub fn render(
     let start = Instant::now();
     let mut memory = MemoryLedger::default();
     let frame = scene.frame_uniform(camera, settings);
-    let scene_buffers = SceneBuffers::new(ctx, scene, &frame, settings, &mut memory)?;
+    let scene_buffers = SceneBuffers::new(ctx, scene, &frame, settings, measure.specialize, &mut memory)?;
     let pixels = settings.width * settings.height;
     let plan = match threads {
         None => {

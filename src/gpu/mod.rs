@@ -9,6 +9,7 @@ pub mod dispatch_plan;
 pub mod gpu_render;
 pub mod headless;
 pub mod instrument;
+pub mod intersect_cost;
 pub mod loop_limit;
 pub mod megakernel;
 pub mod memory;
@@ -17,6 +18,7 @@ pub mod scene_buffers;
 pub mod schedule;
 pub mod shader_checks;
 pub mod shaders;
+pub mod specialize;
 pub mod stage;
 pub mod stage_cache;
 pub mod timing;
@@ -52,6 +54,9 @@ pub mod label {
     /// `--ray-sort`: writes the ray queue back in key order.
     pub const SORT_RAYS_SCATTER: &str = "sort_rays_scatter";
     pub const INTERSECT: &str = "intersect";
+    /// `wavetrace intersect-cost`: intersect's traversal of camera rays made in place, with no
+    /// path state read or written (a diagnostic).
+    pub const INTERSECT_REGISTERS: &str = "intersect_registers";
     pub const QUEUE_SETUP_SHADE: &str = "queue_setup_shade";
     /// Shade passes by material kind (`layout::material_kind` order).
     pub const SHADE_BY_KIND: [&str; 4] =

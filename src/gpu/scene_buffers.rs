@@ -7,6 +7,7 @@
 use super::buffers::{human_bytes, read_back, storage_entry, storage_init, storage_zeroed, uniform_entry};
 use super::context::{AdapterSummary, GpuContext};
 use super::memory::{MemoryCategory, MemoryLedger};
+use super::specialize::Specialize;
 use crate::layout::FrameUniform;
 use crate::numerics::Failures;
 use crate::packed_scene::PackedScene;
@@ -23,7 +24,7 @@ pub struct SceneBuffers {
     /// self-hits, depth-cut paths, each a u64 as two u32 words, low first.
     pub failures: wgpu::Buffer,
     /// Pipeline constants of the scene's shaders (`PackedScene::pipeline_constants`).
-    scene_constants: [(&'static str, f64); 8],
+    scene_constants: [(&'static str, f64); 10],
 }
 
 impl SceneBuffers {
@@ -51,6 +52,7 @@ impl SceneBuffers {
         scene: &PackedScene,
         frame: &FrameUniform,
         settings: &RenderSettings,
+        specialize: Specialize,
         memory: &mut MemoryLedger,
     ) -> Result<Self> {
         check_fits(scene, &ctx.summary)?;
@@ -89,7 +91,13 @@ impl SceneBuffers {
             ],
         });
         ctx.check()?;
-        Ok(Self { layout, bind_group, bytes, failures, scene_constants: scene.pipeline_constants(settings) })
+        Ok(Self {
+            layout,
+            bind_group,
+            bytes,
+            failures,
+            scene_constants: scene.pipeline_constants(settings, specialize),
+        })
     }
 
     /// The failure counters as they stand (waits for the GPU).

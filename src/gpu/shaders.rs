@@ -65,6 +65,8 @@ pub const INDIRECT_PROBE: &str = composed!("tests_indirect_probe");
 pub const SCHEDULE_PROBE: &str = composed!("tests_schedule_probe");
 pub const GENERATE: Variants = variants!("wavefront_generate", appends);
 pub const INTERSECT: Variants = variants!("wavefront_intersect", appends);
+/// `wavetrace intersect-cost`'s diagnostic twin of intersect (never instrumented).
+pub const INTERSECT_REGISTERS: &str = composed!("wavefront_intersect_registers");
 pub const SHADE: Variants = variants!("wavefront_shade", appends);
 pub const SHADOW: Variants = variants!("wavefront_shadow", appends);
 pub const TAIL: Variants = variants!("wavefront_tail", appends);

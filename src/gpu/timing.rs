@@ -41,14 +41,16 @@ pub enum Timing {
 }
 
 /// What a GPU render measures besides its image, and how: SIMD-efficiency counters
-/// (`--instrument`), how passes are timed (`--timing`), the shaders' runtime checks and the
-/// preheat before the frame.
+/// (`--instrument`), how passes are timed (`--timing`), the shaders' runtime checks and
+/// specialization, and the preheat before the frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Measure {
     pub instrument: bool,
     pub timing: Timing,
     /// Shaders compiled with wgpu's runtime checks or without (`--shader-checks`).
     pub shader_checks: super::shader_checks::ShaderChecks,
+    /// Shaders compiled for the scene's kinds or for every kind (`--specialize`).
+    pub specialize: super::specialize::Specialize,
     /// Seconds of busy work before the first submission (`gpu::preheat`; 0: none).
     pub preheat_seconds: f64,
 }

@@ -186,9 +186,14 @@ fn gpu_render_flags_reach_the_run() {
     assert_eq!(r["passes"]["megakernel"]["passes"], 4, "{}", r["passes"]);
     assert_eq!(r["dispatches"], 8);
     assert_eq!(r["options"]["timing"], "frame");
+    assert_eq!(r["options"]["specialize"], "scene");
     assert!(r["frame_seconds"].as_f64().unwrap() > 0.0);
-    let r = render("regen", &["--method", "megakernel", "--schedule", "regenerate", "--threads", "64"]);
+    let r = render(
+        "regen",
+        &["--method", "megakernel", "--schedule", "regenerate", "--threads", "64", "--specialize", "none"],
+    );
     assert_eq!(r["options"]["megakernel"]["threads"], 64);
+    assert_eq!(r["options"]["specialize"], "none");
     assert_eq!(r["options"]["megakernel"]["schedule"], "regenerate");
     let r = render(
         "wf",

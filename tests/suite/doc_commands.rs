@@ -16,7 +16,7 @@
 //! - `target/release/wavetrace` → `wavetrace`, which is the binary cargo built (on `PATH`);
 //! - variables set by an earlier line of the same block (`S="…"`, docs/numerics.md) are
 //!   substituted, so the sizes they hold are seen;
-//! - `render` and `replay`: `--width 24 --height 16 --spp 2`, replacing the command's own sizes
+//! - `render`, `replay` and `intersect-cost`: `--width 24 --height 16 --spp 2`, replacing the command's own sizes
 //!   or added where it has none, unless the command is a CPU render of at most 64×36×16
 //!   samples (seconds): those run as written, so that the figures their comments state can be
 //!   checked at the documented size;
@@ -289,10 +289,13 @@ fn rewrite(line: &str, adapter: &str) -> String {
     if let Some(i) = words.iter().position(|w| w == "--adapter") {
         words[i + 1] = adapter.to_string();
     }
-    if sub == "render" || sub == "replay" {
+    if sub == "render" || sub == "replay" || sub == "intersect-cost" {
         let w: Vec<&str> = words.iter().map(String::as_str).collect();
-        let (defaults, method) =
-            if sub == "render" { ((400, 225, 16), "megakernel") } else { ((160, 90, 16), "") };
+        let (defaults, method) = match sub.as_str() {
+            "render" => ((400, 225, 16), "megakernel"),
+            "replay" => ((160, 90, 16), ""),
+            _ => ((1920, 1080, 64), ""),
+        };
         let size = |name: &str, d: u64| flag(&w, name).map_or(d, |v| v.parse().unwrap_or(u64::MAX));
         let samples = size("--width", defaults.0) * size("--height", defaults.1) * size("--spp", defaults.2);
         let cpu = sub == "render" && flag(&w, "--method").unwrap_or(method).starts_with("cpu");
@@ -521,6 +524,10 @@ fn commands_are_shrunk_as_the_module_says() {
         "WGPU_BACKEND=vulkan wavetrace info --adapter llvmpipe"
     );
     assert_eq!(r("wavetrace scene export x > final.json"), "wavetrace scene export x > final.json");
+    assert_eq!(
+        r("wavetrace intersect-cost --json i.json"),
+        "wavetrace intersect-cost --json i.json --width 24 --height 16 --spp 2"
+    );
     assert_eq!(
         substitute("wavetrace render $S --out a.exr", &["S=\"--scene x --spp 4\"".to_string()]),
         "wavetrace render --scene x --spp 4 --out a.exr"

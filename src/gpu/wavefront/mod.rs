@@ -60,6 +60,7 @@ pub mod compact_states;
 pub mod compute_passes;
 pub mod generate;
 pub mod intersect;
+pub mod intersect_registers;
 pub mod path_state;
 pub mod queue_order;
 pub mod queue_setup;
@@ -711,7 +712,7 @@ pub fn render(
         ring_samples: regenerate.then_some(ring.samples() as u64),
     };
     let b = Bindings {
-        scene: SceneBuffers::new(ctx, scene, &frame, settings, &mut memory)?,
+        scene: SceneBuffers::new(ctx, scene, &frame, settings, measure.specialize, &mut memory)?,
         state: PathState::new(ctx, pool, wave, &params, stats_bounces, layout, &mut memory)?,
         simd: instrument.then(|| SimdCounters::new(ctx, &mut memory)).transpose()?,
         regenerate,
