@@ -10,7 +10,7 @@ use crate::gpu::GpuContext;
 const EXAMPLES: &str = "\
 Examples:
   wavetrace bandwidth                                # 256 MiB buffers (less where bindings are smaller), 9 repetitions
-  wavetrace bandwidth --mib 1024 --json bandwidth.json
+  wavetrace bandwidth --mib 64 --json bandwidth.json
   wavetrace bandwidth --adapter nvidia --repetitions 21";
 
 /// Times a streaming copy and a streaming read of 16-byte elements in compute passes, and a
