@@ -169,6 +169,11 @@ pub struct RenderArgs {
     /// tail starts when it is due.
     #[arg(long, default_value_t = WavefrontOptions::default().sync_every, help_heading = "Wavefront", hide_short_help = true)]
     pub sync_every: u32,
+    /// Wavefront, regenerate: batches of --sync-every iterations submitted before the host waits
+    /// for the oldest one's read-back (1: it waits for each check, the GPU idle meanwhile, as
+    /// before the GPU decided; more: newer batches keep the GPU busy while it waits).
+    #[arg(long, default_value_t = WavefrontOptions::default().batches_in_flight, help_heading = "Wavefront", hide_short_help = true)]
+    pub batches_in_flight: u32,
     /// Wavefront, regenerate: finish paths in one megakernel-style pass: the image's last ones
     /// once at most --tail-threshold × pool are left, and the oldest chunks' last ones (each at
     /// most that many) when the sample ring would stop the refills.
@@ -329,6 +334,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             shade: a.shade,
             schedule: a.schedule,
             sync_every: a.sync_every,
+            batches_in_flight: a.batches_in_flight,
             tail: a.tail,
             tail_threshold: a.tail_threshold,
             chunk_pools: a.chunk_pools,

@@ -165,6 +165,7 @@ pub const KNOBS: &[&str] = &[
     "compute_passes",
     "shader_checks",
     "specialize",
+    "batches_in_flight",
 ];
 /// Every method's knobs: how next-event estimation samples lights, the numerical choices and the
 /// stress transforms.
@@ -210,6 +211,7 @@ const WAVEFRONT_KNOBS: &[&str] = &[
     "shade",
     "schedule",
     "sync_every",
+    "batches_in_flight",
     "tail",
     "tail_threshold",
     "chunk_pools",
@@ -780,6 +782,10 @@ impl Cx {
         let sync_every = self.knob(o, &opt_path("sync_every"), "sync_every", |v, p| {
             self.uint32(v, p, 1, crate::gpu::wavefront::schedule::MAX_SYNC_EVERY)
         })?;
+        let batches_in_flight =
+            self.knob(o, &opt_path("batches_in_flight"), "batches_in_flight", |v, p| {
+                self.uint32(v, p, 1, crate::gpu::wavefront::MAX_BATCHES_IN_FLIGHT)
+            })?;
         let tail = self.knob(o, &opt_path("tail"), "tail", |v, p| {
             Ok(if self.choice(v, p, TAILS)? == "megakernel" { Tail::Megakernel } else { Tail::Off })
         })?;
@@ -974,6 +980,10 @@ impl Cx {
         expand(&mut variants, &sync_every, wf.sync_every, labelled, |o, &k| {
             o.wavefront.sync_every = k;
             format!("sync={k}")
+        });
+        expand(&mut variants, &batches_in_flight, wf.batches_in_flight, labelled, |o, &k| {
+            o.wavefront.batches_in_flight = k;
+            format!("in_flight={k}")
         });
         expand(&mut variants, &tail, wf.tail, labelled, |o, &t| {
             o.wavefront.tail = t;

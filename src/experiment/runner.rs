@@ -688,6 +688,7 @@ fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json:
             "shade": o.wavefront.shade,
             "schedule": o.wavefront.schedule,
             "sync_every": o.wavefront.sync_every,
+            "batches_in_flight": o.wavefront.batches_in_flight,
             "tail": o.wavefront.tail,
             "tail_threshold": o.wavefront.tail_threshold,
             "chunk_pools": o.wavefront.chunk_pools,

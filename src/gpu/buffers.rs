@@ -200,4 +200,22 @@ impl MapRequest {
     pub fn is_ready(&self) -> bool {
         self.state.load(std::sync::atomic::Ordering::Acquire) != MAP_PENDING
     }
+
+    /// Waits until the mapping has completed: for the submission `index` that holds its copy,
+    /// then for its callback, which another thread polling the same device may be the one to
+    /// run (the tests share a device), so a wait for the submission alone can return first.
+    pub fn wait(&self, ctx: &GpuContext, index: Option<wgpu::SubmissionIndex>) -> Result<()> {
+        ctx.device
+            .poll(wgpu::PollType::Wait { submission_index: index, timeout: None })
+            .map_err(|e| anyhow!("waiting for the GPU failed: {e}"))?;
+        let start = std::time::Instant::now();
+        while !self.is_ready() {
+            if start.elapsed() > std::time::Duration::from_secs(60) {
+                bail!("a read-back's mapping never completed");
+            }
+            ctx.device.poll(wgpu::PollType::Poll).map_err(|e| anyhow!("polling the GPU failed: {e}"))?;
+            std::thread::yield_now();
+        }
+        Ok(())
+    }
 }

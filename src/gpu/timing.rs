@@ -304,6 +304,16 @@ impl GpuTimer {
         Ok(index)
     }
 
+    /// Counts a wait the method made itself (the regenerating host loop's for a read-back) and,
+    /// where nothing newer was queued (`idle`), starts a host gap: the GPU idles from now until
+    /// the next submission.
+    pub fn note_wait(&mut self, idle: bool) {
+        self.timings.waits += 1;
+        if idle {
+            self.last_done = Some(Instant::now());
+        }
+    }
+
     /// Waits for the batch and adds its pass times.
     fn finish_batch(&mut self, ctx: &GpuContext) -> Result<()> {
         ctx.wait()?;

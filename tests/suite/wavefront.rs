@@ -917,8 +917,31 @@ fn the_regenerating_host_never_waits_inside_a_share() {
             if tail == Tail::Megakernel {
                 assert!(stats.tail_passes >= 1, "{what}");
             }
+            // One batch in flight: the host waits for each check's read-back, the GPU idle (the
+            // loop before the GPU decided, kept as the device's A/B); the film is the same.
+            if pool.is_some() {
+                let one = WavefrontOptions { batches_in_flight: 1, ..wf };
+                let waited =
+                    run(Method::Wavefront, "rtiow-final", &s, &MethodOptions { wavefront: one, ..opts });
+                let st = waited.schedule.as_ref().unwrap();
+                assert!(st.blocking_reads > 0 && st.throttles == 0, "{what}: {st:?}");
+                assert_eq!(waited.film, out.film, "{what}: one batch in flight, the same film");
+                let timings = waited.timings.unwrap();
+                assert_eq!(timings.waits, st.blocking_reads + 1, "{what}: each read waited for, and the end");
+            }
         }
     }
+    let bad = WavefrontOptions { batches_in_flight: 0, ..regenerating(Default::default()) };
+    let err = render(
+        Method::Wavefront,
+        &builtin::by_name("rtiow-final").unwrap(),
+        &s,
+        &MethodOptions { wavefront: bad, ..Default::default() },
+        common::gpu(),
+        &|_| {},
+    )
+    .expect_err("0 batches in flight is refused");
+    assert!(err.to_string().contains("--batches-in-flight must be in 1..="), "{err}");
 }
 
 /// The iterations the host records past a share's end (it has not yet read that the share is

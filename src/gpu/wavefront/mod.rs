@@ -42,7 +42,7 @@
 //!                                           refill limit to the ring's new end; DONE once every
 //!                                           chunk is in; elsewhere both passes are empty
 //!     (regenerate, every --sync-every iterations: submit without waiting, the counters copied
-//!      into the next staging buffer of a ring of BATCHES_IN_FLIGHT, whose mapping is polled;
+//!      into the next staging buffer of a ring of --batches-in-flight, whose mapping is polled;
 //!      at that many batches in flight, wait for the oldest's read-back; stop recording once
 //!      one says DONE: the iterations recorded after are speculative, zero workgroups)
 //! accumulate                                (waves) the wave's radiance → film, in sample order
@@ -141,6 +141,10 @@ pub struct WavefrontOptions {
     /// iterations at the image's end and more speculative ones; with the tail, the check runs
     /// every iteration once every sample has started).
     pub sync_every: u32,
+    /// Regenerating: batches the host keeps submitted before it waits for the oldest one's
+    /// read-back (`--batches-in-flight`): 1 waits for each check, the GPU idle while the host
+    /// reads and records (the loop before issue 42); more keep newer batches queued meanwhile.
+    pub batches_in_flight: u32,
     /// Regenerating: whether the last paths (of the image, and of the oldest chunks when the
     /// sample ring needs them back) are finished megakernel-style.
     pub tail: Tail,
@@ -176,6 +180,7 @@ impl Default for WavefrontOptions {
             shade: ShadePasses::PerMaterial,
             schedule: Schedule::Waves,
             sync_every: schedule::DEFAULT_SYNC_EVERY,
+            batches_in_flight: BATCHES_IN_FLIGHT,
             tail: Tail::Off,
             tail_threshold: tail::DEFAULT_THRESHOLD,
             chunk_pools: schedule::CHUNK_POOLS,
@@ -206,10 +211,20 @@ impl WavefrontOptions {
     }
 }
 
-/// Batches of `--sync-every` iterations the regenerating host loop keeps in flight (each with
-/// its own staging buffer for the counters' read-back): enough that waiting for the oldest
-/// leaves newer ones queued, so the GPU never idles for the host inside a share.
-pub const BATCHES_IN_FLIGHT: usize = 3;
+/// Default `--batches-in-flight`: batches of `--sync-every` iterations the regenerating host
+/// loop keeps in flight (each with its own staging buffer for the counters' read-back): enough
+/// that waiting for the oldest leaves newer ones queued, so the GPU never idles for the host
+/// inside a share.
+pub const BATCHES_IN_FLIGHT: u32 = 3;
+/// Most `--batches-in-flight`.
+pub const MAX_BATCHES_IN_FLIGHT: u32 = 16;
+
+pub fn check_batches_in_flight(n: u32) -> Result<()> {
+    if !(1..=MAX_BATCHES_IN_FLIGHT).contains(&n) {
+        bail!("--batches-in-flight must be in 1..={MAX_BATCHES_IN_FLIGHT} batches, got {n}");
+    }
+    Ok(())
+}
 
 /// Default pool: about a million paths in flight (pbrt-v4's choice), less where limits say so.
 pub const DEFAULT_POOL: u32 = 1 << 20;
@@ -504,8 +519,8 @@ impl Drive<'_> {
     /// [`Self::record_decided`]): the host records batches of `--sync-every` iterations and
     /// submits them without waiting, each batch's counters copied into the next of the `staging`
     /// ring, whose mapping it polls; it stops recording once a read-back says the share is done.
-    /// At [`BATCHES_IN_FLIGHT`] batches it waits for the oldest one's read-back, newer batches
-    /// queued behind it (a throttle). `progress` gets the share's finished samples. Returns the
+    /// At `--batches-in-flight` batches it waits for the oldest one's read-back, newer batches
+    /// queued behind it (a throttle; with one batch, a blocking read). `progress` gets the share's finished samples. Returns the
     /// iterations the share ran (those recorded after its end are counted as speculative).
     fn regenerate(
         &self,
@@ -565,14 +580,15 @@ impl Drive<'_> {
                     pending.pop_front().expect("a batch in flight");
                 if !req.is_ready() {
                     // Newer batches queued behind this one keep the GPU busy meanwhile.
-                    if pending.is_empty() {
+                    let idle = pending.is_empty();
+                    if idle {
                         stats.blocking_reads += 1;
                     } else {
                         stats.throttles += 1;
                     }
-                    ctx.device
-                        .poll(wgpu::PollType::Wait { submission_index: index, timeout: None })
-                        .map_err(|e| anyhow::anyhow!("waiting for the GPU failed: {e}"))?;
+                    req.wait(ctx, index)?;
+                    // Counted with the frame's waits; a blocking read's idle GPU is a host gap.
+                    wave.timer.note_wait(idle);
                 }
                 ran = read(req, k)?;
                 continue;
@@ -653,6 +669,7 @@ pub fn render(
     // (the regenerating schedule's start, compaction off) and its memory shrink with it.
     let pool = choose_pool(ctx, opts)?.min(u32::try_from(settings.sample_count()).unwrap_or(u32::MAX));
     schedule::check_sync_every(opts.sync_every)?;
+    check_batches_in_flight(opts.batches_in_flight)?;
     schedule::check_chunk_pools(opts.chunk_pools)?;
     tail::check_threshold(opts.tail_threshold)?;
     opts.queue_order.check(opts.compaction)?;
@@ -754,7 +771,7 @@ pub fn render(
 
     // Regenerating: the ring of staging buffers the batches in flight read the schedule's
     // counters back through.
-    let staging: Vec<Staging> = (0..if regenerate { BATCHES_IN_FLIGHT } else { 0 })
+    let staging: Vec<Staging> = (0..if regenerate { opts.batches_in_flight } else { 0 })
         .map(|_| {
             let bytes = schedule::ChunkCounters::bytes(&ring);
             memory.add(MemoryCategory::Counters, bytes);
