@@ -304,14 +304,12 @@ impl GpuTimer {
         Ok(index)
     }
 
-    /// Counts a wait the method made itself (the regenerating host loop's for a read-back) and,
-    /// where nothing newer was queued (`idle`), starts a host gap: the GPU idles from now until
-    /// the next submission.
-    pub fn note_wait(&mut self, idle: bool) {
+    /// Counts a blocking wait the method made itself (the regenerating host loop's for a
+    /// read-back, nothing newer queued) and starts a host gap: the GPU idles from now until the
+    /// next submission. (A wait with newer work queued is no such wait: the GPU stays busy.)
+    pub fn note_blocking_wait(&mut self) {
         self.timings.waits += 1;
-        if idle {
-            self.last_done = Some(Instant::now());
-        }
+        self.last_done = Some(Instant::now());
     }
 
     /// Waits for the batch and adds its pass times.

@@ -587,8 +587,10 @@ impl Drive<'_> {
                         stats.throttles += 1;
                     }
                     req.wait(ctx, index)?;
-                    // Counted with the frame's waits; a blocking read's idle GPU is a host gap.
-                    wave.timer.note_wait(idle);
+                    // A blocking read counts with the frame's waits, its idle GPU as a host gap.
+                    if idle {
+                        wave.timer.note_blocking_wait();
+                    }
                 }
                 ran = read(req, k)?;
                 continue;
