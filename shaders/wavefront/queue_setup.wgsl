@@ -115,7 +115,9 @@ fn queue_setup_compact_states() {
 }
 
 fn record(bounce: u32, q: u32, n: u32) {
-    if wave.compaction != 0u {
+    // Past a share's end the queues hold only what no pass will run (the tail's flushed paths),
+    // and the counts stay the share's own however far ahead the host recorded.
+    if wave.compaction != 0u && !share_done() {
         let row = min(bounce, STATS_BOUNCES - 1u);
         atomicAdd(&counters[COUNTER_STATS + row * QUEUE_COUNT + q], n);
     }

@@ -977,6 +977,18 @@ fn speculative_iterations_change_no_film() {
         (a.iterations, 0, a.tail_passes, a.tail_paths)
     );
     assert_eq!((b.dispatches, b.empty_dispatches), (a.dispatches, a.empty_dispatches), "{a:?} vs {b:?}");
+    // The queue counts too (the traffic model's items): the flushed paths still on the ray queue
+    // past the end are counted by no speculative iteration.
+    let items = |s: &wavetrace::gpu::wavefront::ScheduleStats| {
+        s.state_traffic
+            .as_ref()
+            .unwrap()
+            .passes
+            .iter()
+            .map(|p| (p.label.clone(), p.items))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(items(&b), items(&a));
 }
 
 /// The path-state traffic model (issue 44) is charged with counts the render made: in waves the
