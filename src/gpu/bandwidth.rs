@@ -15,10 +15,11 @@ use std::time::Instant;
 use anyhow::{bail, Result};
 use serde::Serialize;
 
-use super::buffers::{read_back, storage_entry, Staging};
+use super::buffers::{read_back, storage_entry};
 use super::context::{AdapterSummary, GpuContext};
 use super::dispatch_cost::Spread;
 use super::label;
+use super::timestamp_pair::{TimestampPair, END, START};
 
 /// The ways the benchmark moves memory.
 pub const WAYS: [&str; 3] = [label::STREAM_COPY, label::STREAM_READ, label::BUFFER_COPY];
@@ -120,7 +121,7 @@ struct Bench {
     bytes: u64,
     /// Workgroups in x and y.
     grid: (u32, u32),
-    queries: Option<(wgpu::QuerySet, wgpu::Buffer, Staging)>,
+    queries: Option<TimestampPair>,
 }
 
 /// The source's element i (integers: the copy is checked bit for bit), its w never the value
@@ -164,20 +165,7 @@ impl Bench {
                 wgpu::BindGroupEntry { binding: 1, resource: dst.as_entire_binding() },
             ],
         });
-        let queries = ctx.summary.timestamps.then(|| {
-            let set = ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("bandwidth timestamps"),
-                ty: wgpu::QueryType::Timestamp,
-                count: 2,
-            });
-            let resolve = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("bandwidth timestamp resolve"),
-                size: 16,
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            (set, resolve, Staging::new(ctx, "bandwidth timestamps read-back", 16))
-        });
+        let queries = TimestampPair::new(ctx, "bandwidth timestamps");
         ctx.check()?;
         Ok(Self { copy, read, group, src, dst, bytes, grid, queries })
     }
@@ -186,50 +174,36 @@ impl Bench {
     fn run(&self, ctx: &GpuContext, way: &str) -> Result<(Option<f64>, f64)> {
         let start = Instant::now();
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
-        let writes = |first: Option<u32>, last: Option<u32>| {
-            self.queries.as_ref().map(|(set, _, _)| wgpu::ComputePassTimestampWrites {
-                query_set: set,
-                beginning_of_pass_write_index: first,
-                end_of_pass_write_index: last,
-            })
-        };
+        let writes = |beginning, end| self.queries.as_ref().and_then(|q| q.writes(beginning, end));
         if way == label::BUFFER_COPY {
             // Empty passes around the copy carry its timestamps: the first's end, the second's start.
             drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some(label::BUFFER_COPY),
-                timestamp_writes: writes(None, Some(0)),
+                timestamp_writes: writes(None, Some(START)),
             }));
             encoder.copy_buffer_to_buffer(&self.src, 0, &self.dst, 0, self.bytes);
             drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some(label::BUFFER_COPY),
-                timestamp_writes: writes(Some(1), None),
+                timestamp_writes: writes(Some(END), None),
             }));
         } else {
             let pipeline = if way == label::STREAM_COPY { &self.copy } else { &self.read };
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some(if way == label::STREAM_COPY { label::STREAM_COPY } else { label::STREAM_READ }),
-                timestamp_writes: writes(Some(0), Some(1)),
+                timestamp_writes: writes(Some(START), Some(END)),
             });
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &self.group, &[]);
             pass.dispatch_workgroups(self.grid.0, self.grid.1, 1);
         }
-        if let Some((set, resolve, _)) = &self.queries {
-            encoder.resolve_query_set(set, 0..2, resolve, 0);
+        if let Some(q) = &self.queries {
+            q.resolve(&mut encoder);
         }
         ctx.queue.submit([encoder.finish()]);
         ctx.wait()?;
         let round_trip = start.elapsed().as_secs_f64();
-        // The timestamps in a submission of their own (as dispatch_cost.rs: wgpu #6406).
         let gpu = match &self.queries {
-            Some((_, resolve, staging)) => {
-                let mut enc = ctx.device.create_command_encoder(&Default::default());
-                staging.copy(&mut enc, resolve, 16);
-                ctx.queue.submit([enc.finish()]);
-                let ticks: Vec<u64> = staging.read(ctx, 16)?;
-                let ns = ctx.queue.get_timestamp_period() as f64;
-                (ticks[1] > ticks[0]).then(|| (ticks[1] - ticks[0]) as f64 * ns * 1e-9)
-            }
+            Some(q) => q.seconds(ctx)?,
             None => None,
         };
         Ok((gpu, round_trip))

@@ -17,6 +17,7 @@ use serde::Serialize;
 use super::buffers::{storage_entry, Staging};
 use super::context::{AdapterSummary, GpuContext};
 use super::label;
+use super::timestamp_pair::{TimestampPair, END, START};
 
 /// How a variant records its chain.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -167,7 +168,7 @@ struct Bench {
     counter: wgpu::Buffer,
     /// Indirect arguments: one workgroup.
     args: wgpu::Buffer,
-    queries: Option<(wgpu::QuerySet, wgpu::Buffer, Staging)>,
+    queries: Option<TimestampPair>,
     counter_staging: Staging,
 }
 
@@ -199,20 +200,7 @@ impl Bench {
         };
         let link_group = group(&link_layout, 0, &counter);
         let read_group = group(&read_layout, 1, &input);
-        let queries = ctx.summary.timestamps.then(|| {
-            let set = ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("dispatch chain timestamps"),
-                ty: wgpu::QueryType::Timestamp,
-                count: 2,
-            });
-            let resolve = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("dispatch chain timestamp resolve"),
-                size: 16,
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            (set, resolve, Staging::new(ctx, "dispatch chain timestamps read-back", 16))
-        });
+        let queries = TimestampPair::new(ctx, "dispatch chain timestamps");
         let counter_staging = Staging::new(ctx, "dispatch chain counter read-back", 16);
         ctx.check()?;
         Ok(Self { link, read, link_group, read_group, counter, args, queries, counter_staging })
@@ -226,13 +214,7 @@ impl Bench {
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         // The first timestamp before the first dispatch, the second after the last.
         let writes = |first: bool, last: bool| {
-            self.queries.as_ref().filter(|_| first || last).map(|(set, _, _)| {
-                wgpu::ComputePassTimestampWrites {
-                    query_set: set,
-                    beginning_of_pass_write_index: first.then_some(0),
-                    end_of_pass_write_index: last.then_some(1),
-                }
-            })
+            self.queries.as_ref().and_then(|q| q.writes(first.then_some(START), last.then_some(END)))
         };
         let dispatch = |pass: &mut wgpu::ComputePass<'_>| {
             if v.indirect {
@@ -263,8 +245,8 @@ impl Bench {
                 dispatch(&mut pass);
             }
         }
-        if let Some((set, resolve, _)) = &self.queries {
-            encoder.resolve_query_set(set, 0..2, resolve, 0);
+        if let Some(q) = &self.queries {
+            q.resolve(&mut encoder);
         }
         let commands = encoder.finish();
         let recorded = Instant::now();
@@ -272,17 +254,8 @@ impl Bench {
         let submitted = Instant::now();
         ctx.wait()?;
         let done = Instant::now();
-        // Read the timestamps in a submission of their own (wgpu #6406: resolved and copied in one
-        // encoder they can read as zeros on Vulkan).
         let gpu_seconds = match &self.queries {
-            Some((_, resolve, staging)) => {
-                let mut enc = ctx.device.create_command_encoder(&Default::default());
-                staging.copy(&mut enc, resolve, 16);
-                ctx.queue.submit([enc.finish()]);
-                let ticks: Vec<u64> = staging.read(ctx, 16)?;
-                let ns = ctx.queue.get_timestamp_period() as f64;
-                (ticks[1] > ticks[0]).then(|| (ticks[1] - ticks[0]) as f64 * ns * 1e-9)
-            }
+            Some(q) => q.seconds(ctx)?,
             None => None,
         };
         Ok(Sample {

@@ -21,6 +21,7 @@ pub mod shaders;
 pub mod specialize;
 pub mod stage;
 pub mod stage_cache;
+pub mod timestamp_pair;
 pub mod timing;
 pub mod wavefront;
 
