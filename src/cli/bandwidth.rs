@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 
 use crate::gpu::bandwidth;
 use crate::gpu::GpuContext;
@@ -40,9 +40,7 @@ pub fn run(a: BandwidthArgs) -> Result<()> {
     let report = bandwidth::measure(&ctx, a.mib.unwrap_or(largest.min(256)), a.repetitions)?;
     print!("{}", report.table());
     if let Some(path) = &a.json {
-        let json = serde_json::to_string_pretty(&report)?;
-        crate::image_io::write_file_atomically(path, json.as_bytes())
-            .with_context(|| format!("writing {}", path.display()))?;
+        super::write_json(path, &report)?;
     }
     if !report.copy_ok {
         bail!("the copy's destination does not hold its source on this adapter");

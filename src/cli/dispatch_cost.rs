@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 
 use crate::gpu::dispatch_cost;
 use crate::gpu::GpuContext;
@@ -38,9 +38,7 @@ pub fn run(a: DispatchCostArgs) -> Result<()> {
     let report = dispatch_cost::measure(&ctx, a.dispatches, a.repetitions)?;
     print!("{}", report.table());
     if let Some(path) = &a.json {
-        let json = serde_json::to_string_pretty(&report)?;
-        crate::image_io::write_file_atomically(path, json.as_bytes())
-            .with_context(|| format!("writing {}", path.display()))?;
+        super::write_json(path, &report)?;
     }
     if report.variants.iter().any(|v| !v.counter_ok) {
         bail!("the read-write chain's counter is wrong: dispatches were lost or reordered on this adapter");

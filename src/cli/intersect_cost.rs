@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 
 use crate::gpu::intersect_cost::{self, IntersectCost};
 use crate::gpu::GpuContext;
@@ -74,9 +74,7 @@ pub fn run(a: IntersectCostArgs) -> Result<()> {
     let report = intersect_cost::measure(&ctx, &scene, &job)?;
     print!("{}", report.table());
     if let Some(path) = &a.json {
-        let json = serde_json::to_string_pretty(&report)?;
-        crate::image_io::write_file_atomically(path, json.as_bytes())
-            .with_context(|| format!("writing {}", path.display()))?;
+        super::write_json(path, &report)?;
     }
     Ok(())
 }

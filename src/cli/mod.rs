@@ -89,3 +89,12 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::IntersectCost(a) => intersect_cost::run(a),
     }
 }
+
+/// Writes a command's report as pretty JSON to `path`, whole or not at all (the
+/// microbenchmarks' `--json FILE`).
+pub(crate) fn write_json(path: &std::path::Path, report: &impl serde::Serialize) -> anyhow::Result<()> {
+    use anyhow::Context;
+    let json = serde_json::to_string_pretty(report)?;
+    crate::image_io::write_file_atomically(path, json.as_bytes())
+        .with_context(|| format!("writing {}", path.display()))
+}

@@ -5,7 +5,6 @@
 
 use crate::common;
 
-use wavetrace::gpu::megakernel::MegakernelOptions;
 use wavetrace::gpu::specialize::Specialize;
 use wavetrace::gpu::wavefront::{
     CompactStates, Compaction, RaySort, Schedule, ShadePasses, Tail, WavefrontOptions,
@@ -31,33 +30,6 @@ fn run(method: Method, scene: &Scene, s: &RenderSettings, opts: &MethodOptions) 
     render(method, scene, s, opts, common::gpu(), &|_| {}).unwrap()
 }
 
-/// Both megakernels, waves and regenerate + tail: the four ways the GPU traces a path.
-fn methods() -> Vec<(Method, MethodOptions)> {
-    let waves = WavefrontOptions { schedule: Schedule::Waves, ..Default::default() };
-    vec![
-        (Method::Megakernel, MethodOptions::default()),
-        (
-            Method::Megakernel,
-            MethodOptions {
-                megakernel: MegakernelOptions { schedule: Schedule::Regenerate, ..Default::default() },
-                ..Default::default()
-            },
-        ),
-        (Method::Wavefront, MethodOptions { wavefront: waves, ..Default::default() }),
-        (
-            Method::Wavefront,
-            MethodOptions {
-                wavefront: WavefrontOptions {
-                    schedule: Schedule::Regenerate,
-                    tail: Tail::Megakernel,
-                    ..waves
-                },
-                ..Default::default()
-            },
-        ),
-    ]
-}
-
 /// Renders `scene` with `opts` specialized and unspecialized and asserts the films are equal.
 fn assert_same_film(method: Method, scene: &Scene, s: &RenderSettings, opts: &MethodOptions) {
     let specialized = run(method, scene, s, &MethodOptions { specialize: Specialize::Scene, ..opts.clone() });
@@ -78,7 +50,7 @@ fn specialized_shaders_give_the_films_of_every_kind_compiled_in() {
     let room = concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/scenes/mesh-room.json");
     for (name, nee) in [("rtiow-heavy-2", false), ("cornell", true), (room, true)] {
         let scene = Scene::resolve(name).unwrap();
-        for (method, opts) in methods() {
+        for (method, opts) in common::gpu_ways() {
             assert_same_film(method, &scene, &settings(nee), &opts);
         }
     }
@@ -95,7 +67,7 @@ fn a_scene_of_one_kind_each_renders_with_every_pass() {
     }
     let scene = Scene::resolve("furnace").unwrap();
     let s = settings(true);
-    let mut variants = methods();
+    let mut variants = common::gpu_ways();
     let waves = WavefrontOptions { schedule: Schedule::Waves, ..Default::default() };
     variants.push((
         Method::Wavefront,

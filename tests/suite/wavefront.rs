@@ -782,36 +782,12 @@ fn shared_compute_passes_give_the_same_film_from_fewer_passes() {
 /// megakernels and the wavefront's schedules, with NEE.
 #[test]
 fn unchecked_shaders_give_the_checked_films() {
-    use wavetrace::gpu::megakernel::MegakernelOptions;
     use wavetrace::gpu::shader_checks::ShaderChecks;
     if common::gpu().is_none() {
         return;
     }
     let s = RenderSettings { nee: true, ..settings(2) };
-    let waves = WavefrontOptions { schedule: Schedule::Waves, ..Default::default() };
-    let variants = [
-        (Method::Megakernel, MethodOptions::default()),
-        (
-            Method::Megakernel,
-            MethodOptions {
-                megakernel: MegakernelOptions { schedule: Schedule::Regenerate, ..Default::default() },
-                ..Default::default()
-            },
-        ),
-        (Method::Wavefront, MethodOptions { wavefront: waves, ..Default::default() }),
-        (
-            Method::Wavefront,
-            MethodOptions {
-                wavefront: WavefrontOptions {
-                    schedule: Schedule::Regenerate,
-                    tail: Tail::Megakernel,
-                    ..waves
-                },
-                ..Default::default()
-            },
-        ),
-    ];
-    for (method, opts) in variants {
+    for (method, opts) in common::gpu_ways() {
         let checked = run(method, "cornell", &s, &opts);
         let unchecked = run(
             method,

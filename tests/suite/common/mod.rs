@@ -155,3 +155,34 @@ pub fn same_sample_agreement(a: &wavetrace::film::Film, b: &wavetrace::film::Fil
     let frac = close as f64 / a.pixels.len() as f64;
     (frac, (a.image_mean() - b.image_mean()).abs() / b.image_mean())
 }
+
+/// Both megakernels, waves and regenerate + tail, every other option at its default: the four
+/// ways the GPU traces a path, for tests that a knob changes no film in any of them.
+pub fn gpu_ways() -> Vec<(wavetrace::method::Method, wavetrace::method::MethodOptions)> {
+    use wavetrace::gpu::megakernel::MegakernelOptions;
+    use wavetrace::gpu::wavefront::{Schedule, Tail, WavefrontOptions};
+    use wavetrace::method::{Method, MethodOptions};
+    let waves = WavefrontOptions { schedule: Schedule::Waves, ..Default::default() };
+    vec![
+        (Method::Megakernel, MethodOptions::default()),
+        (
+            Method::Megakernel,
+            MethodOptions {
+                megakernel: MegakernelOptions { schedule: Schedule::Regenerate, ..Default::default() },
+                ..Default::default()
+            },
+        ),
+        (Method::Wavefront, MethodOptions { wavefront: waves, ..Default::default() }),
+        (
+            Method::Wavefront,
+            MethodOptions {
+                wavefront: WavefrontOptions {
+                    schedule: Schedule::Regenerate,
+                    tail: Tail::Megakernel,
+                    ..waves
+                },
+                ..Default::default()
+            },
+        ),
+    ]
+}
