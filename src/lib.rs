@@ -21,6 +21,7 @@ pub mod light_table;
 pub mod method;
 pub mod metrics;
 pub mod numerics;
+pub mod options;
 pub mod packed_scene;
 pub mod progress;
 pub mod render_space;

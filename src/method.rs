@@ -6,81 +6,19 @@ use crate::film::Film;
 use crate::gpu::instrument::{Coherence, SimdEfficiency};
 use crate::gpu::megakernel::{self, MegakernelOptions};
 use crate::gpu::memory::GpuMemory;
-use crate::gpu::timing::{Measure, Timing, Timings};
-use crate::gpu::wavefront::{self, QueueHistogram, ScheduleStats, WavefrontOptions};
+use crate::gpu::timing::{Measure, Timings};
+use crate::gpu::wavefront::{self, QueueHistogram, ScheduleStats};
 use crate::gpu::GpuContext;
 use crate::gpu::GpuRender;
-use crate::light_options::LightOptions;
-use crate::numerics::{Failures, NumericOptions};
+use crate::numerics::Failures;
+pub use crate::options::{Method, MethodOptions};
 use crate::packed_scene::PackedScene;
 use crate::render_space::RenderSpace;
-use crate::scene::stress::StressTransform;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 use anyhow::{anyhow, Result};
 use std::collections::BTreeMap;
 use std::time::Instant;
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Method {
-    /// CPU reference computing in f32 (the GPU's arithmetic), rayon-parallel.
-    Cpu,
-    /// CPU reference computing in f64: the accuracy ground truth.
-    CpuF64,
-    /// GPU megakernel: one compute kernel traces whole paths.
-    Megakernel,
-    /// GPU wavefront: each bounce split into passes over queues of paths.
-    Wavefront,
-}
-
-impl Method {
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::Cpu => "cpu",
-            Method::CpuF64 => "cpu-f64",
-            Method::Megakernel => "megakernel",
-            Method::Wavefront => "wavefront",
-        }
-    }
-
-    pub fn needs_gpu(self) -> bool {
-        matches!(self, Method::Megakernel | Method::Wavefront)
-    }
-}
-
-/// Per-method knobs; methods ignore the ones that are not theirs.
-#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
-pub struct MethodOptions {
-    /// How next-event estimation samples the lights: every method's knobs, with the same meaning
-    /// on each.
-    #[serde(flatten)]
-    pub lights: LightOptions,
-    /// How rays leave surfaces, meet spheres and split at glass (`--ray-offset`, `--sphere-hit`,
-    /// `--fresnel`): every method's knobs, with the same meaning on each.
-    #[serde(flatten)]
-    pub numerics: NumericOptions,
-    /// The scene scaled and moved before rendering (`--scale`, `--translate`): the same image in
-    /// exact arithmetic, so what changes is numerical error.
-    #[serde(flatten)]
-    pub stress: StressTransform,
-    pub megakernel: MegakernelOptions,
-    pub wavefront: WavefrontOptions,
-    /// Count SIMD efficiency with subgroup operations (GPU methods; not for timing runs).
-    pub instrument: bool,
-    /// GPU methods: timestamps around every pass, or one host-clock time per submission.
-    pub timing: Timing,
-    /// GPU methods: shaders compiled with wgpu's runtime checks, or without them.
-    pub shader_checks: crate::gpu::shader_checks::ShaderChecks,
-    /// GPU methods: shaders compiled with only the scene's primitive, material and texture
-    /// kinds, or with every kind.
-    pub specialize: crate::gpu::specialize::Specialize,
-    /// GPU methods: seconds of busy GPU work just before the first submission, so the frame
-    /// starts at the clocks continuous rendering holds (`gpu::preheat`; 0: none). Set by the
-    /// experiment runner and `wavetrace render`, not a knob of the method.
-    #[serde(skip)]
-    pub preheat_seconds: f64,
-}
 
 /// A finished render: the film and how long it took.
 #[derive(Clone, Debug)]
@@ -152,20 +90,6 @@ impl RenderOutput {
             resolved,
             scene_seconds,
         }
-    }
-}
-
-impl MethodOptions {
-    /// The options as `method` runs them on `adapter`: `--schedule auto` made concrete (the
-    /// GPU methods resolve it themselves; reports call this to record what ran).
-    pub fn resolve(&self, method: Method, adapter: Option<&crate::gpu::context::AdapterSummary>) -> Self {
-        let mut o = self.clone();
-        match (method, adapter) {
-            (Method::Megakernel, _) => o.megakernel = o.megakernel.resolve(),
-            (Method::Wavefront, Some(a)) => o.wavefront = o.wavefront.resolve(a),
-            _ => {}
-        }
-        o
     }
 }
 

@@ -5,7 +5,6 @@
 
 use crate::bvh::{Aabb, Bvh};
 use crate::camera::CameraFrame;
-use crate::gpu::specialize::Specialize;
 use crate::layout::{
     background_kind, material_kind, primitive_kind, texture_kind, BvhNode, FrameUniform, LightEntry,
     MaterialRecord, PrimitiveRecord,
@@ -13,6 +12,7 @@ use crate::layout::{
 use crate::light_options::{LightOptions, LightSampling, LightSelect};
 use crate::light_table;
 use crate::numerics::{Fresnel, NumericOptions, RayOffset, SphereHit};
+use crate::options::Specialize;
 use crate::scene::stress::StressTransform;
 use crate::scene::{Background, Material, Scene, Texture};
 use crate::settings::{Accel, RenderSettings};

@@ -69,7 +69,7 @@ pub fn run(a: IntersectCostArgs) -> Result<()> {
         workgroup_size: a.workgroup_size,
         pool_size: a.pool_size,
         repetitions: a.repetitions,
-        preheat_seconds: crate::gpu::preheat::DEFAULT_SECONDS,
+        preheat_seconds: crate::options::DEFAULT_PREHEAT_SECONDS,
     };
     let report = intersect_cost::measure(&ctx, &scene, &job)?;
     print!("{}", report.table());

@@ -3,8 +3,6 @@
 use crate::gpu::buffers::human_bytes;
 use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::memory::{GpuMemory, MemoryCategory};
-use crate::gpu::shader_checks::ShaderChecks;
-use crate::gpu::specialize::Specialize;
 use crate::gpu::timing::{TimeSource, Timing, Timings, FRAME_LABEL};
 use crate::gpu::wavefront::{
     Append, CompactStates, Compaction, ComputePasses, QueueOrder, RaySort, Scan, Schedule, ShadePasses, Tail,
@@ -14,8 +12,11 @@ use crate::gpu::GpuContext;
 use crate::gpu_state::GpuMonitor;
 use crate::image_io::{self, RgbImage};
 use crate::light_options::{LightOptions, LightSampling, LightSelect};
-use crate::method::{self, Method, MethodOptions};
+use crate::method;
 use crate::numerics::{Fresnel, NumericOptions, RayOffset, SphereHit};
+use crate::options::ShaderChecks;
+use crate::options::Specialize;
+use crate::options::{Method, MethodOptions};
 use crate::progress::Progress;
 use crate::render_space::RenderSpace;
 use crate::report::RunReport;
@@ -246,7 +247,7 @@ pub struct RenderArgs {
     /// GPU methods: seconds of busy GPU work just before each frame (warm-up and timed), so the
     /// frame starts at the clocks continuous rendering holds rather than those of a GPU idled by
     /// the host's setup (0: none; never on a software adapter).
-    #[arg(long, default_value_t = crate::gpu::preheat::DEFAULT_SECONDS, value_name = "SECONDS", value_parser = parse_preheat, help_heading = "GPU methods", hide_short_help = true)]
+    #[arg(long, default_value_t = crate::options::DEFAULT_PREHEAT_SECONDS, value_name = "SECONDS", value_parser = parse_preheat, help_heading = "GPU methods", hide_short_help = true)]
     pub preheat: f64,
     /// Untimed renders before the one that is timed and written: `auto` (GPU methods: until the
     /// GPU has worked 0.5 s and two frames agree within 5%, at most 50 frames or 10 s; CPU
@@ -272,7 +273,7 @@ pub enum CompactionMethod {
 /// `--preheat`: seconds in `0..=gpu::preheat::MAX_SECONDS`.
 fn parse_preheat(s: &str) -> Result<f64, String> {
     let v: f64 = s.parse().map_err(|_| format!("expected seconds (a number), got {s:?}"))?;
-    crate::gpu::preheat::check(v)?;
+    crate::options::check_preheat(v)?;
     Ok(v)
 }
 
@@ -378,7 +379,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     progress.finish();
 
     let adapter = gpu.as_ref().map(|g| &g.summary);
-    let options = options.resolve(a.method, adapter);
+    let options = options.resolve(a.method, adapter.map(|a| a.is_software()));
     let mut report = RunReport::new(&scene, a.method, &settings, adapter, &out);
     report.warmup = Some(warm);
     let image = RgbImage { width: settings.width, height: settings.height, data: out.film.mean_rgb() };

@@ -6,8 +6,9 @@ use super::render::{CompactionMethod, OnOff};
 use crate::chart::{LineChart, Series};
 use crate::gpu::instrument::FRAME_KEY;
 use crate::gpu::megakernel::{MegakernelOptions, DEFAULT_THREADS_DISCRETE};
-use crate::gpu::schedule::Schedule;
 use crate::gpu::wavefront::{Compaction, QueueOrder, ShadePasses, Tail, WavefrontOptions, DEFAULT_POOL};
+use crate::options::Named;
+use crate::options::Schedule;
 use crate::replay::lockstep::SlotCounts;
 use crate::replay::{megakernel, regenerate, wavefront, width};
 use crate::scene::Scene;
@@ -169,9 +170,6 @@ pub fn run(a: ReplayArgs) -> Result<()> {
     if a.workgroup_size == 0 {
         bail!("--workgroup-size must be at least 1");
     }
-    crate::gpu::wavefront::tail::check_threshold(a.tail_threshold)?;
-    crate::gpu::wavefront::schedule::check_sync_every(a.sync_every)?;
-    crate::gpu::wavefront::schedule::check_chunk_pools(a.chunk_pools)?;
     let regenerating_wavefront = a.methods.contains(&ReplayMethod::WavefrontRegenerate);
     if a.tail == Tail::Megakernel && !regenerating_wavefront {
         bail!("--tail megakernel finishes regenerated paths: it needs --methods wavefront-regenerate");

@@ -9,6 +9,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use serde_json::Value;
 
+use super::baseline;
 use super::plan::file_safe;
 use super::report::{ExperimentReport, RunRecord, RunStatus};
 use super::stability;
@@ -85,26 +86,20 @@ pub fn charts(report: &ExperimentReport) -> Vec<Chart> {
 /// interval of its ratio (from the intervals of the two medians).
 fn crossover(report: &ExperimentReport) -> Vec<Chart> {
     let threshold = stability::threshold_of(&report.config);
-    type Job = (u32, u32, u32, String); // width, height, spp, numerical knobs
     let ok: Vec<&RunRecord> =
         report.runs.iter().filter(|r| r.status == RunStatus::Ok && r.seconds.is_some()).collect();
     let mut by_scene: BTreeMap<(String, u32, bool, bool), Vec<&RunRecord>> = BTreeMap::new();
     for r in ok {
         by_scene.entry((r.scene.clone(), r.max_depth, r.nee, r.roulette)).or_default().push(r);
     }
+    let fastest = baseline::fastest_megakernel(report);
     let mut out = Vec::new();
     for ((scene, depth, nee, roulette), runs) in by_scene {
-        let job = |r: &RunRecord| (r.width, r.height, r.spp, numerics_key(r));
-        // Each job's fastest megakernel: its time and the interval of its median.
-        let interval = |r: &RunRecord| stability::of_run(r, threshold).interval_or(r.seconds.unwrap());
-        let mut fastest_mk: BTreeMap<Job, (f64, (f64, f64))> = BTreeMap::new();
-        for r in runs.iter().filter(|r| r.method == "megakernel") {
-            let t = fastest_mk.entry(job(r)).or_insert((f64::INFINITY, (0.0, 0.0)));
-            if r.seconds.unwrap() < t.0 {
-                *t = (r.seconds.unwrap(), interval(r));
-            }
-        }
-        let sizes: BTreeSet<(u32, u32, u32)> = fastest_mk.keys().map(|j| (j.0, j.1, j.2)).collect();
+        let sizes: BTreeSet<(u32, u32, u32)> = runs
+            .iter()
+            .filter(|r| r.method == "megakernel" && fastest.contains_key(&baseline::job_key(r)))
+            .map(|r| (r.width, r.height, r.spp))
+            .collect();
         if sizes.len() < 2 {
             continue;
         }
@@ -120,10 +115,9 @@ fn crossover(report: &ExperimentReport) -> Vec<Chart> {
             _ => true,
         };
         for r in runs.iter().filter(plotted) {
-            if let Some(&(mk, mk_interval)) = fastest_mk.get(&job(r)) {
+            if let Some(v) = baseline::versus_megakernel(r, &fastest, threshold) {
                 let samples = r.width as f64 * r.height as f64 * r.spp as f64;
-                let point =
-                    ((samples, mk / r.seconds.unwrap()), stability::ratio_interval(mk_interval, interval(r)));
+                let point = ((samples, v.ratio), v.interval);
                 match series.iter_mut().find(|(l, _)| *l == r.label) {
                     Some((_, points)) => points.push(point),
                     None => series.push((r.label.clone(), vec![point])),
@@ -393,14 +387,6 @@ fn error_vs_spp(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
         x_zero: false,
         series,
     })
-}
-
-/// The numerical knobs and stress transform of a run, as one comparable text (empty parts for
-/// reports from before they were recorded).
-fn numerics_key(r: &RunRecord) -> String {
-    ["ray_offset", "sphere_hit", "fresnel", "scale", "translate", "render_space"]
-        .map(|k| r.options.get(k).map_or(String::new(), Value::to_string))
-        .join(" ")
 }
 
 /// A run's scale factor (1 where not recorded).

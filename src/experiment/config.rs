@@ -82,20 +82,10 @@ use serde_json::{Map, Value};
 
 use super::overrides::Override;
 use super::stability::DEFAULT_UNSTABLE_SPREAD;
-use crate::gpu::megakernel::MegakernelOptions;
-use crate::gpu::shader_checks::ShaderChecks;
-use crate::gpu::specialize::Specialize;
-use crate::gpu::timing::Timing;
-use crate::gpu::wavefront::{
-    Append, CompactStates, Compaction, ComputePasses, QueueOrder, RaySort, Scan, Schedule, ShadePasses, Tail,
-    WavefrontOptions,
-};
 use crate::input_error::InputError;
-use crate::light_options::{LightOptions, LightSampling, LightSelect};
-use crate::method::{Method, MethodOptions};
-use crate::numerics::{Fresnel, NumericOptions, RayOffset, SphereHit};
-use crate::render_space::RenderSpace;
-use crate::scene::stress::StressTransform;
+use crate::numerics::NumericOptions;
+use crate::options::knobs::{self, Knob};
+use crate::options::{self, Method, MethodOptions, Named};
 use crate::scene::Scene;
 use crate::settings::{Accel, RenderSettings};
 use crate::strict_json::{describe, did_you_mean, join, parse_strict, quoted_list};
@@ -126,123 +116,6 @@ const TOP_FIELDS: &[&str] = &[
     "reference",
     "metrics",
 ];
-const METHOD_NAMES: &[&str] = &["cpu", "cpu-f64", "megakernel", "wavefront"];
-const COMPACTIONS: &[&str] = &["atomic", "scan", "off"];
-const SHADES: &[&str] = &["per-material", "single"];
-const SCHEDULES: &[&str] = &["auto", "waves", "regenerate"];
-const TAILS: &[&str] = &["off", "megakernel"];
-const TIMINGS: &[&str] = &["passes", "frame"];
-
-/// Every method knob a config can set, in the order runs.csv gives them columns.
-/// Knobs a later build adds go at the end, so existing columns keep their places.
-pub const KNOBS: &[&str] = &[
-    "workgroup_size",
-    "samples_per_dispatch",
-    "pool_size",
-    "compaction",
-    "shade",
-    "schedule",
-    "sync_every",
-    "tail",
-    "tail_threshold",
-    "scan",
-    "append",
-    "timing",
-    "light_sampling",
-    "light_select",
-    "threads",
-    "ray_offset",
-    "sphere_hit",
-    "fresnel",
-    "scale",
-    "translate",
-    "chunk_pools",
-    "render_space",
-    "queue_order",
-    "refill_below",
-    "compact_states",
-    "ray_sort",
-    "compute_passes",
-    "shader_checks",
-    "specialize",
-    "batches_in_flight",
-];
-/// Every method's knobs: how next-event estimation samples lights, the numerical choices and the
-/// stress transforms.
-const CPU_KNOBS: &[&str] = &[
-    "light_sampling",
-    "light_select",
-    "ray_offset",
-    "sphere_hit",
-    "fresnel",
-    "render_space",
-    "scale",
-    "translate",
-];
-const MEGAKERNEL_KNOBS: &[&str] = &[
-    "light_sampling",
-    "light_select",
-    "ray_offset",
-    "sphere_hit",
-    "fresnel",
-    "render_space",
-    "scale",
-    "translate",
-    "workgroup_size",
-    "samples_per_dispatch",
-    "schedule",
-    "threads",
-    "timing",
-    "shader_checks",
-    "specialize",
-];
-const WAVEFRONT_KNOBS: &[&str] = &[
-    "light_sampling",
-    "light_select",
-    "ray_offset",
-    "sphere_hit",
-    "fresnel",
-    "render_space",
-    "scale",
-    "translate",
-    "workgroup_size",
-    "pool_size",
-    "compaction",
-    "shade",
-    "schedule",
-    "sync_every",
-    "batches_in_flight",
-    "tail",
-    "tail_threshold",
-    "chunk_pools",
-    "scan",
-    "append",
-    "queue_order",
-    "refill_below",
-    "compact_states",
-    "ray_sort",
-    "compute_passes",
-    "timing",
-    "shader_checks",
-    "specialize",
-];
-const SCANS: &[&str] = &["auto", "subgroup", "workgroup"];
-const APPENDS: &[&str] = &["auto", "lane", "subgroup"];
-const ON_OFF: &[&str] = &["off", "on"];
-const RAY_SORTS: &[&str] = &["off", "octant", "octant-cell"];
-const COMPUTE_PASSES: &[&str] = &["per-dispatch", "shared"];
-const SHADER_CHECKS: &[&str] = &["checked", "unchecked"];
-const SPECIALIZES: &[&str] = &["scene", "none"];
-const QUEUE_ORDERS: &[&str] = &["auto", "arrival", "slot", "slot-depth"];
-const LIGHT_SAMPLINGS: &[&str] = &["area", "solid-angle"];
-const LIGHT_SELECTS: &[&str] = &["uniform", "power"];
-const SPHERE_HITS: &[&str] = &["book", "stable"];
-const FRESNELS: &[&str] = &["schlick", "exact"];
-const RENDER_SPACES: &[&str] = &["camera", "world"];
-/// What `translate` takes, for its errors.
-const TRANSLATE_FORMS: &str = "expected a number D (the translation (D, D, D)) or an array [x, y, z]; \
-a list of these is a sweep, except that an array of exactly three numbers is one vector [x, y, z] \
-(sweep three distances as [[a], [b], [c]])";
 /// The reference's fields.
 const REFERENCE_FIELDS: &[&str] =
     &["method", "spp", "max_depth", "seed", "nee", "roulette", "ray_offset", "sphere_hit", "fresnel"];
@@ -551,10 +424,8 @@ impl Cx {
         let warmup = self.optional(root, "warmup", |v, p| self.warmup(v, p))?.unwrap_or(WarmupSpec::Default);
         let interleave = self.optional(root, "interleave", |v, p| self.boolean(v, p))?.unwrap_or(true);
         let preheat_seconds = self
-            .optional(root, "preheat_seconds", |v, p| {
-                self.number(v, p, 0.0, crate::gpu::preheat::MAX_SECONDS)
-            })?
-            .unwrap_or(crate::gpu::preheat::DEFAULT_SECONDS);
+            .optional(root, "preheat_seconds", |v, p| self.number(v, p, 0.0, options::MAX_PREHEAT_SECONDS))?
+            .unwrap_or(options::DEFAULT_PREHEAT_SECONDS);
         let unstable_spread = self
             .optional(root, "unstable_spread", |v, p| self.number(v, p, 0.0, 10.0))?
             .unwrap_or(DEFAULT_UNSTABLE_SPREAD);
@@ -692,406 +563,98 @@ impl Cx {
         Ok(())
     }
 
-    /// One `methods[i]` entry, expanded over its swept knobs.
+    /// One `methods[i]` entry: the product of its knobs' values (one each unless swept), each
+    /// variant labelled by the knobs that tell it apart (swept ones and, without a label, ones
+    /// set away from their defaults), less the combinations `options::check` refuses.
     fn method_entry(&self, v: &Value, path: &str) -> Res<Vec<MethodVariant>> {
         let o = self.object(v, path)?;
-        let mpath = join(path, "method");
-        let method = self.method(self.field(o, path, "method")?, &mpath)?;
-        let knobs: &[&str] = match method {
-            Method::Cpu | Method::CpuF64 => CPU_KNOBS,
-            Method::Megakernel => MEGAKERNEL_KNOBS,
-            Method::Wavefront => WAVEFRONT_KNOBS,
-        };
-        let mut allowed = vec!["method", "label"];
-        allowed.extend_from_slice(knobs);
-        if let Some(k) = o.keys().find(|k| !allowed.contains(&k.as_str())) {
-            let reason = if KNOBS.contains(&k.as_str()) {
-                format!(
-                    "{} has no knob {k:?}; its knobs are {}",
-                    method.name(),
-                    if knobs.is_empty() { "none".into() } else { quoted_list(knobs) }
-                )
-            } else {
-                format!("unknown field{}; expected {}", did_you_mean(k, &allowed), quoted_list(&allowed))
-            };
-            return self.err(&join(path, k), reason);
-        }
+        let method = self.method(self.field(o, path, "method")?, &join(path, "method"))?;
+        self.only_knobs(o, path, method)?;
         let label = self.optional(o, "label", |v, p| self.string(v, p).map(str::to_owned))?;
-        let label_path = join(path, "label");
         if label.as_deref().is_some_and(|l| l.trim().is_empty()) {
-            return self.err(&label_path, "must not be empty");
+            return self.err(&join(path, "label"), "must not be empty");
         }
-
-        // Each knob: its values (one unless swept), and whether it was swept.
-        let opt_path = |k: &str| join(path, k);
-        let light_sampling = self.knob(o, &opt_path("light_sampling"), "light_sampling", |v, p| {
-            Ok(if self.choice(v, p, LIGHT_SAMPLINGS)? == "area" {
-                LightSampling::Area
-            } else {
-                LightSampling::SolidAngle
-            })
-        })?;
-        let light_select = self.knob(o, &opt_path("light_select"), "light_select", |v, p| {
-            Ok(if self.choice(v, p, LIGHT_SELECTS)? == "uniform" {
-                LightSelect::Uniform
-            } else {
-                LightSelect::Power
-            })
-        })?;
-        let ray_offset = self.knob(o, &opt_path("ray_offset"), "ray_offset", |v, p| self.ray_offset(v, p))?;
-        let sphere_hit = self.knob(o, &opt_path("sphere_hit"), "sphere_hit", |v, p| self.sphere_hit(v, p))?;
-        let fresnel = self.knob(o, &opt_path("fresnel"), "fresnel", |v, p| self.fresnel(v, p))?;
-        let render_space =
-            self.knob(o, &opt_path("render_space"), "render_space", |v, p| self.render_space(v, p))?;
-        let scale = self.knob(o, &opt_path("scale"), "scale", |v, p| self.scale(v, p))?;
-        let translate = self.translate_knob(o, &opt_path("translate"))?;
-        let wg =
-            self.knob(o, &opt_path("workgroup_size"), "workgroup_size", |v, p| self.uint32(v, p, 1, 1024))?;
-        let spd = self.knob(o, &opt_path("samples_per_dispatch"), "samples_per_dispatch", |v, p| {
-            self.uint(v, p, 1, u64::MAX)
-        })?;
-        // A count, or null for the method's default.
-        let count_or_default = |v: &Value, p: &str| match v {
-            Value::Null => Ok(None),
-            _ => self.uint32(v, p, 1, u32::MAX).map(Some),
-        };
-        let threads = self.knob(o, &opt_path("threads"), "threads", count_or_default)?;
-        let pool = self.knob(o, &opt_path("pool_size"), "pool_size", count_or_default)?;
-        let compaction = self.knob(o, &opt_path("compaction"), "compaction", |v, p| {
-            Ok(match self.choice(v, p, COMPACTIONS)? {
-                "atomic" => Compaction::Atomic,
-                "scan" => Compaction::Scan,
-                _ => Compaction::Off,
-            })
-        })?;
-        let shade = self.knob(o, &opt_path("shade"), "shade", |v, p| {
-            Ok(if self.choice(v, p, SHADES)? == "single" {
-                ShadePasses::Single
-            } else {
-                ShadePasses::PerMaterial
-            })
-        })?;
-
-        let schedule = self.knob(o, &opt_path("schedule"), "schedule", |v, p| {
-            Ok(match self.choice(v, p, SCHEDULES)? {
-                "regenerate" => Schedule::Regenerate,
-                "waves" => Schedule::Waves,
-                _ => Schedule::Auto,
-            })
-        })?;
-        let sync_every = self.knob(o, &opt_path("sync_every"), "sync_every", |v, p| {
-            self.uint32(v, p, 1, crate::gpu::wavefront::schedule::MAX_SYNC_EVERY)
-        })?;
-        let batches_in_flight =
-            self.knob(o, &opt_path("batches_in_flight"), "batches_in_flight", |v, p| {
-                self.uint32(v, p, 1, crate::gpu::wavefront::MAX_BATCHES_IN_FLIGHT)
-            })?;
-        let tail = self.knob(o, &opt_path("tail"), "tail", |v, p| {
-            Ok(if self.choice(v, p, TAILS)? == "megakernel" { Tail::Megakernel } else { Tail::Off })
-        })?;
-        let tail_threshold =
-            self.knob(o, &opt_path("tail_threshold"), "tail_threshold", |v, p| match v.as_f64() {
-                Some(t) if t > 0.0 && t <= 1.0 => Ok(t),
-                _ => self.err(p, format!("must be a fraction of the pool in (0, 1], got {}", describe(v))),
-            })?;
-        let chunk_pools = self.knob(o, &opt_path("chunk_pools"), "chunk_pools", |v, p| {
-            self.uint32(v, p, 1, crate::gpu::wavefront::schedule::MAX_CHUNK_POOLS)
-        })?;
-        let scan = self.knob(o, &opt_path("scan"), "scan", |v, p| {
-            Ok(match self.choice(v, p, SCANS)? {
-                "subgroup" => Scan::Subgroup,
-                "workgroup" => Scan::Workgroup,
-                _ => Scan::Auto,
-            })
-        })?;
-        let append = self.knob(o, &opt_path("append"), "append", |v, p| {
-            Ok(match self.choice(v, p, APPENDS)? {
-                "subgroup" => Append::Subgroup,
-                "lane" => Append::Lane,
-                _ => Append::Auto,
-            })
-        })?;
-        let queue_order = self.knob(o, &opt_path("queue_order"), "queue_order", |v, p| {
-            Ok(match self.choice(v, p, QUEUE_ORDERS)? {
-                "slot" => QueueOrder::Slot,
-                "slot-depth" => QueueOrder::SlotDepth,
-                "arrival" => QueueOrder::Arrival,
-                _ => QueueOrder::Auto,
-            })
-        })?;
-        let refill_below =
-            self.knob(o, &opt_path("refill_below"), "refill_below", |v, p| match v.as_f64() {
-                Some(t) if t > 0.0 && t <= 1.0 => Ok(t),
-                _ => {
-                    self.err(p, format!("must be a live fraction of the pool in (0, 1], got {}", describe(v)))
+        let defaults = MethodOptions::requested();
+        let name = label.clone().unwrap_or_else(|| method.name().to_owned());
+        let mut variants = vec![(defaults.clone(), vec![name])];
+        for knob in knobs::of(method) {
+            let Some(given) = o.get(knob.name) else { continue };
+            let (values, swept) = self.knob_values(knob, method, given, &join(path, knob.name), &defaults)?;
+            let mut out = Vec::with_capacity(variants.len() * values.len());
+            for (options, parts) in &variants {
+                for value in &values {
+                    let (mut o, mut p) = (options.clone(), parts.clone());
+                    knob.set(&mut o, value).expect("each value was read once already");
+                    if swept || (label.is_none() && knob.get(&o, method) != knob.get(&defaults, method)) {
+                        p.push(knob.label(&o, method));
+                    }
+                    out.push((o, p));
                 }
-            })?;
-        let compact_states = self.knob(o, &opt_path("compact_states"), "compact_states", |v, p| {
-            Ok(if self.choice(v, p, ON_OFF)? == "on" { CompactStates::On } else { CompactStates::Off })
-        })?;
-        let ray_sort = self.knob(o, &opt_path("ray_sort"), "ray_sort", |v, p| {
-            Ok(match self.choice(v, p, RAY_SORTS)? {
-                "octant" => RaySort::Octant,
-                "octant-cell" => RaySort::OctantCell,
-                _ => RaySort::Off,
-            })
-        })?;
-        let compute_passes = self.knob(o, &opt_path("compute_passes"), "compute_passes", |v, p| {
-            Ok(match self.choice(v, p, COMPUTE_PASSES)? {
-                "per-dispatch" => ComputePasses::PerDispatch,
-                _ => ComputePasses::Shared,
-            })
-        })?;
-        let shader_checks = self.knob(o, &opt_path("shader_checks"), "shader_checks", |v, p| {
-            Ok(match self.choice(v, p, SHADER_CHECKS)? {
-                "unchecked" => ShaderChecks::Unchecked,
-                _ => ShaderChecks::Checked,
-            })
-        })?;
-        let specialize = self.knob(o, &opt_path("specialize"), "specialize", |v, p| {
-            Ok(if self.choice(v, p, SPECIALIZES)? == "none" { Specialize::None } else { Specialize::Scene })
-        })?;
-        let timing = self.knob(o, &opt_path("timing"), "timing", |v, p| {
-            Ok(if self.choice(v, p, TIMINGS)? == "frame" { Timing::Frame } else { Timing::Passes })
-        })?;
-        if tail.values.contains(&Tail::Megakernel) && !schedule.values.contains(&Schedule::Regenerate) {
-            return self.err(
-                &opt_path("tail"),
-                "\"megakernel\" finishes regenerated paths: it needs \"schedule\": \"regenerate\"",
-            );
-        }
-
-        if let Some(slot) = queue_order.values.iter().find(|q| q.is_slot()) {
-            // Not given means the default, atomic appends: only an explicit "off" everywhere lacks queues.
-            if !compaction.values.is_empty() && compaction.values.iter().all(|&c| c == Compaction::Off) {
-                return self.err(
-                    &opt_path("queue_order"),
-                    format!(
-                        "\"{}\" orders the queues, and \"compaction\": \"off\" has none: it needs \"atomic\" or \"scan\"",
-                        slot.name()
-                    ),
-                );
             }
+            variants = out;
         }
-
-        if let Some(sort) = ray_sort.values.iter().find(|&&r| r != RaySort::Off) {
-            if !compaction.values.is_empty() && compaction.values.iter().all(|&c| c == Compaction::Off) {
-                return self.err(
-                    &opt_path("ray_sort"),
-                    format!(
-                        "\"{}\" sorts the ray queue, and \"compaction\": \"off\" has none: it needs \"atomic\" or \"scan\"",
-                        sort.name()
-                    ),
-                );
-            }
-        }
-
-        if refill_below.values.iter().any(|&r| r != WavefrontOptions::default().refill_below)
-            && !schedule.values.contains(&Schedule::Regenerate)
-        {
-            return self.err(
-                &opt_path("refill_below"),
-                "batched refills are the regenerating schedule's: it needs \"schedule\": \"regenerate\"",
-            );
-        }
-        if compact_states.values.contains(&CompactStates::On) {
-            if !schedule.values.contains(&Schedule::Regenerate) {
-                return self.err(
-                    &opt_path("compact_states"),
-                    "\"on\" compacts the pool before refills: it needs \"schedule\": \"regenerate\"",
-                );
-            }
-            if !compaction.values.is_empty() && compaction.values.iter().all(|&c| c == Compaction::Off) {
-                return self.err(
-                    &opt_path("compact_states"),
-                    "\"on\" rewrites the ray queue's entries of the paths it moves, and \"compaction\": \"off\" has \
-                     none: it needs \"atomic\" or \"scan\"",
-                );
-            }
-        }
-
-        if chunk_pools.values.iter().any(|&c| c != WavefrontOptions::default().chunk_pools)
-            && !schedule.values.contains(&Schedule::Regenerate)
-        {
-            return self.err(
-                &opt_path("chunk_pools"),
-                "the sample ring is the regenerating schedule's: it needs \"schedule\": \"regenerate\"",
-            );
-        }
-
-        if threads.values.iter().any(Option::is_some) && !schedule.values.contains(&Schedule::Regenerate) {
-            return self.err(
-                &opt_path("threads"),
-                "persistent threads belong to the regenerating megakernel: it needs \"schedule\": \"regenerate\"",
-            );
-        }
-
-        // The product of every knob's values, each variant labelled by the knobs that tell it
-        // apart: swept ones, and (without a label) ones set away from their defaults.
-        let mk = MegakernelOptions::default();
-        let wf = WavefrontOptions::default();
-        // A method that names no schedule takes `auto`, as the command line does (the library's
-        // Default is the plain waves, the baseline its tests compare against).
-        let schedule_default = Schedule::Auto;
-        let mut defaults = MethodOptions::default();
-        defaults.megakernel.schedule = schedule_default;
-        defaults.wavefront.schedule = schedule_default;
-        let mut variants = vec![(defaults, vec![label.clone().unwrap_or_else(|| method.name().to_owned())])];
-        let labelled = label.is_some();
-        let lights = LightOptions::default();
-        expand(&mut variants, &light_sampling, lights.sampling, labelled, |o, &l| {
-            o.lights.sampling = l;
-            format!("light-sampling={}", l.name())
-        });
-        expand(&mut variants, &light_select, lights.select, labelled, |o, &l| {
-            o.lights.select = l;
-            format!("light-select={}", l.name())
-        });
-        expand(&mut variants, &wg, mk.workgroup_size, labelled, |o, &w| {
-            o.megakernel.workgroup_size = w;
-            o.wavefront.workgroup_size = w;
-            format!("wg={w}")
-        });
-        expand(&mut variants, &spd, mk.samples_per_dispatch, labelled, |o, &s| {
-            o.megakernel.samples_per_dispatch = s;
-            format!("spd={s}")
-        });
-        expand(&mut variants, &threads, mk.threads, labelled, |o, &t| {
-            o.megakernel.threads = t;
-            format!("threads={}", t.map_or("auto".into(), |t| t.to_string()))
-        });
-        expand(&mut variants, &pool, wf.pool_size, labelled, |o, &p| {
-            o.wavefront.pool_size = p;
-            format!("pool={}", p.map_or("auto".into(), |p| p.to_string()))
-        });
-        expand(&mut variants, &compaction, wf.compaction, labelled, |o, &c| {
-            o.wavefront.compaction = c;
-            format!("compaction={}", kebab(&c))
-        });
-        expand(&mut variants, &shade, wf.shade, labelled, |o, &sh| {
-            o.wavefront.shade = sh;
-            format!("shade={}", kebab(&sh))
-        });
-        expand(&mut variants, &schedule, schedule_default, labelled, |o, &sc| {
-            o.megakernel.schedule = sc;
-            o.wavefront.schedule = sc;
-            format!("schedule={}", kebab(&sc))
-        });
-        expand(&mut variants, &sync_every, wf.sync_every, labelled, |o, &k| {
-            o.wavefront.sync_every = k;
-            format!("sync={k}")
-        });
-        expand(&mut variants, &batches_in_flight, wf.batches_in_flight, labelled, |o, &k| {
-            o.wavefront.batches_in_flight = k;
-            format!("in_flight={k}")
-        });
-        expand(&mut variants, &tail, wf.tail, labelled, |o, &t| {
-            o.wavefront.tail = t;
-            format!("tail={}", kebab(&t))
-        });
-        expand(&mut variants, &tail_threshold, wf.tail_threshold, labelled, |o, &t| {
-            o.wavefront.tail_threshold = t;
-            format!("tail-threshold={t}")
-        });
-        expand(&mut variants, &chunk_pools, wf.chunk_pools, labelled, |o, &c| {
-            o.wavefront.chunk_pools = c;
-            format!("chunk-pools={c}")
-        });
-        expand(&mut variants, &scan, wf.scan, labelled, |o, &sc| {
-            o.wavefront.scan = sc;
-            format!("scan={}", kebab(&sc))
-        });
-        expand(&mut variants, &append, wf.append, labelled, |o, &a| {
-            o.wavefront.append = a;
-            format!("append={}", kebab(&a))
-        });
-        expand(&mut variants, &queue_order, wf.queue_order, labelled, |o, &q| {
-            o.wavefront.queue_order = q;
-            format!("queue-order={}", kebab(&q))
-        });
-        expand(&mut variants, &refill_below, wf.refill_below, labelled, |o, &r| {
-            o.wavefront.refill_below = r;
-            format!("refill-below={r}")
-        });
-        expand(&mut variants, &compact_states, wf.compact_states, labelled, |o, &c| {
-            o.wavefront.compact_states = c;
-            format!("compact-states={}", kebab(&c))
-        });
-        expand(&mut variants, &ray_sort, wf.ray_sort, labelled, |o, &r| {
-            o.wavefront.ray_sort = r;
-            format!("ray-sort={}", r.name())
-        });
-        expand(&mut variants, &compute_passes, wf.compute_passes, labelled, |o, &c| {
-            o.wavefront.compute_passes = c;
-            format!("compute-passes={}", c.name())
-        });
-        expand(&mut variants, &shader_checks, ShaderChecks::Checked, labelled, |o, &c| {
-            o.shader_checks = c;
-            format!("shader-checks={}", c.name())
-        });
-        expand(&mut variants, &specialize, Specialize::Scene, labelled, |o, &s| {
-            o.specialize = s;
-            format!("specialize={}", s.name())
-        });
-        expand(&mut variants, &timing, Timing::Passes, labelled, |o, &t| {
-            o.timing = t;
-            format!("timing={}", kebab(&t))
-        });
-        let numerics = NumericOptions::default();
-        let stress = StressTransform::default();
-        expand(&mut variants, &ray_offset, numerics.ray_offset, labelled, |o, &r| {
-            o.numerics.ray_offset = r;
-            format!("ray-offset={}", r.name())
-        });
-        expand(&mut variants, &sphere_hit, numerics.sphere_hit, labelled, |o, &h| {
-            o.numerics.sphere_hit = h;
-            format!("sphere-hit={}", h.name())
-        });
-        expand(&mut variants, &fresnel, numerics.fresnel, labelled, |o, &f| {
-            o.numerics.fresnel = f;
-            format!("fresnel={}", f.name())
-        });
-        expand(&mut variants, &render_space, numerics.render_space, labelled, |o, &r| {
-            o.numerics.render_space = r;
-            format!("render-space={}", r.name())
-        });
-        expand(&mut variants, &scale, stress.scale, labelled, |o, &s| {
-            o.stress.scale = s;
-            format!("scale={}", compact(s))
-        });
-        expand(&mut variants, &translate, stress.translate, labelled, |o, &t| {
-            o.stress.translate = t;
-            format!("translate={}", translate_name(t))
-        });
-        // A tail only means something when regenerating: a product that pairs it with waves
-        // would not run.
-        variants
-            .retain(|(o, _)| o.wavefront.tail == Tail::Off || o.wavefront.schedule == Schedule::Regenerate);
-        // Likewise slot order, which needs queues.
-        variants
-            .retain(|(o, _)| !o.wavefront.queue_order.is_slot() || o.wavefront.compaction != Compaction::Off);
-        variants.retain(|(o, _)| {
-            o.wavefront.ray_sort == RaySort::Off || o.wavefront.compaction != Compaction::Off
-        });
-        // Likewise batched refills and state compaction (which also needs queues).
-        variants.retain(|(o, _)| {
-            let w = &o.wavefront;
-            (w.refill_below == wf.refill_below && w.compact_states == CompactStates::Off)
-                || (w.schedule == Schedule::Regenerate
-                    && (w.compact_states == CompactStates::Off || w.compaction != Compaction::Off))
-        });
-        // Likewise chunk sizes, which only the regenerating wavefront has.
-        variants.retain(|(o, _)| {
-            o.wavefront.chunk_pools == wf.chunk_pools || o.wavefront.schedule == Schedule::Regenerate
-        });
-        // Likewise persistent threads, which only the regenerating megakernel has.
-        variants
-            .retain(|(o, _)| o.megakernel.threads.is_none() || o.megakernel.schedule == Schedule::Regenerate);
-        let out = variants
+        // A combination the rules refuse is dropped; a value it was refused for that no other
+        // combination keeps is an error, at that knob.
+        let (kept, refused): (Vec<_>, Vec<_>) = variants
             .into_iter()
-            .map(|(options, parts)| MethodVariant { label: parts.join(" "), method, options })
-            .collect();
-        Ok(out)
+            .map(|(o, p)| (options::check(method, &o), o, p))
+            .partition(|(c, ..)| c.is_ok());
+        for (e, o) in refused.iter().filter_map(|(c, o, _)| Some((c.as_ref().err()?, o))) {
+            let knob = knobs::by_name(e.knob).expect("rules name knobs");
+            if !kept.iter().any(|(_, k, _)| knob.get(k, method) == knob.get(o, method)) {
+                return self.err(&join(path, e.knob), e.for_config());
+            }
+        }
+        Ok(kept
+            .into_iter()
+            .map(|(_, options, parts)| MethodVariant { label: parts.join(" "), method, options })
+            .collect())
+    }
+
+    /// An entry's fields: `method`, `label` and the method's knobs.
+    fn only_knobs(&self, o: &Map<String, Value>, path: &str, method: Method) -> Res<()> {
+        let mut allowed = vec!["method", "label"];
+        allowed.extend(knobs::of(method).map(|k| k.name));
+        let Some(k) = o.keys().find(|k| !allowed.contains(&k.as_str())) else { return Ok(()) };
+        let reason = if knobs::by_name(k).is_some() {
+            format!("{} has no knob {k:?}; its knobs are {}", method.name(), quoted_list(&allowed[2..]))
+        } else {
+            format!("unknown field{}; expected {}", did_you_mean(k, &allowed), quoted_list(&allowed))
+        };
+        self.err(&join(path, k), reason)
+    }
+
+    /// A knob's values as the entry gives them (one, or a list: swept when longer than one),
+    /// each read and checked alone against its range, without repeats.
+    fn knob_values(
+        &self,
+        knob: &Knob,
+        method: Method,
+        given: &Value,
+        path: &str,
+        defaults: &MethodOptions,
+    ) -> Res<(Vec<Value>, bool)> {
+        let (values, list) = match knob.values(given) {
+            Some([]) => return self.err(path, "must not be empty"),
+            Some(items) => (items.to_vec(), true),
+            None => (vec![given.clone()], false),
+        };
+        let mut seen = Vec::new();
+        for (i, v) in values.iter().enumerate() {
+            let at = if list { format!("{path}[{i}]") } else { path.to_owned() };
+            let mut o = defaults.clone();
+            knob.set(&mut o, v).map_err(|reason| self.error(&at, reason))?;
+            match options::check(method, &o) {
+                Err(e) if e.is_range() && e.knob == knob.name => return self.err(&at, e.for_config()),
+                _ => {}
+            }
+            let value = knob.get(&o, method);
+            if seen.contains(&value) {
+                return self.err(&at, "repeats an earlier value");
+            }
+            seen.push(value);
+        }
+        Ok((values, list && seen.len() > 1))
     }
 
     fn reference(&self, v: &Value, seed: u32, max_depth: u32) -> Res<ReferenceSpec> {
@@ -1112,20 +675,16 @@ impl Cx {
         }
         self.only(o, "reference", REFERENCE_FIELDS)?;
         let method = self.method(self.field(o, "reference", "method")?, "reference.method")?;
-        let numerics = NumericOptions {
-            ray_offset: self
-                .optional(o, "ray_offset", |v, _| self.ray_offset(v, "reference.ray_offset"))?
-                .unwrap_or_default(),
-            sphere_hit: self
-                .optional(o, "sphere_hit", |v, _| self.sphere_hit(v, "reference.sphere_hit"))?
-                .unwrap_or_default(),
-            fresnel: self
-                .optional(o, "fresnel", |v, _| self.fresnel(v, "reference.fresnel"))?
-                .unwrap_or_default(),
-            // The reference is the untransformed scene: where it is rendered hardly matters, and
-            // cpu-f64 always renders in camera space.
-            render_space: Default::default(),
-        };
+        // The numerical knobs, read as the methods' are.
+        let mut read = MethodOptions::default();
+        for k in ["ray_offset", "sphere_hit", "fresnel"].into_iter().filter_map(knobs::by_name) {
+            if let Some(v) = o.get(k.name) {
+                k.set(&mut read, v).map_err(|reason| self.error(&join("reference", k.name), reason))?;
+            }
+        }
+        // The reference is the untransformed scene: where it is rendered hardly matters, and
+        // cpu-f64 always renders in camera space.
+        let numerics = NumericOptions { render_space: Default::default(), ..read.numerics };
         let spp_value = self.field(o, "reference", "spp")?;
         if spp_value.as_str() == Some("match") {
             if let Some(k) = ["seed", "max_depth", "nee", "roulette"].into_iter().find(|k| o.contains_key(*k))
@@ -1271,82 +830,6 @@ impl Cx {
         Ok(out)
     }
 
-    /// A method knob: absent, one value, or a list (swept).
-    fn knob<T: PartialEq>(
-        &self,
-        o: &Map<String, Value>,
-        path: &str,
-        key: &str,
-        read: impl Fn(&Value, &str) -> Res<T>,
-    ) -> Res<Knob<T>> {
-        Ok(match o.get(key) {
-            None => Knob { values: Vec::new(), swept: false },
-            Some(v @ Value::Array(_)) => {
-                let values = self.list(v, path, read)?;
-                Knob { swept: values.len() > 1, values }
-            }
-            Some(v) => Knob { values: vec![read(v, path)?], swept: false },
-        })
-    }
-
-    /// `"tmin"`, `"tmin=VALUE"` or `"robust"`.
-    fn ray_offset(&self, v: &Value, path: &str) -> Res<RayOffset> {
-        RayOffset::parse(self.string(v, path)?).map_err(|e| self.error(path, e))
-    }
-
-    fn sphere_hit(&self, v: &Value, path: &str) -> Res<SphereHit> {
-        Ok(if self.choice(v, path, SPHERE_HITS)? == "book" { SphereHit::Book } else { SphereHit::Stable })
-    }
-
-    fn render_space(&self, v: &Value, path: &str) -> Res<RenderSpace> {
-        Ok(if self.choice(v, path, RENDER_SPACES)? == "world" {
-            RenderSpace::World
-        } else {
-            RenderSpace::Camera
-        })
-    }
-
-    fn fresnel(&self, v: &Value, path: &str) -> Res<Fresnel> {
-        Ok(if self.choice(v, path, FRESNELS)? == "exact" { Fresnel::Exact } else { Fresnel::Schlick })
-    }
-
-    /// A scale factor: a number > 0 inside f32's range.
-    fn scale(&self, v: &Value, path: &str) -> Res<f64> {
-        let Some(scale) = v.as_f64() else {
-            return self
-                .err(path, format!("expected a number > 0 (the scale factor), found {}", describe(v)));
-        };
-        StressTransform { scale, ..Default::default() }.validate().map_err(|e| self.error(path, e))?;
-        Ok(scale)
-    }
-
-    /// One translation: a number D for (D, D, D), `[D]` likewise, or `[x, y, z]`.
-    fn translate(&self, v: &Value, path: &str) -> Res<[f64; 3]> {
-        let number = |v: &Value, p: &str| v.as_f64().ok_or_else(|| self.error(p, TRANSLATE_FORMS));
-        let translate = match v {
-            Value::Number(_) => [number(v, path)?; 3],
-            Value::Array(a) if a.len() == 1 => [number(&a[0], &format!("{path}[0]"))?; 3],
-            Value::Array(a) if a.len() == 3 => {
-                let c = |i: usize| number(&a[i], &format!("{path}[{i}]"));
-                [c(0)?, c(1)?, c(2)?]
-            }
-            _ => return self.err(path, format!("{TRANSLATE_FORMS}; found {}", describe(v))),
-        };
-        StressTransform { translate, ..Default::default() }.validate().map_err(|e| self.error(path, e))?;
-        Ok(translate)
-    }
-
-    /// `translate` as a knob: one value, or a list swept, where an array of exactly three numbers
-    /// is one vector, not a sweep (see the module docs).
-    fn translate_knob(&self, o: &Map<String, Value>, path: &str) -> Res<Knob<[f64; 3]>> {
-        match o.get("translate") {
-            Some(v @ Value::Array(a)) if a.len() == 3 && a.iter().all(Value::is_number) => {
-                Ok(Knob { values: vec![self.translate(v, path)?], swept: false })
-            }
-            _ => self.knob(o, path, "translate", |v, p| self.translate(v, p)),
-        }
-    }
-
     fn string<'v>(&self, v: &'v Value, path: &str) -> Res<&'v str> {
         v.as_str().ok_or_else(|| self.error(path, format!("expected a string, found {}", describe(v))))
     }
@@ -1411,13 +894,22 @@ impl Cx {
         self.uint(v, path, min.into(), max.into()).map(|x| x as u32)
     }
 
-    /// A method name (`METHOD_NAMES`, as `Method::name` spells them).
+    /// A method name, as `wavetrace render --method` spells it.
     fn method(&self, v: &Value, path: &str) -> Res<Method> {
-        let name = self.choice(v, path, METHOD_NAMES)?;
-        Ok([Method::Cpu, Method::CpuF64, Method::Megakernel, Method::Wavefront]
-            .into_iter()
-            .find(|m| m.name() == name)
-            .expect("METHOD_NAMES lists every method's name"))
+        use clap::ValueEnum;
+        let names: Vec<String> = Method::value_variants().iter().map(Named::name).collect();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        let name = self.string(v, path)?;
+        Method::from_str(name, false).map_err(|_| {
+            self.error(
+                path,
+                format!(
+                    "unknown value {name:?}{}; expected {}",
+                    did_you_mean(name, &names),
+                    quoted_list(&names)
+                ),
+            )
+        })
     }
 
     fn choice(&self, v: &Value, path: &str, options: &[&'static str]) -> Res<&'static str> {
@@ -1429,75 +921,4 @@ impl Cx {
             )
         })
     }
-}
-
-/// A knob's values as given; empty when the entry leaves it at its default.
-struct Knob<T> {
-    values: Vec<T>,
-    swept: bool,
-}
-
-impl<T> Knob<T> {
-    fn given(&self) -> bool {
-        !self.values.is_empty()
-    }
-
-    fn values_or<'a>(&'a self, default: &'a [T]) -> &'a [T] {
-        if self.values.is_empty() {
-            default
-        } else {
-            &self.values
-        }
-    }
-}
-
-/// Replaces each variant by one per value of `knob` (or the default, if not given), applying the
-/// value with `set`, which also names it; the name joins the label when the knob was swept, or
-/// given away from its default in an unlabelled entry.
-fn expand<T: PartialEq>(
-    variants: &mut Vec<(MethodOptions, Vec<String>)>,
-    knob: &Knob<T>,
-    default: T,
-    labelled: bool,
-    set: impl Fn(&mut MethodOptions, &T) -> String,
-) {
-    let default = [default];
-    let values = knob.values_or(&default);
-    let mut out = Vec::with_capacity(variants.len() * values.len());
-    for (options, parts) in variants.drain(..) {
-        for v in values {
-            let mut o = options.clone();
-            let mut p = parts.clone();
-            let name = set(&mut o, v);
-            if knob.swept || (!labelled && knob.given() && *v != default[0]) {
-                p.push(name);
-            }
-            out.push((o, p));
-        }
-    }
-    *variants = out;
-}
-
-/// A number as labels show it: plain from 0.01 to 999 (`0.5`, `250`), else in exponent form
-/// (`1e-3`, `1e3`, `2.5e7`).
-pub fn compact(v: f64) -> String {
-    if v == 0.0 || (1e-2..1e3).contains(&v.abs()) {
-        format!("{v}")
-    } else {
-        format!("{v:e}")
-    }
-}
-
-/// A translation as labels show it: `1e5` for (1e5, 1e5, 1e5), else `x,y,z`.
-pub fn translate_name(t: [f64; 3]) -> String {
-    if t[0] == t[1] && t[1] == t[2] {
-        compact(t[0])
-    } else {
-        t.map(compact).join(",")
-    }
-}
-
-/// A knob value as the config spells it (`"per-material"`).
-fn kebab<T: serde::Serialize>(v: &T) -> String {
-    serde_json::to_value(v).ok().and_then(|v| v.as_str().map(str::to_owned)).unwrap_or_default()
 }

@@ -145,11 +145,11 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
          <th>occupancy</th><th class=\"l\">note</th></tr>\n",
     );
     let threshold = super::stability::threshold_of(&report.config);
-    let fastest = super::markdown::fastest_megakernel(report);
+    let fastest = super::baseline::fastest_megakernel(report);
     for r in &report.runs {
         let st = super::stability::of_run(r, threshold);
         let flagged = r.status == RunStatus::Ok && st.flagged();
-        let versus = super::markdown::versus_megakernel(r, &fastest, threshold).map_or("–".into(), |v| {
+        let versus = super::baseline::versus_megakernel(r, &fastest, threshold).map_or("–".into(), |v| {
             format!(
                 "{:.2}×{} [{:.2}–{:.2}]",
                 v.ratio,

@@ -9,11 +9,11 @@
 //! same job, and tables of GPU work, SIMD efficiency and numerical failure counters where the
 //! report has them.
 
-use std::collections::BTreeMap;
 use std::fmt::Write;
 
 use serde_json::Value;
 
+use super::baseline;
 use super::report::{ExperimentReport, RunRecord, RunStatus};
 use super::stability::{self, FLAG};
 
@@ -93,7 +93,7 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
         "| # | scene | job | variant | seconds | spread | warm-up | × megakernel | M samples/s | relMSE | status |\n",
     );
     md.push_str("| ---: | --- | --- | --- | --- | ---: | --- | ---: | ---: | ---: | --- |\n");
-    let fastest = fastest_megakernel(report);
+    let fastest = baseline::fastest_megakernel(report);
     for r in &report.runs {
         let st = stability::of_run(r, threshold);
         let flag = stability::flag(r.status == RunStatus::Ok && st.flagged());
@@ -109,7 +109,7 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
             (RunStatus::Ok, Some(x)) => format!("{:.1}%", 100.0 * x),
             _ => "–".into(),
         };
-        let speedup = versus_megakernel(r, &fastest, threshold).map_or("–".into(), |v| {
+        let speedup = baseline::versus_megakernel(r, &fastest, threshold).map_or("–".into(), |v| {
             let flag = stability::flag(v.flagged);
             format!("{:.2}×{flag} [{:.2}–{:.2}]", v.ratio, v.interval.0, v.interval.1)
         });
@@ -387,15 +387,15 @@ fn nanoseconds(ns: f64) -> String {
 fn pass_groups(r: &RunRecord) -> [f64; 7] {
     let mut g = [0.0; 7];
     for (label, p) in &r.passes {
-        let i = match label.as_str() {
-            "intersect" => 0,
-            l if l.starts_with("shade") => 1,
-            "shadow" => 2,
-            l if l.starts_with("compact_states") => 4,
-            l if l.starts_with("compact") || l.starts_with("sort_rays") || l == "slot_sweep" => 3,
-            "generate" | "regenerate" | "regenerate_init" => 4,
-            "tail" => 5,
-            _ => 6,
+        use crate::gpu::label::{group, Group};
+        let i = match group(label) {
+            Group::Intersect => 0,
+            Group::Shade => 1,
+            Group::Shadow => 2,
+            Group::Compaction => 3,
+            Group::Generate => 4,
+            Group::Tail => 5,
+            Group::Other => 6,
         };
         g[i] += p.seconds.median;
     }
@@ -422,59 +422,6 @@ fn intersect_ns_per_ray(r: &RunRecord, flagged: bool) -> Option<Vec<String>> {
             })
             .collect(),
     )
-}
-
-/// The fastest megakernel variant of a job: what "× megakernel" divides by.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Baseline {
-    pub seconds: f64,
-    /// The interval of its median (its median where it has none).
-    pub interval: (f64, f64),
-    /// Its time is not a steady figure ([`stability::Stability::flagged`]).
-    pub flagged: bool,
-}
-
-/// Job → the fastest megakernel variant's time for that job.
-pub fn fastest_megakernel(report: &ExperimentReport) -> BTreeMap<String, Baseline> {
-    let threshold = stability::threshold_of(&report.config);
-    let mut best: BTreeMap<String, Baseline> = BTreeMap::new();
-    for r in report.runs.iter().filter(|r| r.method == "megakernel" && r.status == RunStatus::Ok) {
-        if let Some(t) = r.seconds.filter(|t| *t > 0.0) {
-            let st = stability::of_run(r, threshold);
-            let b = Baseline { seconds: t, interval: st.interval_or(t), flagged: st.flagged() };
-            match best.get(&job_key(r)) {
-                Some(e) if e.seconds <= t => {}
-                _ => {
-                    best.insert(job_key(r), b);
-                }
-            }
-        }
-    }
-    best
-}
-
-/// A run against its job's fastest megakernel: the speed-up, its interval, and whether either
-/// time is flagged.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Versus {
-    pub ratio: f64,
-    pub interval: (f64, f64),
-    pub flagged: bool,
-}
-
-pub fn versus_megakernel(
-    r: &RunRecord,
-    fastest: &BTreeMap<String, Baseline>,
-    threshold: f64,
-) -> Option<Versus> {
-    let b = fastest.get(&job_key(r))?;
-    let t = r.seconds.filter(|&t| t > 0.0 && r.status == RunStatus::Ok)?;
-    let st = stability::of_run(r, threshold);
-    Some(Versus {
-        ratio: b.seconds / t,
-        interval: stability::ratio_interval(b.interval, st.interval_or(t)),
-        flagged: b.flagged || st.flagged(),
-    })
 }
 
 /// How many of the report's timings are steady figures, and why the others are not.
@@ -685,22 +632,6 @@ fn path_length_table(report: &ExperimentReport, threshold: f64) -> String {
     }
     md.push('\n');
     md
-}
-
-fn job_key(r: &RunRecord) -> String {
-    let o = |k: &str| r.options.get(k).map_or(String::new(), Value::to_string);
-    format!(
-        "{}|{}x{}|{}|{}|{}|{}|{}|{}",
-        r.scene,
-        r.width,
-        r.height,
-        r.spp,
-        r.max_depth,
-        r.nee,
-        r.roulette,
-        o("scale"),
-        o("translate")
-    )
 }
 
 fn job_text(r: &RunRecord) -> String {

@@ -16,6 +16,7 @@
 //!   charts/*.svg, report.html              re-drawable from report.json (`experiment report`)
 //! ```
 
+pub mod baseline;
 pub mod cache_lock;
 pub mod charts;
 pub mod config;

@@ -25,8 +25,9 @@ use super::report::{
 use super::resume::{self, Resume};
 use crate::gpu::timing::Timing;
 use crate::image_io::{self, RgbImage};
-use crate::method::{self, MethodOptions};
+use crate::method;
 use crate::metrics::{self, CompareOptions};
+use crate::options::MethodOptions;
 use crate::progress::Progress;
 use crate::report::RunReport;
 
@@ -356,9 +357,9 @@ impl<'a> Run<'a> {
         }
         let adapter = self.adapter(gpu);
         // What `--schedule auto` chose on this adapter, as the run's options.
-        self.record.options = method_options_json(
+        self.record.options = crate::options::knobs::view(
             self.variant.method,
-            &self.variant.options.resolve(self.variant.method, adapter.as_ref()),
+            &self.variant.options.resolve(self.variant.method, adapter.as_ref().map(|a| a.is_software())),
         );
         // Per-pass timestamps are a profiler: on some drivers each one waits for the work
         // before it (llvmpipe: a wavefront frame of 23,500 passes took 2.7-4.0 s with them,
@@ -410,7 +411,7 @@ impl<'a> Run<'a> {
         let adapter = self.adapter(gpu);
         if rep == 0 {
             // What the timed renders ran: every knob resolved at run time made concrete.
-            self.record.options = method_options_json(self.variant.method, &o.resolved);
+            self.record.options = crate::options::knobs::view(self.variant.method, &o.resolved);
         }
         self.reports.push(RunReport::new(
             self.scene,
@@ -603,7 +604,7 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
             .unwrap_or_default(),
         method: v.method.name().into(),
         label: v.label.clone(),
-        options: method_options_json(v.method, &v.options),
+        options: crate::options::knobs::view(v.method, &v.options),
         status: RunStatus::Ok,
         resumed: false,
         error: None,
@@ -658,65 +659,6 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         efficiency: None,
         images: None,
     }
-}
-
-/// The knobs that apply to `method`, as the config spells them.
-fn method_options_json(method: method::Method, o: &MethodOptions) -> serde_json::Value {
-    use method::Method::*;
-    let mut json = match method {
-        Cpu | CpuF64 => serde_json::json!({
-            "light_sampling": o.lights.sampling,
-            "light_select": o.lights.select,
-        }),
-        Megakernel => serde_json::json!({
-            "light_sampling": o.lights.sampling,
-            "light_select": o.lights.select,
-            "workgroup_size": o.megakernel.workgroup_size,
-            "samples_per_dispatch": o.megakernel.samples_per_dispatch,
-            "schedule": o.megakernel.schedule,
-            "threads": o.megakernel.threads,
-            "timing": o.timing,
-            "shader_checks": o.shader_checks,
-            "specialize": o.specialize,
-        }),
-        Wavefront => serde_json::json!({
-            "light_sampling": o.lights.sampling,
-            "light_select": o.lights.select,
-            "workgroup_size": o.wavefront.workgroup_size,
-            "pool_size": o.wavefront.pool_size,
-            "compaction": o.wavefront.compaction,
-            "shade": o.wavefront.shade,
-            "schedule": o.wavefront.schedule,
-            "sync_every": o.wavefront.sync_every,
-            "batches_in_flight": o.wavefront.batches_in_flight,
-            "tail": o.wavefront.tail,
-            "tail_threshold": o.wavefront.tail_threshold,
-            "chunk_pools": o.wavefront.chunk_pools,
-            "scan": o.wavefront.scan,
-            "append": o.wavefront.append,
-            "compute_passes": o.wavefront.compute_passes,
-            "queue_order": o.wavefront.queue_order,
-            "refill_below": o.wavefront.refill_below,
-            "compact_states": o.wavefront.compact_states,
-            "ray_sort": o.wavefront.ray_sort,
-            "timing": o.timing,
-            "shader_checks": o.shader_checks,
-            "specialize": o.specialize,
-        }),
-    };
-    // Every method's numerical knobs and stress transform.
-    let common = serde_json::json!({
-        "ray_offset": o.numerics.ray_offset,
-        "render_space": o.numerics.render_space,
-        "sphere_hit": o.numerics.sphere_hit,
-        "fresnel": o.numerics.fresnel,
-        "scale": o.stress.scale,
-        "translate": o.stress.translate,
-    });
-    if let (Some(map), serde_json::Value::Object(common)) = (json.as_object_mut(), common) {
-        map.extend(common);
-    }
-    json
 }
 
 #[cfg(test)]

@@ -23,7 +23,7 @@ pub const PASSES_FILE: &str = "passes.csv";
 
 /// The knobs' columns come in config order ([`KNOBS`]); a knob a later build adds and that list
 /// lacks still gets a column, after these, by name.
-pub use super::config::KNOBS;
+pub use crate::options::knobs::COLUMNS as KNOBS;
 
 /// `ErrorMetrics`' fields, in the order their columns take (a unit test keeps this in step).
 pub const METRICS: [&str; 10] = [

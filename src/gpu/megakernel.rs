@@ -22,7 +22,6 @@ use super::instrument::SimdCounters;
 use super::loop_limit::{check_loop_limit, paths_per_thread};
 use super::memory::{MemoryCategory, MemoryLedger};
 use super::scene_buffers::{decode_failures, SceneBuffers, FAILURE_BYTES};
-use super::schedule::Schedule;
 use super::stage::{Stage, Workgroups};
 use super::timing::{GpuTimer, Measure, MAX_PASSES_PER_BATCH};
 use super::{label, shaders};
@@ -30,6 +29,8 @@ use crate::camera::CameraFrame;
 use crate::film::Film;
 use crate::layout::{DispatchParams, FilmPixel};
 use crate::numerics::Failures;
+pub use crate::options::MegakernelOptions;
+use crate::options::Schedule;
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
@@ -51,47 +52,6 @@ pub fn default_threads(ctx: &GpuContext) -> u32 {
         DEFAULT_THREADS_DISCRETE
     } else {
         DEFAULT_THREADS
-    }
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct MegakernelOptions {
-    /// Threads per workgroup (the seeds' block size).
-    pub workgroup_size: u32,
-    /// Most path samples per dispatch: bounds the time of one dispatch.
-    pub samples_per_dispatch: u64,
-    /// Dispatches per submission; the host waits (and updates progress) between submissions.
-    pub dispatches_per_submit: u32,
-    /// One thread per sample (`waves`) or persistent threads that regenerate paths.
-    pub schedule: Schedule,
-    /// `regenerate`: persistent threads per dispatch (None: [`default_threads`]).
-    pub threads: Option<u32>,
-    /// `regenerate` where the driver caps loops (llvmpipe): the paths a thread starts per launch
-    /// at first (None: estimated from the scene, [`paths_per_thread`]); lowered on a cut.
-    pub paths_per_thread: Option<u32>,
-}
-
-impl Default for MegakernelOptions {
-    fn default() -> Self {
-        Self {
-            workgroup_size: 64,
-            samples_per_dispatch: 1 << 21,
-            dispatches_per_submit: 16,
-            schedule: Schedule::Waves,
-            threads: None,
-            paths_per_thread: None,
-        }
-    }
-}
-
-impl MegakernelOptions {
-    /// `--schedule auto` made concrete ([`Schedule::Auto`]): the naive megakernel (`waves`) on
-    /// every adapter. Other schedules stay as given.
-    pub fn resolve(mut self) -> Self {
-        if self.schedule == Schedule::Auto {
-            self.schedule = Schedule::Waves;
-        }
-        self
     }
 }
 
@@ -124,16 +84,12 @@ pub fn render(
 ) -> Result<GpuRender> {
     let instrument = measure.instrument;
     let opts = &opts.resolve();
+    crate::options::check_megakernel(opts)?;
     settings.validate().map_err(anyhow::Error::msg)?;
     let limits = &ctx.summary;
     ctx.check_workgroup_size(opts.workgroup_size)?;
     check_loop_limit(ctx, scene, settings)?;
     let regenerate = opts.schedule == Schedule::Regenerate;
-    if opts.threads.is_some() && !regenerate {
-        bail!(
-            "--threads sets the regenerating megakernel's persistent threads: it needs --schedule regenerate"
-        );
-    }
     let threads =
         regenerate.then(|| persistent_threads(ctx, opts.threads, opts.workgroup_size)).transpose()?;
     // Where the driver caps loops: most paths a persistent thread starts per dispatch.

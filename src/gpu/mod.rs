@@ -15,7 +15,6 @@ pub mod megakernel;
 pub mod memory;
 pub mod preheat;
 pub mod scene_buffers;
-pub mod schedule;
 pub mod shader_checks;
 pub mod shaders;
 pub mod specialize;
@@ -94,6 +93,38 @@ pub mod label {
     pub const BUFFER_COPY: &str = "buffer_copy";
     /// Busy work just before a timed frame, so the GPU's clocks are up (`preheat_seconds`).
     pub const PREHEAT: &str = "preheat";
+
+    /// What a pass does, for the results pages' sums of pass time.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    pub enum Group {
+        Intersect,
+        Shade,
+        Shadow,
+        /// Queues built: the scan compaction's passes, slot order's sweep, the ray sort.
+        Compaction,
+        /// Paths started: generate, regenerate (with the state compaction before refills).
+        Generate,
+        Tail,
+        /// Queue set-up, the schedule's decision, accumulation and the rest.
+        Other,
+    }
+
+    /// The group of the pass labelled `label`.
+    pub fn group(label: &str) -> Group {
+        match label {
+            INTERSECT => Group::Intersect,
+            SHADE => Group::Shade,
+            l if SHADE_BY_KIND.contains(&l) => Group::Shade,
+            SHADOW => Group::Shadow,
+            COMPACT_SCAN | COMPACT_BLOCKS | COMPACT_SCATTER | SLOT_SWEEP | SORT_RAYS_COUNT
+            | SORT_RAYS_SCAN | SORT_RAYS_SCATTER => Group::Compaction,
+            GENERATE | REGENERATE | REGENERATE_INIT | COMPACT_STATES_FIND | COMPACT_STATES_MOVE => {
+                Group::Generate
+            }
+            TAIL => Group::Tail,
+            _ => Group::Other,
+        }
+    }
 }
 
 pub use context::GpuContext;

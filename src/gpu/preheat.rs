@@ -20,21 +20,6 @@ use super::buffers::storage_entry;
 use super::context::GpuContext;
 use super::label;
 
-/// The preheat's default length: long enough for a GPU to raise its clocks from idle (NVIDIA
-/// boosts within tens of milliseconds under full load), short beside a run's warm-up.
-pub const DEFAULT_SECONDS: f64 = 0.2;
-
-/// The longest preheat a config or the command line may ask for.
-pub const MAX_SECONDS: f64 = 10.0;
-
-/// Refuses a preheat outside `0..=MAX_SECONDS`.
-pub fn check(seconds: f64) -> std::result::Result<(), String> {
-    if !(0.0..=MAX_SECONDS).contains(&seconds) {
-        return Err(format!("the preheat must be 0 to {MAX_SECONDS} seconds, got {seconds}"));
-    }
-    Ok(())
-}
-
 /// The busy kernel's pipeline and its (never written) output, built once per device.
 pub struct Preheat {
     pipeline: wgpu::ComputePipeline,

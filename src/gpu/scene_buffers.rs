@@ -7,9 +7,9 @@
 use super::buffers::{human_bytes, read_back, storage_entry, storage_init, storage_zeroed, uniform_entry};
 use super::context::{AdapterSummary, GpuContext};
 use super::memory::{MemoryCategory, MemoryLedger};
-use super::specialize::Specialize;
 use crate::layout::FrameUniform;
 use crate::numerics::Failures;
+use crate::options::Specialize;
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};

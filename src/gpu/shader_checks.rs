@@ -5,23 +5,4 @@
 //! safe only because every method's films match the checked ones (tests/suite/megakernel.rs,
 //! wavefront.rs): an out-of-bounds access there would be undefined behaviour on the GPU.
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum ShaderChecks {
-    /// wgpu's default: bounds checks and bounded loops.
-    #[default]
-    Checked,
-    /// No runtime checks: wgpu's trusted shader modules, without bounds checks or forced loop
-    /// bounds.
-    Unchecked,
-}
-
-impl ShaderChecks {
-    /// As the CLI and configs spell it.
-    pub fn name(self) -> &'static str {
-        match self {
-            ShaderChecks::Checked => "checked",
-            ShaderChecks::Unchecked => "unchecked",
-        }
-    }
-}
+pub use crate::options::ShaderChecks;

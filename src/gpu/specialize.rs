@@ -6,25 +6,7 @@
 //! scene lacks, in every pass of both methods alike. `none` is the unspecialized baseline for
 //! measuring what that is worth; the films are the same either way (tests/suite/specialize.rs).
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Specialize {
-    /// Only the kinds the scene has are compiled in.
-    #[default]
-    Scene,
-    /// Every kind compiled in, whatever the scene has.
-    None,
-}
-
-impl Specialize {
-    /// As the CLI and configs spell it.
-    pub fn name(self) -> &'static str {
-        match self {
-            Specialize::Scene => "scene",
-            Specialize::None => "none",
-        }
-    }
-}
+pub use crate::options::Specialize;
 
 #[cfg(test)]
 mod tests {

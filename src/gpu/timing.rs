@@ -7,6 +7,8 @@
 //! Resolving and copying timestamps in one encoder can read zeros on Vulkan (wgpu #6406), so the
 //! copy to the host goes in a submission of its own, into a staging buffer reused by every batch.
 
+pub use crate::options::Timing;
+
 use super::buffers::Staging;
 use super::context::GpuContext;
 use super::memory::{MemoryCategory, MemoryLedger};
@@ -26,20 +28,6 @@ pub enum TimeSource {
     WallClock,
 }
 
-/// How a GPU render is timed (`--timing`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Timing {
-    /// A timestamp pair around every pass (where the adapter has timestamps): time per label,
-    /// at the cost of a host wait whenever the query set fills (every 2048 passes).
-    #[default]
-    Passes,
-    /// No timestamps: the host clock from each submission to its completion, under the label
-    /// `frame`, and no waits beyond the method's own. Passes are still counted per label. The
-    /// difference from `passes` is what the per-pass instrument costs.
-    Frame,
-}
-
 /// What a GPU render measures besides its image, and how: SIMD-efficiency counters
 /// (`--instrument`), how passes are timed (`--timing`), the shaders' runtime checks and
 /// specialization, and the preheat before the frame.
@@ -50,7 +38,7 @@ pub struct Measure {
     /// Shaders compiled with wgpu's runtime checks or without (`--shader-checks`).
     pub shader_checks: super::shader_checks::ShaderChecks,
     /// Shaders compiled for the scene's kinds or for every kind (`--specialize`).
-    pub specialize: super::specialize::Specialize,
+    pub specialize: crate::options::Specialize,
     /// Seconds of busy work before the first submission (`gpu::preheat`; 0: none).
     pub preheat_seconds: f64,
 }

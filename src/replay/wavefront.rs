@@ -24,13 +24,11 @@ use super::paths::Paths;
 use super::recorder::{is_hit, is_step, CLOSEST, SHADOW};
 use crate::camera::CameraFrame;
 use crate::cpu::camera::Camera;
-use crate::gpu::schedule::Schedule;
-use crate::gpu::wavefront::schedule::{
-    check_chunk_pools, check_sync_every, shares, ChunkCounters, Decision, Progress, Ring,
-};
-use crate::gpu::wavefront::tail::check_threshold;
+use crate::gpu::label;
+use crate::gpu::wavefront::schedule::{shares, ChunkCounters, Decision, Progress, Ring};
 use crate::gpu::wavefront::{Compaction, QueueOrder, ShadePasses, Tail, WavefrontOptions, DEFAULT_POOL};
 use crate::layout::DispatchParams;
+use crate::options::{RunSchedule, Schedule};
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
@@ -71,6 +69,30 @@ pub struct Launch {
 }
 
 impl Launch {
+    /// The device's options this launch replays (for their checks).
+    fn options(&self) -> WavefrontOptions {
+        WavefrontOptions {
+            pool_size: Some(self.pool),
+            compaction: self.compaction,
+            shade: self.shade,
+            schedule: self.schedule,
+            queue_order: self.queue_order,
+            sync_every: self.sync_every,
+            tail: self.tail,
+            tail_threshold: self.tail_threshold,
+            chunk_pools: self.chunk_pools,
+            ..WavefrontOptions::default()
+        }
+    }
+
+    pub fn run_schedule(&self) -> RunSchedule {
+        if self.schedule == Schedule::Regenerate {
+            RunSchedule::Regenerate
+        } else {
+            RunSchedule::Waves
+        }
+    }
+
     /// The launch `render` makes of `opts` (the whole frame), whose `--schedule auto` is
     /// resolved for the device replayed ([`WavefrontOptions::resolve`]).
     pub fn from_options(opts: &WavefrontOptions) -> Self {
@@ -227,25 +249,24 @@ pub fn replay(
              follows the free list's atomic order; replay it with --compaction on"
         );
     }
-    check_sync_every(launch.sync_every)?;
-    check_chunk_pools(launch.chunk_pools)?;
-    check_threshold(launch.tail_threshold)?;
-    if launch.tail == Tail::Megakernel && !regenerate {
-        bail!("--tail megakernel finishes regenerated paths: it needs --schedule regenerate");
-    }
+    crate::options::check_wavefront(&launch.options())?;
     // The full job's pool and queue order, whatever the subset.
     let pool = launch.pool.min(u32::try_from(settings.sample_count()).unwrap_or(u32::MAX));
-    launch.queue_order.check(launch.compaction)?;
     let order = launch.queue_order.resolve(launch.schedule, launch.compaction, settings.sample_count(), pool);
     let job = Job { pool, order };
     if !regenerate {
-        let plan =
-            shares(launch.schedule, settings.width * settings.height, settings.spp, pool, settings.max_depth);
+        let plan = shares(
+            launch.run_schedule(),
+            settings.width * settings.height,
+            settings.spp,
+            pool,
+            settings.max_depth,
+        );
         return replay_shares(scene, frame, settings, widths, launch, job, &subset(&plan, launch.every));
     }
     let short = regenerating_subset(settings, launch.every, pool as u64, "--every")?;
     let all = |s: &RenderSettings| {
-        let plan = shares(launch.schedule, s.width * s.height, s.spp, pool, s.max_depth);
+        let plan = shares(launch.run_schedule(), s.width * s.height, s.spp, pool, s.max_depth);
         (0..plan.len()).collect::<Vec<_>>()
     };
     if short.spp == settings.spp {
@@ -315,8 +336,13 @@ pub fn replay_shares(
     let Job { pool, order } = job;
     let regenerate = launch.schedule == Schedule::Regenerate;
     let camera = Camera::<f32>::new(frame);
-    let plan =
-        shares(launch.schedule, settings.width * settings.height, settings.spp, pool, settings.max_depth);
+    let plan = shares(
+        launch.run_schedule(),
+        settings.width * settings.height,
+        settings.spp,
+        pool,
+        settings.max_depth,
+    );
     // As the host: every share's ring has the largest share's chunks (one pool) and at most
     // `chunk_pools` of them (the adapter's binding limit, which can only shrink the ring, is not
     // known here).
@@ -426,7 +452,7 @@ impl Wave<'_> {
     fn waves(&mut self, max_depth: u32, kinds: &[u32], shade: ShadePasses, shadow_pass: bool) {
         let all: Vec<usize> = (0..self.lanes.len()).collect();
         let threads: Vec<Option<usize>> = all.iter().map(|&l| Some(l)).collect();
-        self.pass("generate", &threads, |_, _| {});
+        self.pass(label::GENERATE, &threads, |_, _| {});
         let mut rays = all;
         for _ in 0..max_depth {
             rays = self.iteration(&rays, kinds, shade, shadow_pass);
@@ -495,7 +521,7 @@ impl Wave<'_> {
                 }
                 if refill {
                     let threads: Vec<Option<usize>> = fresh.iter().map(|&l| Some(l)).collect();
-                    self.pass("generate", &threads, |_, _| {});
+                    self.pass(label::GENERATE, &threads, |_, _| {});
                 }
                 rays.extend(fresh);
                 let before = std::mem::take(&mut rays);
@@ -601,11 +627,10 @@ impl Wave<'_> {
         shade: ShadePasses,
         shadow_pass: bool,
     ) -> Vec<usize> {
-        let names = ["lambertian", "metal", "dielectric", "emissive"];
         // Intersect: closest hits; hits go to their material's queue in queue order.
         let mut material: [Vec<usize>; 4] = Default::default();
         let queue = self.queue(rays);
-        self.pass("intersect", &queue, |wave, active| {
+        self.pass(label::INTERSECT, &queue, |wave, active| {
             active.iter().for_each(|&l| wave.lanes[l].at += 1);
             traverse(&mut wave.lanes, active, slot("intersect_traverse_inner"), wave.width, &mut wave.counts);
         });
@@ -617,11 +642,11 @@ impl Wave<'_> {
         }
         // Shade, pass by pass in kind order: the next ray queue and the shadow queue.
         let (mut next, mut shadow) = (Vec::new(), Vec::new());
-        let passes: Vec<(usize, String)> = match shade {
+        let passes: Vec<(usize, &str)> = match shade {
             ShadePasses::PerMaterial => {
-                kinds.iter().map(|&k| (k as usize, format!("shade_{}", names[(k as usize).min(3)]))).collect()
+                kinds.iter().map(|&k| (k as usize, label::SHADE_BY_KIND[(k as usize).min(3)])).collect()
             }
-            ShadePasses::Single => vec![(0, "shade".to_string())],
+            ShadePasses::Single => vec![(0, label::SHADE)],
         };
         for (k, name) in passes {
             let queue = self.queue(&material[k]);
@@ -630,7 +655,7 @@ impl Wave<'_> {
             // its steps counted as the shadow pass's traversal, and not on the shadow queue.
             let ends_in_shade: std::collections::HashSet<usize> =
                 material[k].iter().copied().filter(|&l| ends_after_its_shadow_ray(&self.lanes[l])).collect();
-            self.pass(&name, &queue, |wave, active| {
+            self.pass(name, &queue, |wave, active| {
                 let ended: Vec<usize> =
                     active.iter().copied().filter(|l| ends_in_shade.contains(l)).collect();
                 ended.iter().for_each(|&l| wave.lanes[l].at += 2); // the hit, then the shadow ray
@@ -660,7 +685,7 @@ impl Wave<'_> {
         self.slot_sort(&mut next, true);
         if shadow_pass {
             let queue = self.queue(&shadow);
-            self.pass("shadow", &queue, |wave, active| {
+            self.pass(label::SHADOW, &queue, |wave, active| {
                 active.iter().for_each(|&l| wave.lanes[l].at += 1);
                 traverse(
                     &mut wave.lanes,
@@ -730,7 +755,7 @@ mod tests {
     #[test]
     fn the_wave_subset_turns_over_the_image() {
         // 24 pixels, 4 spp, waves of 4 pixels: 6 waves per pass, 24 in all.
-        let plan = shares(Schedule::Waves, 24, 4, 4, 8);
+        let plan = shares(RunSchedule::Waves, 24, 4, 4, 8);
         assert_eq!(plan.len(), 24);
         let drawn = subset(&plan, 3);
         assert_eq!(drawn.len(), 8);
@@ -742,7 +767,7 @@ mod tests {
         assert_eq!(per_region, [2, 1, 1, 2, 1, 1]);
         assert_eq!(subset(&plan, 1).len(), 24);
         // One wave per pass (the pool holds the image): every k-th pass.
-        let whole = shares(Schedule::Waves, 24, 6, 24, 8);
+        let whole = shares(RunSchedule::Waves, 24, 6, 24, 8);
         assert_eq!(subset(&whole, 2), vec![0, 2, 4]);
     }
 }

@@ -201,7 +201,7 @@ fn bad_input_gives_clear_errors() {
                 "--out",
                 out,
             ],
-            &["workgroup size"],
+            &["--workgroup-size must be in 1..=1024, got 0"],
         );
     }
 }

@@ -179,7 +179,7 @@ fn the_depth_key_keeps_first_bounces_together() {
 /// AUTO_SLOT_POOLS pools with queues, as measured; the run's schedule says which it took.
 #[test]
 fn auto_order_follows_the_measurement() {
-    use wavetrace::gpu::wavefront::queue_order::AUTO_SLOT_POOLS;
+    use wavetrace::options::AUTO_SLOT_POOLS;
     let Some(_) = common::gpu() else { return };
     let s = settings(8, false);
     let samples = 40 * 24 * 8;

@@ -519,7 +519,7 @@ fn bad_configs_name_the_file_the_field_and_the_reason() {
                 c["methods"][1]["compaction"] = "off".into();
             }),
             "methods[1].queue_order",
-            "needs \"atomic\" or \"scan\"",
+            "it needs \"compaction\": \"atomic\" or \"scan\"",
         ),
         (
             "slot-depth-order-without-queues",
@@ -552,7 +552,7 @@ fn bad_configs_name_the_file_the_field_and_the_reason() {
                 c["methods"][1]["schedule"] = "regenerate".into();
             }),
             "methods[1].refill_below",
-            "in (0, 1], got a number (0)",
+            "in (0, 1], got 0",
         ),
         (
             "compact-states-without-regeneration",
@@ -568,7 +568,7 @@ fn bad_configs_name_the_file_the_field_and_the_reason() {
                 c["methods"][1]["compaction"] = "off".into();
             }),
             "methods[1].compact_states",
-            "needs \"atomic\" or \"scan\"",
+            "it needs \"compaction\": \"atomic\" or \"scan\"",
         ),
         (
             "bad-compact-states",
@@ -589,7 +589,7 @@ fn bad_configs_name_the_file_the_field_and_the_reason() {
             "bad-knob",
             Box::new(|c| c["methods"][1]["compaction"] = "sort".into()),
             "methods[1].compaction",
-            "\"atomic\", \"scan\" or \"off\"",
+            "\"off\", \"atomic\" or \"scan\"",
         ),
         (
             "bad-light-knob",
@@ -1060,7 +1060,7 @@ fn bad_numerical_knobs_and_stress_transforms_are_refused() {
         (
             "translate-element",
             knob("translate", json!([[1, "a", 3]])),
-            "methods[0].translate[0][1]",
+            "methods[0].translate[0]",
             "a number D",
         ),
         ("tmin-negative", knob("ray_offset", json!("tmin=-1")), "methods[0].ray_offset", "≥ 0, found -1"),

@@ -7,8 +7,8 @@ use crate::common;
 
 use glam::Vec3;
 use wavetrace::gpu::megakernel::MegakernelOptions;
-use wavetrace::gpu::schedule::Schedule;
 use wavetrace::method::{render, Method, MethodOptions, RenderOutput};
+use wavetrace::options::Schedule;
 use wavetrace::scene::{builtin, Mesh, MeshSource, Scene};
 use wavetrace::settings::{Accel, RenderSettings};
 

@@ -7,6 +7,7 @@ use crate::common;
 use crate::common::render_wavefront as run;
 
 use wavetrace::gpu::wavefront::{Compaction, QueueOrder, RaySort, Schedule, Tail, WavefrontOptions};
+use wavetrace::options::Named;
 use wavetrace::settings::{Accel, RenderSettings};
 
 fn settings(width: u32, height: u32, spp: u32, nee: bool) -> RenderSettings {

@@ -117,7 +117,7 @@ fn refill_knobs_are_checked() {
                 compaction: Compaction::Off,
                 ..regenerating(64)
             },
-            "use --compaction on",
+            "it needs --compaction on",
         ),
     ] {
         let err = run("three-spheres", &s, wf, false).unwrap_err().to_string();

@@ -4,8 +4,8 @@
 use crate::common;
 
 use wavetrace::gpu::instrument::{FRAME_KEY, WORK_PREFIX};
-use wavetrace::gpu::schedule::Schedule;
 use wavetrace::method::{render, Method, MethodOptions};
+use wavetrace::options::Schedule;
 use wavetrace::scene::builtin;
 use wavetrace::settings::{Accel, RenderSettings};
 
@@ -130,7 +130,9 @@ fn assert_replay_matches_with(label: &str, method: Method, opts: &MethodOptions,
         let mk = &opts.megakernel;
         let counts = match (method, label) {
             (Method::Wavefront, _) => {
-                let launch = wavefront::Launch::from_options(&opts.wavefront.resolve(&ctx.summary));
+                let launch = wavefront::Launch::from_options(
+                    &opts.wavefront.resolve(ctx.summary.is_software()).options,
+                );
                 let r = wavefront::replay(&packed, &frame, &s, &[w], launch).unwrap();
                 // The host's schedule replayed: the same iterations and tail passes, and the
                 // tail's paths up to those that the device's rounding ends at another bounce
@@ -533,7 +535,7 @@ fn sampled_subsets_agree_with_the_full_replay() {
         let full_waves = waves(wf, 1);
         assert!(gap(&what("wavefront, 1 wave in 4"), &full_waves, &waves(wf, 4)) <= SUBSET_TOLERANCE);
         // Negative control: the first third of each pass's 6 waves, the image's top 16 rows.
-        let plan = shares(wf.schedule, s.width * s.height, s.spp, 512, s.max_depth);
+        let plan = shares(wf.run_schedule(), s.width * s.height, s.spp, 512, s.max_depth);
         let top: Vec<usize> = (0..plan.len()).filter(|i| i % 6 < 2).collect();
         let job = wavefront::Job { pool: 512, order: QueueOrder::Slot };
         let biased = wavefront::replay_shares(&packed, &frame, &s, &widths, wf, job, &top).unwrap();

@@ -98,7 +98,9 @@ fn the_preheat_runs_for_the_time_asked_and_outside_the_frame() {
     let t = wavetrace::gpu::preheat::run(ctx, 0.05).unwrap();
     assert!((0.05..5.0).contains(&t), "a 0.05 s preheat took {t} s");
     assert_eq!(wavetrace::gpu::preheat::run(ctx, 0.0).unwrap(), 0.0);
-    assert!(wavetrace::gpu::preheat::check(11.0).is_err() && wavetrace::gpu::preheat::check(0.2).is_ok());
+    assert!(
+        wavetrace::options::check_preheat(11.0).is_err() && wavetrace::options::check_preheat(0.2).is_ok()
+    );
     let scene = builtin::by_name("three-spheres").unwrap();
     let s = RenderSettings {
         width: 16,

@@ -700,13 +700,13 @@ fn auto_schedule_follows_the_adapter_kind() {
     };
     let (gpu, software) = (kind("DiscreteGpu"), kind("Cpu"));
     let auto = WavefrontOptions { schedule: Schedule::Auto, ..Default::default() };
-    let on_gpu = auto.resolve(&gpu);
+    let on_gpu = auto.resolve(gpu.is_software()).options;
     assert_eq!((on_gpu.schedule, on_gpu.tail), (Schedule::Regenerate, Tail::Megakernel));
     assert!(!kind("IntegratedGpu").is_software());
-    let on_software = auto.resolve(&software);
+    let on_software = auto.resolve(software.is_software()).options;
     assert_eq!((on_software.schedule, on_software.tail), (Schedule::Waves, Tail::Off));
     for named in [Schedule::Waves, Schedule::Regenerate] {
-        let o = WavefrontOptions { schedule: named, ..auto }.resolve(&gpu);
+        let o = WavefrontOptions { schedule: named, ..auto }.resolve(gpu.is_software()).options;
         assert_eq!((o.schedule, o.tail), (named, Tail::Off), "{named:?}");
     }
     let mk = wavetrace::gpu::megakernel::MegakernelOptions { schedule: Schedule::Auto, ..Default::default() };
@@ -720,7 +720,7 @@ fn auto_schedule_follows_the_adapter_kind() {
     assert!(st.tail_passes >= tail, "{st:?}");
     // What the run's report records: the schedule that ran, not "auto".
     let opts = MethodOptions { wavefront: auto, ..Default::default() };
-    assert_eq!(opts.resolve(Method::Wavefront, Some(&ctx.summary)).wavefront.schedule, want);
+    assert_eq!(opts.resolve(Method::Wavefront, Some(ctx.summary.is_software())).wavefront.schedule, want);
 }
 
 /// `--compute-passes shared` (issue 42): consecutive dispatches share a compute pass where no

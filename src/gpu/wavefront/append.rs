@@ -4,19 +4,8 @@
 //! by the subgroup width (up to 32 on NVIDIA) at the cost of a few subgroup operations.
 
 use super::super::context::GpuContext;
+use crate::options::Append;
 use anyhow::{bail, Result};
-
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Append {
-    /// Subgroup-aggregated where the adapter has subgroup operations, else per lane.
-    #[default]
-    Auto,
-    /// One atomic per appending lane.
-    Lane,
-    /// One atomic per subgroup and queue, made by the first of the lanes appending to it.
-    Subgroup,
-}
 
 impl Append {
     /// Whether appends are aggregated per subgroup on `ctx`'s adapter; an error if asked for and

@@ -17,20 +17,8 @@ pub enum Target {
     /// After shade: the next bounce's ray queue.
     NextRayQueue,
 }
+use crate::options::Scan;
 use anyhow::{bail, Result};
-
-/// How the scan compaction scans a workgroup (`--scan`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Scan {
-    /// Subgroup operations where the adapter has them, else the workgroup scan.
-    #[default]
-    Auto,
-    /// subgroupInclusiveAdd per subgroup, then the subgroup totals (3 barriers).
-    Subgroup,
-    /// Hillis–Steele over the workgroup in shared memory (16 barriers; no subgroups needed).
-    Workgroup,
-}
 
 impl Scan {
     /// Whether this scan uses subgroups on `ctx`'s adapter; an error if asked for and missing.

@@ -5,7 +5,7 @@
 use super::super::stage::{Stage, Workgroups};
 use super::super::{context::GpuContext, label, shaders};
 use super::path_state::ARGS_REGENERATE;
-use super::{Bindings, Schedule, WaveRecorder};
+use super::{Bindings, RunSchedule, WaveRecorder};
 use anyhow::Result;
 
 pub enum Generate {
@@ -17,7 +17,7 @@ impl Generate {
     pub fn new(
         ctx: &GpuContext,
         b: &Bindings,
-        schedule: Schedule,
+        schedule: RunSchedule,
         pool: u32,
         workgroup_size: u32,
         instrument: bool,
@@ -30,9 +30,8 @@ impl Generate {
         let constants = b.constants(&[("WORKGROUP_SIZE", workgroup_size as f64)]);
         let stage = |l| Stage::new(ctx, l, &module, &b.layouts(), &constants);
         Ok(match schedule {
-            Schedule::Waves => Generate::Waves { generate: stage(label::GENERATE)?, workgroup_size },
-            Schedule::Auto => unreachable!("the wavefront resolves --schedule auto before building passes"),
-            Schedule::Regenerate => Generate::Regenerate {
+            RunSchedule::Waves => Generate::Waves { generate: stage(label::GENERATE)?, workgroup_size },
+            RunSchedule::Regenerate => Generate::Regenerate {
                 init: stage(label::REGENERATE_INIT)?,
                 refill: stage(label::REGENERATE)?,
                 workgroup_size,

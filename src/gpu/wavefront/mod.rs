@@ -57,7 +57,6 @@
 pub mod append;
 pub mod compact;
 pub mod compact_states;
-pub mod compute_passes;
 pub mod generate;
 pub mod intersect;
 pub mod intersect_registers;
@@ -88,143 +87,22 @@ use super::timing::{GpuTimer, Measure};
 use crate::camera::CameraFrame;
 use crate::film::Film;
 use crate::layout::{FilmPixel, WaveUniform};
+use crate::options::Named;
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
-pub use append::Append;
-pub use compact::Scan;
+// The options live in `crate::options`; the wavefront's are re-exported where it is built.
+pub use crate::options::{
+    Append, CompactStates, Compaction, ComputePasses, QueueOrder, RaySort, ResolvedWavefront, RunSchedule,
+    Scan, Schedule, ShadePasses, Tail, WavefrontOptions, BATCHES_IN_FLIGHT, MAX_BATCHES_IN_FLIGHT,
+};
 use compact::Target;
-pub use compute_passes::ComputePasses;
 use path_state::{
     schedule_word as word, PathState, PoolLayout, LARGEST_BINDING_PER_PATH, QUEUE_COUNT, QUEUE_SHADOW,
 };
-pub use queue_order::QueueOrder;
-pub use ray_sort::RaySort;
-pub use refill::CompactStates;
-pub use schedule::{Schedule, ScheduleStats};
+pub use schedule::ScheduleStats;
 use share_ledger::{ShareLedger, ShareWork};
 use std::time::Instant;
-pub use tail::Tail;
-
-/// How queues are kept dense.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Compaction {
-    /// No queues: every pass runs over the whole pool, dead lanes idle.
-    Off,
-    /// Each pass appends surviving paths to the next queue with an atomic counter.
-    Atomic,
-    /// Passes mark each path's next queue; a stable prefix-sum scan builds the queue.
-    Scan,
-}
-
-/// How shading is dispatched.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum ShadePasses {
-    /// One pass per material kind the scene uses.
-    PerMaterial,
-    /// One pass over every hit with a material switch (the megakernel's divergence).
-    Single,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct WavefrontOptions {
-    /// Paths in flight; `None`: the default from the adapter's limits.
-    pub pool_size: Option<u32>,
-    pub workgroup_size: u32,
-    pub compaction: Compaction,
-    pub shade: ShadePasses,
-    pub schedule: Schedule,
-    /// Regenerating: iterations between the GPU's checks of the schedule's counters, and per
-    /// batch the host submits (more: fewer submissions and read-backs, up to this many idle
-    /// iterations at the image's end and more speculative ones; with the tail, the check runs
-    /// every iteration once every sample has started).
-    pub sync_every: u32,
-    /// Regenerating: batches the host keeps submitted before it waits for the oldest one's
-    /// read-back (`--batches-in-flight`): 1 waits for each check, the GPU idle while the host
-    /// reads and records (the loop before issue 42); more keep newer batches queued meanwhile.
-    pub batches_in_flight: u32,
-    /// Regenerating: whether the last paths (of the image, and of the oldest chunks when the
-    /// sample ring needs them back) are finished megakernel-style.
-    pub tail: Tail,
-    /// The live fraction of the pool below which the tail takes over.
-    pub tail_threshold: f64,
-    /// Regenerating: one-pool chunks in the sample ring (16 bytes a sample): how far refills
-    /// may run ahead of the oldest chunk not yet in the film.
-    pub chunk_pools: u32,
-    /// How the scan compaction scans a workgroup.
-    pub scan: Scan,
-    /// How passes append paths to queues.
-    pub append: Append,
-    /// One compute pass per dispatch, or shared by consecutive dispatches (`--compute-passes`).
-    pub compute_passes: ComputePasses,
-    /// The order of the paths in each queue (slot order needs queues; `auto` takes it for
-    /// regenerating jobs of several pools).
-    pub queue_order: QueueOrder,
-    /// Regenerating: refill only once at most this fraction of the pool is live (1: every
-    /// iteration).
-    pub refill_below: f64,
-    /// Regenerating: compact the live states below the live count before each refill.
-    pub compact_states: CompactStates,
-    /// The key the ray queue is sorted by before each intersect (needs queues).
-    pub ray_sort: RaySort,
-}
-
-impl Default for WavefrontOptions {
-    fn default() -> Self {
-        Self {
-            pool_size: None,
-            workgroup_size: 64,
-            compaction: Compaction::Atomic,
-            shade: ShadePasses::PerMaterial,
-            schedule: Schedule::Waves,
-            sync_every: schedule::DEFAULT_SYNC_EVERY,
-            batches_in_flight: BATCHES_IN_FLIGHT,
-            tail: Tail::Off,
-            tail_threshold: tail::DEFAULT_THRESHOLD,
-            chunk_pools: schedule::CHUNK_POOLS,
-            scan: Scan::Auto,
-            append: Append::Auto,
-            compute_passes: ComputePasses::Shared,
-            queue_order: QueueOrder::Auto,
-            refill_below: refill::DEFAULT_REFILL_BELOW,
-            compact_states: CompactStates::Off,
-            ray_sort: RaySort::Off,
-        }
-    }
-}
-
-impl WavefrontOptions {
-    /// `--schedule auto` made concrete for `adapter` ([`Schedule::Auto`]): `regenerate` with the
-    /// megakernel tail on a GPU, `waves` on a software adapter. Other schedules stay as given.
-    pub fn resolve(mut self, adapter: &crate::gpu::context::AdapterSummary) -> Self {
-        if self.schedule == Schedule::Auto {
-            if adapter.is_software() {
-                self.schedule = Schedule::Waves;
-            } else {
-                self.schedule = Schedule::Regenerate;
-                self.tail = Tail::Megakernel;
-            }
-        }
-        self
-    }
-}
-
-/// Default `--batches-in-flight`: batches of `--sync-every` iterations the regenerating host
-/// loop keeps in flight (each with its own staging buffer for the counters' read-back): enough
-/// that waiting for the oldest leaves newer ones queued, so the GPU never idles for the host
-/// inside a share.
-pub const BATCHES_IN_FLIGHT: u32 = 3;
-/// Most `--batches-in-flight`.
-pub const MAX_BATCHES_IN_FLIGHT: u32 = 16;
-
-pub fn check_batches_in_flight(n: u32) -> Result<()> {
-    if !(1..=MAX_BATCHES_IN_FLIGHT).contains(&n) {
-        bail!("--batches-in-flight must be in 1..={MAX_BATCHES_IN_FLIGHT} batches, got {n}");
-    }
-    Ok(())
-}
 
 /// Default pool: about a million paths in flight (pbrt-v4's choice), less where limits say so.
 pub const DEFAULT_POOL: u32 = 1 << 20;
@@ -264,7 +142,7 @@ pub struct Bindings {
     /// Whether passes use the shader variants with subgroup-aggregated appends (`--append`).
     pub subgroup_append: bool,
     /// The runtime checks the passes' shaders are compiled with (`--shader-checks`).
-    pub shader_checks: crate::gpu::shader_checks::ShaderChecks,
+    pub shader_checks: crate::options::ShaderChecks,
 }
 
 impl Bindings {
@@ -662,7 +540,8 @@ pub fn render(
     on_progress: &dyn Fn(u64),
 ) -> Result<WavefrontRender> {
     let instrument = measure.instrument;
-    let opts = &opts.resolve(&ctx.summary);
+    let ResolvedWavefront { options: ref opts, schedule } = opts.resolve(ctx.summary.is_software());
+    crate::options::check_wavefront(opts)?;
     settings.validate().map_err(anyhow::Error::msg)?;
     check_loop_limit(ctx, scene, settings)?;
     let wg = opts.workgroup_size;
@@ -670,27 +549,14 @@ pub fn render(
     // A job smaller than the pool needs no more slots than samples: passes over the whole pool
     // (the regenerating schedule's start, compaction off) and its memory shrink with it.
     let pool = choose_pool(ctx, opts)?.min(u32::try_from(settings.sample_count()).unwrap_or(u32::MAX));
-    schedule::check_sync_every(opts.sync_every)?;
-    check_batches_in_flight(opts.batches_in_flight)?;
-    schedule::check_chunk_pools(opts.chunk_pools)?;
-    tail::check_threshold(opts.tail_threshold)?;
-    opts.queue_order.check(opts.compaction)?;
-    refill::check(opts.refill_below, opts.compact_states, opts.schedule, opts.compaction)?;
-    opts.ray_sort.check(opts.compaction)?;
     let queue_order = opts.queue_order.resolve(opts.schedule, opts.compaction, settings.sample_count(), pool);
     let subgroup_scan = opts.scan.uses_subgroups(ctx)?;
     let subgroup_append = opts.append.uses_subgroups(ctx)?;
-    let regenerate = opts.schedule == Schedule::Regenerate;
-    if opts.tail == Tail::Megakernel && !regenerate {
-        bail!("--tail megakernel finishes regenerated paths: it needs --schedule regenerate");
-    }
-    if opts.chunk_pools != schedule::CHUNK_POOLS && !regenerate {
-        bail!("--chunk-pools sizes the regenerating sample ring: it needs --schedule regenerate");
-    }
+    let regenerate = schedule == RunSchedule::Regenerate;
     let start = Instant::now();
 
     let pixels = settings.width * settings.height;
-    let shares = schedule::shares(opts.schedule, pixels, settings.spp, pool, settings.max_depth);
+    let shares = schedule::shares(schedule, pixels, settings.spp, pool, settings.max_depth);
     let mut memory = MemoryLedger::default();
     let params = DispatchUniforms::new(ctx, &shares, &mut memory);
     let kinds = scene.material_kinds_used();
@@ -746,7 +612,7 @@ pub fn render(
     let accumulate = Accumulate::new(ctx, samples, &film, &params, regenerate, measure.shader_checks)?;
     let shade_kinds = per_material.then_some(kinds.as_slice());
     let stages = Stages {
-        generate: generate::Generate::new(ctx, &b, opts.schedule, pool, wg, instrument)?,
+        generate: generate::Generate::new(ctx, &b, schedule, pool, wg, instrument)?,
         queue_setup: queue_setup::QueueSetup::new(
             ctx,
             &b,
@@ -785,7 +651,7 @@ pub fn render(
     // Per-pass timestamps need a pass per dispatch.
     let shared_passes = opts.compute_passes == ComputePasses::Shared && !timer.times_passes();
     let mut histogram = (opts.compaction != Compaction::Off && !regenerate).then(QueueHistogram::default);
-    let mut stats = ScheduleStats::new(opts.schedule, opts.sync_every, pool);
+    let mut stats = ScheduleStats::new(schedule.into(), opts.sync_every, pool);
     stats.subgroup_scan = uses_scan.then_some(subgroup_scan);
     stats.subgroup_append = subgroup_append;
     stats.slot_order = queue_order.is_slot();
@@ -828,10 +694,9 @@ pub fn render(
         };
 
         stages.generate.record_start(&mut wave);
-        let iterations = match opts.schedule {
-            Schedule::Waves => drive.waves(&mut wave)?,
-            Schedule::Auto => unreachable!("render() resolves --schedule auto first"),
-            Schedule::Regenerate => {
+        let iterations = match schedule {
+            RunSchedule::Waves => drive.waves(&mut wave)?,
+            RunSchedule::Regenerate => {
                 let done = finished.load(std::sync::atomic::Ordering::Relaxed);
                 drive.regenerate(&mut wave, &r, &staging, &mut stats, &|f| on_progress(done + f))?
             }

@@ -12,21 +12,9 @@ use super::super::memory::{MemoryCategory, MemoryLedger};
 use super::super::stage::{Stage, Workgroups};
 use super::super::{context::GpuContext, label, shaders};
 use super::path_state::ARGS_INTERSECT;
-use super::{Bindings, Compaction, WaveRecorder};
-use anyhow::{bail, Result};
-
-/// The key the ray queue is sorted by before each intersect.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum RaySort {
-    /// The queue keeps the order its producing passes gave it (`--queue-order`).
-    #[default]
-    Off,
-    /// By the ray direction's octant (8 keys).
-    Octant,
-    /// By octant, then the ray origin's cell of a 4×4×4 grid over the scene's bounds (512 keys).
-    OctantCell,
-}
+use super::{Bindings, WaveRecorder};
+use crate::options::RaySort;
+use anyhow::Result;
 
 /// Keys the shader's buckets hold (`KEYS` in WGSL).
 const KEYS: u64 = 512;
@@ -37,25 +25,6 @@ impl RaySort {
         match self {
             RaySort::OctantCell => 2,
             _ => 0,
-        }
-    }
-
-    /// Refuses a sort where there is no queue to sort, naming the knob.
-    pub fn check(self, compaction: Compaction) -> Result<()> {
-        if self != RaySort::Off && compaction == Compaction::Off {
-            bail!(
-                "--ray-sort {} sorts the ray queue, and --compaction off has no queues: use --compaction on",
-                self.name()
-            );
-        }
-        Ok(())
-    }
-
-    pub fn name(self) -> &'static str {
-        match self {
-            RaySort::Off => "off",
-            RaySort::Octant => "octant",
-            RaySort::OctantCell => "octant-cell",
         }
     }
 }
@@ -108,18 +77,5 @@ impl RaySortPasses {
         wave.record_with(&self.count, Some(i), 2, group(), over_queue());
         wave.record_with(&self.scan, Some(i), 2, group(), Workgroups::Direct(1));
         wave.record_with(&self.scatter, Some(i), 2, group(), over_queue());
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_sort_needs_queues() {
-        assert!(RaySort::Off.check(Compaction::Off).is_ok());
-        assert!(RaySort::Octant.check(Compaction::Scan).is_ok());
-        let e = RaySort::OctantCell.check(Compaction::Off).unwrap_err().to_string();
-        assert!(e.contains("--ray-sort octant-cell") && e.contains("--compaction off"), "{e}");
     }
 }

@@ -11,34 +11,9 @@ use super::path_state::{
 use crate::layout::DispatchParams;
 use anyhow::{bail, Result};
 
-pub use super::super::schedule::Schedule;
-
-/// Iterations between checks (and per submitted batch) when regenerating: each check's passes
-/// and each batch's submission and read-back cost fixed time; each iteration recorded after the
-/// work ran out costs its (empty) dispatches.
-pub const DEFAULT_SYNC_EVERY: u32 = 8;
-/// Most iterations between read-backs.
-pub const MAX_SYNC_EVERY: u32 = 1024;
-/// Default `--chunk-pools`: the sample ring holds at most this many chunks of one pool of
-/// samples each. Its per-sample radiance (16 bytes a sample) costs this many times the pool's
-/// radiance; refills stop when it is full and its oldest chunk has paths still going.
-pub const CHUNK_POOLS: u32 = 8;
-/// Most chunks the sample ring may hold (`MAX_RING_CHUNKS` counters).
-pub const MAX_CHUNK_POOLS: u32 = super::path_state::MAX_RING_CHUNKS as u32;
-
-pub fn check_sync_every(k: u32) -> Result<()> {
-    if !(1..=MAX_SYNC_EVERY).contains(&k) {
-        bail!("--sync-every must be in 1..={MAX_SYNC_EVERY} iterations, got {k}");
-    }
-    Ok(())
-}
-
-pub fn check_chunk_pools(n: u32) -> Result<()> {
-    if !(1..=MAX_CHUNK_POOLS).contains(&n) {
-        bail!("--chunk-pools must be in 1..={MAX_CHUNK_POOLS} pools, got {n}");
-    }
-    Ok(())
-}
+pub use crate::options::{
+    RunSchedule, Schedule, CHUNK_POOLS, DEFAULT_SYNC_EVERY, MAX_CHUNK_POOLS, MAX_SYNC_EVERY,
+};
 
 /// Most samples in one share when regenerating: the share's sample index is a u32, and the
 /// shaders add a pixel count to it.
@@ -55,12 +30,17 @@ pub fn counter_safe_share(max_depth: u32) -> u64 {
 
 /// The render's shares: waves of at most `pool` samples, or regenerating shares as large as a
 /// share's sample index allows; either within [`counter_safe_share`].
-pub fn shares(schedule: Schedule, pixels: u32, spp: u32, pool: u32, max_depth: u32) -> Vec<DispatchParams> {
+pub fn shares(
+    schedule: RunSchedule,
+    pixels: u32,
+    spp: u32,
+    pool: u32,
+    max_depth: u32,
+) -> Vec<DispatchParams> {
     let safe = counter_safe_share(max_depth);
     match schedule {
-        Schedule::Waves => dispatch_plan::plan(pixels, spp, (pool as u64).min(safe), pool),
-        Schedule::Regenerate => dispatch_plan::plan(pixels, spp, MAX_SHARE.min(safe), u32::MAX),
-        Schedule::Auto => unreachable!("the wavefront resolves --schedule auto before planning shares"),
+        RunSchedule::Waves => dispatch_plan::plan(pixels, spp, (pool as u64).min(safe), pool),
+        RunSchedule::Regenerate => dispatch_plan::plan(pixels, spp, MAX_SHARE.min(safe), u32::MAX),
     }
 }
 
@@ -353,7 +333,7 @@ pub struct ScheduleStats {
     pub states_moved: u64,
     /// The key the ray queue was sorted by before each intersect (`--ray-sort`).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub ray_sort: Option<&'static str>,
+    pub ray_sort: Option<String>,
     /// Read-backs inside a share's loop that the host waited for with no newer batch queued
     /// (the GPU idle meanwhile): 0 where the host runs ahead (`--schedule regenerate` without
     /// per-pass timestamps; waves never read back inside the loop).
@@ -549,7 +529,7 @@ mod tests {
         // The deepest the settings accept still leaves shares of one sample or more.
         assert!(counter_safe_share((1 << 24) - 1) >= 1);
         for max_depth in [1, 8, 50, 1000, 65_536] {
-            for schedule in [Schedule::Waves, Schedule::Regenerate] {
+            for schedule in [RunSchedule::Waves, RunSchedule::Regenerate] {
                 let name = format!("{schedule:?}");
                 let plan = shares(schedule, pixels, spp, pool, max_depth);
                 let total: u64 = plan.iter().map(|d| d.pixel_count as u64 * d.sample_count as u64).sum();

@@ -8,27 +8,7 @@ use super::super::stage::{Stage, Workgroups};
 use super::super::{context::GpuContext, label, shaders};
 use super::path_state::ARGS_TAIL;
 use super::{Bindings, WaveRecorder};
-use anyhow::{bail, Result};
-
-/// Whether regenerated paths end with a megakernel pass.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Tail {
-    /// Iterate the passes until the last path ends.
-    Off,
-    /// Once the live paths are fewer than `tail_threshold` × pool, finish them in one pass.
-    Megakernel,
-}
-
-/// Default `--tail-threshold`: the live fraction of the pool below which the tail takes over.
-pub const DEFAULT_THRESHOLD: f64 = 0.05;
-
-pub fn check_threshold(t: f64) -> Result<()> {
-    if !(t > 0.0 && t <= 1.0) {
-        bail!("--tail-threshold must be a fraction of the pool in (0, 1], got {t}");
-    }
-    Ok(())
-}
+use anyhow::Result;
 
 pub struct TailPass {
     stage: Stage,

@@ -23,3 +23,20 @@ pub enum Schedule {
     /// that loop until the dispatch's samples are used up.
     Regenerate,
 }
+
+/// A schedule as it runs: `--schedule auto` made concrete, so code past resolution matches on
+/// two cases.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RunSchedule {
+    Waves,
+    Regenerate,
+}
+
+impl From<RunSchedule> for Schedule {
+    fn from(s: RunSchedule) -> Self {
+        match s {
+            RunSchedule::Waves => Schedule::Waves,
+            RunSchedule::Regenerate => Schedule::Regenerate,
+        }
+    }
+}

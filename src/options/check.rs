@@ -1,0 +1,315 @@
+//! Every rule between a method's options, stated once: each knob's range, and each knob that
+//! means something only with another's value. The command line, experiment configs, the replay
+//! and the renderers themselves all ask [`check`]; each words the error its own way
+//! ([`OptionError::for_cli`], [`OptionError::for_config`]), naming the knob.
+
+use super::{
+    CompactStates, Compaction, Method, MethodOptions, RaySort, Schedule, Tail, CHUNK_POOLS,
+    DEFAULT_REFILL_BELOW, MAX_BATCHES_IN_FLIGHT, MAX_CHUNK_POOLS, MAX_SYNC_EVERY,
+};
+use super::{MegakernelOptions, Named, WavefrontOptions};
+
+/// Largest workgroup any knob asks for (WebGPU's limit on `maxComputeInvocationsPerWorkgroup`
+/// is 256 by default; adapters allow up to 1024, checked against the device when it runs).
+pub const MAX_WORKGROUP_SIZE: u32 = 1024;
+
+/// A knob set to a value its method cannot run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OptionError {
+    /// The knob at fault, as configs and reports spell it (`tail`; the flag is `--tail`).
+    pub knob: &'static str,
+    pub problem: Problem,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Problem {
+    /// Outside the knob's range: what it must be.
+    Range(String),
+    /// The value (as written, quoted in configs when `text`) means something only when `other`
+    /// is one of `values`: `why` says what it does.
+    Needs {
+        value: String,
+        text: bool,
+        why: &'static str,
+        other: &'static str,
+        values: &'static [&'static str],
+    },
+}
+
+impl OptionError {
+    fn range(knob: &'static str, reason: String) -> Self {
+        Self { knob, problem: Problem::Range(reason) }
+    }
+
+    /// As the command line says it: `--tail megakernel finishes regenerated paths: it needs
+    /// --schedule regenerate`.
+    pub fn for_cli(&self) -> String {
+        let flag = |k: &str| format!("--{}", k.replace('_', "-"));
+        match &self.problem {
+            Problem::Range(r) => format!("{} {r}", flag(self.knob)),
+            Problem::Needs { value, why, other, values, .. } => {
+                // The command line turns queues on and off with --compaction on|off.
+                let want = if *other == "compaction" { "on".to_owned() } else { values.join(" or ") };
+                format!("{} {value} {why}: it needs {} {want}", flag(self.knob), flag(other))
+            }
+        }
+    }
+
+    /// As a config says it, at `methods[i].<knob>`: `"megakernel" finishes regenerated paths:
+    /// it needs "schedule": "regenerate"`.
+    pub fn for_config(&self) -> String {
+        match &self.problem {
+            Problem::Range(r) => r.clone(),
+            Problem::Needs { value, text, why, other, values } => {
+                let value = if *text { format!("{value:?}") } else { value.clone() };
+                let want: Vec<String> = values.iter().map(|v| format!("{v:?}")).collect();
+                format!("{value} {why}: it needs \"{other}\": {}", want.join(" or "))
+            }
+        }
+    }
+
+    /// Whether the value is wrong in itself (not only beside another knob's).
+    pub fn is_range(&self) -> bool {
+        matches!(self.problem, Problem::Range(_))
+    }
+}
+
+impl std::fmt::Display for OptionError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.for_cli())
+    }
+}
+
+impl std::error::Error for OptionError {}
+
+/// The options `method` would run with, checked: every range first, then every rule between
+/// knobs. `schedule: auto` counts as not regenerating (a config cannot know what it resolves
+/// to); the renderers check after resolving it.
+pub fn check(method: Method, o: &MethodOptions) -> Result<(), OptionError> {
+    match method {
+        Method::Cpu | Method::CpuF64 => Ok(()),
+        Method::Megakernel => check_megakernel(&o.megakernel),
+        Method::Wavefront => check_wavefront(&o.wavefront),
+    }
+}
+
+/// The megakernel's options, checked (as [`check`]).
+pub fn check_megakernel(o: &MegakernelOptions) -> Result<(), OptionError> {
+    in_range("workgroup_size", o.workgroup_size, 1, MAX_WORKGROUP_SIZE, "")?;
+    if o.samples_per_dispatch == 0 {
+        return Err(OptionError::range("samples_per_dispatch", "must be at least 1".into()));
+    }
+    if o.threads == Some(0) {
+        return Err(OptionError::range("threads", "must be at least 1".into()));
+    }
+    if let Some(t) = o.threads {
+        needs_regenerate(
+            "threads",
+            t.to_string(),
+            false,
+            "sets the regenerating megakernel's persistent threads",
+            o.schedule,
+        )?;
+    }
+    Ok(())
+}
+
+/// The wavefront's options, checked (as [`check`]).
+pub fn check_wavefront(o: &WavefrontOptions) -> Result<(), OptionError> {
+    in_range("workgroup_size", o.workgroup_size, 1, MAX_WORKGROUP_SIZE, "")?;
+    if o.pool_size == Some(0) {
+        return Err(OptionError::range("pool_size", "must be at least 1".into()));
+    }
+    in_range("sync_every", o.sync_every, 1, MAX_SYNC_EVERY, " iterations")?;
+    in_range("batches_in_flight", o.batches_in_flight, 1, MAX_BATCHES_IN_FLIGHT, " batches")?;
+    in_range("chunk_pools", o.chunk_pools, 1, MAX_CHUNK_POOLS, " pools")?;
+    fraction("tail_threshold", o.tail_threshold, "a fraction of the pool")?;
+    fraction("refill_below", o.refill_below, "a live fraction of the pool")?;
+
+    let queues = |knob, value: String, why| {
+        if o.compaction == Compaction::Off {
+            return Err(OptionError {
+                knob,
+                problem: Problem::Needs {
+                    value,
+                    text: true,
+                    why,
+                    other: "compaction",
+                    values: &["atomic", "scan"],
+                },
+            });
+        }
+        Ok(())
+    };
+    if o.tail == Tail::Megakernel {
+        needs_regenerate("tail", o.tail.name(), true, "finishes regenerated paths", o.schedule)?;
+    }
+    if o.chunk_pools != CHUNK_POOLS {
+        needs_regenerate(
+            "chunk_pools",
+            o.chunk_pools.to_string(),
+            false,
+            "sizes the regenerating sample ring",
+            o.schedule,
+        )?;
+    }
+    if o.refill_below != DEFAULT_REFILL_BELOW {
+        needs_regenerate(
+            "refill_below",
+            o.refill_below.to_string(),
+            false,
+            "batches the refills of regenerated paths",
+            o.schedule,
+        )?;
+    }
+    if o.compact_states == CompactStates::On {
+        needs_regenerate(
+            "compact_states",
+            o.compact_states.name(),
+            true,
+            "compacts the pool before refills",
+            o.schedule,
+        )?;
+        queues(
+            "compact_states",
+            o.compact_states.name(),
+            "rewrites the ray queue's entries of the paths it moves",
+        )?;
+    }
+    if o.queue_order.is_slot() {
+        queues("queue_order", o.queue_order.name(), "orders the queues")?;
+    }
+    if o.ray_sort != RaySort::Off {
+        queues("ray_sort", o.ray_sort.name(), "sorts the ray queue")?;
+    }
+    Ok(())
+}
+
+fn needs_regenerate(
+    knob: &'static str,
+    value: String,
+    text: bool,
+    why: &'static str,
+    schedule: Schedule,
+) -> Result<(), OptionError> {
+    if schedule == Schedule::Regenerate {
+        return Ok(());
+    }
+    Err(OptionError {
+        knob,
+        problem: Problem::Needs { value, text, why, other: "schedule", values: &["regenerate"] },
+    })
+}
+
+fn in_range(knob: &'static str, v: u32, min: u32, max: u32, unit: &str) -> Result<(), OptionError> {
+    if !(min..=max).contains(&v) {
+        return Err(OptionError::range(knob, format!("must be in {min}..={max}{unit}, got {v}")));
+    }
+    Ok(())
+}
+
+fn fraction(knob: &'static str, v: f64, what: &str) -> Result<(), OptionError> {
+    if !(v > 0.0 && v <= 1.0) {
+        return Err(OptionError::range(knob, format!("must be {what} in (0, 1], got {v}")));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn wavefront_with(f: impl FnOnce(&mut WavefrontOptions)) -> MethodOptions {
+        let mut o = MethodOptions::default();
+        f(&mut o.wavefront);
+        o
+    }
+
+    #[test]
+    fn each_rule_names_its_knob_on_the_command_line_and_in_configs() {
+        let o = wavefront_with(|w| w.tail = Tail::Megakernel);
+        let e = check(Method::Wavefront, &o).unwrap_err();
+        assert_eq!(e.knob, "tail");
+        assert_eq!(
+            e.for_cli(),
+            "--tail megakernel finishes regenerated paths: it needs --schedule regenerate"
+        );
+        assert_eq!(
+            e.for_config(),
+            "\"megakernel\" finishes regenerated paths: it needs \"schedule\": \"regenerate\""
+        );
+        let o = wavefront_with(|w| {
+            w.compaction = Compaction::Off;
+            w.ray_sort = RaySort::Octant;
+        });
+        let e = check(Method::Wavefront, &o).unwrap_err();
+        assert_eq!(e.for_cli(), "--ray-sort octant sorts the ray queue: it needs --compaction on");
+        assert_eq!(
+            e.for_config(),
+            "\"octant\" sorts the ray queue: it needs \"compaction\": \"atomic\" or \"scan\""
+        );
+        let o = wavefront_with(|w| w.sync_every = 0);
+        let e = check(Method::Wavefront, &o).unwrap_err();
+        assert!(e.is_range());
+        assert_eq!(e.for_cli(), format!("--sync-every must be in 1..={MAX_SYNC_EVERY} iterations, got 0"));
+    }
+
+    #[test]
+    fn a_rule_is_met_by_its_other_knob_and_auto_never_meets_one() {
+        let mut o = wavefront_with(|w| {
+            w.tail = Tail::Megakernel;
+            w.refill_below = 0.5;
+            w.compact_states = CompactStates::On;
+            w.schedule = Schedule::Regenerate;
+        });
+        assert_eq!(check(Method::Wavefront, &o), Ok(()));
+        o.wavefront.schedule = Schedule::Auto;
+        assert_eq!(check(Method::Wavefront, &o).unwrap_err().knob, "tail");
+        // The megakernel's knobs are not the wavefront's business, nor the other way round.
+        o.megakernel.threads = Some(0);
+        o.wavefront.schedule = Schedule::Regenerate;
+        assert_eq!(check(Method::Wavefront, &o), Ok(()));
+        assert_eq!(check(Method::Megakernel, &o).unwrap_err().knob, "threads");
+        assert_eq!(check(Method::Cpu, &o), Ok(()));
+    }
+
+    #[test]
+    fn refill_knobs_are_checked_with_the_reason() {
+        let (regen, waves, on, off) =
+            (Schedule::Regenerate, Schedule::Waves, CompactStates::On, CompactStates::Off);
+        let with = |below, compact, schedule, compaction| {
+            wavefront_with(|w| {
+                w.refill_below = below;
+                w.compact_states = compact;
+                w.schedule = schedule;
+                w.compaction = compaction;
+            })
+        };
+        assert!(check(Method::Wavefront, &with(0.5, on, regen, Compaction::Atomic)).is_ok());
+        assert!(check(Method::Wavefront, &with(1.0, off, waves, Compaction::Off)).is_ok());
+        for (below, compact, schedule, compaction, says) in [
+            (
+                0.0,
+                off,
+                regen,
+                Compaction::Atomic,
+                "--refill-below must be a live fraction of the pool in (0, 1], got 0",
+            ),
+            (1.5, off, regen, Compaction::Atomic, "in (0, 1], got 1.5"),
+            (f64::NAN, off, regen, Compaction::Atomic, "got NaN"),
+            (0.5, off, waves, Compaction::Atomic, "--refill-below 0.5 batches"),
+            (
+                1.0,
+                on,
+                waves,
+                Compaction::Atomic,
+                "--compact-states on compacts the pool before refills: it needs --schedule regenerate",
+            ),
+            (1.0, on, regen, Compaction::Off, "it needs --compaction on"),
+        ] {
+            let e =
+                check(Method::Wavefront, &with(below, compact, schedule, compaction)).unwrap_err().for_cli();
+            assert!(e.contains(says), "{e}");
+        }
+    }
+}

@@ -1,0 +1,119 @@
+//! The methods' options, stated once: every knob's type, default and documentation, the rules
+//! between knobs (`check.rs`), and how configs, reports and labels name them (`knobs.rs`).
+//! Free of wgpu: the experiment config reads and checks options without a device, and the
+//! renderers (`gpu/`) take them as they are.
+
+mod check;
+pub mod knobs;
+mod measure;
+mod megakernel;
+mod schedule;
+mod wavefront;
+
+pub use check::{check, check_megakernel, check_wavefront, OptionError, Problem};
+pub use measure::*;
+pub use megakernel::MegakernelOptions;
+pub use schedule::{RunSchedule, Schedule};
+pub use wavefront::*;
+
+use crate::light_options::LightOptions;
+use crate::numerics::NumericOptions;
+use crate::scene::stress::StressTransform;
+
+/// An option enum's value as the command line, configs and reports spell it: its clap
+/// `ValueEnum` name, the one spelling (serde's kebab-case agrees, `knobs.rs`'s tests check it).
+pub trait Named {
+    fn name(&self) -> String;
+}
+
+impl<T: clap::ValueEnum> Named for T {
+    fn name(&self) -> String {
+        self.to_possible_value().map_or_else(String::new, |v| v.get_name().to_owned())
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// CPU reference computing in f32 (the GPU's arithmetic), rayon-parallel.
+    Cpu,
+    /// CPU reference computing in f64: the accuracy ground truth.
+    CpuF64,
+    /// GPU megakernel: one compute kernel traces whole paths.
+    Megakernel,
+    /// GPU wavefront: each bounce split into passes over queues of paths.
+    Wavefront,
+}
+
+impl Method {
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Cpu => "cpu",
+            Method::CpuF64 => "cpu-f64",
+            Method::Megakernel => "megakernel",
+            Method::Wavefront => "wavefront",
+        }
+    }
+
+    pub fn needs_gpu(self) -> bool {
+        matches!(self, Method::Megakernel | Method::Wavefront)
+    }
+}
+
+/// Per-method knobs; methods ignore the ones that are not theirs.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct MethodOptions {
+    /// How next-event estimation samples the lights: every method's knobs, with the same meaning
+    /// on each.
+    #[serde(flatten)]
+    pub lights: LightOptions,
+    /// How rays leave surfaces, meet spheres and split at glass (`--ray-offset`, `--sphere-hit`,
+    /// `--fresnel`): every method's knobs, with the same meaning on each.
+    #[serde(flatten)]
+    pub numerics: NumericOptions,
+    /// The scene scaled and moved before rendering (`--scale`, `--translate`): the same image in
+    /// exact arithmetic, so what changes is numerical error.
+    #[serde(flatten)]
+    pub stress: StressTransform,
+    pub megakernel: MegakernelOptions,
+    pub wavefront: WavefrontOptions,
+    /// Count SIMD efficiency with subgroup operations (GPU methods; not for timing runs).
+    pub instrument: bool,
+    /// GPU methods: timestamps around every pass, or one host-clock time per submission.
+    pub timing: Timing,
+    /// GPU methods: shaders compiled with wgpu's runtime checks, or without them.
+    pub shader_checks: ShaderChecks,
+    /// GPU methods: shaders compiled with only the scene's primitive, material and texture
+    /// kinds, or with every kind.
+    pub specialize: Specialize,
+    /// GPU methods: seconds of busy GPU work just before the first submission, so the frame
+    /// starts at the clocks continuous rendering holds (`gpu::preheat`; 0: none). Set by the
+    /// experiment runner and `wavetrace render`, not a knob of the method.
+    #[serde(skip)]
+    pub preheat_seconds: f64,
+}
+
+impl MethodOptions {
+    /// The options a command line or config asks for when it names none: the library's
+    /// defaults with `--schedule auto` (the library's own default is the plain waves, the
+    /// baseline its tests compare against).
+    pub fn requested() -> Self {
+        let mut o = Self::default();
+        o.megakernel.schedule = Schedule::Auto;
+        o.wavefront.schedule = Schedule::Auto;
+        o
+    }
+
+    /// The options as `method` runs them on an adapter (`software`: whether it is a software
+    /// one; None: not known yet): `--schedule auto` made concrete (the GPU methods resolve it
+    /// themselves; reports call this to record what ran).
+    pub fn resolve(&self, method: Method, software: Option<bool>) -> Self {
+        let mut o = self.clone();
+        match (method, software) {
+            (Method::Megakernel, _) => o.megakernel = o.megakernel.resolve(),
+            (Method::Wavefront, Some(software)) => o.wavefront = o.wavefront.resolve(software).options,
+            _ => {}
+        }
+        o
+    }
+}
