@@ -17,6 +17,7 @@ pub mod preheat;
 pub mod scene_buffers;
 pub mod schedule;
 pub mod shader_checks;
+pub mod shader_variants;
 pub mod shaders;
 pub mod specialize;
 pub mod stage;
