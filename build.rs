@@ -1,13 +1,20 @@
-//! Composes every entry shader (`shaders/*.wgsl`, `shaders/{tests,wavefront}/*.wgsl`) with its
-//! includes and validates it with naga, so a shader error is a build error. Shaders that include
-//! the `shared/instrument.wgsl` hook get an `.instrumented` variant with subgroup counters, and
-//! those that include `shared/append.wgsl` a `.subgroup` variant with subgroup-aggregated queue
-//! appends (and `.instrumented.subgroup` with both). The composed sources land in OUT_DIR and
-//! are embedded by `src/gpu/shaders.rs`.
+//! Composes the entry shaders `src/gpu/shader_variants.rs` lists, in the variants it lists (a
+//! variant swaps hook files for others: subgroup counters for the no-op instrumentation,
+//! subgroup-aggregated atomics for per-lane ones, a subgroup scan), with their includes, and
+//! validates each with naga, so a shader error is a build error. Writes the composed sources to
+//! OUT_DIR and `shaders.rs`, the constants `src/gpu/shaders.rs` embeds them with: exactly the
+//! variants listed are composed, validated and embedded. A `.wgsl` file under `shaders/` that no
+//! variant reads is an error, so an entry cannot be left out of the list unvalidated.
 
 #[path = "src/shader_include.rs"]
 mod shader_include;
+#[path = "src/gpu/shader_variants.rs"]
+mod shader_variants;
 
+use shader_variants::{Hook, ENTRIES};
+use std::cell::RefCell;
+use std::collections::BTreeSet;
+use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 fn main() {
@@ -16,44 +23,30 @@ fn main() {
     let out = PathBuf::from(std::env::var("OUT_DIR").unwrap());
     println!("cargo:rerun-if-changed=shaders");
     println!("cargo:rerun-if-changed=src/shader_include.rs");
-    let mut entries = Vec::new();
-    for dir in ["", "tests", "wavefront"] {
-        for e in std::fs::read_dir(root.join(dir)).expect("read shaders/") {
-            let p = e.unwrap().path();
-            if p.extension().is_some_and(|x| x == "wgsl") {
-                entries.push(p.strip_prefix(root).unwrap().to_string_lossy().into_owned());
-            }
+    println!("cargo:rerun-if-changed=src/gpu/shader_variants.rs");
+    // Variants an earlier list had must not linger (gpu::shaders' test compares the directory).
+    for e in std::fs::read_dir(&out).expect("read OUT_DIR").flatten() {
+        if e.path().extension().is_some_and(|x| x == "wgsl") {
+            std::fs::remove_file(e.path()).unwrap();
         }
     }
-    entries.sort();
+    let read_files = RefCell::new(BTreeSet::new());
+    let mut consts = String::from("// Written by build.rs from src/gpu/shader_variants.rs.\n");
     let mut failed = false;
-    for entry in &entries {
-        let name = entry.trim_end_matches(".wgsl").replace('/', "_");
-        // A variant swaps hooks: the `--instrument` variant the no-op instrument hook for
-        // subgroup counters, the `.subgroup` variant per-lane queue appends for subgroup-aggregated
-        // ones (`--append`). A variant is written only where the entry includes every hook it
-        // swaps.
-        let variants: [(&str, &[Hook]); 4] = [
-            ("", &[]),
-            (".instrumented", &[INSTRUMENT]),
-            (".subgroup", &[APPEND]),
-            (".instrumented.subgroup", &[INSTRUMENT, APPEND]),
-        ];
-        for (suffix, hooks) in variants {
+    for entry in ENTRIES {
+        let mut sources = Vec::new();
+        for hooks in entry.variants() {
             let read = |p: &Path| {
                 let mut p = p.to_path_buf();
-                for h in hooks.iter() {
-                    if p.ends_with(h.file) {
-                        p = root.join(h.swap);
-                    }
-                    // The coherence counters ride on the instrument variant, where included.
-                    if h.file == INSTRUMENT.file && p.ends_with(COHERENCE.file) {
-                        p = root.join(COHERENCE.swap);
+                for &(file, swap) in hooks.iter().flat_map(|h| h.swaps()) {
+                    if p == root.join(file) {
+                        p = root.join(swap);
                     }
                 }
+                read_files.borrow_mut().insert(p.clone());
                 // Entry points hand their subgroup width to `instrument_begin` (instrument.wgsl).
                 std::fs::read_to_string(&p).map_err(|e| e.to_string()).map(|s| {
-                    if hooks.iter().any(|h| h.file == INSTRUMENT.file) {
+                    if hooks.contains(&Hook::Instrument) {
                         s.replace("/*@subgroup_size_param*/", "@builtin(subgroup_size) instrument_width: u32")
                             .replace("/*@subgroup_size_arg*/", "instrument_width")
                     } else {
@@ -61,11 +54,12 @@ fn main() {
                     }
                 })
             };
+            let name = entry.composed_name(&hooks);
             // naga 30 takes subgroup builtins without `enable subgroups;` (which it rejects).
-            let (src, files) = match shader_include::compose(root, entry, &read) {
+            let (src, files) = match shader_include::compose(root, entry.file, &read) {
                 Ok(x) => x,
                 Err(e) => {
-                    println!("cargo:warning=shader {entry}: {e}");
+                    println!("cargo:warning=shader {}: {e}", entry.file);
                     failed = true;
                     break;
                 }
@@ -73,33 +67,72 @@ fn main() {
             for f in &files {
                 println!("cargo:rerun-if-changed=shaders/{f}");
             }
-            if !hooks.iter().all(|h| files.iter().any(|f| f == h.file)) {
-                continue; // a hook it lacks: no such variant
+            // A hook the entry never includes would make a variant that is the plain one.
+            for h in &hooks {
+                let hook_file = h.swaps()[0].0;
+                if !files.iter().any(|f| f == hook_file) {
+                    println!(
+                        "cargo:warning=shader {}: lists hook {h:?} but never includes {hook_file}",
+                        entry.file
+                    );
+                    failed = true;
+                }
             }
             if let Err(e) = validate(&src) {
-                println!("cargo:warning=shader {entry}{suffix} is invalid:");
+                println!("cargo:warning=shader {name} is invalid:");
                 for line in e.lines() {
                     println!("cargo:warning={line}");
                 }
                 failed = true;
             }
-            std::fs::write(out.join(format!("{name}{suffix}.wgsl")), src).unwrap();
+            std::fs::write(out.join(&name), src).unwrap();
+            sources.push(format!("include_str!(concat!(env!(\"OUT_DIR\"), \"/{name}\"))"));
+        }
+        if entry.hooks.is_empty() {
+            writeln!(consts, "pub const {}: &str = {};", entry.name, sources[0]).unwrap();
+        } else {
+            let hooks: Vec<String> = entry.hooks.iter().map(|h| format!("Hook::{h:?}")).collect();
+            writeln!(
+                consts,
+                "pub const {}: Shader = Shader {{ file: {:?}, hooks: &[{}], variants: &[{}] }};",
+                entry.name,
+                entry.file,
+                hooks.join(", "),
+                sources.join(", ")
+            )
+            .unwrap();
+        }
+    }
+    // Every shader file is an entry, included by one, or swapped in by a variant.
+    let read_files = read_files.into_inner();
+    for file in wgsl_files(root) {
+        if !read_files.contains(&file) {
+            println!(
+                "cargo:warning={}: no variant in src/gpu/shader_variants.rs reads it (an entry left out?)",
+                file.display()
+            );
+            failed = true;
         }
     }
     if failed {
         panic!("WGSL shaders failed to compose or validate (see warnings above)");
     }
+    std::fs::write(out.join("shaders.rs"), consts).unwrap();
 }
 
-/// A shared file that a variant replaces with another.
-struct Hook {
-    file: &'static str,
-    swap: &'static str,
+/// Every `.wgsl` file under `dir`, as `dir/...`.
+fn wgsl_files(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).expect("read shaders/").flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            out.extend(wgsl_files(&p));
+        } else if p.extension().is_some_and(|x| x == "wgsl") {
+            out.push(p);
+        }
+    }
+    out
 }
-
-const INSTRUMENT: Hook = Hook { file: "shared/instrument.wgsl", swap: "shared/instrument_on.wgsl" };
-const COHERENCE: Hook = Hook { file: "shared/coherence.wgsl", swap: "shared/coherence_on.wgsl" };
-const APPEND: Hook = Hook { file: "shared/append.wgsl", swap: "shared/append_subgroup.wgsl" };
 
 fn validate(src: &str) -> Result<(), String> {
     let module = naga::front::wgsl::parse_str(src).map_err(|e| e.emit_to_string(src))?;

@@ -165,7 +165,7 @@ pub struct FilmPixel {
 /// subnormal while those up to about 1.2e24 stay finite.
 pub const FILM_SQ_SCALE: f64 = 1.0 / 4294967296.0;
 
-/// WGSL: `Wave` in `shaders/shared/path_state.wgsl`: the wavefront's knobs for a render.
+/// WGSL: `Wave` in `shaders/wavefront/shared/path_state.wgsl`: the wavefront's knobs for a render.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct WaveUniform {

@@ -13,9 +13,12 @@ use crate::light_options::{LightOptions, LightSampling, LightSelect};
 use crate::light_table;
 use crate::numerics::{Fresnel, NumericOptions, RayOffset, SphereHit};
 use crate::options::Specialize;
+use crate::primitive_area::area;
+use crate::real::Real;
 use crate::scene::stress::StressTransform;
 use crate::scene::{Background, Material, Scene, Texture};
 use crate::settings::{Accel, RenderSettings};
+use crate::vec3::V3;
 use glam::Vec3;
 
 /// Masks with every `layout::primitive_kind`, `material_kind` and `texture_kind` (each list runs
@@ -109,11 +112,8 @@ impl PackedScene {
     /// Where the texture of a surface at `p` is looked up: (p − translate) · (1/scale), with the
     /// origin and inverse scale rounded to `T` as the GPU's frame holds them in f32.
     #[inline(always)]
-    pub fn texture_point<T: crate::cpu::real::Real>(
-        &self,
-        p: crate::cpu::vec3::V3<T>,
-    ) -> crate::cpu::vec3::V3<T> {
-        let o = crate::cpu::vec3::V3::of64(glam::DVec3::from(self.stress.translate));
+    pub fn texture_point<T: Real>(&self, p: V3<T>) -> V3<T> {
+        let o = V3::of64(glam::DVec3::from(self.stress.translate));
         (p - o) * T::of64(1.0 / self.stress.scale)
     }
 
@@ -263,7 +263,7 @@ fn light_distribution(
         .iter()
         .map(|&slot| {
             let p = &primitives[slot as usize];
-            light_table::power(materials[p.material as usize].color, crate::cpu::primitive::area::<f64>(p))
+            light_table::power(materials[p.material as usize].color, area::<f64>(p))
         })
         .collect();
     let total = weights.iter().sum::<f64>() as f32;

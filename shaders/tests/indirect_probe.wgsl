@@ -1,9 +1,9 @@
-// Test kernels: the indirect arguments of shared/indirect_args.wgsl for thread counts the host
+// Test kernels: the indirect arguments of wavefront/shared/indirect_args.wgsl for thread counts the host
 // chooses (hostile ones included), and a kernel that counts the workgroups an indirect dispatch
 // of them really runs, so tests/suite/indirect_args.rs can check that no argument exceeds the
 // adapter's limit with wgpu's indirect validation off.
 
-#include "shared/indirect_args.wgsl"
+#include "wavefront/shared/indirect_args.wgsl"
 
 @group(0) @binding(0) var<storage, read> threads: array<u32>;
 @group(0) @binding(1) var<storage, read_write> args: array<u32>;

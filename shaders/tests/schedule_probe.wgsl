@@ -1,8 +1,8 @@
-// Test kernel: the regenerating schedule's rule as the GPU runs it (shared/schedule_rule.wgsl),
+// Test kernel: the regenerating schedule's rule as the GPU runs it (wavefront/shared/schedule_rule.wgsl),
 // one thread per ring state the host chooses, so tests/suite/schedule_rule.rs can compare each
 // decision with `schedule::Decision::after`.
 
-#include "shared/schedule_rule.wgsl"
+#include "wavefront/shared/schedule_rule.wgsl"
 
 // Per case CASE_WORDS words: paths, chunk, ring, oldest, started, started_before, finished,
 // max_live, tail, then the ring's counts (at most CASE_WORDS - 9 chunks).

@@ -17,7 +17,7 @@
 // traversal code names. No instrumented variant is used: nothing here is counted.
 #include "shared/rng.wgsl"
 #include "shared/scene.wgsl"
-#include "shared/path_state.wgsl"
+#include "wavefront/shared/path_state.wgsl"
 #include "shared/instrument.wgsl"
 
 override WORKGROUP_SIZE: u32 = 64u;

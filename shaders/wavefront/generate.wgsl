@@ -5,8 +5,8 @@
 
 #include "shared/rng.wgsl"
 #include "shared/scene.wgsl"
-#include "shared/path_state.wgsl"
-#include "shared/path_camera.wgsl"
+#include "wavefront/shared/path_state.wgsl"
+#include "wavefront/shared/path_camera.wgsl"
 #include "shared/instrument.wgsl"
 
 override WORKGROUP_SIZE: u32 = 64u;

@@ -3,10 +3,10 @@
 
 #include "shared/rng.wgsl"
 #include "shared/scene.wgsl"
-#include "shared/path_state.wgsl"
-#include "shared/path_camera.wgsl"
+#include "wavefront/shared/path_state.wgsl"
+#include "wavefront/shared/path_camera.wgsl"
 #include "shared/instrument.wgsl"
-#include "shared/coherence.wgsl"
+#include "wavefront/shared/coherence.wgsl"
 
 override WORKGROUP_SIZE: u32 = 64u;
 

@@ -3,9 +3,9 @@
 // queues about to be filled and adds queue sizes to the bounce histogram.
 // Rust side: src/gpu/wavefront/queue_setup.rs.
 
-#include "shared/path_state.wgsl"
-#include "shared/indirect_args.wgsl"
-#include "shared/schedule_rule.wgsl"
+#include "wavefront/shared/path_state.wgsl"
+#include "wavefront/shared/indirect_args.wgsl"
+#include "wavefront/shared/schedule_rule.wgsl"
 
 // Its own group: a buffer bound as storage cannot also feed an indirect dispatch in the same
 // pass, so only this pass binds it.
@@ -23,7 +23,7 @@ fn share_done() -> bool {
 }
 
 // One indirect dispatch's arguments: workgroups of `group` threads covering `threads`, clamped
-// to the adapter's limit (shared/indirect_args.wgsl); a clamp is counted for the host to refuse.
+// to the adapter's limit (wavefront/shared/indirect_args.wgsl); a clamp is counted for the host to refuse.
 fn set_group_args(slot: u32, all_threads: u32, group: u32) {
     let threads = select(all_threads, 0u, share_done());
     if workgroups_needed(threads, group) > MAX_WORKGROUPS {
@@ -204,7 +204,7 @@ fn ring_finished(slot: u32) -> u32 {
 // (regenerate) After an iteration (every one with --tail megakernel, else every --sync-every):
 // the host's check, on the GPU, so the host never reads a counter to go on. At a check (every
 // --sync-every iterations; with the tail, every iteration once every sample has started) it
-// decides as `schedule::Decision::after` (shared/schedule_rule.wgsl): sizes the tail (finishing
+// decides as `schedule::Decision::after` (wavefront/shared/schedule_rule.wgsl): sizes the tail (finishing
 // the chunks below the bound) and accumulate_range over the chunks that go into the film, takes
 // those chunks out of the ring's counts, moves the refills' limit to the ring's new end, and says
 // DONE once every chunk is in the film. Anywhere else both passes get zero workgroups.

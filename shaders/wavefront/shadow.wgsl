@@ -5,7 +5,7 @@
 
 #include "shared/rng.wgsl"
 #include "shared/scene.wgsl"
-#include "shared/path_state.wgsl"
+#include "wavefront/shared/path_state.wgsl"
 #include "shared/instrument.wgsl"
 
 override WORKGROUP_SIZE: u32 = 64u;

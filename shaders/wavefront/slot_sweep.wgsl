@@ -1,17 +1,17 @@
 // slot_sweep: in slot order with the atomic compaction method (`--queue-order slot`), builds the
 // next ray queue, the free list (regenerate) and the shadow queue in one pass over the pool's
 // slots, from the queue each slot asked for in `next_queue`, with appends. With appends
-// aggregated per subgroup (`--append`, shared/append_subgroup.wgsl) each subgroup writes its
+// aggregated per subgroup (`--append`, wavefront/shared/append_subgroup.wgsl) each subgroup writes its
 // slots as one run in ascending order, so a queue is a sequence of runs of neighbouring slots
 // (the runs' order is the atomics'): a later pass's subgroup reads as few lines of path state as
 // in the scan's exact slot order (the coherence counters), though the runs no longer form one
 // ascending stream, at one pass without barriers instead of the scan's three (on llvmpipe about
 // a third of the scan's time: commit 5f22f9a). The scan method, and the depth key (which places
-// a run after all others, so needs their total), keep the stable scan (shared/compact.wgsl).
+// a run after all others, so needs their total), keep the stable scan (wavefront/compact.wgsl).
 // Rust side: src/gpu/wavefront/slot_sweep.rs.
 
-#include "shared/path_state.wgsl"
-#include "shared/append.wgsl"
+#include "wavefront/shared/path_state.wgsl"
+#include "wavefront/shared/append.wgsl"
 
 // Dispatched with the scan's indirect arguments (queue_setup_shade's set_compact_args): SCAN_WG
 // threads a workgroup over COUNTER_POSITIONS = every slot of the pool.

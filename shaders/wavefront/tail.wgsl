@@ -8,7 +8,7 @@
 
 #include "shared/rng.wgsl"
 #include "shared/scene.wgsl"
-#include "shared/path_state.wgsl"
+#include "wavefront/shared/path_state.wgsl"
 #include "shared/instrument.wgsl"
 #include "shared/integrator.wgsl"
 

@@ -13,11 +13,12 @@ pub mod offset;
 pub mod planar;
 pub mod primitive;
 pub mod ray;
-pub mod real;
 pub mod sampling;
 pub mod sphere;
 pub mod texture;
-pub mod vec3;
+
+// The arithmetic the reference is generic over lives below it, where packed_scene uses it too.
+pub use crate::{real, vec3};
 
 use crate::camera::CameraFrame;
 use crate::film::{Film, PixelStats};

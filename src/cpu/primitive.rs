@@ -7,6 +7,8 @@ use super::sphere::{hit_sphere, hit_sphere_book, outward_normal as sphere_normal
 use super::{ray::Ray, real::Real, vec3::V3};
 use crate::layout::{primitive_kind, PrimitiveRecord};
 use crate::numerics::SphereHit;
+/// Surface area (its own module: packed_scene weighs lights by it too).
+pub use crate::primitive_area::area;
 
 /// Distance to the nearest hit in (t_min, t_max), if any; spheres by the `sphere` formula.
 #[inline(always)]
@@ -28,16 +30,6 @@ pub fn outward_normal<T: Real>(p: &PrimitiveRecord, point: V3<T>) -> V3<T> {
         sphere_normal(p, point)
     } else {
         planar_normal(p)
-    }
-}
-
-/// Surface area.
-#[inline(always)]
-pub fn area<T: Real>(p: &PrimitiveRecord) -> T {
-    match p.kind {
-        primitive_kind::SPHERE => T::of(4.0) * T::PI() * T::of(p.radius) * T::of(p.radius),
-        primitive_kind::QUAD => V3::<T>::of(p.b).cross(V3::of(p.c)).length(),
-        _ => T::of(0.5) * V3::<T>::of(p.b).cross(V3::of(p.c)).length(),
     }
 }
 

@@ -21,6 +21,7 @@ pub mod cache_lock;
 pub mod charts;
 pub mod config;
 pub mod error_map;
+pub mod escape;
 pub mod gpu_slot;
 pub mod html;
 pub mod markdown;

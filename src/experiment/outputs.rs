@@ -1,5 +1,7 @@
-//! What is drawn from a report: `charts/*.svg` and `report.html`. Used at the end of a run, by
-//! `experiment report` (re-draw) and by `experiment merge`.
+//! What is written from a report: `report.json` with its tidy tables (`ExperimentReport::write`,
+//! here rather than in `report.rs` so that the report's types do not depend on the tables drawn
+//! from them), `charts/*.svg` and `report.html`. Used at the end of a run, by `experiment report`
+//! (re-draw) and by `experiment merge`.
 
 use std::path::Path;
 
@@ -7,10 +9,23 @@ use anyhow::{Context, Result};
 
 use super::charts;
 use super::html;
-use super::report::{ChartRecord, ExperimentReport};
+use super::report::{ChartRecord, ExperimentReport, REPORT_FILE};
+use super::tidy;
 use crate::image_io::write_file_atomically;
 
 pub const HTML_FILE: &str = "report.html";
+
+impl ExperimentReport {
+    /// Writes `DIR/report.json` atomically (temporary file, then rename), then the tidy tables
+    /// drawn from it (`runs.csv`, `passes.csv`), so the three always move together.
+    pub fn write(&self, dir: &Path) -> Result<()> {
+        let json = serde_json::to_string_pretty(self)?;
+        let path = dir.join(REPORT_FILE);
+        write_file_atomically(&path, json.as_bytes())
+            .with_context(|| format!("writing {}", path.display()))?;
+        tidy::write(self, dir)
+    }
+}
 
 /// Writes the charts and the HTML page for `report` into `dir`, replacing earlier ones, and
 /// lists the charts in `report.charts` (the caller writes `report.json`).

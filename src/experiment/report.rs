@@ -5,7 +5,9 @@
 //! last complete report, which `experiment run --resume` continues (`resume.rs`).
 
 use std::collections::BTreeMap;
+use std::io::Read;
 use std::path::Path;
+use std::sync::OnceLock;
 
 use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
@@ -105,7 +107,7 @@ impl Environment {
     /// This process: its build (with the executable's digest), machine and start time.
     pub fn this(shard: Option<Shard>) -> Result<Self> {
         let mut build = serde_json::to_value(crate::report::Build::this())?;
-        if let (Some(digest), Some(map)) = (super::resume::executable_digest(), build.as_object_mut()) {
+        if let (Some(digest), Some(map)) = (executable_digest(), build.as_object_mut()) {
             map.insert("executable_digest".into(), Value::String(digest));
         }
         Ok(Self {
@@ -119,6 +121,35 @@ impl Environment {
             gpu_state_source: None,
         })
     }
+}
+
+/// 64-bit FNV-1a of the running executable, `fnv1a64:HEX`, computed once per process: the
+/// build identity `--resume` trusts when the git commit cannot vouch for the code.
+pub fn executable_digest() -> Option<String> {
+    static DIGEST: OnceLock<Option<String>> = OnceLock::new();
+    DIGEST
+        .get_or_init(|| {
+            // /proc/self/exe is the running file even after a rebuild replaced it on disk.
+            let path = if cfg!(target_os = "linux") {
+                std::path::PathBuf::from("/proc/self/exe")
+            } else {
+                std::env::current_exe().ok()?
+            };
+            let mut file = std::fs::File::open(path).ok()?;
+            let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
+            let mut buf = vec![0u8; 1 << 20];
+            loop {
+                let n = file.read(&mut buf).ok()?;
+                if n == 0 {
+                    break;
+                }
+                for &b in &buf[..n] {
+                    hash = (hash ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+                }
+            }
+            Some(format!("fnv1a64:{hash:016x}"))
+        })
+        .clone()
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -415,16 +446,6 @@ pub struct ChartRecord {
 }
 
 impl ExperimentReport {
-    /// Writes `DIR/report.json` atomically (temporary file, then rename), then the tidy tables
-    /// drawn from it (`runs.csv`, `passes.csv`), so the three always move together.
-    pub fn write(&self, dir: &Path) -> Result<()> {
-        let json = serde_json::to_string_pretty(self)?;
-        let path = dir.join(REPORT_FILE);
-        crate::image_io::write_file_atomically(&path, json.as_bytes())
-            .with_context(|| format!("writing {}", path.display()))?;
-        super::tidy::write(self, dir)
-    }
-
     /// Reads `DIR/report.json`.
     pub fn read(dir: &Path) -> Result<Self> {
         let path = dir.join(REPORT_FILE);

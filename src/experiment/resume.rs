@@ -4,9 +4,7 @@
 //! are run now. Without `--resume` an earlier report is replaced, as before, with a note.
 
 use std::collections::BTreeSet;
-use std::io::Read;
 use std::path::Path;
-use std::sync::OnceLock;
 
 use anyhow::{bail, Context, Result};
 use serde_json::Value;
@@ -242,35 +240,6 @@ fn note_replacing(out: &Path) {
         }
         Err(e) => eprintln!("note: replacing {}: {e:#}", path.display()),
     }
-}
-
-/// 64-bit FNV-1a of the running executable, `fnv1a64:HEX`, computed once per process: the
-/// build identity `--resume` trusts when the git commit cannot vouch for the code.
-pub fn executable_digest() -> Option<String> {
-    static DIGEST: OnceLock<Option<String>> = OnceLock::new();
-    DIGEST
-        .get_or_init(|| {
-            // /proc/self/exe is the running file even after a rebuild replaced it on disk.
-            let path = if cfg!(target_os = "linux") {
-                std::path::PathBuf::from("/proc/self/exe")
-            } else {
-                std::env::current_exe().ok()?
-            };
-            let mut file = std::fs::File::open(path).ok()?;
-            let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
-            let mut buf = vec![0u8; 1 << 20];
-            loop {
-                let n = file.read(&mut buf).ok()?;
-                if n == 0 {
-                    break;
-                }
-                for &b in &buf[..n] {
-                    hash = (hash ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
-                }
-            }
-            Some(format!("fnv1a64:{hash:016x}"))
-        })
-        .clone()
 }
 
 #[cfg(test)]

@@ -4,7 +4,7 @@
 
 use std::fmt::Write;
 
-use super::html::esc;
+use super::escape::esc;
 use super::report::ExperimentReport;
 use crate::gpu::instrument::{FRAME_KEY, WORK_PREFIX};
 

@@ -75,7 +75,7 @@ impl AdapterSummary {
 /// to every indirect pass, which nearly all wavefront passes are and no megakernel pass is, so
 /// it biased every comparison against the wavefront (15-25% of a small job on the software
 /// driver). It guards against indirect arguments past the device's limit; ours are clamped where
-/// our shaders write them (shaders/shared/indirect_args.wgsl, tests/suite/indirect_args.rs).
+/// our shaders write them (shaders/wavefront/shared/indirect_args.wgsl, tests/suite/indirect_args.rs).
 /// Reports record the setting (`indirect_validation`).
 fn instance_descriptor() -> wgpu::InstanceDescriptor {
     let mut d = wgpu::InstanceDescriptor::new_without_display_handle_from_env();

@@ -83,7 +83,7 @@ pub fn pass_of(slot: &str) -> &'static str {
 /// 64-bit count in two words (low, high), as `shaders/shared/instrument_on.wgsl` writes them.
 const SLOT_WORDS: usize = 6;
 
-/// Iteration buckets of the coherence counters (`shaders/shared/coherence_on.wgsl`): iterations
+/// Iteration buckets of the coherence counters (`shaders/wavefront/shared/coherence_on.wgsl`): iterations
 /// 0..7 one each, then one per power of two from 8 on, the last open-ended.
 pub const COHERENCE_BUCKETS: usize = 16;
 /// Words per coherence bucket: subgroups, lanes, lines, spread, octants; each 64-bit (low, high).

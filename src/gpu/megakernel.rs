@@ -19,12 +19,13 @@ use super::context::GpuContext;
 use super::dispatch_plan::{self, DispatchUniforms};
 use super::gpu_render::GpuRender;
 use super::instrument::SimdCounters;
+use super::label;
 use super::loop_limit::{check_loop_limit, paths_per_thread};
 use super::memory::{MemoryCategory, MemoryLedger};
 use super::scene_buffers::{decode_failures, SceneBuffers, FAILURE_BYTES};
+use super::shaders::{self, Hook};
 use super::stage::{Stage, Workgroups};
 use super::timing::{GpuTimer, Measure, MAX_PASSES_PER_BATCH};
-use super::{label, shaders};
 use crate::camera::CameraFrame;
 use crate::film::Film;
 use crate::layout::{DispatchParams, FilmPixel};
@@ -154,12 +155,15 @@ pub fn render(
     });
     let mut layouts = vec![&scene_buffers.layout, &layout];
     layouts.extend(simd.as_ref().map(|s| &s.layout));
-    let (pass_label, source) = match (regenerate, ctx.summary.subgroups) {
-        (false, _) => (label::MEGAKERNEL, shaders::MEGAKERNEL.get(instrument)),
-        (true, false) => (label::MEGAKERNEL_REGENERATE, shaders::MEGAKERNEL_REGENERATE.get(instrument)),
-        (true, true) => {
-            (label::MEGAKERNEL_REGENERATE, shaders::MEGAKERNEL_REGENERATE_SUBGROUP.get(instrument))
-        }
+    let instrumented = (Hook::Instrument, instrument);
+    let (pass_label, source) = match regenerate {
+        false => (label::MEGAKERNEL, shaders::MEGAKERNEL.select(&[instrumented])),
+        // Samples taken per subgroup where the adapter has subgroups.
+        true => (
+            label::MEGAKERNEL_REGENERATE,
+            shaders::MEGAKERNEL_REGENERATE
+                .select(&[instrumented, (Hook::TakeSampleSubgroup, ctx.summary.subgroups)]),
+        ),
     };
     let module = ctx.shader(pass_label, source, measure.shader_checks)?;
     let constants = [("WORKGROUP_SIZE", opts.workgroup_size as f64)];
@@ -232,7 +236,7 @@ pub fn render(
     })
 }
 
-/// Words of the regenerating megakernel's `work` buffer (`shaders/shared/regenerate.wgsl`).
+/// Words of the regenerating megakernel's `work` buffer (`shaders/megakernel_regenerate.wgsl`).
 const WORK_FINISHED: usize = 1;
 const WORK_CUT: usize = 2;
 const WORK_PATHS_PER_THREAD: u64 = 3;

@@ -16,6 +16,7 @@ pub mod memory;
 pub mod preheat;
 pub mod scene_buffers;
 pub mod shader_checks;
+pub mod shader_variants;
 pub mod shaders;
 pub mod specialize;
 pub mod stage;

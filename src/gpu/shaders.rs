@@ -1,82 +1,85 @@
-//! WGSL entry shaders, composed from `shaders/` and validated by `build.rs`. Shaders with the
-//! instrumentation hook also come in an `--instrument` variant.
+//! WGSL entry shaders, composed from `shaders/` and validated by `build.rs`, which writes these
+//! constants from the list in [`super::shader_variants`]: an entry without hooks is its source;
+//! one with hooks a [`Shader`] holding a variant per subset of them.
 
-macro_rules! composed {
-    ($name:literal) => {
-        include_str!(concat!(env!("OUT_DIR"), "/", $name, ".wgsl"))
-    };
+pub use super::shader_variants::Hook;
+
+/// An entry shader in every variant of its hooks.
+pub struct Shader {
+    /// Under `shaders/`.
+    pub file: &'static str,
+    pub hooks: &'static [Hook],
+    /// Variant `i` has `hooks[k]` where bit `k` of `i` is set (`Entry::variants`).
+    pub variants: &'static [&'static str],
 }
 
-/// A shader in its timing and `--instrument` variants, and for wavefront passes that append to
-/// queues, both again with subgroup-aggregated appends (`--append subgroup`).
-pub struct Variants {
-    pub plain: &'static str,
-    pub instrumented: &'static str,
-    /// (plain, instrumented) with `shared/append_subgroup.wgsl`.
-    pub subgroup_append: Option<(&'static str, &'static str)>,
-}
-
-impl Variants {
-    pub fn get(&self, instrumented: bool) -> &'static str {
-        self.select(instrumented, false)
+impl Shader {
+    /// The variant with no hook swapped in.
+    pub fn plain(&self) -> &'static str {
+        self.variants[0]
     }
 
-    /// The variant with subgroup-aggregated appends where asked for (passes that append
-    /// nothing have one variant for both).
-    pub fn select(&self, instrumented: bool, subgroup_append: bool) -> &'static str {
-        match (self.subgroup_append, instrumented) {
-            (Some((plain, _)), false) if subgroup_append => plain,
-            (Some((_, instrumented)), true) if subgroup_append => instrumented,
-            (_, true) => self.instrumented,
-            (_, false) => self.plain,
+    /// The variant with the hooks paired with `true` swapped in. Panics on a hook this entry
+    /// has no variant of turned on: the list in `shader_variants.rs` lacks it, a bug.
+    pub fn select(&self, hooks: &[(Hook, bool)]) -> &'static str {
+        let mut i = 0;
+        for &(hook, _) in hooks.iter().filter(|(_, on)| *on) {
+            let Some(k) = self.hooks.iter().position(|&h| h == hook) else {
+                panic!("{} has no {hook:?} variant (src/gpu/shader_variants.rs)", self.file);
+            };
+            i |= 1 << k;
         }
+        self.variants[i]
     }
 }
 
-macro_rules! variants {
-    ($name:literal) => {
-        Variants {
-            plain: composed!($name),
-            instrumented: include_str!(concat!(env!("OUT_DIR"), "/", $name, ".instrumented.wgsl")),
-            subgroup_append: None,
-        }
-    };
-    ($name:literal, appends) => {
-        Variants {
-            plain: composed!($name),
-            instrumented: include_str!(concat!(env!("OUT_DIR"), "/", $name, ".instrumented.wgsl")),
-            subgroup_append: Some((
-                include_str!(concat!(env!("OUT_DIR"), "/", $name, ".subgroup.wgsl")),
-                include_str!(concat!(env!("OUT_DIR"), "/", $name, ".instrumented.subgroup.wgsl")),
-            )),
-        }
-    };
-}
+include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 
-pub const MEGAKERNEL: Variants = variants!("megakernel");
-pub const MEGAKERNEL_REGENERATE: Variants = variants!("megakernel_regenerate");
-pub const MEGAKERNEL_REGENERATE_SUBGROUP: Variants = variants!("megakernel_regenerate_subgroup");
-pub const ACCUMULATE: &str = composed!("accumulate");
-pub const DISPATCH_CHAIN: &str = composed!("dispatch_chain");
-pub const BANDWIDTH: &str = composed!("bandwidth");
-pub const PREHEAT: &str = composed!("preheat");
-pub const RNG_PROBE: &str = composed!("tests_rng_probe");
-pub const INDIRECT_PROBE: &str = composed!("tests_indirect_probe");
-pub const SCHEDULE_PROBE: &str = composed!("tests_schedule_probe");
-pub const GENERATE: Variants = variants!("wavefront_generate", appends);
-pub const INTERSECT: Variants = variants!("wavefront_intersect", appends);
-/// `wavetrace intersect-cost`'s diagnostic twin of intersect (never instrumented).
-pub const INTERSECT_REGISTERS: &str = composed!("wavefront_intersect_registers");
-pub const SHADE: Variants = variants!("wavefront_shade", appends);
-pub const SHADOW: Variants = variants!("wavefront_shadow", appends);
-pub const TAIL: Variants = variants!("wavefront_tail", appends);
-pub const QUEUE_SETUP: &str = composed!("wavefront_queue_setup");
-pub const COMPACT_STATES: &str = composed!("wavefront_compact_states");
-pub const SORT_RAYS: &str = composed!("wavefront_sort_rays");
-pub const COMPACT: &str = composed!("wavefront_compact");
-/// Slot order's sweep: [per-lane appends, subgroup-aggregated appends] (never instrumented).
-pub const SLOT_SWEEP: [&str; 2] = [
-    composed!("wavefront_slot_sweep"),
-    include_str!(concat!(env!("OUT_DIR"), "/wavefront_slot_sweep.subgroup.wgsl")),
-];
-pub const COMPACT_SUBGROUP: &str = composed!("wavefront_compact_subgroup");
+#[cfg(test)]
+mod tests {
+    use super::super::shader_variants::ENTRIES;
+    use super::*;
+    use std::collections::BTreeSet;
+
+    /// build.rs composes and validates exactly the variants embedded: a variant composed that
+    /// nothing embeds, or one embedded that was not composed, fails here.
+    #[test]
+    fn composed_variants_are_exactly_the_embedded_ones() {
+        let composed: BTreeSet<String> = std::fs::read_dir(env!("OUT_DIR"))
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .filter(|n| n.ends_with(".wgsl"))
+            .collect();
+        let listed: BTreeSet<String> =
+            ENTRIES.iter().flat_map(|e| e.variants().into_iter().map(|v| e.composed_name(&v))).collect();
+        assert_eq!(composed, listed);
+        // Each variant differs from the entry's others: a hook that changes nothing would be a
+        // variant for nothing.
+        for e in ENTRIES {
+            let texts: BTreeSet<String> = e
+                .variants()
+                .iter()
+                .map(|v| {
+                    std::fs::read_to_string(format!("{}/{}", env!("OUT_DIR"), e.composed_name(v))).unwrap()
+                })
+                .collect();
+            assert_eq!(texts.len(), 1 << e.hooks.len(), "{}", e.file);
+        }
+    }
+
+    #[test]
+    fn select_picks_the_variant_of_the_hooks_turned_on() {
+        let both = [(Hook::Instrument, true), (Hook::AppendSubgroup, true)];
+        assert_eq!(GENERATE.select(&both), GENERATE.variants[3]);
+        assert_eq!(GENERATE.select(&[(Hook::AppendSubgroup, true)]), GENERATE.variants[2]);
+        assert_eq!(GENERATE.select(&[(Hook::Instrument, false)]), GENERATE.plain());
+        assert!(GENERATE.select(&both).contains("subgroupBroadcastFirst"));
+        assert!(!GENERATE.plain().contains("subgroupBroadcastFirst"));
+        // A hook off needs no variant of it.
+        assert_eq!(
+            COMPACT.select(&[(Hook::Instrument, false), (Hook::ScanSubgroup, true)]),
+            COMPACT.variants[1]
+        );
+    }
+}

@@ -1,7 +1,7 @@
 //! Why two images could not be compared.
 use std::path::PathBuf;
 
-use crate::image_io::ImageIoError;
+use crate::image_io::{ImageIoError, RgbImage};
 
 /// Why a comparison failed. `Display` is self-contained (sizes, counts and files included).
 #[derive(Debug, thiserror::Error)]
@@ -31,4 +31,29 @@ pub enum MetricsError {
     /// `CompareOptions::trim` outside [0, 1).
     #[error("trim must be a fraction in [0, 1), got {0}")]
     InvalidTrim(f64),
+}
+
+/// Checks what every metric needs: consistent data, equal sizes, at least one pixel.
+pub(super) fn check_pair(test: &RgbImage, reference: &RgbImage) -> Result<(), MetricsError> {
+    for (role, image) in [("test", test), ("reference", reference)] {
+        let expected = (image.width as u64).checked_mul(image.height as u64).and_then(|n| n.checked_mul(3));
+        if expected != Some(image.data.len() as u64) {
+            return Err(MetricsError::BadData {
+                role,
+                len: image.data.len(),
+                width: image.width,
+                height: image.height,
+            });
+        }
+    }
+    if (test.width, test.height) != (reference.width, reference.height) {
+        return Err(MetricsError::SizeMismatch {
+            test: (test.width, test.height),
+            reference: (reference.width, reference.height),
+        });
+    }
+    if test.data.is_empty() {
+        return Err(MetricsError::Empty { width: test.width, height: test.height });
+    }
+    Ok(())
 }

@@ -1,6 +1,7 @@
 //! Pixel-wise error metrics between a test image and a reference of the same size.
 use rayon::prelude::*;
 
+use super::error::check_pair;
 use super::{flip, MetricsError};
 use crate::image_io::RgbImage;
 
@@ -186,31 +187,6 @@ fn pixel_errors(v: &[f32], r: &[f32]) -> Option<[f64; 4]> {
 
 pub(super) fn is_finite(pixel: &[f32]) -> bool {
     pixel.iter().all(|c| c.is_finite())
-}
-
-/// Checks what every metric needs: consistent data, equal sizes, at least one pixel.
-pub(super) fn check_pair(test: &RgbImage, reference: &RgbImage) -> Result<(), MetricsError> {
-    for (role, image) in [("test", test), ("reference", reference)] {
-        let expected = (image.width as u64).checked_mul(image.height as u64).and_then(|n| n.checked_mul(3));
-        if expected != Some(image.data.len() as u64) {
-            return Err(MetricsError::BadData {
-                role,
-                len: image.data.len(),
-                width: image.width,
-                height: image.height,
-            });
-        }
-    }
-    if (test.width, test.height) != (reference.width, reference.height) {
-        return Err(MetricsError::SizeMismatch {
-            test: (test.width, test.height),
-            reference: (reference.width, reference.height),
-        });
-    }
-    if test.data.is_empty() {
-        return Err(MetricsError::Empty { width: test.width, height: test.height });
-    }
-    Ok(())
 }
 
 #[cfg(test)]

@@ -19,7 +19,7 @@
 //! derivatives of a Gaussian) on the achromatic channel; FLIP = colour^(1 − feature).
 use rayon::prelude::*;
 
-use super::error_metrics::check_pair;
+use super::error::check_pair;
 use super::MetricsError;
 use crate::image_io::RgbImage;
 

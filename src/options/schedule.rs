@@ -1,6 +1,6 @@
 //! `--schedule`: how a GPU method hands path samples to its threads or slots. Both methods take
 //! it; the wavefront's machinery is in `wavefront/schedule.rs`, the megakernel's loop in
-//! `shaders/shared/regenerate.wgsl`.
+//! `shaders/megakernel_regenerate.wgsl`.
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]

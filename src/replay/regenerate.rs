@@ -1,5 +1,5 @@
-//! The regenerating megakernel replayed (`shaders/shared/regenerate.wgsl` with
-//! `megakernel_regenerate_subgroup.wgsl`): persistent threads in subgroups of W lanes loop one
+//! The regenerating megakernel replayed (`shaders/megakernel_regenerate.wgsl` with
+//! `megakernel/take_sample_subgroup.wgsl`): persistent threads in subgroups of W lanes loop one
 //! bounce per iteration; at the top of every iteration the lanes whose path ended take the next
 //! samples of the dispatch, consecutive ones in lane order (one atomic per subgroup), until the
 //! dispatch runs out or a lane has started `paths_per_thread` paths in this launch; the subgroup

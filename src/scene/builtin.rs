@@ -87,7 +87,7 @@ pub const BUILTINS: &[Builtin] = &[
         name: "rtiow-heavy",
         description: "rtiow-final made costly to shade (rtiow-heavy-O: O in 1..=16 octaves of noise, \
                       here 8): checker ground, noise or marble on every diffuse sphere",
-        build: || super::heavy::rtiow_heavy(super::heavy::DEFAULT_OCTAVES),
+        build: || super::heavy::rtiow_heavy(rtiow_final(), super::heavy::DEFAULT_OCTAVES),
     },
     Builtin {
         name: "three-spheres",
@@ -122,7 +122,7 @@ pub const BUILTINS: &[Builtin] = &[
         name: "triangles-10000",
         description: "triangles-N, any N in 1..=10000000 (here 10000): a generated terrain of N \
                       triangles under the final scene's camera and its three big spheres (scene size)",
-        build: || super::terrain::scene(TRIANGLES_EXAMPLE),
+        build: || super::terrain::scene(three_spheres(), TRIANGLES_EXAMPLE),
     },
     Builtin {
         name: "spheres-1000",
@@ -161,8 +161,8 @@ pub fn by_name(name: &str) -> Option<Scene> {
         Some(b) => Some((b.build)()),
         None => spheres_count(name)
             .map(spheres)
-            .or_else(|| super::heavy::parse_name(name).map(super::heavy::rtiow_heavy))
-            .or_else(|| super::terrain::parse_name(name).map(super::terrain::scene)),
+            .or_else(|| super::heavy::parse_name(name).map(|o| super::heavy::rtiow_heavy(rtiow_final(), o)))
+            .or_else(|| super::terrain::parse_name(name).map(|n| super::terrain::scene(three_spheres(), n))),
     }
 }
 

@@ -8,7 +8,7 @@
 
 use glam::Vec3;
 
-use super::{builtin, Background, Material, Mesh, MeshSource, NamedMaterial, Scene};
+use super::{Background, Material, Mesh, MeshSource, NamedMaterial, Scene};
 
 /// The largest N of `triangles-N` and of a scene file's `terrain`.
 pub const TRIANGLES_MAX: u32 = 10_000_000;
@@ -71,8 +71,9 @@ pub fn triangles(n: u32) -> Vec<[Vec3; 3]> {
 
 /// `triangles-N`: the terrain of N triangles (a diffuse green-grey) under the book's camera and
 /// sky, with the book's glass, diffuse and mirror spheres standing on it.
-pub fn scene(n: u32) -> Scene {
-    let mut s = builtin::by_name("three-spheres").expect("a built-in scene");
+/// Made from `three-spheres`, which builtin.rs hands in (so this module does not depend on it).
+pub fn scene(three_spheres: Scene, n: u32) -> Scene {
+    let mut s = three_spheres;
     // three-spheres is the ground sphere and the big three: keep the three, the ground becomes
     // the terrain.
     let ground = s.spheres.remove(0);

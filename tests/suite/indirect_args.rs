@@ -1,6 +1,6 @@
 //! Indirect arguments are safe without wgpu's indirect validation (off by default: it charged
 //! the wavefront a dispatch and two barriers per indirect pass). Every workgroup count our
-//! shaders write goes through `shaders/shared/indirect_args.wgsl`; fed hostile thread counts
+//! shaders write goes through `shaders/wavefront/shared/indirect_args.wgsl`; fed hostile thread counts
 //! (0, exact multiples, one past, the largest u32) on the GPU, it never exceeds the device's
 //! limit, is exact wherever the limit allows, and an indirect dispatch of the clamped largest
 //! count runs exactly the limit's workgroups with the validation off.

@@ -21,7 +21,7 @@ fn wgsl_layout(source: &str, name: &str) -> (u32, Vec<(String, u32)>) {
 
 macro_rules! check {
     ($rust:ty, $wgsl:literal, [$($field:ident),*]) => {
-        check!($rust, $wgsl, shaders::MEGAKERNEL.plain, [$($field),*])
+        check!($rust, $wgsl, shaders::MEGAKERNEL.plain(), [$($field),*])
     };
     ($rust:ty, $wgsl:literal, $source:expr, [$($field:ident),*]) => {{
         let (size, members) = wgsl_layout($source, $wgsl);
@@ -96,7 +96,7 @@ fn light_entry() {
 
 #[test]
 fn material_kinds_match() {
-    let src = shaders::MEGAKERNEL.plain;
+    let src = shaders::MEGAKERNEL.plain();
     for (name, value) in [
         ("MATERIAL_LAMBERTIAN", material_kind::LAMBERTIAN),
         ("MATERIAL_METAL", material_kind::METAL),
@@ -114,7 +114,7 @@ fn wave() {
     check!(
         WaveUniform,
         "Wave",
-        shaders::INTERSECT.plain,
+        shaders::INTERSECT.plain(),
         [
             compaction,
             per_material,
@@ -151,7 +151,7 @@ fn wgsl_u32(source: &str, name: &str) -> u64 {
 }
 
 /// The counter words the host reads and writes, and the indirect-argument slots it dispatches
-/// from, are where the shaders keep them (shaders/shared/path_state.wgsl).
+/// from, are where the shaders keep them (shaders/wavefront/shared/path_state.wgsl).
 #[test]
 fn path_state_counters_and_arguments() {
     use wavetrace::gpu::wavefront::path_state::{self as ps, schedule_word as w};

@@ -76,7 +76,7 @@ fn regenerate_gives_the_naive_film_bit_for_bit() {
 
 /// Every sample is taken exactly once, however the lanes of a subgroup run out of work: with
 /// subgroups, samples are handed out one atomic per subgroup inside a loop that lanes leave
-/// together (shared/regenerate.wgsl), and a lane whose share of paths is taken idles while the
+/// together (megakernel_regenerate.wgsl), and a lane whose share of paths is taken idles while the
 /// others go on. A lost sample leaves its slot of the sample buffer unwritten (the film differs);
 /// a repeated one makes the finished count differ from the samples asked for, which the host
 /// refuses (`check_finished`, and per dispatch where the driver caps loops). Per-thread shares

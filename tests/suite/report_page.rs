@@ -84,7 +84,7 @@ fn assert_no_markup_from_inputs(page: &Path) {
         assert!(html[i..].starts_with("<img src=\"data:image/png;base64,"), "{}", &html[i..i + 60]);
     }
     // And the inputs did reach it, as text.
-    let esc = wavetrace::experiment::html::esc;
+    let esc = wavetrace::experiment::escape::esc;
     for text in [LABEL, LABEL_2, ADAPTER, QUESTION] {
         assert!(html.contains(&esc(text)), "{}: {text:?} is not on the page as text", page.display());
     }

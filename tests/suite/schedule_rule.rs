@@ -1,5 +1,5 @@
 //! The regenerating wavefront decides after each check on the GPU (`schedule_decide`, with the
-//! rule in `shaders/shared/schedule_rule.wgsl`), while `schedule::Decision::after` stays the
+//! rule in `shaders/wavefront/shared/schedule_rule.wgsl`), while `schedule::Decision::after` stays the
 //! documented rule the CPU replay follows. Over thousands of randomized ring states — consistent
 //! ones, as a share can reach them — the WGSL rule decides exactly as the Rust one.
 

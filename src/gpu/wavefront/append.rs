@@ -1,5 +1,5 @@
 //! How passes append paths to queues (`--append`): one atomic per lane on the queue's counter, or
-//! one per subgroup and queue (`shaders/shared/append_subgroup.wgsl`). On a GPU, thousands of
+//! one per subgroup and queue (`shaders/wavefront/shared/append_subgroup.wgsl`). On a GPU, thousands of
 //! lanes appending to one counter serialise on it; aggregating per subgroup divides the atomics
 //! by the subgroup width (up to 32 on NVIDIA) at the cost of a few subgroup operations.
 

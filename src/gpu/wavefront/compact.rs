@@ -4,8 +4,9 @@
 //! scan of workgroup totals (a workgroup per 1,024 of them), scatter; built twice, for the material queues (after intersect) and
 //! for the next ray queue (after shade).
 
+use super::super::shaders::{self, Hook};
 use super::super::stage::{Stage, Workgroups};
-use super::super::{context::GpuContext, label, shaders};
+use super::super::{context::GpuContext, label};
 use super::path_state::{scan_block_groups, ARGS_COMPACT};
 use super::{Bindings, WaveRecorder};
 
@@ -45,7 +46,7 @@ pub struct Compact {
 
 impl Compact {
     pub fn new(ctx: &GpuContext, b: &Bindings, subgroups: bool) -> Result<Self> {
-        let source = if subgroups { shaders::COMPACT_SUBGROUP } else { shaders::COMPACT };
+        let source = shaders::COMPACT.select(&[(Hook::ScanSubgroup, subgroups)]);
         let module = ctx.shader(label::COMPACT_SCAN, source, b.shader_checks)?;
         let layouts = &b.layouts()[..2];
         let build = |rays: bool| -> Result<[Stage; 3]> {

@@ -22,11 +22,8 @@ impl Generate {
         workgroup_size: u32,
         instrument: bool,
     ) -> Result<Self> {
-        let module = ctx.shader(
-            label::GENERATE,
-            shaders::GENERATE.select(instrument, b.subgroup_append),
-            b.shader_checks,
-        )?;
+        let module =
+            ctx.shader(label::GENERATE, shaders::GENERATE.select(&b.hooks(instrument)), b.shader_checks)?;
         let constants = b.constants(&[("WORKGROUP_SIZE", workgroup_size as f64)]);
         let stage = |l| Stage::new(ctx, l, &module, &b.layouts(), &constants);
         Ok(match schedule {

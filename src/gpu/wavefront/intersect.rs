@@ -13,11 +13,8 @@ pub struct Intersect {
 
 impl Intersect {
     pub fn new(ctx: &GpuContext, b: &Bindings, workgroup_size: u32, instrument: bool) -> Result<Self> {
-        let module = ctx.shader(
-            label::INTERSECT,
-            shaders::INTERSECT.select(instrument, b.subgroup_append),
-            b.shader_checks,
-        )?;
+        let module =
+            ctx.shader(label::INTERSECT, shaders::INTERSECT.select(&b.hooks(instrument)), b.shader_checks)?;
         let constants = b.constants(&[("WORKGROUP_SIZE", workgroup_size as f64)]);
         Ok(Self { stage: Stage::new(ctx, label::INTERSECT, &module, &b.layouts(), &constants)? })
     }

@@ -82,6 +82,7 @@ use super::instrument::{Coherence, SimdCounters};
 use super::loop_limit::check_loop_limit;
 use super::memory::{MemoryCategory, MemoryLedger};
 use super::scene_buffers::SceneBuffers;
+use super::shaders::Hook;
 use super::stage::{Stage, Workgroups};
 use super::timing::{GpuTimer, Measure};
 use crate::camera::CameraFrame;
@@ -151,6 +152,11 @@ impl Bindings {
         let mut c = self.scene.constants(own);
         c.push(("REGENERATE", self.regenerate as u32 as f64));
         c
+    }
+
+    /// The shader variant an appending pass takes: instrumented or not, and its appends.
+    pub fn hooks(&self, instrument: bool) -> [(Hook, bool); 2] {
+        [(Hook::Instrument, instrument), (Hook::AppendSubgroup, self.subgroup_append)]
     }
 
     pub fn layouts(&self) -> Vec<&wgpu::BindGroupLayout> {
@@ -566,7 +572,7 @@ pub fn render(
     let ring_budget = schedule::ring_budget(ctx, pool, opts.chunk_pools);
     let largest_share = shares.iter().map(|d| d.pixel_count * d.sample_count).max().unwrap_or(1);
     let ring = schedule::Ring::new(largest_share, pool, ring_budget);
-    // Camera rays made where they are used (shared/path_camera.wgsl) need queues (a pass over
+    // Camera rays made where they are used (wavefront/shared/path_camera.wgsl) need queues (a pass over
     // the whole pool tells live slots by their stored direction) and no ray sort (whose keys
     // read the stored ray).
     let camera_in_place = opts.compaction != Compaction::Off && opts.ray_sort == RaySort::Off;

@@ -1,4 +1,4 @@
-//! The path pool and its queues (`shaders/shared/path_state.wgsl`, bind group 1): structure of
+//! The path pool and its queues (`shaders/wavefront/shared/path_state.wgsl`, bind group 1): structure of
 //! arrays, pbrt-v4 style, so each pass reads only the fields it needs.
 
 use super::super::buffers::{check_size, storage_entry, storage_zeroed, uniform_entry};
@@ -33,7 +33,7 @@ pub mod schedule_word {
     pub const IDLE: usize = 6;
     pub const FILL_LIMIT: usize = 7;
     pub const TAIL_BOUND: usize = 8;
-    /// Indirect arguments queue_setup clamped to the adapter's limit (shared/indirect_args.wgsl).
+    /// Indirect arguments queue_setup clamped to the adapter's limit (wavefront/shared/indirect_args.wgsl).
     pub const CLAMPED: usize = 10;
     /// `--compact-states on`: states moved, and compactions run (summed over a share).
     pub const STATES_MOVED: usize = 11;
@@ -117,7 +117,7 @@ impl PoolLayout {
 pub const LARGEST_BINDING_PER_PATH: u64 = QUEUE_COUNT * 4;
 pub const SCAN_WG: u64 = 256;
 
-/// `block_sums` entries for a pool (shaders/shared/compact.wgsl): a total per scan block, then
+/// `block_sums` entries for a pool (shaders/wavefront/compact.wgsl): a total per scan block, then
 /// each block's prefix sum (a separate copy, as the block pass's workgroups read other groups'
 /// totals while writing their own prefixes).
 pub fn scan_block_sums(pool: u64) -> u64 {
@@ -125,7 +125,7 @@ pub fn scan_block_sums(pool: u64) -> u64 {
 }
 
 /// Workgroups of the scan's block pass: one per GROUP_CHUNKS × SCAN_WG blocks of SCAN_WG
-/// positions (`GROUP_CHUNKS` in shaders/shared/compact.wgsl).
+/// positions (`GROUP_CHUNKS` in shaders/wavefront/compact.wgsl).
 pub fn scan_block_groups(pool: u64) -> u64 {
     const GROUP_CHUNKS: u64 = 4;
     pool.div_ceil(GROUP_CHUNKS * SCAN_WG * SCAN_WG)

@@ -39,7 +39,7 @@ impl QueueSetup {
             ("WORKGROUP_SIZE", workgroup_size as f64),
             ("STATS_BOUNCES", b.state.stats_bounces as f64),
             ("REGENERATE", b.regenerate as u32 as f64),
-            // The clamp of every indirect argument (shared/indirect_args.wgsl): the device's limit.
+            // The clamp of every indirect argument (wavefront/shared/indirect_args.wgsl): the device's limit.
             ("MAX_WORKGROUPS", ctx.device.limits().max_compute_workgroups_per_dimension as f64),
         ];
         // Scene, path state and the indirect arguments (never the instrument counters).

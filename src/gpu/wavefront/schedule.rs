@@ -1,6 +1,6 @@
 //! How the wavefront schedules its pool (`--schedule`), and what the schedule cost: dispatches
 //! (empty ones apart), iterations (idle ones apart) and the intersect passes' occupancy, read
-//! from the scheduling counters of `shaders/shared/path_state.wgsl`.
+//! from the scheduling counters of `shaders/wavefront/shared/path_state.wgsl`.
 
 use super::super::buffers::{read_back, Staging};
 use super::super::context::GpuContext;
@@ -206,7 +206,7 @@ pub struct Readback {
 
 /// What is decided after a check of a regenerating share: the one rule the wavefront's decision
 /// pass (`schedule_decide` in shaders/wavefront/queue_setup.wgsl, its twin in
-/// shaders/shared/schedule_rule.wgsl, checked against this one by tests/suite/schedule_rule.rs)
+/// shaders/wavefront/shared/schedule_rule.wgsl, checked against this one by tests/suite/schedule_rule.rs)
 /// and its lockstep replay (`replay/wavefront.rs`) both follow.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Decision {

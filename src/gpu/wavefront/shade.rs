@@ -22,7 +22,7 @@ impl Shade {
         instrument: bool,
     ) -> Result<Self> {
         let module =
-            ctx.shader(label::SHADE, shaders::SHADE.select(instrument, b.subgroup_append), b.shader_checks)?;
+            ctx.shader(label::SHADE, shaders::SHADE.select(&b.hooks(instrument)), b.shader_checks)?;
         let constants = b.constants(&[("WORKGROUP_SIZE", workgroup_size as f64)]);
         let passes: Vec<(u64, &'static str)> = match kinds {
             Some(kinds) => {

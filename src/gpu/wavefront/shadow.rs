@@ -14,11 +14,8 @@ pub struct Shadow {
 
 impl Shadow {
     pub fn new(ctx: &GpuContext, b: &Bindings, workgroup_size: u32, instrument: bool) -> Result<Self> {
-        let module = ctx.shader(
-            label::SHADOW,
-            shaders::SHADOW.select(instrument, b.subgroup_append),
-            b.shader_checks,
-        )?;
+        let module =
+            ctx.shader(label::SHADOW, shaders::SHADOW.select(&b.hooks(instrument)), b.shader_checks)?;
         let constants = b.constants(&[("WORKGROUP_SIZE", workgroup_size as f64)]);
         Ok(Self { stage: Stage::new(ctx, label::SHADOW, &module, &b.layouts(), &constants)? })
     }

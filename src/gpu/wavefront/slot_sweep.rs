@@ -5,8 +5,9 @@
 //! state as in the scan's exact slot order (though not as one ascending stream), without the
 //! scan's three passes and their barriers. Sized on the GPU by queue_setup_shade (the scan's arguments: every slot).
 
+use super::super::shaders::{self, Hook};
 use super::super::stage::{Stage, Workgroups};
-use super::super::{context::GpuContext, label, shaders};
+use super::super::{context::GpuContext, label};
 use super::path_state::ARGS_COMPACT;
 use super::{Bindings, WaveRecorder};
 use anyhow::Result;
@@ -17,9 +18,8 @@ pub struct SlotSweep {
 
 impl SlotSweep {
     pub fn new(ctx: &GpuContext, b: &Bindings) -> Result<Self> {
-        let [lane, subgroup] = shaders::SLOT_SWEEP;
-        let module =
-            ctx.shader(label::SLOT_SWEEP, if b.subgroup_append { subgroup } else { lane }, b.shader_checks)?;
+        let source = shaders::SLOT_SWEEP.select(&[(Hook::AppendSubgroup, b.subgroup_append)]);
+        let module = ctx.shader(label::SLOT_SWEEP, source, b.shader_checks)?;
         // Scene and path state only: no instrument counters.
         let layouts = &b.layouts()[..2];
         let constants = [("REGENERATE", b.regenerate as u32 as f64)];

@@ -16,8 +16,7 @@ pub struct TailPass {
 
 impl TailPass {
     pub fn new(ctx: &GpuContext, b: &Bindings, workgroup_size: u32, instrument: bool) -> Result<Self> {
-        let module =
-            ctx.shader(label::TAIL, shaders::TAIL.select(instrument, b.subgroup_append), b.shader_checks)?;
+        let module = ctx.shader(label::TAIL, shaders::TAIL.select(&b.hooks(instrument)), b.shader_checks)?;
         let constants = b.constants(&[("WORKGROUP_SIZE", workgroup_size as f64)]);
         Ok(Self { stage: Stage::new(ctx, label::TAIL, &module, &b.layouts(), &constants)? })
     }

@@ -385,7 +385,7 @@ mod tests {
         }
     }
 
-    /// Path-state variables, as `shaders/shared/path_state.wgsl` names them.
+    /// Path-state variables, as `shaders/wavefront/shared/path_state.wgsl` names them.
     const STATE: [&str; 12] = [
         "path_origin",
         "path_dir",
@@ -513,15 +513,15 @@ mod tests {
     fn the_model_names_what_each_pass_reaches() {
         use crate::gpu::shaders;
         let cases = [
-            (shaders::GENERATE.plain, "generate"),
-            (shaders::GENERATE.plain, "regenerate"),
-            (shaders::GENERATE.plain, "regenerate_init"),
-            (shaders::INTERSECT.plain, "intersect"),
-            (shaders::SHADE.plain, "shade"),
-            (shaders::SHADE.plain, "shade_lambertian"),
-            (shaders::SHADOW.plain, "shadow"),
-            (shaders::TAIL.plain, "tail"),
-            (shaders::SLOT_SWEEP[0], "slot_sweep"),
+            (shaders::GENERATE.plain(), "generate"),
+            (shaders::GENERATE.plain(), "regenerate"),
+            (shaders::GENERATE.plain(), "regenerate_init"),
+            (shaders::INTERSECT.plain(), "intersect"),
+            (shaders::SHADE.plain(), "shade"),
+            (shaders::SHADE.plain(), "shade_lambertian"),
+            (shaders::SHADOW.plain(), "shadow"),
+            (shaders::TAIL.plain(), "tail"),
+            (shaders::SLOT_SWEEP.plain(), "slot_sweep"),
         ];
         let mut wrong = Vec::new();
         for (source, entry) in cases {

@@ -80,7 +80,7 @@ const ARGS_TAIL: u32 = 8u;
 const ARGS_COMPACT_STATES_FIND: u32 = 9u;  // (--compact-states on) the find pass, then the move pass
 const ARGS_COMPACT_STATES_MOVE: u32 = 10u;
 const ARGS_ACCUMULATE: u32 = 11u;  // (regenerate) accumulate_range, sized by schedule_decide
-// Workgroup size of the passes ARGS_COMPACT sizes: the scan (shared/compact.wgsl) and slot
+// Workgroup size of the passes ARGS_COMPACT sizes: the scan (wavefront/compact.wgsl) and slot
 // order's sweep (wavefront/slot_sweep.wgsl). SCAN_WG in path_state.rs.
 const SCAN_WG: u32 = 256u;
 
@@ -120,7 +120,7 @@ struct Wave {
     // (`--compact-states on`).
     compact_states: u32,
     // 1: camera rays are not stored (queues on, no ray sort): intersect and shade make a camera
-    // ray from its slot's pixel and sample (shared/path_camera.wgsl), and generate writes only
+    // ray from its slot's pixel and sample (wavefront/shared/path_camera.wgsl), and generate writes only
     // the queue entry (and, regenerating, the slot's sample).
     camera_in_place: u32,
     pad2: u32,
@@ -258,8 +258,8 @@ fn store_sample(slot: u32, value: vec4<f32>) {
 }
 
 // `append(q, slot)`: one atomic per lane here; the `.subgroup` variant (build.rs) swaps in
-// shared/append_subgroup.wgsl, one atomic per subgroup and queue (`--append`).
-#include "shared/append.wgsl"
+// wavefront/shared/append_subgroup.wgsl, one atomic per subgroup and queue (`--append`).
+#include "wavefront/shared/append.wgsl"
 
 // Whether queues are kept in slot order (`--queue-order slot`): a pass after shade (the stable
 // scan, or the atomic method's sweep: runs of ascending slots) runs over the pool's slots, so

@@ -1,6 +1,6 @@
 //! A 3-vector generic over [`Real`], so one integrator serves f32 and f64.
 
-use super::real::Real;
+use crate::real::Real;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 #[derive(Clone, Copy, Debug, PartialEq)]

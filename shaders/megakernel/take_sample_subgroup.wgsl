@@ -1,12 +1,11 @@
-// The regenerating megakernel with subgroups (Aila & Laine 2009): the lanes that need a sample
-// take consecutive ones with one atomic per subgroup, broadcast to them, so neighbouring lanes
-// start neighbouring pixels. The loop is in shared/regenerate.wgsl.
-
-#include "shared/regenerate.wgsl"
+// The regenerating megakernel's sample fetch with subgroups (Aila & Laine 2009): the lanes that
+// need a sample take consecutive ones with one atomic per subgroup, broadcast to them, so
+// neighbouring lanes start neighbouring pixels. Swapped in for take_sample.wgsl on adapters with
+// subgroups (src/gpu/shader_variants.rs).
 
 // Called by every lane of the subgroup at once (the loop keeps them together, see
-// shared/regenerate.wgsl): the subgroup operations see the whole subgroup, and the one atomic's
-// branch reconverges at its end, where its header was uniform.
+// megakernel_regenerate.wgsl): the subgroup operations see the whole subgroup, and the one
+// atomic's branch reconverges at its end, where its header was uniform.
 fn take_sample(wants: bool) -> u32 {
     let asks = select(0u, 1u, wants);
     let count = subgroupAdd(asks);
