@@ -1,13 +1,8 @@
 //! `wavetrace render`: one scene, one method, to EXR (+ PNG preview, + JSON report).
 
 use crate::gpu::buffers::human_bytes;
-use crate::gpu::megakernel::MegakernelOptions;
 use crate::gpu::memory::{GpuMemory, MemoryCategory};
 use crate::gpu::timing::{TimeSource, Timing, Timings, FRAME_LABEL};
-use crate::gpu::wavefront::{
-    Append, CompactStates, Compaction, ComputePasses, QueueOrder, RaySort, Scan, Schedule, ShadePasses, Tail,
-    WavefrontOptions,
-};
 use crate::gpu::GpuContext;
 use crate::gpu_state::GpuMonitor;
 use crate::image_io::{self, RgbImage};
@@ -16,7 +11,7 @@ use crate::method;
 use crate::numerics::{Fresnel, NumericOptions, RayOffset, SphereHit};
 use crate::options::ShaderChecks;
 use crate::options::Specialize;
-use crate::options::{Method, MethodOptions};
+use crate::options::{Compaction, MegakernelOptions, Method, MethodOptions, Schedule, WavefrontOptions};
 use crate::progress::Progress;
 use crate::render_space::RenderSpace;
 use crate::report::RunReport;
@@ -135,23 +130,12 @@ pub struct RenderArgs {
     /// Threads per workgroup for GPU methods.
     #[arg(long, default_value_t = MegakernelOptions::default().workgroup_size, help_heading = "GPU methods", hide_short_help = true)]
     pub workgroup_size: u32,
-    /// Megakernel: most path samples in one GPU dispatch (bounds each dispatch's time under
-    /// driver watchdogs).
-    #[arg(long, default_value_t = MegakernelOptions::default().samples_per_dispatch, help_heading = "Megakernel", hide_short_help = true)]
-    pub samples_per_dispatch: u64,
-    /// Wavefront: paths in flight (default about a million, less where the adapter's storage
-    /// bindings are smaller; a pool that does not fit is reduced with a notice).
-    #[arg(long, help_heading = "Wavefront", hide_short_help = true)]
-    pub pool_size: Option<u32>,
     /// Wavefront: keep queues dense (`off`: every pass runs over the whole pool).
     #[arg(long, value_enum, default_value_t = OnOff::On, help_heading = "Wavefront", hide_short_help = true)]
     pub compaction: OnOff,
     /// Wavefront: how compaction builds queues.
     #[arg(long, value_enum, default_value_t = CompactionMethod::Atomic, help_heading = "Wavefront", hide_short_help = true)]
     pub compaction_method: CompactionMethod,
-    /// Wavefront: one shade pass per material kind, or one with a material switch.
-    #[arg(long, value_enum, default_value_t = ShadePasses::PerMaterial, help_heading = "Wavefront", hide_short_help = true)]
-    pub shade: ShadePasses,
     /// GPU methods: paths that start together, each thread or slot idling once its path ends
     /// (`waves`: the wavefront's waves, the megakernel's one path per thread), or threads and
     /// slots that take the next sample as soon as their path ends (`regenerate`). `auto`: what
@@ -159,74 +143,6 @@ pub struct RenderArgs {
     /// on a software adapter, the megakernel in waves.
     #[arg(long, value_enum, default_value_t = Schedule::Auto)]
     pub schedule: Schedule,
-    /// Megakernel, --schedule regenerate: persistent threads per dispatch, rounded up to whole
-    /// workgroups [default: 262144 on a discrete GPU, else 65536].
-    #[arg(long, help_heading = "Megakernel", hide_short_help = true)]
-    pub threads: Option<u32>,
-    /// Wavefront, regenerate: iterations between checks of the schedule's counters (on the GPU,
-    /// which then adds complete chunks to the film; up to this many iterations idle at the
-    /// image's end), and per batch the host submits and reads back without waiting. With --tail
-    /// megakernel, the check runs after every iteration once every sample has started, so the
-    /// tail starts when it is due.
-    #[arg(long, default_value_t = WavefrontOptions::default().sync_every, help_heading = "Wavefront", hide_short_help = true)]
-    pub sync_every: u32,
-    /// Wavefront, regenerate: batches of --sync-every iterations submitted before the host waits
-    /// for the oldest one's read-back (1: it waits for each check, the GPU idle meanwhile, as
-    /// before the GPU decided; more: newer batches keep the GPU busy while it waits).
-    #[arg(long, default_value_t = WavefrontOptions::default().batches_in_flight, help_heading = "Wavefront", hide_short_help = true)]
-    pub batches_in_flight: u32,
-    /// Wavefront, regenerate: finish paths in one megakernel-style pass: the image's last ones
-    /// once at most --tail-threshold × pool are left, and the oldest chunks' last ones (each at
-    /// most that many) when the sample ring would stop the refills.
-    #[arg(long, value_enum, default_value_t = WavefrontOptions::default().tail, help_heading = "Wavefront", hide_short_help = true)]
-    pub tail: Tail,
-    /// Wavefront, --tail megakernel: the live fraction of the pool, in (0, 1], below which the
-    /// tail takes over.
-    #[arg(long, default_value_t = WavefrontOptions::default().tail_threshold, help_heading = "Wavefront", hide_short_help = true)]
-    pub tail_threshold: f64,
-    /// Wavefront, --schedule regenerate: chunks of one pool of samples in the sample ring.
-    /// Refills run at most this many chunks ahead of the oldest one not yet in the film (a
-    /// larger ring waits less on its oldest chunk's longest paths); the ring takes 16 bytes a
-    /// sample, within one storage binding.
-    #[arg(long, default_value_t = WavefrontOptions::default().chunk_pools, help_heading = "Wavefront", hide_short_help = true)]
-    pub chunk_pools: u32,
-    /// Wavefront, --compaction-method scan: scan workgroups with subgroup operations (where the
-    /// adapter has them: `auto`) or with the Hillis–Steele workgroup scan.
-    #[arg(long, value_enum, default_value_t = Scan::Auto, help_heading = "Wavefront", hide_short_help = true)]
-    pub scan: Scan,
-    /// Wavefront: append paths to queues with one atomic per subgroup and queue (where the
-    /// adapter has subgroups: `auto`) or one per lane.
-    #[arg(long, value_enum, default_value_t = Append::Auto, help_heading = "Wavefront", hide_short_help = true)]
-    pub append: Append,
-    /// Wavefront: one compute pass per dispatch, or consecutive dispatches sharing one (up to the
-    /// next copy or submission; only where passes are not timed: with `--timing frame`).
-    #[arg(long, value_enum, default_value_t = ComputePasses::Shared, help_heading = "Wavefront", hide_short_help = true)]
-    pub compute_passes: ComputePasses,
-    /// Wavefront: keep queues in the order their paths arrived, or build the ray queue in slot
-    /// order by a pass over the pool (a subgroup reads neighbouring path states; regenerated
-    /// samples fill the lowest free slots): a stable scan with --compaction-method scan, a sweep
-    /// of appends (runs of ascending slots) with atomic; optionally keyed by depth (`slot-depth`,
-    /// always a scan: a refill's first bounces in one run, as in a wave); `auto`: slot order when
-    /// regenerating a job of at least 4 pools of samples, arrival order otherwise.
-    #[arg(long, value_enum, default_value_t = QueueOrder::Auto, help_heading = "Wavefront", hide_short_help = true)]
-    pub queue_order: QueueOrder,
-    /// Wavefront, --schedule regenerate: refill the pool only once at most this fraction of it,
-    /// in (0, 1], is live (1: at every iteration, into whatever slots paths just left; less:
-    /// larger batches of consecutive samples, as Cycles schedules new work only when too few
-    /// paths are left).
-    #[arg(long, default_value_t = WavefrontOptions::default().refill_below, help_heading = "Wavefront", hide_short_help = true)]
-    pub refill_below: f64,
-    /// Wavefront, --schedule regenerate: before each refill, move the live paths above the live
-    /// count into the free slots below it (Cycles' compact_states), so the refill's consecutive
-    /// samples take one contiguous run of slots. Needs --compaction on.
-    #[arg(long, value_enum, default_value_t = WavefrontOptions::default().compact_states, help_heading = "Wavefront", hide_short_help = true)]
-    pub compact_states: CompactStates,
-    /// Wavefront: before each intersect, sort the ray queue by the ray direction's octant
-    /// (`octant`), or by octant and the origin's cell of a 4x4x4 grid over the scene
-    /// (`octant-cell`), so a subgroup's lanes traverse the same part of the BVH (a counting sort:
-    /// three passes). Needs --compaction on.
-    #[arg(long, value_enum, default_value_t = RaySort::Off, help_heading = "Wavefront", hide_short_help = true)]
-    pub ray_sort: RaySort,
     /// GPU methods: count SIMD efficiency per pass with subgroup operations (adds atomics: use
     /// separate runs for timing).
     #[arg(long, help_heading = "GPU methods", hide_short_help = true)]
@@ -254,6 +170,13 @@ pub struct RenderArgs {
     /// methods: none), or a number of frames (0: time a cold first frame).
     #[arg(long, default_value = "auto", value_parser = parse_warmup)]
     pub warmup: WarmupArg,
+    // Last: a flattened struct's help heading carries over to the fields after it.
+    /// The megakernel's own flags (`options::MegakernelOptions`).
+    #[command(flatten)]
+    pub megakernel: MegakernelOptions,
+    /// The wavefront's own flags (`options::WavefrontOptions`).
+    #[command(flatten)]
+    pub wavefront: WavefrontOptions,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -323,29 +246,14 @@ pub fn run(a: RenderArgs) -> Result<()> {
         stress: StressTransform { scale: a.scale, translate: a.translate },
         megakernel: MegakernelOptions {
             workgroup_size: a.workgroup_size,
-            samples_per_dispatch: a.samples_per_dispatch,
             schedule: a.schedule,
-            threads: a.threads,
-            ..Default::default()
+            ..a.megakernel
         },
         wavefront: WavefrontOptions {
-            pool_size: a.pool_size,
             workgroup_size: a.workgroup_size,
             compaction,
-            shade: a.shade,
             schedule: a.schedule,
-            sync_every: a.sync_every,
-            batches_in_flight: a.batches_in_flight,
-            tail: a.tail,
-            tail_threshold: a.tail_threshold,
-            chunk_pools: a.chunk_pools,
-            scan: a.scan,
-            append: a.append,
-            compute_passes: a.compute_passes,
-            queue_order: a.queue_order,
-            refill_below: a.refill_below,
-            compact_states: a.compact_states,
-            ray_sort: a.ray_sort,
+            ..a.wavefront
         },
         instrument: a.instrument,
         timing: a.timing,

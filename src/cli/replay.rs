@@ -6,14 +6,14 @@ use super::render::{CompactionMethod, OnOff};
 use crate::chart::{LineChart, Series};
 use crate::gpu::instrument::FRAME_KEY;
 use crate::gpu::megakernel::{MegakernelOptions, DEFAULT_THREADS_DISCRETE};
-use crate::gpu::wavefront::{Compaction, QueueOrder, ShadePasses, Tail, WavefrontOptions, DEFAULT_POOL};
+use crate::gpu::wavefront::{Compaction, Tail, WavefrontOptions, DEFAULT_POOL};
 use crate::options::Named;
 use crate::options::Schedule;
 use crate::replay::lockstep::SlotCounts;
 use crate::replay::{megakernel, regenerate, wavefront, width};
 use crate::scene::Scene;
 use crate::settings::{Accel, RenderSettings};
-use anyhow::{bail, Result};
+use anyhow::{anyhow, bail, Result};
 use std::time::Instant;
 
 /// The methods the replay groups lanes as.
@@ -112,9 +112,6 @@ pub struct ReplayArgs {
     /// given; llvmpipe runs one per worker thread).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub resident_subgroups: Option<u32>,
-    /// Wavefront: paths in flight (per wave; the regenerating pool).
-    #[arg(long, default_value_t = DEFAULT_POOL, value_parser = clap::value_parser!(u32).range(1..))]
-    pub pool_size: u32,
     /// Wavefront: keep queues dense (`off`: every pass runs over the whole pool), as `render`.
     #[arg(long, value_enum, default_value_t = OnOff::On)]
     pub compaction: OnOff,
@@ -122,28 +119,12 @@ pub struct ReplayArgs {
     /// `scan` order (the atomics' order is the device's to pick).
     #[arg(long, value_enum, default_value_t = CompactionMethod::Scan)]
     pub compaction_method: CompactionMethod,
-    /// Wavefront: one shade pass per material kind, or one over every hit.
-    #[arg(long, value_enum, default_value_t = ShadePasses::PerMaterial)]
-    pub shade: ShadePasses,
-    /// Wavefront: the queues' order, as `render` (`auto` resolved as the device resolves it).
-    #[arg(long, value_enum, default_value_t = QueueOrder::Auto)]
-    pub queue_order: QueueOrder,
-    /// Regenerating wavefront: iterations between the schedule's checks of the counters, as
-    /// `render` (when the refill limit moves and, with the tail, when it starts).
-    #[arg(long, default_value_t = WavefrontOptions::default().sync_every)]
-    pub sync_every: u32,
-    /// Regenerating wavefront: finish the last paths in one megakernel-style pass, as `render`
-    /// (its blocks count in the `megakernel_*` slots, its dispatches as `tail`).
-    #[arg(long, value_enum, default_value_t = WavefrontOptions::default().tail)]
-    pub tail: Tail,
-    /// Regenerating wavefront, --tail megakernel: the live fraction of the pool, in (0, 1],
-    /// below which the tail takes over.
-    #[arg(long, default_value_t = WavefrontOptions::default().tail_threshold)]
-    pub tail_threshold: f64,
-    /// Regenerating wavefront: pools of samples in the sample ring, whose refill limit the
-    /// host moves at its checks, as `render`.
-    #[arg(long, default_value_t = WavefrontOptions::default().chunk_pools)]
-    pub chunk_pools: u32,
+    /// The wavefront's flags, as `render`'s (the replay models the lanes' grouping: it refuses
+    /// --refill-below, --compact-states and --ray-sort, which move paths in ways it does not
+    /// replay; the host's batching, the compute passes and how queues are appended or scanned
+    /// do not change which lanes run together in its scan order).
+    #[command(flatten)]
+    pub wavefront: WavefrontOptions,
     /// Write the figures as JSON here.
     #[arg(long)]
     pub json: Option<std::path::PathBuf>,
@@ -171,9 +152,27 @@ pub fn run(a: ReplayArgs) -> Result<()> {
         bail!("--workgroup-size must be at least 1");
     }
     let regenerating_wavefront = a.methods.contains(&ReplayMethod::WavefrontRegenerate);
-    if a.tail == Tail::Megakernel && !regenerating_wavefront {
-        bail!("--tail megakernel finishes regenerated paths: it needs --methods wavefront-regenerate");
+    let compaction = match (a.compaction, a.compaction_method) {
+        (OnOff::Off, _) => Compaction::Off,
+        (OnOff::On, CompactionMethod::Atomic) => Compaction::Atomic,
+        (OnOff::On, CompactionMethod::Scan) => Compaction::Scan,
+    };
+    let schedule = if regenerating_wavefront { Schedule::Regenerate } else { Schedule::Waves };
+    let wf = WavefrontOptions { compaction, schedule, ..a.wavefront };
+    // The device's rules; here what needs regeneration needs the regenerating wavefront replayed.
+    crate::options::check_wavefront(&wf)
+        .map_err(|e| anyhow!(e.for_cli_where_regenerating_is("--methods wavefront-regenerate")))?;
+    let defaults = WavefrontOptions::default();
+    for (moved, flag) in [
+        (wf.refill_below != defaults.refill_below, "--refill-below"),
+        (wf.compact_states != defaults.compact_states, "--compact-states"),
+        (wf.ray_sort != defaults.ray_sort, "--ray-sort"),
+    ] {
+        if moved {
+            bail!("replay: {flag} moves paths between slots or queue positions in ways the replay does not model");
+        }
     }
+    let pool = wf.pool_size.unwrap_or(DEFAULT_POOL);
     // The paths the GPU methods trace: the scene in their render space, default options.
     let (packed, frame) =
         crate::method::prepare(crate::method::Method::Megakernel, &scene, &settings, &Default::default())?;
@@ -188,11 +187,6 @@ pub fn run(a: ReplayArgs) -> Result<()> {
             Ok(n) if n > 0 => Some(n),
             _ => bail!("--paths-per-thread {s:?}: expected a whole number of at least 1, or `llvmpipe`"),
         },
-    };
-    let compaction = match (a.compaction, a.compaction_method) {
-        (OnOff::Off, _) => Compaction::Off,
-        (OnOff::On, CompactionMethod::Atomic) => Compaction::Atomic,
-        (OnOff::On, CompactionMethod::Scan) => Compaction::Scan,
     };
     let wavefront =
         a.methods.iter().any(|m| matches!(m, ReplayMethod::Wavefront | ReplayMethod::WavefrontRegenerate));
@@ -246,30 +240,30 @@ pub fn run(a: ReplayArgs) -> Result<()> {
                     if m == ReplayMethod::Wavefront { Schedule::Waves } else { Schedule::Regenerate };
                 let regenerate = schedule == Schedule::Regenerate;
                 let launch = wavefront::Launch {
-                    pool: a.pool_size,
+                    pool,
                     compaction,
-                    shade: a.shade,
+                    shade: wf.shade,
                     schedule,
-                    queue_order: a.queue_order,
-                    sync_every: a.sync_every,
-                    tail: if regenerate { a.tail } else { Tail::Off },
-                    tail_threshold: a.tail_threshold,
-                    chunk_pools: a.chunk_pools,
+                    queue_order: wf.queue_order,
+                    sync_every: wf.sync_every,
+                    tail: if regenerate { wf.tail } else { Tail::Off },
+                    tail_threshold: wf.tail_threshold,
+                    chunk_pools: wf.chunk_pools,
                     every: a.every,
                 };
                 let r = wavefront::replay(&packed, &frame, &settings, &widths, launch)?;
                 let mut about = serde_json::json!({
                     "dispatches": r.dispatches, "shares": r.waves, "shares_replayed": r.waves_replayed,
-                    "samples_replayed": r.samples_replayed, "every": a.every, "pool": a.pool_size,
-                    "compaction": compaction, "shade": a.shade, "schedule": schedule,
+                    "samples_replayed": r.samples_replayed, "every": a.every, "pool": pool,
+                    "compaction": compaction, "shade": wf.shade, "schedule": schedule,
                     "queue_order": r.queue_order.name(), "iterations": r.iterations,
                 });
                 if regenerate {
-                    about["sync_every"] = a.sync_every.into();
-                    about["chunk_pools"] = a.chunk_pools.into();
-                    about["tail"] = serde_json::to_value(a.tail)?;
-                    if a.tail == Tail::Megakernel {
-                        about["tail_threshold"] = a.tail_threshold.into();
+                    about["sync_every"] = wf.sync_every.into();
+                    about["chunk_pools"] = wf.chunk_pools.into();
+                    about["tail"] = serde_json::to_value(wf.tail)?;
+                    if wf.tail == Tail::Megakernel {
+                        about["tail_threshold"] = wf.tail_threshold.into();
                         about["tail_passes"] = r.tail_passes.into();
                         about["tail_paths"] = r.tail_paths.into();
                     }

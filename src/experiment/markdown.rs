@@ -82,7 +82,7 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
          pass times in reports written before frame times existed; CPU methods: wall time). Spread: \
          (max − min) ÷ median of the repetitions. Warm-up: the untimed renders before them and their \
          seconds. × megakernel: the fastest megakernel variant's seconds for the same job (scene, \
-         size, spp, depth, NEE, stress transform) over this run's, so above 1 is faster, with the \
+         size, spp, depth, NEE, roulette, numerical knobs and stress transform) over this run's, so above 1 is faster, with the \
          interval its medians' intervals allow (order statistics: min–max below six repetitions). \
          {FLAG}: not a steady figure — the run's repetitions spread by more than {:.0}% (unstable), \
          or a GPU run timed without warm-up (cold); a ratio carries it when either run does. \

@@ -44,13 +44,23 @@ impl OptionError {
     /// As the command line says it: `--tail megakernel finishes regenerated paths: it needs
     /// --schedule regenerate`.
     pub fn for_cli(&self) -> String {
+        self.for_cli_where_regenerating_is("--schedule regenerate")
+    }
+
+    /// As [`Self::for_cli`], for a command whose flag for regenerating is another (the replay's
+    /// `--methods wavefront-regenerate`).
+    pub fn for_cli_where_regenerating_is(&self, regenerating: &str) -> String {
         let flag = |k: &str| format!("--{}", k.replace('_', "-"));
         match &self.problem {
             Problem::Range(r) => format!("{} {r}", flag(self.knob)),
             Problem::Needs { value, why, other, values, .. } => {
-                // The command line turns queues on and off with --compaction on|off.
-                let want = if *other == "compaction" { "on".to_owned() } else { values.join(" or ") };
-                format!("{} {value} {why}: it needs {} {want}", flag(self.knob), flag(other))
+                let want = match *other {
+                    "schedule" => regenerating.to_owned(),
+                    // The command line turns queues on and off with --compaction on|off.
+                    "compaction" => "--compaction on".to_owned(),
+                    _ => format!("{} {}", flag(other), values.join(" or ")),
+                };
+                format!("{} {value} {why}: it needs {want}", flag(self.knob))
             }
         }
     }

@@ -117,3 +117,27 @@ impl MethodOptions {
         o
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(clap::Parser)]
+    struct Flags {
+        #[command(flatten)]
+        megakernel: MegakernelOptions,
+        #[command(flatten)]
+        wavefront: WavefrontOptions,
+    }
+
+    /// The flags' defaults are written beside each field; they must be the options' defaults.
+    #[test]
+    fn the_flags_default_to_the_options_defaults() {
+        let f = Flags::try_parse_from(["wavetrace"]).unwrap();
+        assert_eq!(f.megakernel, MegakernelOptions::default());
+        assert_eq!(f.wavefront, WavefrontOptions::default());
+        let f = Flags::try_parse_from(["wavetrace", "--tail", "megakernel", "--sync-every", "4"]).unwrap();
+        assert_eq!((f.wavefront.tail, f.wavefront.sync_every), (Tail::Megakernel, 4));
+    }
+}

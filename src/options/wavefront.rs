@@ -155,54 +155,101 @@ pub const CHUNK_POOLS: u32 = 8;
 /// Most chunks the sample ring may hold (`MAX_RING_CHUNKS` counters).
 pub const MAX_CHUNK_POOLS: u32 = 1024;
 
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, clap::Args)]
+#[command(next_help_heading = "Wavefront")]
 pub struct WavefrontOptions {
-    /// Paths in flight; `None`: the default from the adapter's limits.
+    /// Wavefront: paths in flight (default about a million, less where the adapter's storage
+    /// bindings are smaller; a pool that does not fit is reduced with a notice).
+    #[arg(long, hide_short_help = true)]
     pub pool_size: Option<u32>,
+    /// Threads per workgroup: `--workgroup-size`, which the command line sets for both GPU
+    /// methods.
+    #[arg(skip = DEFAULT_WORKGROUP_SIZE)]
     pub workgroup_size: u32,
+    /// Queues kept dense, by atomic appends or a scan, or none (every pass over the whole
+    /// pool): `--compaction on|off` and `--compaction-method` on the command line.
+    #[arg(skip = Compaction::Atomic)]
     pub compaction: Compaction,
+    /// Wavefront: one shade pass per material kind, or one with a material switch.
+    #[arg(long, value_enum, default_value_t = ShadePasses::PerMaterial, hide_short_help = true)]
     pub shade: ShadePasses,
+    /// `--schedule`, which the command line sets for both GPU methods.
+    #[arg(skip = Schedule::Waves)]
     pub schedule: Schedule,
-    /// Regenerating: iterations between the GPU's checks of the schedule's counters, and per
-    /// batch the host submits (more: fewer submissions and read-backs, up to this many idle
-    /// iterations at the image's end and more speculative ones; with the tail, the check runs
-    /// every iteration once every sample has started).
+    /// Wavefront, regenerate: iterations between checks of the schedule's counters (on the GPU,
+    /// which then adds complete chunks to the film; up to this many iterations idle at the
+    /// image's end), and per batch the host submits and reads back without waiting. With --tail
+    /// megakernel, the check runs after every iteration once every sample has started, so the
+    /// tail starts when it is due.
+    #[arg(long, default_value_t = DEFAULT_SYNC_EVERY, hide_short_help = true)]
     pub sync_every: u32,
-    /// Regenerating: batches the host keeps submitted before it waits for the oldest one's
-    /// read-back (`--batches-in-flight`): 1 waits for each check, the GPU idle while the host
-    /// reads and records (the loop before issue 42); more keep newer batches queued meanwhile.
+    /// Wavefront, regenerate: batches of --sync-every iterations submitted before the host waits
+    /// for the oldest one's read-back (1: it waits for each check, the GPU idle meanwhile, as
+    /// before the GPU decided; more: newer batches keep the GPU busy while it waits).
+    #[arg(long, default_value_t = BATCHES_IN_FLIGHT, hide_short_help = true)]
     pub batches_in_flight: u32,
-    /// Regenerating: whether the last paths (of the image, and of the oldest chunks when the
-    /// sample ring needs them back) are finished megakernel-style.
+    /// Wavefront, regenerate: finish paths in one megakernel-style pass: the image's last ones
+    /// once at most --tail-threshold × pool are left, and the oldest chunks' last ones (each at
+    /// most that many) when the sample ring would stop the refills.
+    #[arg(long, value_enum, default_value_t = Tail::Off, hide_short_help = true)]
     pub tail: Tail,
-    /// The live fraction of the pool below which the tail takes over.
+    /// Wavefront, --tail megakernel: the live fraction of the pool, in (0, 1], below which the
+    /// tail takes over.
+    #[arg(long, default_value_t = DEFAULT_THRESHOLD, hide_short_help = true)]
     pub tail_threshold: f64,
-    /// Regenerating: one-pool chunks in the sample ring (16 bytes a sample): how far refills
-    /// may run ahead of the oldest chunk not yet in the film.
+    /// Wavefront, --schedule regenerate: chunks of one pool of samples in the sample ring.
+    /// Refills run at most this many chunks ahead of the oldest one not yet in the film (a
+    /// larger ring waits less on its oldest chunk's longest paths); the ring takes 16 bytes a
+    /// sample, within one storage binding.
+    #[arg(long, default_value_t = CHUNK_POOLS, hide_short_help = true)]
     pub chunk_pools: u32,
-    /// How the scan compaction scans a workgroup.
+    /// Wavefront, --compaction-method scan: scan workgroups with subgroup operations (where the
+    /// adapter has them: `auto`) or with the Hillis–Steele workgroup scan.
+    #[arg(long, value_enum, default_value_t = Scan::Auto, hide_short_help = true)]
     pub scan: Scan,
-    /// How passes append paths to queues.
+    /// Wavefront: append paths to queues with one atomic per subgroup and queue (where the
+    /// adapter has subgroups: `auto`) or one per lane.
+    #[arg(long, value_enum, default_value_t = Append::Auto, hide_short_help = true)]
     pub append: Append,
-    /// One compute pass per dispatch, or shared by consecutive dispatches (`--compute-passes`).
+    /// Wavefront: one compute pass per dispatch, or consecutive dispatches sharing one (up to the
+    /// next copy or submission; only where passes are not timed: with `--timing frame`).
+    #[arg(long, value_enum, default_value_t = ComputePasses::Shared, hide_short_help = true)]
     pub compute_passes: ComputePasses,
-    /// The order of the paths in each queue (slot order needs queues; `auto` takes it for
-    /// regenerating jobs of several pools).
+    /// Wavefront: keep queues in the order their paths arrived, or build the ray queue in slot
+    /// order by a pass over the pool (a subgroup reads neighbouring path states; regenerated
+    /// samples fill the lowest free slots): a stable scan with --compaction-method scan, a sweep
+    /// of appends (runs of ascending slots) with atomic; optionally keyed by depth (`slot-depth`,
+    /// always a scan: a refill's first bounces in one run, as in a wave); `auto`: slot order when
+    /// regenerating a job of at least 4 pools of samples, arrival order otherwise.
+    #[arg(long, value_enum, default_value_t = QueueOrder::Auto, hide_short_help = true)]
     pub queue_order: QueueOrder,
-    /// Regenerating: refill only once at most this fraction of the pool is live (1: every
-    /// iteration).
+    /// Wavefront, --schedule regenerate: refill the pool only once at most this fraction of it,
+    /// in (0, 1], is live (1: at every iteration, into whatever slots paths just left; less:
+    /// larger batches of consecutive samples, as Cycles schedules new work only when too few
+    /// paths are left).
+    #[arg(long, default_value_t = DEFAULT_REFILL_BELOW, hide_short_help = true)]
     pub refill_below: f64,
-    /// Regenerating: compact the live states below the live count before each refill.
+    /// Wavefront, --schedule regenerate: before each refill, move the live paths above the live
+    /// count into the free slots below it (Cycles' compact_states), so the refill's consecutive
+    /// samples take one contiguous run of slots. Needs --compaction on.
+    #[arg(long, value_enum, default_value_t = CompactStates::Off, hide_short_help = true)]
     pub compact_states: CompactStates,
-    /// The key the ray queue is sorted by before each intersect (needs queues).
+    /// Wavefront: before each intersect, sort the ray queue by the ray direction's octant
+    /// (`octant`), or by octant and the origin's cell of a 4x4x4 grid over the scene
+    /// (`octant-cell`), so a subgroup's lanes traverse the same part of the BVH (a counting sort:
+    /// three passes). Needs --compaction on.
+    #[arg(long, value_enum, default_value_t = RaySort::Off, hide_short_help = true)]
     pub ray_sort: RaySort,
 }
+
+/// Threads per workgroup of both GPU methods unless `--workgroup-size` says otherwise.
+pub const DEFAULT_WORKGROUP_SIZE: u32 = 64;
 
 impl Default for WavefrontOptions {
     fn default() -> Self {
         Self {
             pool_size: None,
-            workgroup_size: 64,
+            workgroup_size: DEFAULT_WORKGROUP_SIZE,
             compaction: Compaction::Atomic,
             shade: ShadePasses::PerMaterial,
             schedule: Schedule::Waves,
