@@ -193,6 +193,17 @@ pub enum CompactionMethod {
     Scan,
 }
 
+impl CompactionMethod {
+    /// The queues `--compaction on|off` and `--compaction-method` ask for together.
+    pub fn with(self, on: OnOff) -> Compaction {
+        match (on, self) {
+            (OnOff::Off, _) => Compaction::Off,
+            (OnOff::On, CompactionMethod::Atomic) => Compaction::Atomic,
+            (OnOff::On, CompactionMethod::Scan) => Compaction::Scan,
+        }
+    }
+}
+
 /// `--preheat`: seconds in `0..=gpu::preheat::MAX_SECONDS`.
 fn parse_preheat(s: &str) -> Result<f64, String> {
     let v: f64 = s.parse().map_err(|_| format!("expected seconds (a number), got {s:?}"))?;
@@ -230,11 +241,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         roulette: a.roulette == OnOff::On,
     };
     settings.validate().map_err(anyhow::Error::msg)?;
-    let compaction = match (a.compaction, a.compaction_method) {
-        (OnOff::Off, _) => Compaction::Off,
-        (OnOff::On, CompactionMethod::Atomic) => Compaction::Atomic,
-        (OnOff::On, CompactionMethod::Scan) => Compaction::Scan,
-    };
+    let compaction = a.compaction_method.with(a.compaction);
     let options = MethodOptions {
         lights: LightOptions { sampling: a.light_sampling, select: a.light_select },
         numerics: NumericOptions {

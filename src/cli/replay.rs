@@ -152,11 +152,7 @@ pub fn run(a: ReplayArgs) -> Result<()> {
         bail!("--workgroup-size must be at least 1");
     }
     let regenerating_wavefront = a.methods.contains(&ReplayMethod::WavefrontRegenerate);
-    let compaction = match (a.compaction, a.compaction_method) {
-        (OnOff::Off, _) => Compaction::Off,
-        (OnOff::On, CompactionMethod::Atomic) => Compaction::Atomic,
-        (OnOff::On, CompactionMethod::Scan) => Compaction::Scan,
-    };
+    let compaction = a.compaction_method.with(a.compaction);
     let schedule = if regenerating_wavefront { Schedule::Regenerate } else { Schedule::Waves };
     let wf = WavefrontOptions { compaction, schedule, ..a.wavefront };
     // The device's rules; here what needs regeneration needs the regenerating wavefront replayed.

@@ -81,7 +81,6 @@ use std::path::{Path, PathBuf};
 use serde_json::{Map, Value};
 
 use super::overrides::Override;
-use super::stability::DEFAULT_UNSTABLE_SPREAD;
 use crate::input_error::InputError;
 use crate::numerics::NumericOptions;
 use crate::options::knobs::{self, Knob};
@@ -90,6 +89,10 @@ use crate::scene::Scene;
 use crate::settings::{Accel, RenderSettings};
 use crate::strict_json::{describe, did_you_mean, join, parse_strict, quoted_list};
 use crate::warmup::{TimedWarmup, WarmupPolicy};
+
+/// The spread above which a run is flagged unstable unless the config says otherwise (here, not
+/// in stability.rs, which reads reports: the config is read first and imports nothing above it).
+pub const DEFAULT_UNSTABLE_SPREAD: f64 = 0.05;
 
 /// The `schema` tag this build reads.
 pub const CONFIG_SCHEMA: &str = "wavetrace-experiment/1";

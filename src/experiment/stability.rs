@@ -17,8 +17,7 @@ use super::report::{RunRecord, Stat};
 /// `0.07×⚠`), so a figure quoted from one can be refused (tests/suite/docs.rs).
 pub const FLAG: &str = "⚠";
 
-/// The spread above which a run is flagged unstable unless the config says otherwise.
-pub const DEFAULT_UNSTABLE_SPREAD: f64 = 0.05;
+pub use super::config::DEFAULT_UNSTABLE_SPREAD;
 
 /// The confidence the median's interval aims for (reached from 6 repetitions on; below that the
 /// interval is min–max and its `confidence` says how much it holds).

@@ -176,6 +176,29 @@ macro_rules! knob {
     };
 }
 
+/// `shared!(name, label, Type, field)`: a knob of both GPU methods, set on both; each reports
+/// its own.
+macro_rules! shared {
+    ($name:literal, $label:literal, $t:ty, $field:ident) => {
+        Knob {
+            name: $name,
+            label: $label,
+            methods: GPU,
+            set: |o, v| {
+                let x = <$t as KnobValue>::read(v)?;
+                o.megakernel.$field = x;
+                o.wavefront.$field = x;
+                Ok(())
+            },
+            get: |o, m| {
+                serde_json::to_value(per_method(m, o.megakernel.$field, o.wavefront.$field))
+                    .unwrap_or(Value::Null)
+            },
+            show: |o, m| per_method(m, o.megakernel.$field, o.wavefront.$field).show(),
+        }
+    };
+}
+
 const ALL: &[Method] = &[Method::Cpu, Method::CpuF64, Method::Megakernel, Method::Wavefront];
 const GPU: &[Method] = &[Method::Megakernel, Method::Wavefront];
 const MEGAKERNEL: &[Method] = &[Method::Megakernel];
@@ -185,41 +208,13 @@ const WAVEFRONT: &[Method] = &[Method::Wavefront];
 pub static KNOBS: &[Knob] = &[
     knob!("light_sampling", "light-sampling", ALL, LightSampling, o => o.lights.sampling),
     knob!("light_select", "light-select", ALL, LightSelect, o => o.lights.select),
-    // The GPU methods' shared knobs set both methods' options; each reports its own.
-    Knob {
-        name: "workgroup_size",
-        label: "wg",
-        methods: GPU,
-        set: |o, v| {
-            let w = u32::read(v)?;
-            o.megakernel.workgroup_size = w;
-            o.wavefront.workgroup_size = w;
-            Ok(())
-        },
-        get: |o, m| per_method(m, o.megakernel.workgroup_size, o.wavefront.workgroup_size).into(),
-        show: |o, m| per_method(m, o.megakernel.workgroup_size, o.wavefront.workgroup_size).to_string(),
-    },
+    shared!("workgroup_size", "wg", u32, workgroup_size),
     knob!("samples_per_dispatch", "spd", MEGAKERNEL, u64, o => o.megakernel.samples_per_dispatch),
     knob!("threads", "threads", MEGAKERNEL, Option<u32>, o => o.megakernel.threads),
     knob!("pool_size", "pool", WAVEFRONT, Option<u32>, o => o.wavefront.pool_size),
     knob!("compaction", "compaction", WAVEFRONT, Compaction, o => o.wavefront.compaction),
     knob!("shade", "shade", WAVEFRONT, ShadePasses, o => o.wavefront.shade),
-    Knob {
-        name: "schedule",
-        label: "schedule",
-        methods: GPU,
-        set: |o, v| {
-            let s = Schedule::read(v)?;
-            o.megakernel.schedule = s;
-            o.wavefront.schedule = s;
-            Ok(())
-        },
-        get: |o, m| {
-            serde_json::to_value(per_method(m, o.megakernel.schedule, o.wavefront.schedule))
-                .unwrap_or(Value::Null)
-        },
-        show: |o, m| per_method(m, o.megakernel.schedule, o.wavefront.schedule).show(),
-    },
+    shared!("schedule", "schedule", Schedule, schedule),
     knob!("sync_every", "sync", WAVEFRONT, u32, o => o.wavefront.sync_every),
     knob!("batches_in_flight", "in_flight", WAVEFRONT, u32, o => o.wavefront.batches_in_flight),
     knob!("tail", "tail", WAVEFRONT, Tail, o => o.wavefront.tail),

@@ -85,6 +85,11 @@ impl Launch {
         }
     }
 
+    /// The shares (waves, or regenerating chunks) the device cuts `settings` into on `pool` slots.
+    pub fn shares(&self, settings: &RenderSettings, pool: u32) -> Vec<DispatchParams> {
+        shares(self.run_schedule(), settings.width * settings.height, settings.spp, pool, settings.max_depth)
+    }
+
     pub fn run_schedule(&self) -> RunSchedule {
         if self.schedule == Schedule::Regenerate {
             RunSchedule::Regenerate
@@ -255,18 +260,12 @@ pub fn replay(
     let order = launch.queue_order.resolve(launch.schedule, launch.compaction, settings.sample_count(), pool);
     let job = Job { pool, order };
     if !regenerate {
-        let plan = shares(
-            launch.run_schedule(),
-            settings.width * settings.height,
-            settings.spp,
-            pool,
-            settings.max_depth,
-        );
+        let plan = launch.shares(settings, pool);
         return replay_shares(scene, frame, settings, widths, launch, job, &subset(&plan, launch.every));
     }
     let short = regenerating_subset(settings, launch.every, pool as u64, "--every")?;
     let all = |s: &RenderSettings| {
-        let plan = shares(launch.run_schedule(), s.width * s.height, s.spp, pool, s.max_depth);
+        let plan = launch.shares(s, pool);
         (0..plan.len()).collect::<Vec<_>>()
     };
     if short.spp == settings.spp {
@@ -336,13 +335,7 @@ pub fn replay_shares(
     let Job { pool, order } = job;
     let regenerate = launch.schedule == Schedule::Regenerate;
     let camera = Camera::<f32>::new(frame);
-    let plan = shares(
-        launch.run_schedule(),
-        settings.width * settings.height,
-        settings.spp,
-        pool,
-        settings.max_depth,
-    );
+    let plan = launch.shares(settings, pool);
     // As the host: every share's ring has the largest share's chunks (one pool) and at most
     // `chunk_pools` of them (the adapter's binding limit, which can only shrink the ring, is not
     // known here).
