@@ -179,8 +179,8 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
             "GPU seconds by pass group in the profiled render (per-pass timestamps, the median \
              repetition where every repetition was profiled), and intersect time per sample: the \
              variants of one job trace the same paths, so it compares what their intersect passes \
-             pay for the same rays. Compaction includes the ray sort (`sort_rays_*`) and slot order's \
-             sweep (`slot_sweep`).\n\n",
+             pay for the same rays. Compaction includes the ray sort (`ray_sort_*`; `sort_rays_*` in \
+             reports written before it took one name) and slot order's sweep (`slot_sweep`).\n\n",
         );
         md.push_str("| # | scene | job | variant | intersect | shade | shadow | compaction | (re)generate | tail | other | sum | intersect ns per sample |\n");
         md.push_str(

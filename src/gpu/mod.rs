@@ -49,11 +49,11 @@ pub mod label {
     pub const REGENERATE: &str = "regenerate";
     pub const QUEUE_SETUP_INTERSECT: &str = "queue_setup_intersect";
     /// `--ray-sort`: counts the ray queue's entries per key (direction octant, origin cell).
-    pub const SORT_RAYS_COUNT: &str = "sort_rays_count";
+    pub const RAY_SORT_COUNT: &str = "ray_sort_count";
     /// `--ray-sort`: each key's first position in the sorted queue (one workgroup).
-    pub const SORT_RAYS_SCAN: &str = "sort_rays_scan";
+    pub const RAY_SORT_SCAN: &str = "ray_sort_scan";
     /// `--ray-sort`: writes the ray queue back in key order.
-    pub const SORT_RAYS_SCATTER: &str = "sort_rays_scatter";
+    pub const RAY_SORT_SCATTER: &str = "ray_sort_scatter";
     pub const INTERSECT: &str = "intersect";
     /// `wavetrace intersect-cost`: intersect's traversal of camera rays made in place, with no
     /// path state read or written (a diagnostic).
@@ -117,8 +117,10 @@ pub mod label {
             SHADE => Group::Shade,
             l if SHADE_BY_KIND.contains(&l) => Group::Shade,
             SHADOW => Group::Shadow,
-            COMPACT_SCAN | COMPACT_BLOCKS | COMPACT_SCATTER | SLOT_SWEEP | SORT_RAYS_COUNT
-            | SORT_RAYS_SCAN | SORT_RAYS_SCATTER => Group::Compaction,
+            COMPACT_SCAN | COMPACT_BLOCKS | COMPACT_SCATTER | SLOT_SWEEP | RAY_SORT_COUNT | RAY_SORT_SCAN
+            | RAY_SORT_SCATTER => Group::Compaction,
+            // The ray sort's passes in reports committed before it took one name.
+            "sort_rays_count" | "sort_rays_scan" | "sort_rays_scatter" => Group::Compaction,
             GENERATE | REGENERATE | REGENERATE_INIT | COMPACT_STATES_FIND | COMPACT_STATES_MOVE => {
                 Group::Generate
             }

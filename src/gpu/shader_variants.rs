@@ -104,7 +104,7 @@ pub const ENTRIES: &[Entry] = &[
     Entry { name: "TAIL", file: "wavefront/tail.wgsl", hooks: &[Instrument, AppendSubgroup] },
     Entry { name: "QUEUE_SETUP", file: "wavefront/queue_setup.wgsl", hooks: &[] },
     Entry { name: "COMPACT_STATES", file: "wavefront/compact_states.wgsl", hooks: &[] },
-    Entry { name: "SORT_RAYS", file: "wavefront/sort_rays.wgsl", hooks: &[] },
+    Entry { name: "RAY_SORT", file: "wavefront/ray_sort.wgsl", hooks: &[] },
     Entry { name: "COMPACT", file: "wavefront/compact.wgsl", hooks: &[ScanSubgroup] },
     Entry { name: "SLOT_SWEEP", file: "wavefront/slot_sweep.wgsl", hooks: &[AppendSubgroup] },
 ];

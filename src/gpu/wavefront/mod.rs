@@ -17,7 +17,7 @@
 //!       compact_states_move]                 first move the live paths below the live count, so
 //!      regenerate]                           the samples take the slots from there on)
 //!     queue_setup_intersect                 ray queue count → intersect's indirect args
-//!     [sort_rays_count, _scan, _scatter]    (--ray-sort) order the ray queue by direction
+//!     [ray_sort_count, _scan, _scatter]     (--ray-sort) order the ray queue by direction
 //!                                           octant (and origin cell)
 //!     intersect                             closest hits; escaped rays add the background
 //!     [compact_scan, _blocks, _scatter]     (scan method) build the material queues

@@ -1,4 +1,4 @@
-//! The ray sort (`--ray-sort`, `shaders/wavefront/sort_rays.wgsl`, issue 26's third remedy):
+//! The ray sort (`--ray-sort`, `shaders/wavefront/ray_sort.wgsl`, issue 26's third remedy):
 //! before each intersect, a counting sort orders the ray queue by a key of each ray (its
 //! direction's octant, and with `octant-cell` also its origin's cell in a 4×4×4 grid over the
 //! scene's bounds, in Morton order), as Garanzha & Loop sort rays, so that a subgroup's lanes
@@ -44,7 +44,7 @@ impl RaySortPasses {
         sort: RaySort,
         memory: &mut MemoryLedger,
     ) -> Result<Self> {
-        let module = ctx.shader(label::SORT_RAYS_COUNT, shaders::SORT_RAYS, b.shader_checks)?;
+        let module = ctx.shader(label::RAY_SORT_COUNT, shaders::RAY_SORT, b.shader_checks)?;
         let constants =
             b.constants(&[("WORKGROUP_SIZE", workgroup_size as f64), ("CELL_BITS", sort.cell_bits() as f64)]);
         // Counts, then each key's next position: zeroed once, and the scan clears the counts.
@@ -62,9 +62,9 @@ impl RaySortPasses {
         let layouts = [b.layouts()[0], b.layouts()[1], &layout];
         let stage = |l| Stage::new(ctx, l, &module, &layouts, &constants);
         Ok(Self {
-            count: stage(label::SORT_RAYS_COUNT)?,
-            scan: stage(label::SORT_RAYS_SCAN)?,
-            scatter: stage(label::SORT_RAYS_SCATTER)?,
+            count: stage(label::RAY_SORT_COUNT)?,
+            scan: stage(label::RAY_SORT_SCAN)?,
+            scatter: stage(label::RAY_SORT_SCATTER)?,
             group,
         })
     }

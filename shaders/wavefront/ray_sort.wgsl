@@ -1,13 +1,13 @@
-// sort_rays (--ray-sort octant|octant-cell): orders the ray queue by a key before intersect, so
+// ray_sort (--ray-sort octant|octant-cell): orders the ray queue by a key before intersect, so
 // that a subgroup's lanes trace rays that leave in the same direction octant (and, with
 // octant-cell, from the same cell of a 4x4x4 grid over the scene's bounds, in Morton order):
 // Garanzha & Loop's ray sort, as a counting sort of three passes.
 // Rust side: src/gpu/wavefront/ray_sort.rs.
 //
 //   queue_setup_intersect  sizes intersect (and these passes) from the ray queue's count
-//   sort_rays_count        copies the queue and each entry's key aside; counts entries per key
-//   sort_rays_scan         one workgroup: each key's first position; clears the counts
-//   sort_rays_scatter      writes the queue back, key by key
+//   ray_sort_count        copies the queue and each entry's key aside; counts entries per key
+//   ray_sort_scan         one workgroup: each key's first position; clears the counts
+//   ray_sort_scatter      writes the queue back, key by key
 //
 // Each workgroup counts its keys in workgroup memory and makes one global atomic per key it
 // holds, so the passes cost a few operations per ray even when most rays share a key. Within a
@@ -81,7 +81,7 @@ fn clear_workgroup_counts(lane: u32) {
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn sort_rays_count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
+fn ray_sort_count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
     clear_workgroup_counts(lane);
     workgroupBarrier();
     let i = gid.x;
@@ -105,7 +105,7 @@ fn sort_rays_count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local
 // One workgroup of MAX_WG threads, two keys each: exclusive prefix sums of the counts (each
 // key's first position), and the counts cleared for the next iteration's sort.
 @compute @workgroup_size(MAX_WG)
-fn sort_rays_scan(@builtin(local_invocation_index) t: u32) {
+fn ray_sort_scan(@builtin(local_invocation_index) t: u32) {
     let a = atomicLoad(&buckets[2u * t]);
     let b = atomicLoad(&buckets[2u * t + 1u]);
     scan[t] = a + b;
@@ -128,7 +128,7 @@ fn sort_rays_scan(@builtin(local_invocation_index) t: u32) {
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn sort_rays_scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
+fn ray_sort_scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
     clear_workgroup_counts(lane);
     workgroupBarrier();
     let i = gid.x;
