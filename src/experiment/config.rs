@@ -128,7 +128,7 @@ const TOP_FIELDS: &[&str] = &[
 ];
 const METHOD_NAMES: &[&str] = &["cpu", "cpu-f64", "megakernel", "wavefront"];
 const COMPACTIONS: &[&str] = &["atomic", "scan", "off"];
-const SHADES: &[&str] = &["per-material", "single"];
+const SHADES: &[&str] = &["per-material", "per-texture", "single"];
 const SCHEDULES: &[&str] = &["auto", "waves", "regenerate"];
 const TAILS: &[&str] = &["off", "megakernel"];
 const TIMINGS: &[&str] = &["passes", "frame"];
@@ -765,10 +765,10 @@ impl Cx {
             })
         })?;
         let shade = self.knob(o, &opt_path("shade"), "shade", |v, p| {
-            Ok(if self.choice(v, p, SHADES)? == "single" {
-                ShadePasses::Single
-            } else {
-                ShadePasses::PerMaterial
+            Ok(match self.choice(v, p, SHADES)? {
+                "single" => ShadePasses::Single,
+                "per-texture" => ShadePasses::PerTexture,
+                _ => ShadePasses::PerMaterial,
             })
         })?;
 
@@ -1072,6 +1072,10 @@ impl Cx {
             .retain(|(o, _)| !o.wavefront.queue_order.is_slot() || o.wavefront.compaction != Compaction::Off);
         variants.retain(|(o, _)| {
             o.wavefront.ray_sort == RaySort::Off || o.wavefront.compaction != Compaction::Off
+        });
+        // Likewise a pass per pattern, which needs atomic queues.
+        variants.retain(|(o, _)| {
+            o.wavefront.shade != ShadePasses::PerTexture || o.wavefront.compaction == Compaction::Atomic
         });
         // Likewise batched refills and state compaction (which also needs queues).
         variants.retain(|(o, _)| {

@@ -18,7 +18,7 @@ const HEAVY_SEED: u32 = 2;
 
 /// `rtiow-heavy` with `octaves` layers of noise (checked by the caller: 1..=MAX_OCTAVES).
 pub fn rtiow_heavy(octaves: u32) -> Scene {
-    let mut scene = builtin::by_name("rtiow-final").expect("rtiow-final is built in");
+    let mut scene = builtin::rtiow_final();
     scene.name =
         if octaves == DEFAULT_OCTAVES { "rtiow-heavy".into() } else { format!("rtiow-heavy-{octaves}") };
     let mut rng = Stream::new(HEAVY_SEED);
@@ -29,9 +29,9 @@ pub fn rtiow_heavy(octaves: u32) -> Scene {
                 // The ground: The Next Week's checker.
                 Texture::Checker { scale: 0.32, even: Vec3::new(0.2, 0.3, 0.1), odd: Vec3::splat(0.9) }
             } else if rng.next_f32() < 0.5 {
-                Texture::Noise { scale: 4.0, octaves, color }
+                Texture::noise(4.0, octaves, color)
             } else {
-                Texture::Marble { scale: 4.0, octaves, color }
+                Texture::marble(4.0, octaves, color)
             },
         };
     }
@@ -54,6 +54,7 @@ pub fn parse_name(name: &str) -> Option<u32> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::Pattern;
 
     #[test]
     fn names_parse_to_octaves_in_range() {
@@ -77,13 +78,13 @@ mod tests {
                 match albedo {
                     Texture::Solid(_) => panic!("{} is untextured", m.name),
                     Texture::Checker { .. } => kinds[1] += 1,
-                    Texture::Noise { octaves, .. } => {
+                    Texture::Procedural { pattern, octaves, .. } => {
                         assert_eq!(octaves, 5);
-                        kinds[2] += 1
-                    }
-                    Texture::Marble { octaves, .. } => {
-                        assert_eq!(octaves, 5);
-                        kinds[3] += 1
+                        match pattern {
+                            Pattern::Noise => kinds[2] += 1,
+                            Pattern::Marble => kinds[3] += 1,
+                            other => panic!("{other:?}"),
+                        }
                     }
                 }
             }
