@@ -45,6 +45,10 @@
 #   shading-cost        rtiow-heavy-1 to -16 at 1920x1080x16 NEE, both megakernels against
 #                       the wavefront schedules and a single shade pass (issue 46;
 #                       device/shading_cost.json)                            4.0e9  ~2 min
+#   material-kinds      rtiow-kinds-1 to -8 (K distinct costly patterns) at 1920x1080x16 NEE,
+#                       both megakernels against the wavefront schedules with a shade pass per
+#                       material kind, per pattern (--shade per-texture) and a single one
+#                       (issue 46; device/material_kinds.json)               3.7e9  ~2 min
 #   decomposition       rtiow-final 1920x1080x64 NEE cut at depth 1, 2, 4 and 50: the same rays
 #                       in both megakernels, waves and regenerate + tail, so depth 1 isolates the
 #                       wavefront's own cost (issue 44; device/decomposition.json) 8.5e9  ~2 min
@@ -120,6 +124,7 @@ headline device/headline.json
 roulette device/roulette.json
 megakernel-threads device/megakernel_threads.json
 shading-cost device/shading_cost.json
+material-kinds device/material_kinds.json
 decomposition device/decomposition.json
 intersect-cost
 pool-size device/pool_size.json

@@ -42,6 +42,17 @@ pub mod texture_kind {
     pub const CHECKER: u32 = 1;
     pub const NOISE: u32 = 2;
     pub const MARBLE: u32 = 3;
+    pub const WOOD: u32 = 4;
+    pub const RIDGED: u32 = 5;
+    pub const WARP: u32 = 6;
+    pub const CELLULAR: u32 = 7;
+    pub const CRACKLE: u32 = 8;
+    pub const VALUE: u32 = 9;
+
+    /// The costly procedural patterns (`scene::Pattern`), which loop over octaves.
+    pub fn is_procedural(kind: u32) -> bool {
+        (NOISE..=VALUE).contains(&kind)
+    }
 }
 
 /// WGSL: `Material` in `shaders/shared/material.wgsl`.
@@ -56,9 +67,9 @@ pub struct MaterialRecord {
     pub kind: u32,
     /// [`texture_kind`] of the albedo (lambertian and metal).
     pub texture: u32,
-    /// Noise octaves (noise, marble): the shading-cost knob.
+    /// Octaves of a procedural pattern (noise, marble, ...): the shading-cost knob.
     pub octaves: u32,
-    /// Checker square size, or noise frequency (noise, marble).
+    /// Checker square size, or a procedural pattern's frequency.
     pub scale: f32,
     /// A checker's odd squares.
     pub color2: [f32; 3],

@@ -25,7 +25,7 @@ use glam::Vec3;
 /// from 0 to its last kind): what `--specialize none` compiles in, and the WGSL defaults.
 pub const EVERY_PRIMITIVE_KIND: u32 = (1 << (primitive_kind::TRIANGLE + 1)) - 1;
 pub const EVERY_MATERIAL_KIND: u32 = (1 << (material_kind::EMISSIVE + 1)) - 1;
-pub const EVERY_TEXTURE_KIND: u32 = (1 << (texture_kind::MARBLE + 1)) - 1;
+pub const EVERY_TEXTURE_KIND: u32 = (1 << (texture_kind::VALUE + 1)) - 1;
 
 #[derive(Clone, Debug)]
 pub struct PackedScene {
@@ -138,6 +138,26 @@ impl PackedScene {
         kinds.sort_unstable();
         kinds.dedup();
         kinds
+    }
+
+    /// The shade passes of `--shade per-texture`: the material kinds of the primitives whose
+    /// material has no costly pattern, and the patterns the others have (as indices into
+    /// `scene::Pattern::ALL`: texture kind − NOISE), each ascending.
+    pub fn shade_classes(&self) -> (Vec<u32>, Vec<u32>) {
+        let (mut kinds, mut patterns) = (Vec::new(), Vec::new());
+        for p in &self.primitives {
+            let m = &self.materials[p.material as usize];
+            if texture_kind::is_procedural(m.texture) {
+                patterns.push(m.texture - texture_kind::NOISE);
+            } else {
+                kinds.push(m.kind);
+            }
+        }
+        for v in [&mut kinds, &mut patterns] {
+            v.sort_unstable();
+            v.dedup();
+        }
+        (kinds, patterns)
     }
 
     /// Bit k set when some primitive has `layout::primitive_kind` k: the `PRIM_KINDS` pipeline
@@ -336,9 +356,8 @@ fn material_record(m: &Material) -> MaterialRecord {
     let (texture, color, color2, scale, octaves) = match albedo {
         Texture::Solid(c) => (texture_kind::SOLID, c, Vec3::ZERO, 0.0, 0),
         Texture::Checker { scale, even, odd } => (texture_kind::CHECKER, even, odd, scale, 0),
-        Texture::Noise { scale, octaves, color } => (texture_kind::NOISE, color, Vec3::ZERO, scale, octaves),
-        Texture::Marble { scale, octaves, color } => {
-            (texture_kind::MARBLE, color, Vec3::ZERO, scale, octaves)
+        Texture::Procedural { pattern, scale, octaves, color } => {
+            (pattern.kind(), color, Vec3::ZERO, scale, octaves)
         }
     };
     MaterialRecord {

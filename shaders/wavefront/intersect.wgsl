@@ -72,8 +72,14 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_par
         count_one(COUNTER_CAMERA_HITS);
     }
     var q = QUEUE_MATERIAL_0;
-    if wave.per_material == 1u {
-        q += materials[primitives[hit.prim].material].kind;
+    if wave.per_material != 0u {
+        let m = materials[primitives[hit.prim].material];
+        q += m.kind;
+        // --shade per-texture: a costly pattern's hits go to that pattern's queue (only lambertian
+        // and metal records carry one).
+        if wave.per_material == 2u && m.texture >= TEXTURE_NOISE {
+            q = QUEUE_PATTERN_0 + m.texture - TEXTURE_NOISE;
+        }
     }
     enqueue(q, slot, gid.x);
 }

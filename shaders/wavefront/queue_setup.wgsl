@@ -146,6 +146,11 @@ fn queue_setup_intersect() {
     for (var k = 0u; k < 4u; k++) {
         atomicStore(&counters[QUEUE_MATERIAL_0 + k], 0u);
     }
+    if wave.per_material == 2u {
+        for (var k = 0u; k < PATTERN_QUEUES; k++) {
+            atomicStore(&counters[COUNTER_PATTERN_0 + k], 0u);
+        }
+    }
 }
 
 // Before shade: size each shade pass, empty the next bounce's ray queue.
@@ -165,6 +170,19 @@ fn queue_setup_shade() {
         record(bounce, QUEUE_MATERIAL_0 + k, n);
         atomicStore(&counters[COUNTER_SHADE_BASE + k], positions);
         positions += n;
+    }
+    // The pattern queues (--shade per-texture, atomic appends only: no scan positions), counted
+    // in the histogram with their material kind's queue, lambertian's (the pattern passes shade
+    // a textured metal too).
+    if wave.per_material == 2u {
+        for (var k = 0u; k < PATTERN_QUEUES; k++) {
+            let n = atomicLoad(&counters[COUNTER_PATTERN_0 + k]);
+            set_args(ARGS_PATTERN_0 + k, n);
+            if (wave.shade_mask & (1u << (4u + k))) != 0u {
+                count_dispatches(n, 1u);
+            }
+            record(bounce, QUEUE_MATERIAL_0, n);
+        }
     }
     // A scan after shade covers the material queues laid end to end (scan method); in slot
     // order the scan or the sweep (plain slot order with the atomic method: one pass) covers

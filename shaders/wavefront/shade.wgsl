@@ -12,17 +12,26 @@
 
 override WORKGROUP_SIZE: u32 = 64u;
 
-// `kind`: the material kind this pass shades, or NO_KIND to shade whatever was hit.
+// `kind`: the material kind this pass shades, PATTERN_KIND + p for costly pattern p's queue
+// (--shade per-texture: texture kind TEXTURE_NOISE + p; its pipeline compiled with that texture
+// kind alone), or NO_KIND to shade whatever was hit.
 const NO_KIND: u32 = 0xffffffffu;
+const PATTERN_KIND: u32 = 0x100u;
 
 fn shade_path(i: u32, kind: u32, pass_id: u32) {
     var q = QUEUE_MATERIAL_0;
-    if kind != NO_KIND {
+    if kind >= PATTERN_KIND && kind != NO_KIND {
+        q = QUEUE_PATTERN_0 + kind - PATTERN_KIND;
+    } else if kind != NO_KIND {
         q += kind;
     }
     let slot = queued_slot(q, i);
-    // Scan position: the shade passes' queues laid end to end.
-    let position = atomicLoad(&counters[COUNTER_SHADE_BASE + q - QUEUE_MATERIAL_0]) + i;
+    // Scan position: the shade passes' queues laid end to end (the pattern queues take atomic
+    // appends only, which need none).
+    var position = i;
+    if q < QUEUE_PATTERN_0 {
+        position += atomicLoad(&counters[COUNTER_SHADE_BASE + q - QUEUE_MATERIAL_0]);
+    }
     if slot == DEAD {
         return;
     }
@@ -45,7 +54,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     }
     let prim = primitives[prim_slot];
     let material = materials[prim.material];
-    if kind != NO_KIND && material.kind != kind {
+    if kind < PATTERN_KIND && material.kind != kind {
         return; // only without compaction
     }
     instrument(pass_id);
@@ -167,6 +176,55 @@ fn shade_dielectric(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_s
 fn shade_emissive(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
     instrument_begin(/*@subgroup_size_arg*/);
     shade_path(gid.x, MATERIAL_EMISSIVE, PASS_SHADE_EMISSIVE);
+}
+
+// The patterns' passes (--shade per-texture), counted with the lambertian pass by --instrument.
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn shade_noise(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
+    instrument_begin(/*@subgroup_size_arg*/);
+    shade_path(gid.x, PATTERN_KIND + 0u, PASS_SHADE_LAMBERTIAN);
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn shade_marble(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
+    instrument_begin(/*@subgroup_size_arg*/);
+    shade_path(gid.x, PATTERN_KIND + 1u, PASS_SHADE_LAMBERTIAN);
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn shade_wood(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
+    instrument_begin(/*@subgroup_size_arg*/);
+    shade_path(gid.x, PATTERN_KIND + 2u, PASS_SHADE_LAMBERTIAN);
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn shade_ridged(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
+    instrument_begin(/*@subgroup_size_arg*/);
+    shade_path(gid.x, PATTERN_KIND + 3u, PASS_SHADE_LAMBERTIAN);
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn shade_warp(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
+    instrument_begin(/*@subgroup_size_arg*/);
+    shade_path(gid.x, PATTERN_KIND + 4u, PASS_SHADE_LAMBERTIAN);
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn shade_cellular(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
+    instrument_begin(/*@subgroup_size_arg*/);
+    shade_path(gid.x, PATTERN_KIND + 5u, PASS_SHADE_LAMBERTIAN);
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn shade_crackle(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
+    instrument_begin(/*@subgroup_size_arg*/);
+    shade_path(gid.x, PATTERN_KIND + 6u, PASS_SHADE_LAMBERTIAN);
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn shade_value(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
+    instrument_begin(/*@subgroup_size_arg*/);
+    shade_path(gid.x, PATTERN_KIND + 7u, PASS_SHADE_LAMBERTIAN);
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)

@@ -32,7 +32,7 @@ fn texture_loops(scene: &PackedScene) -> u64 {
     scene
         .materials
         .iter()
-        .filter(|m| m.texture == texture_kind::NOISE || m.texture == texture_kind::MARBLE)
+        .filter(|m| texture_kind::is_procedural(m.texture))
         .map(|m| 9 * m.octaves as u64)
         .max()
         .unwrap_or(0)

@@ -62,6 +62,18 @@ pub mod label {
     /// Shade passes by material kind (`layout::material_kind` order).
     pub const SHADE_BY_KIND: [&str; 4] =
         ["shade_lambertian", "shade_metal", "shade_dielectric", "shade_emissive"];
+    /// `--shade per-texture`: the shade passes of the costly patterns (`scene::Pattern::ALL`
+    /// order).
+    pub const SHADE_BY_PATTERN: [&str; 8] = [
+        "shade_noise",
+        "shade_marble",
+        "shade_wood",
+        "shade_ridged",
+        "shade_warp",
+        "shade_cellular",
+        "shade_crackle",
+        "shade_value",
+    ];
     /// The single shade pass with a material switch.
     pub const SHADE: &str = "shade";
     pub const COMPACT_SCAN: &str = "compact_scan";
@@ -115,7 +127,7 @@ pub mod label {
         match label {
             INTERSECT => Group::Intersect,
             SHADE => Group::Shade,
-            l if SHADE_BY_KIND.contains(&l) => Group::Shade,
+            l if SHADE_BY_KIND.contains(&l) || SHADE_BY_PATTERN.contains(&l) => Group::Shade,
             SHADOW => Group::Shadow,
             COMPACT_SCAN | COMPACT_BLOCKS | COMPACT_SCATTER | SLOT_SWEEP | RAY_SORT_COUNT | RAY_SORT_SCAN
             | RAY_SORT_SCATTER => Group::Compaction,

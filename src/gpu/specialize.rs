@@ -49,6 +49,15 @@ mod tests {
                 bit(t::SOLID) | bit(t::CHECKER) | bit(t::NOISE) | bit(t::MARBLE)
             )
         );
+        // The checker ground and exactly the first K patterns.
+        for k in [1u32, 3, 8] {
+            let patterns = (0..k).fold(0, |m, i| m | bit(t::NOISE + i));
+            assert_eq!(
+                masks(&format!("rtiow-kinds-{k}"), Specialize::Scene).2,
+                bit(t::SOLID) | bit(t::CHECKER) | patterns,
+                "rtiow-kinds-{k}"
+            );
+        }
         // Every shape and material, but no noise; the emitters' and the glass's records carry
         // no texture anyone looks up.
         let room = concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/scenes/mesh-room.json");
@@ -65,7 +74,7 @@ mod tests {
     #[test]
     fn none_compiles_every_kind_in_whatever_the_scene() {
         for scene in ["furnace", "cornell", "rtiow-heavy-2"] {
-            assert_eq!(masks(scene, Specialize::None), (0b111, 0b1111, 0b1111), "{scene}");
+            assert_eq!(masks(scene, Specialize::None), (0b111, 0b1111, 0b11_1111_1111), "{scene}");
         }
     }
 

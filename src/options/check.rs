@@ -4,7 +4,7 @@
 //! ([`OptionError::for_cli`], [`OptionError::for_config`]), naming the knob.
 
 use super::{
-    CompactStates, Compaction, Method, MethodOptions, RaySort, Schedule, Tail, CHUNK_POOLS,
+    CompactStates, Compaction, Method, MethodOptions, RaySort, Schedule, ShadePasses, Tail, CHUNK_POOLS,
     DEFAULT_REFILL_BELOW, MAX_BATCHES_IN_FLIGHT, MAX_CHUNK_POOLS, MAX_SYNC_EVERY,
 };
 use super::{MegakernelOptions, Named, WavefrontOptions};
@@ -56,7 +56,11 @@ impl OptionError {
             Problem::Needs { value, why, other, values, .. } => {
                 let want = match *other {
                     "schedule" => regenerating.to_owned(),
-                    // The command line turns queues on and off with --compaction on|off.
+                    // The command line turns queues on and off with --compaction on|off, and
+                    // chooses how they are built with --compaction-method.
+                    "compaction" if values == &["atomic"] => {
+                        "--compaction on and --compaction-method atomic".to_owned()
+                    }
                     "compaction" => "--compaction on".to_owned(),
                     _ => format!("{} {}", flag(other), values.join(" or ")),
                 };
@@ -188,6 +192,18 @@ pub fn check_wavefront(o: &WavefrontOptions) -> Result<(), OptionError> {
     }
     if o.queue_order.is_slot() {
         queues("queue_order", o.queue_order.name(), "orders the queues")?;
+    }
+    if o.shade == ShadePasses::PerTexture && o.compaction != Compaction::Atomic {
+        return Err(OptionError {
+            knob: "shade",
+            problem: Problem::Needs {
+                value: o.shade.name(),
+                text: true,
+                why: "queues each pattern's hits by atomic appends",
+                other: "compaction",
+                values: &["atomic"],
+            },
+        });
     }
     if o.ray_sort != RaySort::Off {
         queues("ray_sort", o.ray_sort.name(), "sorts the ray queue")?;

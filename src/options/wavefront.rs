@@ -23,6 +23,10 @@ pub enum Compaction {
 pub enum ShadePasses {
     /// One pass per material kind the scene uses.
     PerMaterial,
+    /// As per-material, and a pass of its own for each costly procedural pattern (noise,
+    /// marble, ...) the scene's diffuse and metal materials use, so that each pattern is shaded
+    /// coherently (needs atomic queues).
+    PerTexture,
     /// One pass over every hit with a material switch (the megakernel's divergence).
     Single,
 }
@@ -170,7 +174,9 @@ pub struct WavefrontOptions {
     /// pool): `--compaction on|off` and `--compaction-method` on the command line.
     #[arg(skip = Compaction::Atomic)]
     pub compaction: Compaction,
-    /// Wavefront: one shade pass per material kind, or one with a material switch.
+    /// Wavefront: one shade pass per material kind, one per material kind and costly pattern
+    /// (`per-texture`: each pattern shaded in a pass of its own; needs atomic queues), or one
+    /// with a material switch.
     #[arg(long, value_enum, default_value_t = ShadePasses::PerMaterial, hide_short_help = true)]
     pub shade: ShadePasses,
     /// `--schedule`, which the command line sets for both GPU methods.

@@ -247,6 +247,12 @@ pub fn replay(
     if launch.every == 0 {
         bail!("--every must be at least 1 (1: the whole frame)");
     }
+    if launch.shade == ShadePasses::PerTexture {
+        bail!(
+            "replay of the wavefront: --shade per-texture is not modelled (the replay's lockstep \
+             follows material kinds, not texture code paths); replay per-material or single"
+        );
+    }
     let regenerate = launch.schedule == Schedule::Regenerate;
     if regenerate && launch.compaction == Compaction::Off {
         bail!(
@@ -640,6 +646,7 @@ impl Wave<'_> {
                 kinds.iter().map(|&k| (k as usize, label::SHADE_BY_KIND[(k as usize).min(3)])).collect()
             }
             ShadePasses::Single => vec![(0, label::SHADE)],
+            ShadePasses::PerTexture => unreachable!("the replay refuses --shade per-texture"),
         };
         for (k, name) in passes {
             let queue = self.queue(&material[k]);

@@ -90,6 +90,13 @@ pub const BUILTINS: &[Builtin] = &[
         build: || super::heavy::rtiow_heavy(rtiow_final(), super::heavy::DEFAULT_OCTAVES),
     },
     Builtin {
+        name: "rtiow-kinds-8",
+        description: "rtiow-kinds-K, any K in 1..=8 (here 8): rtiow-heavy's layout with each diffuse \
+                      sphere one of K distinct costly patterns (noise, marble, wood, ridged, warp, \
+                      cellular, crackle, value), 8 octaves each",
+        build: || super::kinds::rtiow_kinds(rtiow_final(), super::kinds::MAX_KINDS),
+    },
+    Builtin {
         name: "three-spheres",
         description: "The final scene's ground and three big spheres (glass, diffuse, mirror) only",
         build: three_spheres,
@@ -135,6 +142,7 @@ pub const BUILTINS: &[Builtin] = &[
 const NAMES: &[&str] = &[
     "rtiow-final",
     "rtiow-heavy",
+    "rtiow-kinds-8",
     "three-spheres",
     "furnace",
     "cornell",
@@ -155,13 +163,14 @@ pub fn list() -> Vec<(&'static str, &'static str)> {
 }
 
 /// The built-in scene called `name`, if there is one: a [`BUILTINS`] entry, `spheres-N`,
-/// `rtiow-heavy-O` or `triangles-N`.
+/// `rtiow-heavy-O`, `rtiow-kinds-K` or `triangles-N`.
 pub fn by_name(name: &str) -> Option<Scene> {
     match BUILTINS.iter().find(|b| b.name == name) {
         Some(b) => Some((b.build)()),
         None => spheres_count(name)
             .map(spheres)
             .or_else(|| super::heavy::parse_name(name).map(|o| super::heavy::rtiow_heavy(rtiow_final(), o)))
+            .or_else(|| super::kinds::parse_name(name).map(|k| super::kinds::rtiow_kinds(rtiow_final(), k)))
             .or_else(|| super::terrain::parse_name(name).map(|n| super::terrain::scene(three_spheres(), n))),
     }
 }
@@ -198,6 +207,9 @@ pub fn unknown_scene(arg: &str, file: &std::path::Path) -> String {
 pub fn family_hint(name: &str) -> Option<String> {
     if name.starts_with("triangles-") {
         return super::terrain::family_hint(name);
+    }
+    if name.starts_with("rtiow-kinds-") {
+        return super::kinds::family_hint(name);
     }
     if let Some(digits) = name.strip_prefix("rtiow-heavy-") {
         return super::heavy::parse_name(name).is_none().then(|| {
@@ -287,7 +299,7 @@ fn add_big_three(b: &mut Builder) {
     b.add("mirror".into(), mirror, Vec3::new(4.0, 1.0, 0.0), 1.0);
 }
 
-fn rtiow_final() -> Scene {
+pub(super) fn rtiow_final() -> Scene {
     let mut rng = Stream::new(RTIOW_FINAL_SEED);
     let mut b = Builder::new();
     add_ground(&mut b);

@@ -163,7 +163,7 @@ fn texture(t: &Texture) -> String {
                 vec3(odd)
             )
         }
-        Texture::Noise { scale, octaves, color } | Texture::Marble { scale, octaves, color } => format!(
+        Texture::Procedural { scale, octaves, color, .. } => format!(
             r#"{{"type": {kind}, "scale": {}, "octaves": {octaves}, "color": {}}}"#,
             number(scale),
             vec3(color)

@@ -30,9 +30,9 @@ pub fn rtiow_heavy(rtiow_final: Scene, octaves: u32) -> Scene {
                 // The ground: The Next Week's checker.
                 Texture::Checker { scale: 0.32, even: Vec3::new(0.2, 0.3, 0.1), odd: Vec3::splat(0.9) }
             } else if rng.next_f32() < 0.5 {
-                Texture::Noise { scale: 4.0, octaves, color }
+                Texture::noise(4.0, octaves, color)
             } else {
-                Texture::Marble { scale: 4.0, octaves, color }
+                Texture::marble(4.0, octaves, color)
             },
         };
     }
@@ -56,6 +56,7 @@ pub fn parse_name(name: &str) -> Option<u32> {
 mod tests {
     use super::super::builtin;
     use super::*;
+    use crate::scene::Pattern;
 
     #[test]
     fn names_parse_to_octaves_in_range() {
@@ -79,13 +80,13 @@ mod tests {
                 match albedo {
                     Texture::Solid(_) => panic!("{} is untextured", m.name),
                     Texture::Checker { .. } => kinds[1] += 1,
-                    Texture::Noise { octaves, .. } => {
+                    Texture::Procedural { pattern, octaves, .. } => {
                         assert_eq!(octaves, 5);
-                        kinds[2] += 1
-                    }
-                    Texture::Marble { octaves, .. } => {
-                        assert_eq!(octaves, 5);
-                        kinds[3] += 1
+                        match pattern {
+                            Pattern::Noise => kinds[2] += 1,
+                            Pattern::Marble => kinds[3] += 1,
+                            other => panic!("{other:?}"),
+                        }
                     }
                 }
             }

@@ -64,7 +64,8 @@ pub const SUPPORTED_FORMATS: &[&str] = &[FORMAT];
 const MATERIAL_TYPES: &[&str] = &["lambertian", "metal", "dielectric", "emissive"];
 const BACKGROUND_TYPES: &[&str] = &["sky", "constant"];
 const OBJECT_TYPES: &[&str] = &["sphere", "quad", "mesh"];
-const TEXTURE_TYPES: &[&str] = &["solid", "checker", "noise", "marble"];
+const TEXTURE_TYPES: &[&str] =
+    &["solid", "checker", "noise", "marble", "wood", "ridged", "warp", "cellular", "crackle", "value"];
 
 /// Below this sine of the angle between a quad's edges it is refused as degenerate: a sliver
 /// whose normal f32 cannot resolve.
@@ -294,11 +295,9 @@ fn check_texture(path: &str, t: &Texture) -> Option<(String, String)> {
         Texture::Checker { scale, even, odd } => positive("scale", scale)
             .or_else(|| check_vec3(&format!("{path}.even"), even, true))
             .or_else(|| check_vec3(&format!("{path}.odd"), odd, true)),
-        Texture::Noise { scale, octaves, color } | Texture::Marble { scale, octaves, color } => {
-            positive("scale", scale)
-                .or_else(|| octaves_ok(octaves))
-                .or_else(|| check_vec3(&format!("{path}.color"), color, true))
-        }
+        Texture::Procedural { scale, octaves, color, .. } => positive("scale", scale)
+            .or_else(|| octaves_ok(octaves))
+            .or_else(|| check_vec3(&format!("{path}.color"), color, true)),
     }
 }
 
@@ -575,7 +574,7 @@ impl Cx<'_> {
     }
 
     /// An albedo: `[r, g, b]`, or a texture object `{"type": "solid" | "checker" | "noise" |
-    /// "marble", ...}`.
+    /// "marble" | "wood" | "ridged" | "warp" | "cellular" | "crackle" | "value", ...}`.
     fn texture_field(&self, o: &Obj, key: &str) -> Res<Texture> {
         let (v, path) = self.field(o, key)?;
         if !v.is_object() {
@@ -604,11 +603,8 @@ impl Cx<'_> {
                     _ => return self.err(&opath, format!("expected a whole number, found {}", describe(ov))),
                 };
                 let color = self.vec3_field(&t, "color")?;
-                if kind == "noise" {
-                    Texture::Noise { scale, octaves, color }
-                } else {
-                    Texture::Marble { scale, octaves, color }
-                }
+                let pattern = super::Pattern::from_name(kind).expect("TEXTURE_TYPES lists the patterns");
+                Texture::Procedural { pattern, scale, octaves, color }
             }
         })
     }

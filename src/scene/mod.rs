@@ -10,6 +10,7 @@ pub mod enclosure;
 pub mod export;
 pub mod gltf;
 pub mod heavy;
+pub mod kinds;
 pub mod load;
 pub mod obj;
 pub mod stress;
@@ -20,7 +21,7 @@ pub mod two_lights;
 use glam::Vec3;
 
 pub use crate::input_error::InputError;
-pub use texture::Texture;
+pub use texture::{Pattern, Texture};
 
 /// The format tag every scene file carries in its `"format"` field.
 pub const FORMAT: &str = "wavetrace-scene/1";

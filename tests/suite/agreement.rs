@@ -5,6 +5,7 @@ use crate::common;
 
 use wavetrace::camera::CameraFrame;
 use wavetrace::film::Film;
+use wavetrace::gpu::wavefront::{ShadePasses, WavefrontOptions};
 use wavetrace::method::{render, Method, MethodOptions};
 use wavetrace::scene::{builtin, Material, Scene, Texture};
 use wavetrace::settings::{Accel, RenderSettings};
@@ -70,13 +71,12 @@ pub(crate) fn textured_three_spheres() -> Scene {
                     },
                 }
             }
-            Material::Lambertian { .. } => Material::Lambertian {
-                albedo: Texture::Marble { scale: 4.0, octaves: 7, color: glam::Vec3::ONE },
-            },
-            Material::Metal { .. } => Material::Metal {
-                albedo: Texture::Noise { scale: 3.0, octaves: 4, color: glam::Vec3::splat(0.9) },
-                fuzz: 0.2,
-            },
+            Material::Lambertian { .. } => {
+                Material::Lambertian { albedo: Texture::marble(4.0, 7, glam::Vec3::ONE) }
+            }
+            Material::Metal { .. } => {
+                Material::Metal { albedo: Texture::noise(3.0, 4, glam::Vec3::splat(0.9)), fuzz: 0.2 }
+            }
             ref other => other.clone(),
         };
     }
@@ -110,6 +110,28 @@ fn rtiow_heavy_agrees_on_cpu_megakernel_and_wavefront() {
     let cpu = run(Method::Cpu, &scene, &s);
     assert_agree("rtiow-heavy cpu vs megakernel", &cpu, &run(Method::Megakernel, &scene, &s));
     assert_agree("rtiow-heavy cpu vs wavefront", &cpu, &run(Method::Wavefront, &scene, &s));
+}
+
+/// The shading-divergence family: every costly pattern at once renders the same image on the
+/// CPU, the megakernel and the wavefront with a shade pass per pattern (`--shade per-texture`)
+/// and per material kind.
+#[test]
+fn rtiow_kinds_agrees_on_cpu_megakernel_and_wavefront() {
+    let scene = builtin::by_name("rtiow-kinds-8").unwrap();
+    let s = settings(96, 54, 16);
+    let cpu = run(Method::Cpu, &scene, &s);
+    common::assert_agree_rays("rtiow-kinds-8 f32 vs f64", &cpu, &run(Method::CpuF64, &scene, &s), 1e-2);
+    if common::gpu().is_none() {
+        return;
+    }
+    assert_agree("rtiow-kinds-8 cpu vs megakernel", &cpu, &run(Method::Megakernel, &scene, &s));
+    assert_agree("rtiow-kinds-8 cpu vs wavefront", &cpu, &run(Method::Wavefront, &scene, &s));
+    let per_texture = MethodOptions {
+        wavefront: WavefrontOptions { shade: ShadePasses::PerTexture, ..Default::default() },
+        ..Default::default()
+    };
+    let wf = render(Method::Wavefront, &scene, &s, &per_texture, common::gpu(), &|_| {}).unwrap().film;
+    assert_agree("rtiow-kinds-8 cpu vs wavefront per-texture", &cpu, &wf);
 }
 
 /// The scene-size family: a generated terrain of triangles renders the same image on every

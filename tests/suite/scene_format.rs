@@ -177,8 +177,8 @@ fn texture_bits(t: &Texture, out: &mut Vec<u32>) {
             v3(even, out);
             v3(odd, out);
         }
-        Texture::Noise { scale, octaves, color } | Texture::Marble { scale, octaves, color } => {
-            out.extend([scale.to_bits(), octaves]);
+        Texture::Procedural { pattern, scale, octaves, color } => {
+            out.extend([pattern.kind(), scale.to_bits(), octaves]);
             v3(color, out);
         }
     }
@@ -204,10 +204,7 @@ fn textures_load_export_and_round_trip() {
         }
     );
     let steel = scene.materials.iter().find(|m| m.name == "steel").unwrap();
-    assert_eq!(
-        steel.material,
-        Material::Metal { albedo: Texture::Marble { scale: 4.0, octaves: 7, color: Vec3::ONE }, fuzz: 0.1 }
-    );
+    assert_eq!(steel.material, Material::Metal { albedo: Texture::marble(4.0, 7, Vec3::ONE), fuzz: 0.1 });
     let exported = export::to_json(&scene);
     assert!(
         exported.contains(r#"{"type": "marble", "scale": 4, "octaves": 7, "color": [1, 1, 1]}"#),
@@ -225,7 +222,9 @@ fn textures_load_export_and_round_trip() {
     );
     assert!(matches!(
         load_str(&noise).unwrap().materials.iter().find(|m| m.name == "red").unwrap().material,
-        Material::Lambertian { albedo: Texture::Noise { octaves: 1, .. } }
+        Material::Lambertian {
+            albedo: Texture::Procedural { pattern: wavetrace::scene::Pattern::Noise, octaves: 1, .. }
+        }
     ));
 }
 

@@ -39,8 +39,8 @@ fn assert_same_film(method: Method, scene: &Scene, s: &RenderSettings, opts: &Me
     assert_eq!(specialized.film, every_kind.film, "{}: {method:?} {opts:?}", scene.name);
 }
 
-/// Every material and texture kind among the scenes: rtiow-heavy-2 has the three scattering
-/// materials and all four textures on spheres; Cornell emitters and quads (with NEE and its MIS
+/// Every material and texture kind among the scenes: rtiow-kinds-8 has the three scattering
+/// materials and every texture (solid, checker and the eight costly patterns) on spheres; Cornell emitters and quads (with NEE and its MIS
 /// weights); mesh-room every shape and material, checker and marble but no noise.
 #[test]
 fn specialized_shaders_give_the_films_of_every_kind_compiled_in() {
@@ -48,7 +48,7 @@ fn specialized_shaders_give_the_films_of_every_kind_compiled_in() {
         return;
     }
     let room = concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/scenes/mesh-room.json");
-    for (name, nee) in [("rtiow-heavy-2", false), ("cornell", true), (room, true)] {
+    for (name, nee) in [("rtiow-kinds-8", false), ("cornell", true), (room, true)] {
         let scene = Scene::resolve(name).unwrap();
         for (method, opts) in common::gpu_ways() {
             assert_same_film(method, &scene, &settings(nee), &opts);

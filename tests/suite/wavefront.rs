@@ -91,6 +91,47 @@ fn wavefront_matches_megakernel_on_rtiow_final_for_every_knob() {
     matches_megakernel("rtiow-final");
 }
 
+/// `--shade per-texture` on the divergence family: a pass per costly pattern traces the
+/// megakernel's paths under both schedules and either queue order (the tail too), dispatches one
+/// pass per pattern per bounce besides the material kinds' passes for the rest (the checker
+/// ground, metal, glass), and needs atomic queues.
+#[test]
+fn per_texture_shade_passes_trace_the_megakernels_paths() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let s = settings(4);
+    let reference = run(Method::Megakernel, "rtiow-kinds-8", &s, &MethodOptions::default()).film;
+    let per_material = run_wavefront("rtiow-kinds-8", &s, WavefrontOptions::default()).film;
+    let per_texture =
+        WavefrontOptions { shade: ShadePasses::PerTexture, pool_size: Some(2000), ..Default::default() };
+    let mut opts = MethodOptions { wavefront: per_texture, ..Default::default() };
+    opts.wavefront.schedule = Schedule::Waves;
+    let waved = run(Method::Wavefront, "rtiow-kinds-8", &s, &opts);
+    assert_match("per-texture waves", &waved.film, &reference);
+    assert_rays_match("per-texture waves", &waved.film, &reference);
+    common::assert_same_paths("per-texture vs per-material", &waved.film, &per_material);
+    let t = waved.timings.as_ref().unwrap();
+    let waves = s.sample_count().div_ceil(2000);
+    let passes = wavetrace::gpu::label::SHADE_BY_PATTERN.iter().chain(&["shade_lambertian", "shade_metal"]);
+    for pass in passes {
+        assert_eq!(t.passes[*pass].passes, 50 * waves, "{pass} once per bounce and wave");
+    }
+    use wavetrace::gpu::wavefront::QueueOrder;
+    for (order, tail) in [(QueueOrder::Arrival, Tail::Off), (QueueOrder::Slot, Tail::Megakernel)] {
+        let wf = regenerating(WavefrontOptions { queue_order: order, tail, ..per_texture });
+        let out = run_wavefront("rtiow-kinds-8", &s, wf);
+        common::assert_same_paths(
+            &format!("per-texture regenerate {order:?} {tail:?}"),
+            &out.film,
+            &per_material,
+        );
+    }
+    for compaction in [Compaction::Scan, Compaction::Off] {
+        assert_refused(WavefrontOptions { compaction, ..per_texture }, "--shade per-texture");
+    }
+}
+
 #[test]
 fn wavefront_matches_on_the_furnace_and_the_linear_loop() {
     if common::gpu().is_none() {

@@ -3,7 +3,7 @@
 // order the atomics run in; nothing depends on it (the film adds samples in sample order).
 
 fn append(q: u32, slot: u32) {
-    let at = atomicAdd(&counters[q], 1u);
+    let at = atomicAdd(&counters[queue_counter(q)], 1u);
     queues[q * wave.pool + at] = slot;
 }
 

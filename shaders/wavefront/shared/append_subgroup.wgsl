@@ -13,7 +13,7 @@ fn append(q: u32, slot: u32) {
             let count = subgroupAdd(1u);
             var base = 0u;
             if rank == 0u {
-                base = atomicAdd(&counters[q], count);
+                base = atomicAdd(&counters[queue_counter(q)], count);
             }
             queues[q * wave.pool + subgroupBroadcastFirst(base) + rank] = slot;
             break;

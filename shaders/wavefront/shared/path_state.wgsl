@@ -20,6 +20,10 @@ const QUEUE_MATERIAL_0: u32 = 2u;   // + material kind (one shared queue with --
 const QUEUE_SHADOW: u32 = 6u;       // shadow rays (--nee on); always appended atomically
 const QUEUE_FREE: u32 = 7u;         // (regenerate) slots whose path ended; always atomic
 const QUEUE_COUNT: u32 = 8u;
+// (--shade per-texture) + texture kind − TEXTURE_NOISE: a queue per costly pattern, regions after
+// the QUEUE_COUNT others (the queues buffer then holds 16), their counts at COUNTER_PATTERN_0.
+const QUEUE_PATTERN_0: u32 = 8u;
+const PATTERN_QUEUES: u32 = 8u;
 // Word indices in `counters` besides the queue counts.
 const COUNTER_BOUNCE: u32 = 8u;     // current iteration (= bounce in waves), advanced by queue_setup_intersect
 const COUNTER_POSITIONS: u32 = 9u;  // queue positions the next scan compaction covers
@@ -64,6 +68,8 @@ const COUNTER_TAIL_ON: u32 = COUNTER_SHADE_BASE + 28u;
 const COUNTER_TAIL_MAX_LIVE: u32 = COUNTER_SHADE_BASE + 29u;
 const COUNTER_FAILED: u32 = COUNTER_SHADE_BASE + 30u;
 const COUNTER_RING_0: u32 = COUNTER_SHADE_BASE + 31u;      // + ring chunk: its samples finished
+// (--shade per-texture) + pattern: the pattern queues' counts, after the ring's 1024 chunks.
+const COUNTER_PATTERN_0: u32 = COUNTER_RING_0 + 1024u;
 // (regenerate, wave.camera_in_place) Camera rays that hit, and paths going on from that hit: in
 // the histogram's second row, which regenerating renders (one row) leave unused. In waves the
 // histogram has them per bounce. The bounce-0 counts of the path-state traffic model
@@ -80,9 +86,15 @@ const ARGS_TAIL: u32 = 8u;
 const ARGS_COMPACT_STATES_FIND: u32 = 9u;  // (--compact-states on) the find pass, then the move pass
 const ARGS_COMPACT_STATES_MOVE: u32 = 10u;
 const ARGS_ACCUMULATE: u32 = 11u;  // (regenerate) accumulate_range, sized by schedule_decide
+const ARGS_PATTERN_0: u32 = 12u;   // (--shade per-texture) + pattern: its shade pass
 // Workgroup size of the passes ARGS_COMPACT sizes: the scan (wavefront/compact.wgsl) and slot
 // order's sweep (wavefront/slot_sweep.wgsl). SCAN_WG in path_state.rs.
 const SCAN_WG: u32 = 256u;
+
+// The word of `counters` counting queue `q`'s entries.
+fn queue_counter(q: u32) -> u32 {
+    return select(q, COUNTER_PATTERN_0 + q - QUEUE_PATTERN_0, q >= QUEUE_PATTERN_0);
+}
 
 // A path that no pass should touch again.
 const DEAD: u32 = 0xffffffffu;
@@ -98,7 +110,8 @@ const FLUSHED: u32 = 0xfffffffdu;
 struct Wave {
     // 1: queues built by atomic append; 2: by prefix-sum scan; 0: no queues (whole pool).
     compaction: u32,
-    // 1: one shade pass per material kind; 0: one pass with a switch.
+    // 1: one shade pass per material kind; 2: and one per costly pattern (`--shade per-texture`);
+    // 0: one pass with a switch.
     per_material: u32,
     // Queue region length (the pool size).
     pool: u32,
@@ -369,7 +382,7 @@ fn queued_entry(q: u32, i: u32) -> u32 {
     if wave.compaction == 0u {
         return select(DEAD, i, i < pool_slots());
     }
-    if i >= atomicLoad(&counters[q]) {
+    if i >= atomicLoad(&counters[queue_counter(q)]) {
         return DEAD;
     }
     return queues[q * wave.pool + i];

@@ -565,8 +565,11 @@ pub fn render(
     let shares = schedule::shares(schedule, pixels, settings.spp, pool, settings.max_depth);
     let mut memory = MemoryLedger::default();
     let params = DispatchUniforms::new(ctx, &shares, &mut memory);
-    let kinds = scene.material_kinds_used();
-    let per_material = opts.shade == ShadePasses::PerMaterial;
+    let per_texture = opts.shade == ShadePasses::PerTexture;
+    // Per-texture: the patterns' passes, and the material kinds' passes for what is left.
+    let (kinds, patterns) =
+        if per_texture { scene.shade_classes() } else { (scene.material_kinds_used(), vec![]) };
+    let per_material = opts.shade != ShadePasses::Single;
     // Regenerating: every share's sample ring has the same chunks (one pool) and at most the
     // same number of them, so one ring buffer serves them all.
     let ring_budget = schedule::ring_budget(ctx, pool, opts.chunk_pools);
@@ -578,9 +581,14 @@ pub fn render(
     let camera_in_place = opts.compaction != Compaction::Off && opts.ray_sort == RaySort::Off;
     let wave = WaveUniform {
         compaction: opts.compaction as u32,
-        per_material: per_material as u32,
+        per_material: if per_texture { 2 } else { per_material as u32 },
         pool,
-        shade_mask: if per_material { kinds.iter().fold(0, |m, k| m | 1 << k) } else { 1 },
+        // Bits 0–3: the material kinds' passes; 4–11: the patterns'.
+        shade_mask: if per_material {
+            kinds.iter().fold(0, |m, k| m | 1 << k) | patterns.iter().fold(0, |m, p| m | 1 << (4 + p))
+        } else {
+            1
+        },
         chunk: if regenerate { ring.chunk } else { 0 },
         ring: if regenerate { ring.ring } else { 0 },
         order: queue_order.word(),
@@ -601,6 +609,7 @@ pub fn render(
         scan: uses_scan,
         shadow: has_shadow_pass,
         ring_samples: regenerate.then_some(ring.samples() as u64),
+        pattern_queues: per_texture,
     };
     let b = Bindings {
         scene: SceneBuffers::new(ctx, scene, &frame, settings, measure.specialize, &mut memory)?,
@@ -626,7 +635,7 @@ pub fn render(
             regenerate.then(|| accumulate.range_buffer()),
         )?,
         intersect: intersect::Intersect::new(ctx, &b, wg, instrument)?,
-        shade: shade::Shade::new(ctx, &b, shade_kinds, wg, instrument)?,
+        shade: shade::Shade::new(ctx, &b, shade_kinds, &patterns, wg, instrument)?,
         compact: uses_scan.then(|| compact::Compact::new(ctx, &b, subgroup_scan)).transpose()?,
         slot_sweep: uses_sweep.then(|| slot_sweep::SlotSweep::new(ctx, &b)).transpose()?,
         shadow: has_shadow_pass.then(|| shadow::Shadow::new(ctx, &b, wg, instrument)).transpose()?,

@@ -12,6 +12,10 @@ use wgpu::util::DeviceExt;
 /// Queue regions (two ray queues, four material queues, the shadow queue, the free slots), as
 /// `QUEUE_COUNT` in WGSL.
 pub const QUEUE_COUNT: u64 = 8;
+/// `--shade per-texture`: a queue per costly pattern after those (`QUEUE_PATTERN_0`,
+/// `PATTERN_QUEUES`), counted at `COUNTER_PATTERN_0`.
+pub const QUEUE_PATTERN_0: u64 = 8;
+pub const PATTERN_QUEUES: u64 = 8;
 /// The shadow queue's region (`QUEUE_SHADOW`).
 pub const QUEUE_SHADOW: u64 = 6;
 /// Words of `counters` before the bounce histogram (`COUNTER_STATS`).
@@ -68,11 +72,15 @@ pub mod schedule_word {
 pub const COUNTER_RING: u64 = COUNTER_SCHEDULE + schedule_word::WORDS;
 /// Most chunks in the sample ring (`--chunk-pools` is at most this).
 pub const MAX_RING_CHUNKS: u64 = 1024;
-/// Words of `counters`: header, histogram, shade positions, scheduling counters, ring counters.
-const COUNTER_WORDS: u64 = COUNTER_RING + MAX_RING_CHUNKS;
+/// `COUNTER_PATTERN_0`: the pattern queues' counts (`--shade per-texture`).
+pub const COUNTER_PATTERN: u64 = COUNTER_RING + MAX_RING_CHUNKS;
+/// Words of `counters`: header, histogram, shade positions, scheduling counters, ring counters,
+/// pattern queue counts.
+const COUNTER_WORDS: u64 = COUNTER_PATTERN + PATTERN_QUEUES;
 /// Indirect-argument slots: intersect, one per material kind, the scan passes, the shadow pass,
-/// the refill, the tail, the state compaction's two passes, the regenerating accumulate.
-const ARGS_SLOTS: u64 = 12;
+/// the refill, the tail, the state compaction's two passes, the regenerating accumulate, one per
+/// costly pattern (`--shade per-texture`).
+const ARGS_SLOTS: u64 = 20;
 pub const ARGS_INTERSECT: u64 = 0;
 pub const ARGS_SHADE_0: u64 = 1;
 pub const ARGS_COMPACT: u64 = 5;
@@ -83,6 +91,8 @@ pub const ARGS_COMPACT_STATES_FIND: u64 = 9;
 pub const ARGS_COMPACT_STATES_MOVE: u64 = 10;
 /// (regenerate) `accumulate_range`, sized by the decision pass.
 pub const ARGS_ACCUMULATE: u64 = 11;
+/// `--shade per-texture`: each pattern's shade pass.
+pub const ARGS_PATTERN_0: u64 = 12;
 /// Which per-slot buffers a render's pool holds beyond the path itself: a buffer no pass of
 /// the render reads is bound as one 16-byte element, so memory follows the scene and the knobs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -98,15 +108,22 @@ pub struct PoolLayout {
     /// Regenerating (`--schedule regenerate`): the samples of its sample ring, whose radiance
     /// waits in `samples` for the accumulate pass; each slot also holds its sample and bounce.
     pub ring_samples: Option<u64>,
+    /// A queue per costly pattern besides the others (`--shade per-texture`).
+    pub pattern_queues: bool,
 }
 
 impl PoolLayout {
+    /// Queue regions in the queues buffer (each a pool of 4-byte entries).
+    pub const fn queue_regions(self) -> u64 {
+        QUEUE_COUNT + if self.pattern_queues { PATTERN_QUEUES } else { 0 }
+    }
+
     /// Bytes of GPU memory per pool slot: origin, direction, throughput and radiance (16 each)
-    /// and eight queue entries (4 each) always; the shadow ray and weight (16 each), the queue
+    /// and eight queue entries (4 each; sixteen with pattern queues) always; the shadow ray and weight (16 each), the queue
     /// target (4), the scan's two words (4 each) and the slot's sample and bounce (8) where used.
     pub const fn bytes_per_path(self) -> u64 {
         4 * 16
-            + QUEUE_COUNT * 4
+            + self.queue_regions() * 4
             + if self.shadow { 2 * 16 } else { 0 }
             + if self.targets { 4 } else { 0 }
             + if self.scan { 2 * 4 } else { 0 }
@@ -161,7 +178,7 @@ impl PathState {
     ) -> Result<Self> {
         let pool64 = pool as u64;
         let none = wgpu::BufferUsages::empty();
-        check_size(ctx, "path queues", pool64 * LARGEST_BINDING_PER_PATH)?;
+        check_size(ctx, "path queues", pool64 * uses.queue_regions() * 4)?;
         let mut buffer = |category, label, size, extra| -> Result<wgpu::Buffer> {
             Ok(memory.track(category, storage_zeroed(ctx, label, size, extra)?))
         };
@@ -169,7 +186,7 @@ impl PathState {
         let dir = buffer(Mem::PathState, "path direction", pool64 * 16, none)?;
         let throughput = buffer(Mem::PathState, "path throughput", pool64 * 16, none)?;
         let radiance = buffer(Mem::PathState, "path radiance", pool64 * 16, none)?;
-        let queues = buffer(Mem::Queues, "path queues", pool64 * QUEUE_COUNT * 4, none)?;
+        let queues = buffer(Mem::Queues, "path queues", pool64 * uses.queue_regions() * 4, none)?;
         assert!(stats_bounces as u64 <= MAX_STATS_BOUNCES);
         let counters = buffer(
             Mem::Counters,

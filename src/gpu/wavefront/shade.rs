@@ -3,7 +3,7 @@
 
 use super::super::stage::{Stage, Workgroups};
 use super::super::{context::GpuContext, label, shaders};
-use super::path_state::ARGS_SHADE_0;
+use super::path_state::{ARGS_PATTERN_0, ARGS_SHADE_0};
 use super::{Bindings, WaveRecorder};
 use anyhow::Result;
 
@@ -13,11 +13,14 @@ pub struct Shade {
 }
 
 impl Shade {
-    /// `kinds`: material kinds the scene uses; `None` builds the single switch pass.
+    /// `kinds`: material kinds the scene uses; `None` builds the single switch pass. `patterns`
+    /// (`--shade per-texture`): the costly patterns with a pass of their own (indices into
+    /// `scene::Pattern::ALL`), each compiled with its texture kind alone.
     pub fn new(
         ctx: &GpuContext,
         b: &Bindings,
         kinds: Option<&[u32]>,
+        patterns: &[u32],
         workgroup_size: u32,
         instrument: bool,
     ) -> Result<Self> {
@@ -30,10 +33,19 @@ impl Shade {
             }
             None => vec![(ARGS_SHADE_0, label::SHADE)],
         };
-        let stages = passes
+        let mut stages: Vec<(u64, Stage)> = passes
             .into_iter()
             .map(|(slot, l)| Ok((slot, Stage::new(ctx, l, &module, &b.layouts(), &constants)?)))
             .collect::<Result<_>>()?;
+        for &p in patterns {
+            let own = crate::layout::texture_kind::NOISE + p;
+            let constants: Vec<(&str, f64)> = constants
+                .iter()
+                .map(|&(n, v)| if n == "TEXTURE_KINDS" { (n, (1u32 << own) as f64) } else { (n, v) })
+                .collect();
+            let l = label::SHADE_BY_PATTERN[p as usize];
+            stages.push((ARGS_PATTERN_0 + p as u64, Stage::new(ctx, l, &module, &b.layouts(), &constants)?));
+        }
         Ok(Self { stages })
     }
 

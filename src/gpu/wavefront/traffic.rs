@@ -78,7 +78,12 @@ impl PassTraffic {
     /// together (one per material kind, or the single one) and the scan's three.
     pub fn labels(&self) -> Vec<&'static str> {
         match self.label.as_str() {
-            "shade" => label::SHADE_BY_KIND.iter().copied().chain([label::SHADE]).collect(),
+            "shade" => label::SHADE_BY_KIND
+                .iter()
+                .chain(&label::SHADE_BY_PATTERN)
+                .copied()
+                .chain([label::SHADE])
+                .collect(),
             "compact" => vec![label::COMPACT_SCAN, label::COMPACT_BLOCKS, label::COMPACT_SCATTER],
             other => [
                 label::GENERATE,
@@ -315,6 +320,7 @@ mod tests {
                 scan: !atomic || (slot_order && !sweep),
                 shadow: nee,
                 ring_samples: regenerate.then_some(1 << 20),
+                pattern_queues: false,
             },
             regenerate,
             atomic,
@@ -519,6 +525,7 @@ mod tests {
             (shaders::INTERSECT.plain(), "intersect"),
             (shaders::SHADE.plain(), "shade"),
             (shaders::SHADE.plain(), "shade_lambertian"),
+            (shaders::SHADE.plain(), "shade_noise"),
             (shaders::SHADOW.plain(), "shadow"),
             (shaders::TAIL.plain(), "tail"),
             (shaders::SLOT_SWEEP.plain(), "slot_sweep"),
