@@ -42,13 +42,14 @@
 #                       against the naive one: rtiow-final, cornell and spheres-100000 at
 #                       1920x1080 x16 and x64, where it lost and won (issue 46;
 #                       device/megakernel_threads.json; megakernels only)  9.9e9  ~2 min
-#   shading-cost        rtiow-heavy-1 to -16 at 1920x1080x16 NEE, both megakernels against
-#                       the wavefront schedules and a single shade pass (issue 46;
-#                       device/shading_cost.json)                            4.0e9  ~2 min
-#   material-kinds      rtiow-kinds-1 to -8 (K distinct costly patterns) at 1920x1080x16 NEE,
+#   shading-cost        rtiow-heavy-1 to -16 and rtiow-final (the cost's zero) at 1920x1080x16
+#                       NEE, both megakernels against the wavefront schedules and a single
+#                       shade pass (issue 46; device/shading_cost.json)      4.8e9  ~2 min
+#   material-kinds      rtiow-kinds-1 to -8 (K distinct costly patterns) and rtiow-final at
+#                       1920x1080x16 NEE,
 #                       both megakernels against the wavefront schedules with a shade pass per
 #                       material kind, per pattern (--shade per-texture) and a single one
-#                       (issue 46; device/material_kinds.json)               3.7e9  ~2 min
+#                       (issue 46; device/material_kinds.json)               4.6e9  ~2 min
 #   decomposition       rtiow-final 1920x1080x64 NEE cut at depth 1, 2, 4 and 50: the same rays
 #                       in both megakernels, waves and regenerate + tail, so depth 1 isolates the
 #                       wavefront's own cost (issue 44; device/decomposition.json) 8.5e9  ~2 min

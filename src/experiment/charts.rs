@@ -75,7 +75,134 @@ pub fn charts(report: &ExperimentReport) -> Vec<Chart> {
     }
     out.extend(time_by_scene(report));
     out.extend(crossover(report));
+    out.extend(shading_cost(report));
     out
+}
+
+/// The scene the shading-cost axis measures against: the costly families (`rtiow-heavy-O`,
+/// `rtiow-kinds-K`) are it with costly materials on its diffuse spheres.
+const SHADING_BASELINE: &str = "rtiow-final";
+
+/// The shading-cost axis (issue 46), per job settings where a config renders `rtiow-final` (the
+/// axis's zero) and two or more scenes of the same geometry with costlier materials: each GPU variant's speed-up
+/// over the fastest megakernel against the scene's shading cost, measured by the fastest
+/// megakernel as its extra nanoseconds per ray over `rtiow-final`; parity drawn at 1, and the
+/// cost at which each variant first crosses it named in the title (the crossover).
+fn shading_cost(report: &ExperimentReport) -> Vec<Chart> {
+    let threshold = stability::threshold_of(&report.config);
+    let fastest = baseline::fastest_megakernel(report);
+    type Settings = (u32, u32, u32, u32, bool, bool);
+    let mut settings: BTreeMap<Settings, Vec<&RunRecord>> = BTreeMap::new();
+    for r in report.runs.iter().filter(|r| r.status == RunStatus::Ok && r.seconds.is_some()) {
+        settings.entry((r.width, r.height, r.spp, r.max_depth, r.nee, r.roulette)).or_default().push(r);
+    }
+    let mut out = Vec::new();
+    for ((w, h, spp, depth, nee, roulette), runs) in settings {
+        // A scene's cost: its fastest megakernel's time over the baseline's, per ray traced.
+        let megakernel = |scene: &str| {
+            runs.iter()
+                .filter(|r| r.method == "megakernel" && r.scene == scene)
+                .filter(|r| {
+                    fastest.get(&baseline::job_key(r)).is_some_and(|b| b.seconds == r.seconds.unwrap())
+                })
+                .find_map(|r| Some((r.seconds?, r.rays?)))
+        };
+        let Some((base, _)) = megakernel(SHADING_BASELINE) else { continue };
+        let mut scenes: Vec<&str> = Vec::new();
+        for r in &runs {
+            if !scenes.contains(&r.scene.as_str()) {
+                scenes.push(&r.scene);
+            }
+        }
+        // The baseline itself is the axis's zero (its cost over itself).
+        let cost: BTreeMap<&str, f64> = scenes
+            .iter()
+            .filter_map(|&s| {
+                megakernel(s)
+                    .filter(|&(_, rays)| rays > 0)
+                    .map(|(t, rays)| (s, 1e9 * (t - base) / rays as f64))
+            })
+            .collect();
+        if cost.len() < 3 {
+            continue;
+        }
+        let mut series: Vec<Series> = Vec::new();
+        for r in runs.iter().filter(|r| r.method == "wavefront" && cost.contains_key(r.scene.as_str())) {
+            let Some(v) = baseline::versus_megakernel(r, &fastest, threshold) else { continue };
+            let i = match series.iter().position(|s| s.name == r.label) {
+                Some(i) => i,
+                None => {
+                    series.push(Series { name: r.label.clone(), points: Vec::new(), intervals: Vec::new() });
+                    series.len() - 1
+                }
+            };
+            series[i].points.push((cost[r.scene.as_str()], v.ratio));
+            series[i].intervals.push(v.interval);
+        }
+        if series.is_empty() {
+            continue;
+        }
+        let mut crossings = Vec::new();
+        for s in &mut series {
+            let mut order: Vec<usize> = (0..s.points.len()).collect();
+            order.sort_by(|&a, &b| s.points[a].0.total_cmp(&s.points[b].0));
+            s.points = order.iter().map(|&i| s.points[i]).collect();
+            s.intervals = order.iter().map(|&i| s.intervals[i]).collect();
+            crossings.push(match crossover_at(&s.points) {
+                Some(x) if x > s.points[0].0 => format!("{} at {x:.1} ns/ray", s.name),
+                Some(_) => format!("{} ahead from the start", s.name),
+                None => format!("{} none", s.name),
+            });
+        }
+        let (lo, hi) =
+            cost.values().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &c| (a.min(c), b.max(c)));
+        series.push(Series {
+            name: "parity (1×)".into(),
+            points: vec![(lo, 1.0), (hi, 1.0)],
+            intervals: Vec::new(),
+        });
+        let title = format!(
+            "Speed-up over the fastest megakernel against shading cost: {w}x{h}, {spp} spp, depth {depth}{}. \
+             Crossover: {}",
+            settings_note(nee, roulette),
+            crossings.join("; ")
+        );
+        // The drawing's own title stays short (a long one is cut); the report's names the crossovers.
+        let chart = LineChart {
+            title: format!(
+                "Speed-up against shading cost: {w}x{h}, {spp} spp, depth {depth}{}",
+                settings_note(nee, roulette)
+            ),
+            x_label: format!(
+                "shading cost: the fastest megakernel's extra ns per ray over {SHADING_BASELINE}"
+            ),
+            y_label: "× the fastest megakernel (above 1: faster)".into(),
+            series,
+            ..Default::default()
+        };
+        out.push(Chart {
+            stem: format!("shading-cost-{w}x{h}-{spp}spp-d{depth}{}", settings_stem(nee, roulette)),
+            kind: "shading-cost",
+            title,
+            svg: chart.to_svg(),
+            scene: String::new(),
+            width: w,
+            height: h,
+        });
+    }
+    out
+}
+
+/// Where a curve of (cost, speed-up) points, in cost order, first rises through 1: linear
+/// between the two points either side (the first point's cost when it starts at or above 1).
+fn crossover_at(points: &[(f64, f64)]) -> Option<f64> {
+    if points.first()?.1 >= 1.0 {
+        return Some(points[0].0);
+    }
+    points.windows(2).find(|p| p[0].1 < 1.0 && p[1].1 >= 1.0).map(|p| {
+        let ((x0, y0), (x1, y1)) = (p[0], p[1]);
+        x0 + (1.0 - y0) * (x1 - x0) / (y1 - y0)
+    })
 }
 
 /// The crossover chart, per scene (and depth and NEE where they vary): each GPU method variant's
@@ -602,4 +729,18 @@ fn simd(runs: &[&RunRecord], group: &str) -> Option<GroupedBarChart> {
         percent: true,
         groups: groups.into_iter().collect(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::crossover_at;
+
+    #[test]
+    fn the_crossover_is_where_the_speed_up_first_rises_through_one() {
+        assert_eq!(crossover_at(&[(0.0, 0.5), (10.0, 1.5)]), Some(5.0));
+        assert_eq!(crossover_at(&[(0.0, 0.5), (10.0, 0.9), (20.0, 1.3), (30.0, 0.8)]), Some(12.5));
+        assert_eq!(crossover_at(&[(2.0, 1.2), (10.0, 1.5)]), Some(2.0), "above parity from the start");
+        assert_eq!(crossover_at(&[(0.0, 0.5), (10.0, 0.9)]), None);
+        assert_eq!(crossover_at(&[]), None);
+    }
 }
