@@ -84,10 +84,12 @@ pub fn charts(report: &ExperimentReport) -> Vec<Chart> {
 const SHADING_BASELINE: &str = "rtiow-final";
 
 /// The shading-cost axis (issue 46), per job settings where a config renders `rtiow-final` (the
-/// axis's zero) and two or more scenes of the same geometry with costlier materials: each GPU variant's speed-up
-/// over the fastest megakernel against the scene's shading cost, measured by the fastest
-/// megakernel as its extra nanoseconds per ray over `rtiow-final`; parity drawn at 1, and the
-/// cost at which each variant first crosses it named in the title (the crossover).
+/// axis's zero) and two or more scenes of the same geometry with costlier materials: each
+/// wavefront variant's speed-up over the fastest megakernel against the scene's shading cost,
+/// measured by the fastest megakernel as its extra nanoseconds per shaded hit over `rtiow-final`
+/// (hits counted by a wavefront run's queues; per ray traced where a scene has no such run);
+/// parity drawn at 1, and the cost at which each variant first crosses it named in the title
+/// (the crossover).
 fn shading_cost(report: &ExperimentReport) -> Vec<Chart> {
     let threshold = stability::threshold_of(&report.config);
     let fastest = baseline::fastest_megakernel(report);
@@ -98,7 +100,7 @@ fn shading_cost(report: &ExperimentReport) -> Vec<Chart> {
     }
     let mut out = Vec::new();
     for ((w, h, spp, depth, nee, roulette), runs) in settings {
-        // A scene's cost: its fastest megakernel's time over the baseline's, per ray traced.
+        // A scene's fastest megakernel: its time and rays.
         let megakernel = |scene: &str| {
             runs.iter()
                 .filter(|r| r.method == "megakernel" && r.scene == scene)
@@ -114,13 +116,23 @@ fn shading_cost(report: &ExperimentReport) -> Vec<Chart> {
                 scenes.push(&r.scene);
             }
         }
+        // Per hit where every scene has a wavefront run that counted its hits (the queue
+        // histogram's material queues: every shaded hit), else per ray traced (shadow rays too).
+        let hits = |scene: &str| {
+            runs.iter()
+                .filter(|r| r.scene == scene)
+                .filter_map(|r| Some(r.queue_histogram.as_ref()?.materials.iter().flatten().sum::<u64>()))
+                .find(|&n| n > 0)
+        };
+        let per_hit = scenes.iter().all(|&s| hits(s).is_some());
+        let unit = if per_hit { "hit" } else { "ray" };
         // The baseline itself is the axis's zero (its cost over itself).
         let cost: BTreeMap<&str, f64> = scenes
             .iter()
             .filter_map(|&s| {
-                megakernel(s)
-                    .filter(|&(_, rays)| rays > 0)
-                    .map(|(t, rays)| (s, 1e9 * (t - base) / rays as f64))
+                let (t, rays) = megakernel(s)?;
+                let n = if per_hit { hits(s)? } else { rays };
+                (n > 0).then(|| (s, 1e9 * (t - base) / n as f64))
             })
             .collect();
         if cost.len() < 3 {
@@ -149,7 +161,7 @@ fn shading_cost(report: &ExperimentReport) -> Vec<Chart> {
             s.points = order.iter().map(|&i| s.points[i]).collect();
             s.intervals = order.iter().map(|&i| s.intervals[i]).collect();
             crossings.push(match crossover_at(&s.points) {
-                Some(x) if x > s.points[0].0 => format!("{} at {x:.1} ns/ray", s.name),
+                Some(x) if x > s.points[0].0 => format!("{} at {x:.1} ns/{unit}", s.name),
                 Some(_) => format!("{} ahead from the start", s.name),
                 None => format!("{} none", s.name),
             });
@@ -174,7 +186,7 @@ fn shading_cost(report: &ExperimentReport) -> Vec<Chart> {
                 settings_note(nee, roulette)
             ),
             x_label: format!(
-                "shading cost: the fastest megakernel's extra ns per ray over {SHADING_BASELINE}"
+                "shading cost: the fastest megakernel's extra ns per {unit} over {SHADING_BASELINE}"
             ),
             y_label: "× the fastest megakernel (above 1: faster)".into(),
             series,
