@@ -93,20 +93,13 @@ const SHADING_BASELINE: &str = "rtiow-final";
 fn shading_cost(report: &ExperimentReport) -> Vec<Chart> {
     let threshold = stability::threshold_of(&report.config);
     let fastest = baseline::fastest_megakernel(report);
-    type Settings = (u32, u32, u32, u32, bool, bool);
-    let mut settings: BTreeMap<Settings, Vec<&RunRecord>> = BTreeMap::new();
-    for r in report.runs.iter().filter(|r| r.status == RunStatus::Ok && r.seconds.is_some()) {
-        settings.entry((r.width, r.height, r.spp, r.max_depth, r.nee, r.roulette)).or_default().push(r);
-    }
     let mut out = Vec::new();
-    for ((w, h, spp, depth, nee, roulette), runs) in settings {
+    for ((w, h, spp, depth, nee, roulette), runs) in by_settings(report) {
         // A scene's fastest megakernel: its time and rays.
         let megakernel = |scene: &str| {
             runs.iter()
                 .filter(|r| r.method == "megakernel" && r.scene == scene)
-                .filter(|r| {
-                    fastest.get(&baseline::job_key(r)).is_some_and(|b| b.seconds == r.seconds.unwrap())
-                })
+                .filter(|r| fastest.get(&baseline::job_key(r)).is_some_and(|b| Some(b.seconds) == r.seconds))
                 .find_map(|r| Some((r.seconds?, r.rays?)))
         };
         let Some((base, _)) = megakernel(SHADING_BASELINE) else { continue };
@@ -302,21 +295,14 @@ fn crossover(report: &ExperimentReport) -> Vec<Chart> {
 /// method variant, one chart per resolution, spp and depth shared by two or more scenes. Scenes
 /// keep their config order.
 fn time_by_scene(report: &ExperimentReport) -> Vec<Chart> {
-    let ok: Vec<&RunRecord> = report.runs.iter().filter(|r| r.status == RunStatus::Ok).collect();
     let mut scene_order: Vec<&str> = Vec::new();
     for r in &report.runs {
         if !scene_order.contains(&r.scene.as_str()) {
             scene_order.push(&r.scene);
         }
     }
-    // (width, height, spp, max depth, NEE, roulette): one chart each.
-    type Settings = (u32, u32, u32, u32, bool, bool);
-    let mut settings: BTreeMap<Settings, Vec<&RunRecord>> = BTreeMap::new();
-    for r in ok {
-        settings.entry((r.width, r.height, r.spp, r.max_depth, r.nee, r.roulette)).or_default().push(r);
-    }
     let mut out = Vec::new();
-    for ((w, h, spp, depth, nee, roulette), runs) in settings {
+    for ((w, h, spp, depth, nee, roulette), runs) in by_settings(report) {
         let scenes: Vec<&str> =
             scene_order.iter().copied().filter(|s| runs.iter().any(|r| r.scene == *s)).collect();
         if scenes.len() < 2 {
@@ -353,6 +339,18 @@ fn time_by_scene(report: &ExperimentReport) -> Vec<Chart> {
         });
     }
     out
+}
+
+/// A job's settings but its scene: (width, height, spp, max depth, NEE, roulette).
+type Settings = (u32, u32, u32, u32, bool, bool);
+
+/// The ok runs by their settings, for the charts drawn across scenes (one chart each).
+fn by_settings(report: &ExperimentReport) -> BTreeMap<Settings, Vec<&RunRecord>> {
+    let mut settings: BTreeMap<Settings, Vec<&RunRecord>> = BTreeMap::new();
+    for r in report.runs.iter().filter(|r| r.status == RunStatus::Ok) {
+        settings.entry((r.width, r.height, r.spp, r.max_depth, r.nee, r.roulette)).or_default().push(r);
+    }
+    settings
 }
 
 /// `, NEE`, `, roulette`: the path settings a chart's title names when on.

@@ -178,13 +178,7 @@ pub fn by_name(name: &str) -> Option<Scene> {
 /// N of a well-formed `spheres-N` name: decimal digits without a leading zero or sign, N in
 /// 1..=[`SPHERES_MAX`]; otherwise `None`, so that each scene has exactly one name.
 pub fn spheres_count(name: &str) -> Option<u32> {
-    let digits = name.strip_prefix("spheres-")?;
-    if digits.is_empty() || digits.starts_with('0') || !digits.bytes().all(|b| b.is_ascii_digit()) {
-        return None;
-    }
-    // Long digit strings overflow u32: also out of range.
-    let n: u32 = digits.parse().ok()?;
-    (n <= SPHERES_MAX).then_some(n)
+    super::family_number(name, "spheres-", 1..=SPHERES_MAX)
 }
 
 /// Why `arg` names no scene, when it is not a built-in and `file` (where `arg` leads as a path)

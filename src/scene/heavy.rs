@@ -44,12 +44,7 @@ pub fn parse_name(name: &str) -> Option<u32> {
     if name == "rtiow-heavy" {
         return Some(DEFAULT_OCTAVES);
     }
-    let digits = name.strip_prefix("rtiow-heavy-")?;
-    if digits.starts_with('0') || !digits.chars().all(|c| c.is_ascii_digit()) {
-        return None;
-    }
-    let octaves: u32 = digits.parse().ok()?;
-    (1..=super::texture::MAX_OCTAVES).contains(&octaves).then_some(octaves)
+    super::family_number(name, "rtiow-heavy-", 1..=super::texture::MAX_OCTAVES)
 }
 
 #[cfg(test)]

@@ -40,11 +40,9 @@ pub fn rtiow_kinds(rtiow_final: Scene, kinds: u32) -> Scene {
     scene
 }
 
-/// K of a `rtiow-kinds-K` name, if it is one (K in 1..=8, one digit).
+/// K of a `rtiow-kinds-K` name, if it is one (K in 1..=8, no leading zeros).
 pub fn parse_name(name: &str) -> Option<u32> {
-    let digits = name.strip_prefix("rtiow-kinds-")?;
-    let k: u32 = (digits.len() == 1).then(|| digits.parse().ok()).flatten()?;
-    (1..=MAX_KINDS).contains(&k).then_some(k)
+    super::family_number(name, "rtiow-kinds-", 1..=MAX_KINDS)
 }
 
 /// Why a `rtiow-kinds-…` name names no scene.

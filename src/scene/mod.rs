@@ -23,6 +23,19 @@ use glam::Vec3;
 pub use crate::input_error::InputError;
 pub use texture::{Pattern, Texture};
 
+/// N of a built-in family's name `PREFIX` + N (`spheres-100`, `rtiow-heavy-4`): decimal digits
+/// without a leading zero or sign, N in `range`; otherwise `None`, so that each scene has exactly
+/// one name.
+pub fn family_number(name: &str, prefix: &str, range: std::ops::RangeInclusive<u32>) -> Option<u32> {
+    let digits = name.strip_prefix(prefix)?;
+    if digits.is_empty() || digits.starts_with('0') || !digits.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    // Long digit strings overflow u32: also out of range.
+    let n: u32 = digits.parse().ok()?;
+    range.contains(&n).then_some(n)
+}
+
 /// The format tag every scene file carries in its `"format"` field.
 pub const FORMAT: &str = "wavetrace-scene/1";
 

@@ -19,12 +19,7 @@ const HALF: f32 = 11.0;
 /// N of a well-formed `triangles-N` name: decimal digits without a leading zero, N in
 /// 1..=[`TRIANGLES_MAX`].
 pub fn parse_name(name: &str) -> Option<u32> {
-    let digits = name.strip_prefix("triangles-")?;
-    if digits.is_empty() || digits.starts_with('0') || !digits.bytes().all(|b| b.is_ascii_digit()) {
-        return None;
-    }
-    let n: u32 = digits.parse().ok()?;
-    (1..=TRIANGLES_MAX).contains(&n).then_some(n)
+    super::family_number(name, "triangles-", 1..=TRIANGLES_MAX)
 }
 
 /// Why `name` looks like `triangles-N` but is not one (for the "no such scene" error).
