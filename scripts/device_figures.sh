@@ -22,9 +22,10 @@
 #                       (wavetrace bandwidth)                                tiny   <1 min
 #   compute-passes      the wavefront's dispatches in one compute pass each or sharing passes
 #                       (--compute-passes), and regenerate + tail's host loop that never waits
-#                       against one that waits for each check (--batches-in-flight 3, 1), waves
-#                       and regenerate + tail, rtiow-final and mesh-room at 1920x1080x64 NEE
-#                       (device/compute_passes.json)                         8.0e9 ~2 min
+#                       against one that waits for each check (--batches-in-flight 3, 1), and
+#                       consumers launched at the pool's size (--launch pool), waves and
+#                       regenerate + tail, rtiow-final and mesh-room at 1920x1080x64 NEE
+#                       (device/compute_passes.json)                        10.7e9 ~3 min
 #   shader-checks       wgpu's runtime shader checks on and off, every GPU method, rtiow-final
 #                       and mesh-room at 1920x1080x64 NEE (device/shader_checks.json) 11e9 ~2 min
 #   specialize          shaders with only the scene's kinds compiled in or every kind

@@ -98,6 +98,48 @@ impl GpuMonitor {
     }
 }
 
+/// A device's streaming multiprocessors: how many, and the threads each holds at once.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Multiprocessors {
+    pub count: u32,
+    pub threads_each: u32,
+}
+
+impl GpuMonitor {
+    /// The device's multiprocessors: NVML's count where it gives one (MIG instances), else its
+    /// CUDA cores over the cores per SM of its compute capability; None for an architecture
+    /// [`sm_shape`] does not know.
+    pub fn multiprocessors(&self) -> Option<Multiprocessors> {
+        let d = self.nvml.device_by_index(self.index).ok()?;
+        let cc = d.cuda_compute_capability().ok()?;
+        let (cores_each, threads_each) = sm_shape(cc.major, cc.minor)?;
+        let count = match d.attributes() {
+            Ok(a) if a.multiprocessor_count > 0 => a.multiprocessor_count,
+            _ => d.num_cores().ok()? / cores_each,
+        };
+        (count > 0).then_some(Multiprocessors { count, threads_each })
+    }
+}
+
+/// (FP32 cores per SM, most resident threads per SM) of a CUDA compute capability, from the
+/// CUDA C++ Programming Guide's tables; None for one not listed.
+pub fn sm_shape(major: i32, minor: i32) -> Option<(u32, u32)> {
+    Some(match (major, minor) {
+        (5, _) => (128, 2048),
+        (6, 0) => (64, 2048),
+        (6, _) => (128, 2048),
+        (7, 5) => (64, 1024),
+        (7, _) => (64, 2048),
+        (8, 0) => (64, 2048),
+        (8, 7) => (128, 2048),
+        (8, _) => (128, 1536),
+        (9, 0) => (128, 2048),
+        (10, _) => (128, 2048),
+        (12, _) => (128, 1536),
+        _ => return None,
+    })
+}
+
 /// A PCI bus id as (domain, bus, device, function), from wgpu's `0000:65:00.0` or NVML's
 /// `00000000:65:00.0`; None when empty or malformed.
 pub fn parse_bus_id(id: &str) -> Option<(u32, u32, u32, u32)> {
@@ -118,5 +160,16 @@ mod tests {
         assert_eq!(parse_bus_id("00000000:65:00.0"), parse_bus_id("0000:65:00.0"));
         assert_eq!(parse_bus_id(""), None);
         assert_eq!(parse_bus_id("not a bus"), None);
+    }
+
+    #[test]
+    fn hopper_has_132_sms_of_2048_threads() {
+        // An H100 SXM or H200: 16,896 CUDA cores at compute capability 9.0.
+        let (cores, threads) = sm_shape(9, 0).unwrap();
+        assert_eq!((16_896 / cores, threads), (132, 2048));
+        // An A100: 6,912 cores at 8.0 (108 SMs); an RTX 4090: 16,384 at 8.9 (128 SMs).
+        assert_eq!(6_912 / sm_shape(8, 0).unwrap().0, 108);
+        assert_eq!(sm_shape(8, 9), Some((128, 1536)));
+        assert_eq!(sm_shape(3, 5), None);
     }
 }

@@ -203,7 +203,10 @@ pub struct WaveUniform {
     pub compact_states: u32,
     /// 1: camera rays are made where they are used, not stored (queues on, no ray sort).
     pub camera_in_place: u32,
-    pub pad2: u32,
+    /// 1: the passes that consume a queue are launched at the pool's size (`--launch pool`), so
+    /// past a regenerating share's end (DONE) they return at once instead of getting zero
+    /// workgroups.
+    pub launch_pool: u32,
 }
 
 /// WGSL: `Range` in `shaders/accumulate.wgsl`: the samples l in `first .. first + count` of a

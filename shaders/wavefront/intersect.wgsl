@@ -14,7 +14,7 @@ override WORKGROUP_SIZE: u32 = 64u;
 fn intersect(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
     instrument_begin(/*@subgroup_size_arg*/);
     let entry = ray_queue_entry(gid.x);
-    if entry == DEAD {
+    if entry == DEAD || launched_past_done() {
         return;
     }
     let slot = entry & ~CAMERA_RAY;

@@ -32,7 +32,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     if q < QUEUE_PATTERN_0 {
         position += atomicLoad(&counters[COUNTER_SHADE_BASE + q - QUEUE_MATERIAL_0]);
     }
-    if slot == DEAD {
+    if slot == DEAD || launched_past_done() {
         return;
     }
     let bounce = path_bounce(slot);

@@ -8,7 +8,7 @@ use crate::gpu::instrument::FRAME_KEY;
 use crate::gpu::megakernel::{MegakernelOptions, DEFAULT_THREADS_DISCRETE};
 use crate::gpu::wavefront::{Compaction, Tail, WavefrontOptions, DEFAULT_POOL};
 use crate::options::Named;
-use crate::options::Schedule;
+use crate::options::{PoolSize, Schedule};
 use crate::replay::lockstep::SlotCounts;
 use crate::replay::{megakernel, regenerate, wavefront, width};
 use crate::scene::Scene;
@@ -168,7 +168,13 @@ pub fn run(a: ReplayArgs) -> Result<()> {
             bail!("replay: {flag} moves paths between slots or queue positions in ways the replay does not model");
         }
     }
-    let pool = wf.pool_size.unwrap_or(DEFAULT_POOL);
+    let pool = match wf.pool_size {
+        None => DEFAULT_POOL,
+        Some(PoolSize::Paths(n)) => n,
+        Some(PoolSize::Device) => {
+            bail!("replay: --pool-size device needs the device's multiprocessors; give the pool as a number")
+        }
+    };
     // The paths the GPU methods trace: the scene in their render space, default options.
     let (packed, frame) =
         crate::method::prepare(crate::method::Method::Megakernel, &scene, &settings, &Default::default())?;

@@ -91,7 +91,7 @@ pub fn measure(ctx: &GpuContext, scene: &Scene, job: &IntersectCost) -> Result<I
         wavefront: WavefrontOptions {
             schedule: Schedule::Waves,
             workgroup_size: job.workgroup_size,
-            pool_size: job.pool_size,
+            pool_size: job.pool_size.map(crate::options::PoolSize::Paths),
             ..Default::default()
         },
         timing: Timing::Passes,

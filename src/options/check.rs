@@ -7,7 +7,7 @@ use super::{
     CompactStates, Compaction, Method, MethodOptions, RaySort, Schedule, ShadePasses, Tail, CHUNK_POOLS,
     DEFAULT_REFILL_BELOW, MAX_BATCHES_IN_FLIGHT, MAX_CHUNK_POOLS, MAX_SYNC_EVERY,
 };
-use super::{MegakernelOptions, Named, WavefrontOptions};
+use super::{MegakernelOptions, Named, PoolSize, WavefrontOptions};
 
 /// Largest workgroup any knob asks for (WebGPU's limit on `maxComputeInvocationsPerWorkgroup`
 /// is 256 by default; adapters allow up to 1024, checked against the device when it runs).
@@ -131,7 +131,7 @@ pub fn check_megakernel(o: &MegakernelOptions) -> Result<(), OptionError> {
 /// The wavefront's options, checked (as [`check`]).
 pub fn check_wavefront(o: &WavefrontOptions) -> Result<(), OptionError> {
     in_range("workgroup_size", o.workgroup_size, 1, MAX_WORKGROUP_SIZE, "")?;
-    if o.pool_size == Some(0) {
+    if o.pool_size == Some(PoolSize::Paths(0)) {
         return Err(OptionError::range("pool_size", "must be at least 1".into()));
     }
     in_range("sync_every", o.sync_every, 1, MAX_SYNC_EVERY, " iterations")?;

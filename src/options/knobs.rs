@@ -5,8 +5,8 @@
 //! row here (and a rule in `check.rs` if it needs one).
 
 use super::{
-    Append, CompactStates, Compaction, ComputePasses, Method, MethodOptions, Named, QueueOrder, RaySort,
-    Scan, Schedule, ShadePasses, ShaderChecks, Specialize, Tail, Timing,
+    Append, CompactStates, Compaction, ComputePasses, Launch, Method, MethodOptions, Named, PoolSize,
+    QueueOrder, RaySort, Scan, Schedule, ShadePasses, ShaderChecks, Specialize, Tail, Timing,
 };
 use crate::light_options::{LightSampling, LightSelect};
 use crate::numerics::{Fresnel, RayOffset, SphereHit};
@@ -98,6 +98,7 @@ enum_values!(
     CompactStates,
     RaySort,
     ComputePasses,
+    Launch,
     ShaderChecks,
     Specialize,
     Timing,
@@ -134,6 +135,22 @@ impl KnobValue for Option<u32> {
         match v {
             Value::Null => Ok(None),
             v => u32::read(v).map(Some).map_err(|e| format!("{e} (or null for the default)")),
+        }
+    }
+    fn show(&self) -> String {
+        self.map_or("auto".into(), |x| x.to_string())
+    }
+}
+
+/// A count, `"device"` (Cycles' rule), or null for the default (`auto` in labels).
+impl KnobValue for Option<PoolSize> {
+    fn read(v: &Value) -> Result<Self, String> {
+        match v {
+            Value::Null => Ok(None),
+            Value::String(s) if s == "device" => Ok(Some(PoolSize::Device)),
+            v => u32::read(v)
+                .map(|n| Some(PoolSize::Paths(n)))
+                .map_err(|e| format!("{e} (or \"device\", or null for the default)")),
         }
     }
     fn show(&self) -> String {
@@ -211,7 +228,7 @@ pub static KNOBS: &[Knob] = &[
     shared!("workgroup_size", "wg", u32, workgroup_size),
     knob!("samples_per_dispatch", "spd", MEGAKERNEL, u64, o => o.megakernel.samples_per_dispatch),
     knob!("threads", "threads", MEGAKERNEL, Option<u32>, o => o.megakernel.threads),
-    knob!("pool_size", "pool", WAVEFRONT, Option<u32>, o => o.wavefront.pool_size),
+    knob!("pool_size", "pool", WAVEFRONT, Option<PoolSize>, o => o.wavefront.pool_size),
     knob!("compaction", "compaction", WAVEFRONT, Compaction, o => o.wavefront.compaction),
     knob!("shade", "shade", WAVEFRONT, ShadePasses, o => o.wavefront.shade),
     shared!("schedule", "schedule", Schedule, schedule),
@@ -227,6 +244,7 @@ pub static KNOBS: &[Knob] = &[
     knob!("compact_states", "compact-states", WAVEFRONT, CompactStates, o => o.wavefront.compact_states),
     knob!("ray_sort", "ray-sort", WAVEFRONT, RaySort, o => o.wavefront.ray_sort),
     knob!("compute_passes", "compute-passes", WAVEFRONT, ComputePasses, o => o.wavefront.compute_passes),
+    knob!("launch", "launch", WAVEFRONT, Launch, o => o.wavefront.launch),
     knob!("shader_checks", "shader-checks", GPU, ShaderChecks, o => o.shader_checks),
     knob!("specialize", "specialize", GPU, Specialize, o => o.specialize),
     knob!("timing", "timing", GPU, Timing, o => o.timing),
@@ -296,6 +314,7 @@ pub const COLUMNS: &[&str] = &[
     "shader_checks",
     "specialize",
     "batches_in_flight",
+    "launch",
 ];
 
 /// The knob named `name`.

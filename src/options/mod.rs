@@ -7,12 +7,14 @@ mod check;
 pub mod knobs;
 mod measure;
 mod megakernel;
+mod pool_size;
 mod schedule;
 mod wavefront;
 
 pub use check::{check, check_megakernel, check_wavefront, OptionError, Problem};
 pub use measure::*;
 pub use megakernel::MegakernelOptions;
+pub use pool_size::PoolSize;
 pub use schedule::{RunSchedule, Schedule};
 pub use wavefront::*;
 

@@ -3,7 +3,7 @@
 //! kebab-case spelling is checked against it in `knobs.rs`'s tests); the mechanisms they choose
 //! are described where they are built (`gpu/wavefront/<noun>.rs`).
 
-use super::{RunSchedule, Schedule};
+use super::{PoolSize, RunSchedule, Schedule};
 
 /// How queues are kept dense.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
@@ -143,6 +143,20 @@ pub enum ComputePasses {
     Shared,
 }
 
+/// How the passes that consume a queue (intersect, shade, shadow, the refill) are launched
+/// (`--launch`, issue 42).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Launch {
+    /// Sized on the GPU: a setup pass turns the queue's length into the pass's workgroup count,
+    /// read by an indirect dispatch (vello's way).
+    #[default]
+    Indirect,
+    /// At the pool's size (a wave's paths): threads past the queue's length return at once, as
+    /// pbrt-v4's `ForAllQueued` launches its queues' largest size; no indirect arguments read.
+    Pool,
+}
+
 /// Iterations between checks (and per submitted batch) when regenerating: each check's passes
 /// and each batch's submission and read-back cost fixed time; each iteration recorded after the
 /// work ran out costs its (empty) dispatches.
@@ -163,9 +177,11 @@ pub const MAX_CHUNK_POOLS: u32 = 1024;
 #[command(next_help_heading = "Wavefront")]
 pub struct WavefrontOptions {
     /// Wavefront: paths in flight (default about a million, less where the adapter's storage
-    /// bindings are smaller; a pool that does not fit is reduced with a notice).
-    #[arg(long, hide_short_help = true)]
-    pub pool_size: Option<u32>,
+    /// bindings are smaller; a pool that does not fit is reduced with a notice), or `device`:
+    /// Cycles' rule, max(SMs × threads per SM, 65536) × 16 (about 4.3 million on an H100 or
+    /// H200; the SM count from NVIDIA's NVML, the default pool where it is unknown).
+    #[arg(long, value_parser = PoolSize::parse, hide_short_help = true)]
+    pub pool_size: Option<PoolSize>,
     /// Threads per workgroup: `--workgroup-size`, which the command line sets for both GPU
     /// methods.
     #[arg(skip = DEFAULT_WORKGROUP_SIZE)]
@@ -221,6 +237,11 @@ pub struct WavefrontOptions {
     /// next copy or submission; only where passes are not timed: with `--timing frame`).
     #[arg(long, value_enum, default_value_t = ComputePasses::Shared, hide_short_help = true)]
     pub compute_passes: ComputePasses,
+    /// Wavefront: launch the passes that consume a queue (intersect, shade, shadow, the refill)
+    /// with the workgroups a setup pass wrote from the queue's length (`indirect`), or at the
+    /// pool's size, threads past the queue's length returning at once (`pool`, pbrt-v4's way).
+    #[arg(long, value_enum, default_value_t = Launch::Indirect, hide_short_help = true)]
+    pub launch: Launch,
     /// Wavefront: keep queues in the order their paths arrived, or build the ray queue in slot
     /// order by a pass over the pool (a subgroup reads neighbouring path states; regenerated
     /// samples fill the lowest free slots): a stable scan with --compaction-method scan, a sweep
@@ -267,6 +288,7 @@ impl Default for WavefrontOptions {
             scan: Scan::Auto,
             append: Append::Auto,
             compute_passes: ComputePasses::Shared,
+            launch: Launch::Indirect,
             queue_order: QueueOrder::Auto,
             refill_below: DEFAULT_REFILL_BELOW,
             compact_states: CompactStates::Off,

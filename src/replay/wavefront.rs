@@ -28,7 +28,7 @@ use crate::gpu::label;
 use crate::gpu::wavefront::schedule::{shares, ChunkCounters, Decision, Progress, Ring};
 use crate::gpu::wavefront::{Compaction, QueueOrder, ShadePasses, Tail, WavefrontOptions, DEFAULT_POOL};
 use crate::layout::DispatchParams;
-use crate::options::{RunSchedule, Schedule};
+use crate::options::{PoolSize, RunSchedule, Schedule};
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
@@ -72,7 +72,7 @@ impl Launch {
     /// The device's options this launch replays (for their checks).
     fn options(&self) -> WavefrontOptions {
         WavefrontOptions {
-            pool_size: Some(self.pool),
+            pool_size: Some(PoolSize::Paths(self.pool)),
             compaction: self.compaction,
             shade: self.shade,
             schedule: self.schedule,
@@ -106,7 +106,11 @@ impl Launch {
             "the replay needs the schedule the device runs: resolve --schedule auto first"
         );
         Self {
-            pool: opts.pool_size.unwrap_or(DEFAULT_POOL),
+            // `device` needs a device: the CLI refuses it, and a library caller gets the default.
+            pool: match opts.pool_size {
+                Some(PoolSize::Paths(n)) => n,
+                None | Some(PoolSize::Device) => DEFAULT_POOL,
+            },
             compaction: opts.compaction,
             shade: opts.shade,
             schedule: opts.schedule,

@@ -8,6 +8,7 @@ use crate::common::render_wavefront as run;
 
 use wavetrace::gpu::instrument::Coherence;
 use wavetrace::gpu::wavefront::{Compaction, QueueOrder, Schedule, Tail, WavefrontOptions};
+use wavetrace::options::PoolSize;
 use wavetrace::settings::{Accel, RenderSettings};
 
 fn settings(spp: u32, nee: bool) -> RenderSettings {
@@ -33,7 +34,7 @@ fn slot_order_gives_the_waves_film() {
     let Some(_) = common::gpu() else { return };
     for (scene, nee) in [("cornell", true), ("rtiow-final", false)] {
         let s = settings(8, nee);
-        let base = WavefrontOptions { pool_size: Some(1500), ..Default::default() };
+        let base = WavefrontOptions { pool_size: Some(PoolSize::Paths(1500)), ..Default::default() };
         let waves = run(scene, &s, base, false).unwrap().film;
         assert!(waves.image_mean() > 0.0, "{scene}: a black film proves nothing");
         let cases = [
@@ -109,7 +110,7 @@ fn slot_order_reads_fewer_path_state_lines() {
     for compaction in [Compaction::Atomic, Compaction::Scan] {
         let lines = |queue_order| {
             let wf = WavefrontOptions {
-                pool_size: Some(4096),
+                pool_size: Some(PoolSize::Paths(4096)),
                 compaction,
                 schedule: Schedule::Regenerate,
                 queue_order,
@@ -148,7 +149,7 @@ fn the_depth_key_keeps_first_bounces_together() {
     for compaction in [Compaction::Atomic, Compaction::Scan] {
         let measure = |queue_order| {
             let wf = WavefrontOptions {
-                pool_size: Some(4096),
+                pool_size: Some(PoolSize::Paths(4096)),
                 compaction,
                 schedule: Schedule::Regenerate,
                 queue_order,
@@ -184,7 +185,12 @@ fn auto_order_follows_the_measurement() {
     let s = settings(8, false);
     let samples = 40 * 24 * 8;
     let slot_order = |schedule, compaction, pool: u32| {
-        let wf = WavefrontOptions { pool_size: Some(pool), schedule, compaction, ..Default::default() };
+        let wf = WavefrontOptions {
+            pool_size: Some(PoolSize::Paths(pool)),
+            schedule,
+            compaction,
+            ..Default::default()
+        };
         assert_eq!(wf.queue_order, QueueOrder::Auto, "auto is the default");
         run("three-spheres", &s, wf, false).unwrap().schedule.unwrap().slot_order
     };

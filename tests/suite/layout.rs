@@ -126,7 +126,7 @@ fn wave() {
             refill_live,
             compact_states,
             camera_in_place,
-            pad2
+            launch_pool
         ]
     );
 }

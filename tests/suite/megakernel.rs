@@ -8,6 +8,7 @@ use crate::common;
 use glam::Vec3;
 use wavetrace::gpu::megakernel::MegakernelOptions;
 use wavetrace::method::{render, Method, MethodOptions, RenderOutput};
+use wavetrace::options::PoolSize;
 use wavetrace::options::Schedule;
 use wavetrace::scene::{builtin, Mesh, MeshSource, Scene};
 use wavetrace::settings::{Accel, RenderSettings};
@@ -217,7 +218,7 @@ fn memory_is_accounted_by_category() {
     // A bigger pool holds more path state.
     let opts = |pool| MethodOptions {
         wavefront: wavetrace::gpu::wavefront::WavefrontOptions {
-            pool_size: Some(pool),
+            pool_size: Some(PoolSize::Paths(pool)),
             ..Default::default()
         },
         ..Default::default()

@@ -8,6 +8,7 @@ use crate::common::render_wavefront as run;
 
 use wavetrace::gpu::wavefront::{Compaction, QueueOrder, RaySort, Schedule, Tail, WavefrontOptions};
 use wavetrace::options::Named;
+use wavetrace::options::PoolSize;
 use wavetrace::settings::{Accel, RenderSettings};
 
 fn settings(width: u32, height: u32, spp: u32, nee: bool) -> RenderSettings {
@@ -22,7 +23,7 @@ fn sorted_rays_give_the_waves_film() {
     let Some(_) = common::gpu() else { return };
     for (scene, nee) in [("cornell", true), ("rtiow-final", false)] {
         let s = settings(40, 24, 8, nee);
-        let base = WavefrontOptions { pool_size: Some(1500), ..Default::default() };
+        let base = WavefrontOptions { pool_size: Some(PoolSize::Paths(1500)), ..Default::default() };
         let waves = run(scene, &s, base, false).unwrap().film;
         assert!(waves.image_mean() > 0.0, "{scene}: a black film proves nothing");
         let regenerate = WavefrontOptions { schedule: Schedule::Regenerate, ..base };
@@ -75,7 +76,7 @@ fn sorting_puts_a_subgroup_s_rays_in_one_octant() {
             let wf = WavefrontOptions {
                 compaction,
                 ray_sort,
-                pool_size: Some(4096),
+                pool_size: Some(PoolSize::Paths(4096)),
                 schedule: Schedule::Regenerate,
                 ..Default::default()
             };

@@ -9,6 +9,7 @@ use crate::common::render_wavefront as run;
 use wavetrace::gpu::wavefront::{
     CompactStates, Compaction, QueueOrder, Schedule, ScheduleStats, Tail, WavefrontOptions,
 };
+use wavetrace::options::PoolSize;
 use wavetrace::settings::{Accel, RenderSettings};
 
 fn settings(width: u32, height: u32, spp: u32, nee: bool) -> RenderSettings {
@@ -16,7 +17,11 @@ fn settings(width: u32, height: u32, spp: u32, nee: bool) -> RenderSettings {
 }
 
 fn regenerating(pool: u32) -> WavefrontOptions {
-    WavefrontOptions { pool_size: Some(pool), schedule: Schedule::Regenerate, ..Default::default() }
+    WavefrontOptions {
+        pool_size: Some(PoolSize::Paths(pool)),
+        schedule: Schedule::Regenerate,
+        ..Default::default()
+    }
 }
 
 /// Both compaction methods, arrival and slot orders, with and without NEE (the shadow weight
@@ -29,9 +34,14 @@ fn batched_refills_and_state_compaction_give_the_waves_film() {
     let Some(_) = common::gpu() else { return };
     for (scene, nee) in [("cornell", true), ("rtiow-final", false)] {
         let s = settings(40, 24, 8, nee);
-        let waves = run(scene, &s, WavefrontOptions { pool_size: Some(1500), ..Default::default() }, false)
-            .unwrap()
-            .film;
+        let waves = run(
+            scene,
+            &s,
+            WavefrontOptions { pool_size: Some(PoolSize::Paths(1500)), ..Default::default() },
+            false,
+        )
+        .unwrap()
+        .film;
         assert!(waves.image_mean() > 0.0, "{scene}: a black film proves nothing");
         let cases = [
             (Compaction::Atomic, QueueOrder::Arrival, Tail::Off, 8),

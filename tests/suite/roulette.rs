@@ -12,6 +12,7 @@ use wavetrace::gpu::wavefront::{
     CompactStates, Compaction, QueueOrder, Schedule, ShadePasses, Tail, WavefrontOptions,
 };
 use wavetrace::method::{render, Method, MethodOptions};
+use wavetrace::options::PoolSize;
 use wavetrace::scene::builtin;
 use wavetrace::settings::{Accel, RenderSettings};
 
@@ -127,11 +128,16 @@ fn the_wavefront_ends_the_megakernels_paths_for_every_knob() {
     let mut knobs = Vec::new();
     for compaction in [Compaction::Off, Compaction::Atomic, Compaction::Scan] {
         for shade in [ShadePasses::PerMaterial, ShadePasses::Single] {
-            knobs.push(WavefrontOptions { pool_size: Some(700), compaction, shade, ..Default::default() });
+            knobs.push(WavefrontOptions {
+                pool_size: Some(PoolSize::Paths(700)),
+                compaction,
+                shade,
+                ..Default::default()
+            });
         }
     }
     knobs.push(WavefrontOptions {
-        pool_size: Some(700),
+        pool_size: Some(PoolSize::Paths(700)),
         queue_order: QueueOrder::Slot,
         ..Default::default()
     });

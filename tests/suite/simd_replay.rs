@@ -5,6 +5,7 @@ use crate::common;
 
 use wavetrace::gpu::instrument::{FRAME_KEY, WORK_PREFIX};
 use wavetrace::method::{render, Method, MethodOptions};
+use wavetrace::options::PoolSize;
 use wavetrace::options::Schedule;
 use wavetrace::scene::builtin;
 use wavetrace::settings::{Accel, RenderSettings};
@@ -233,7 +234,7 @@ fn replay_matches_the_device_with_roulette() {
     opts.wavefront.schedule = Schedule::Regenerate;
     opts.wavefront.tail = Tail::Megakernel;
     opts.wavefront.tail_threshold = 0.5;
-    opts.wavefront.pool_size = Some(128);
+    opts.wavefront.pool_size = Some(PoolSize::Paths(128));
     assert_replay_matches_with("wavefront regenerate slot, tail, roulette", Method::Wavefront, &opts, true);
 }
 
@@ -270,7 +271,7 @@ fn regenerating_wavefront_replay_matches_the_device() {
     let mut opts = MethodOptions { instrument: true, ..Default::default() };
     opts.wavefront.compaction = wavetrace::gpu::wavefront::Compaction::Scan;
     opts.wavefront.schedule = Schedule::Regenerate;
-    opts.wavefront.pool_size = Some(128);
+    opts.wavefront.pool_size = Some(PoolSize::Paths(128));
     // Arrival order, and both slot orders (`auto` would take slot order on this job of 6
     // pools): the refills into the lowest free slots, the queues by slot, keyed by depth or not.
     use wavetrace::gpu::wavefront::QueueOrder;
@@ -300,10 +301,10 @@ fn regenerating_wavefront_tail_replay_matches_the_device() {
     opts.wavefront.tail = Tail::Megakernel;
     // Half the pool: large tails (up to 64 paths of a pool of 128).
     opts.wavefront.tail_threshold = 0.5;
-    opts.wavefront.pool_size = Some(128);
+    opts.wavefront.pool_size = Some(PoolSize::Paths(128));
     opts.wavefront.queue_order = QueueOrder::Arrival;
     assert_replay_matches("wavefront regenerate, tail", Method::Wavefront, &opts);
-    opts.wavefront.pool_size = Some(64);
+    opts.wavefront.pool_size = Some(PoolSize::Paths(64));
     opts.wavefront.chunk_pools = 2;
     opts.wavefront.sync_every = 2;
     opts.wavefront.queue_order = QueueOrder::SlotDepth;
@@ -323,7 +324,7 @@ fn regenerating_wavefront_ring_replay_matches_the_device() {
     let mut opts = MethodOptions { instrument: true, ..Default::default() };
     opts.wavefront.compaction = Compaction::Scan;
     opts.wavefront.schedule = Schedule::Regenerate;
-    opts.wavefront.pool_size = Some(32);
+    opts.wavefront.pool_size = Some(PoolSize::Paths(32));
     for (order, label) in [
         (QueueOrder::Arrival, "wavefront regenerate, ring binds"),
         (QueueOrder::Slot, "wavefront regenerate, ring binds, slot order"),
@@ -518,7 +519,7 @@ fn sampled_subsets_agree_with_the_full_replay() {
         };
         let mut wf = wavefront::Launch::from_options(&WavefrontOptions {
             schedule: Schedule::Waves,
-            pool_size: Some(512),
+            pool_size: Some(PoolSize::Paths(512)),
             compaction: Compaction::Scan,
             queue_order: QueueOrder::Slot,
             ..Default::default()

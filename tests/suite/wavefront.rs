@@ -7,6 +7,7 @@ use wavetrace::film::Film;
 use wavetrace::gpu::timing::Timing;
 use wavetrace::gpu::wavefront::{Compaction, Schedule, ShadePasses, Tail, WavefrontOptions};
 use wavetrace::method::{render, Method, MethodOptions, RenderOutput};
+use wavetrace::options::PoolSize;
 use wavetrace::scene::builtin;
 use wavetrace::settings::{Accel, RenderSettings};
 
@@ -39,7 +40,7 @@ fn all_knobs() -> Vec<WavefrontOptions> {
         for shade in [ShadePasses::PerMaterial, ShadePasses::Single] {
             // A small pool so every render runs several waves.
             v.push(WavefrontOptions {
-                pool_size: Some(7000),
+                pool_size: Some(PoolSize::Paths(7000)),
                 workgroup_size: 64,
                 compaction,
                 shade,
@@ -103,8 +104,11 @@ fn per_texture_shade_passes_trace_the_megakernels_paths() {
     let s = settings(4);
     let reference = run(Method::Megakernel, "rtiow-kinds-8", &s, &MethodOptions::default()).film;
     let per_material = run_wavefront("rtiow-kinds-8", &s, WavefrontOptions::default()).film;
-    let per_texture =
-        WavefrontOptions { shade: ShadePasses::PerTexture, pool_size: Some(2000), ..Default::default() };
+    let per_texture = WavefrontOptions {
+        shade: ShadePasses::PerTexture,
+        pool_size: Some(PoolSize::Paths(2000)),
+        ..Default::default()
+    };
     let mut opts = MethodOptions { wavefront: per_texture, ..Default::default() };
     opts.wavefront.schedule = Schedule::Waves;
     let waved = run(Method::Wavefront, "rtiow-kinds-8", &s, &opts);
@@ -151,7 +155,7 @@ fn wavefront_repeats_bit_identically_with_atomic_queues() {
     let s = settings(8);
     // Atomic appends order queues differently run to run; results must not depend on it.
     let opts = MethodOptions {
-        wavefront: WavefrontOptions { pool_size: Some(3000), ..Default::default() },
+        wavefront: WavefrontOptions { pool_size: Some(PoolSize::Paths(3000)), ..Default::default() },
         ..Default::default()
     };
     let a = run(Method::Wavefront, "rtiow-final", &s, &opts);
@@ -215,7 +219,7 @@ fn measurements_are_reported() {
 fn an_oversized_pool_is_reduced_not_fatal() {
     let Some(ctx) = common::gpu() else { return };
     let opts = MethodOptions {
-        wavefront: WavefrontOptions { pool_size: Some(u32::MAX), ..Default::default() },
+        wavefront: WavefrontOptions { pool_size: Some(PoolSize::Paths(u32::MAX)), ..Default::default() },
         ..Default::default()
     };
     let out = run(Method::Wavefront, "furnace", &settings(1), &opts);
@@ -225,6 +229,31 @@ fn an_oversized_pool_is_reduced_not_fatal() {
     let max = wavetrace::gpu::wavefront::max_pool(ctx, WavefrontOptions::default().workgroup_size);
     assert!(max < u32::MAX);
     assert_eq!(out.pool, Some(max.min(40 * 24)));
+}
+
+/// `--pool-size device`: Cycles' rule where NVML gives the SM count, else the default pool (as
+/// on the software driver), and the run records the count it used, never "device".
+#[test]
+fn a_pool_sized_to_the_device_follows_cycles_rule_or_the_default() {
+    use wavetrace::gpu::wavefront::pool;
+    let Some(ctx) = common::gpu() else { return };
+    let opts = WavefrontOptions { pool_size: Some(PoolSize::Device), ..Default::default() };
+    let max = pool::max_pool(ctx, opts.workgroup_size);
+    let sms = wavetrace::gpu_state::GpuMonitor::open(&ctx.summary).and_then(|m| m.multiprocessors());
+    let expected = match sms {
+        Some(m) => pool::cycles_pool(m).min(max as u64) as u32,
+        None => pool::DEFAULT_POOL.min(max),
+    };
+    assert_eq!(pool::choose(ctx, &opts).unwrap(), expected);
+    let out = run(
+        Method::Wavefront,
+        "furnace",
+        &settings(1),
+        &MethodOptions { wavefront: opts, ..Default::default() },
+    );
+    assert_eq!(out.pool, Some(expected.min(40 * 24)));
+    let resolved = serde_json::to_value(out.resolved.wavefront).unwrap();
+    assert_eq!(resolved["pool_size"], serde_json::json!(expected.min(40 * 24)), "{resolved}");
 }
 
 fn regenerating(base: WavefrontOptions) -> WavefrontOptions {
@@ -246,7 +275,7 @@ fn regenerate_gives_the_waved_film_bit_for_bit() {
     for (scene, s) in cases {
         for knobs in all_knobs() {
             // A pool of 700 makes chunks of 8 pools: many chunks, many refills per chunk.
-            let waves = WavefrontOptions { pool_size: Some(700), ..knobs };
+            let waves = WavefrontOptions { pool_size: Some(PoolSize::Paths(700)), ..knobs };
             let w = run_wavefront(scene, &s, waves);
             let regen = WavefrontOptions { sync_every: 3, ..regenerating(waves) };
             let r = run_wavefront(scene, &s, regen);
@@ -268,7 +297,7 @@ fn regenerate_spans_several_shares() {
         return;
     }
     let s = RenderSettings { width: 2, height: 2, spp: 5000, ..settings(1) };
-    let base = WavefrontOptions { pool_size: Some(1000), ..Default::default() };
+    let base = WavefrontOptions { pool_size: Some(PoolSize::Paths(1000)), ..Default::default() };
     let w = run_wavefront("rtiow-final", &s, base);
     let r = run_wavefront("rtiow-final", &s, regenerating(base));
     assert_eq!(w.film, r.film);
@@ -282,7 +311,10 @@ fn regenerate_repeats_bit_identically() {
         return;
     }
     let opts = MethodOptions {
-        wavefront: regenerating(WavefrontOptions { pool_size: Some(1000), ..Default::default() }),
+        wavefront: regenerating(WavefrontOptions {
+            pool_size: Some(PoolSize::Paths(1000)),
+            ..Default::default()
+        }),
         ..Default::default()
     };
     let a = run(Method::Wavefront, "rtiow-final", &settings(8), &opts);
@@ -301,7 +333,11 @@ fn regenerate_keeps_the_pool_full() {
     }
     use wavetrace::gpu::wavefront::QueueOrder;
     let s = settings(16); // 15 360 samples: 7.5 pools of 2048
-    let base = WavefrontOptions { pool_size: Some(2048), schedule: Schedule::Waves, ..Default::default() };
+    let base = WavefrontOptions {
+        pool_size: Some(PoolSize::Paths(2048)),
+        schedule: Schedule::Waves,
+        ..Default::default()
+    };
     let w = run_wavefront("rtiow-final", &s, base);
     // The schedule alone: slot order (auto's choice on this job) adds one pass an iteration
     // (the atomic method's sweep over the pool), checked below.
@@ -360,7 +396,7 @@ fn chunk_pools_change_the_drains_not_the_image() {
     let s = settings(8); // 7 680 samples: 7.5 pools of 1024
     let with = |chunk_pools| MethodOptions {
         wavefront: regenerating(WavefrontOptions {
-            pool_size: Some(1024),
+            pool_size: Some(PoolSize::Paths(1024)),
             chunk_pools,
             ..Default::default()
         }),
@@ -390,7 +426,7 @@ fn the_tail_frees_the_sample_ring() {
     let reference = run(Method::Megakernel, "rtiow-final", &s, &MethodOptions::default()).film;
     let ring = |tail, compaction| MethodOptions {
         wavefront: regenerating(WavefrontOptions {
-            pool_size: Some(1024),
+            pool_size: Some(PoolSize::Paths(1024)),
             chunk_pools: 2,
             tail,
             tail_threshold: 0.1,
@@ -453,7 +489,7 @@ fn the_megakernel_tail_agrees_with_the_megakernel() {
         for knobs in all_knobs() {
             for threshold in [0.05, 1.0] {
                 let wf = WavefrontOptions {
-                    pool_size: Some(2000),
+                    pool_size: Some(PoolSize::Paths(2000)),
                     tail: Tail::Megakernel,
                     tail_threshold: threshold,
                     sync_every: 2,
@@ -484,7 +520,7 @@ fn the_tail_keeps_occupancy_high_on_small_jobs() {
     }
     let s = settings(4); // 3 840 samples: 1.9 pools of 2 000
     let wf = WavefrontOptions {
-        pool_size: Some(2000),
+        pool_size: Some(PoolSize::Paths(2000)),
         tail: Tail::Megakernel,
         tail_threshold: 0.25,
         sync_every: 1,
@@ -579,7 +615,7 @@ fn the_subgroup_scan_builds_the_same_queues() {
     for schedule in [Schedule::Waves, Schedule::Regenerate] {
         let with = |scan| {
             let wf = WavefrontOptions {
-                pool_size: Some(3000),
+                pool_size: Some(PoolSize::Paths(3000)),
                 compaction: Compaction::Scan,
                 schedule,
                 scan,
@@ -623,7 +659,13 @@ fn subgroup_appends_give_the_same_film() {
     ];
     for (schedule, tail, instrument) in cases {
         let with = |append| {
-            let wf = WavefrontOptions { pool_size: Some(3000), schedule, tail, append, ..Default::default() };
+            let wf = WavefrontOptions {
+                pool_size: Some(PoolSize::Paths(3000)),
+                schedule,
+                tail,
+                append,
+                ..Default::default()
+            };
             let opts = MethodOptions { wavefront: wf, instrument, ..Default::default() };
             let out = run(Method::Wavefront, "cornell", &s, &opts);
             (out.film, out.schedule.unwrap().subgroup_append)
@@ -653,7 +695,7 @@ fn the_scan_spans_block_groups() {
     assert!(pool > 2 * 1024 * 256, "three groups of blocks");
     let with = |compaction, scan| {
         let wf = WavefrontOptions {
-            pool_size: Some(pool),
+            pool_size: Some(PoolSize::Paths(pool)),
             compaction,
             scan,
             schedule: Schedule::Waves,
@@ -691,7 +733,7 @@ fn pool_memory_follows_the_knobs() {
         let s = RenderSettings { nee, ..settings(2) };
         let opts = MethodOptions {
             wavefront: WavefrontOptions {
-                pool_size: Some(pool as u32),
+                pool_size: Some(PoolSize::Paths(pool as u32)),
                 compaction,
                 schedule,
                 queue_order,
@@ -779,7 +821,11 @@ fn shared_compute_passes_give_the_same_film_from_fewer_passes() {
         let opts = MethodOptions { wavefront: wf, timing: Timing::Frame, ..Default::default() };
         run(Method::Wavefront, "cornell", &s, &opts)
     };
-    let waves = WavefrontOptions { schedule: Schedule::Waves, pool_size: Some(1024), ..Default::default() };
+    let waves = WavefrontOptions {
+        schedule: Schedule::Waves,
+        pool_size: Some(PoolSize::Paths(1024)),
+        ..Default::default()
+    };
     let regenerate = WavefrontOptions { schedule: Schedule::Regenerate, sync_every: 2, ..waves };
     let tail = WavefrontOptions { tail: Tail::Megakernel, ..regenerate };
     let reference = frame(waves).film;
@@ -814,6 +860,52 @@ fn shared_compute_passes_give_the_same_film_from_fewer_passes() {
         };
         let timed = run(Method::Wavefront, "cornell", &s, &opts);
         assert_eq!(timed.compute_passes, Some(timed.dispatches));
+    }
+}
+
+/// `--launch pool` (issue 42, pbrt-v4's way): the passes that consume a queue launched at the
+/// pool's size, threads past the queue returning, give the films of indirect launches bit for bit
+/// and the same counts, on every schedule, with NEE's shadow pass, other queue orders, and
+/// iterations recorded past a share's end (which pool-size launches run and must do nothing in).
+#[test]
+fn pool_launches_give_the_indirect_films_and_counts() {
+    use wavetrace::gpu::wavefront::{Launch, QueueOrder};
+    if common::gpu().is_none() {
+        return;
+    }
+    let s = RenderSettings { nee: true, ..settings(4) };
+    let waves = WavefrontOptions {
+        schedule: Schedule::Waves,
+        pool_size: Some(PoolSize::Paths(1024)),
+        ..Default::default()
+    };
+    let regenerate = WavefrontOptions { schedule: Schedule::Regenerate, sync_every: 2, ..waves };
+    let tail = WavefrontOptions { tail: Tail::Megakernel, ..regenerate };
+    // Past the end: a job of one pool ends inside the first batch of 24 iterations.
+    let ahead = WavefrontOptions { sync_every: 24, pool_size: None, ..tail };
+    let slot = WavefrontOptions { queue_order: QueueOrder::Slot, ..tail };
+    let scan = WavefrontOptions { compaction: Compaction::Scan, ..regenerate };
+    let reference = run_wavefront("cornell", &s, waves).film;
+    for (name, wf) in [
+        ("waves", waves),
+        ("regenerate", regenerate),
+        ("regenerate+tail", tail),
+        ("regenerate+tail, batches of 24", ahead),
+        ("regenerate+tail, slot order", slot),
+        ("regenerate, scan", scan),
+    ] {
+        let indirect = run_wavefront("cornell", &s, wf);
+        let pool = run_wavefront("cornell", &s, WavefrontOptions { launch: Launch::Pool, ..wf });
+        assert_eq!(pool.film, indirect.film, "{name}");
+        common::assert_waves_film(name, &pool.film, &reference, wf.tail);
+        assert_eq!(pool.dispatches, indirect.dispatches, "{name}");
+        let (a, b) = (indirect.schedule.unwrap(), pool.schedule.unwrap());
+        assert_eq!(
+            (b.iterations, b.empty_dispatches, b.tail_paths, b.speculative_iterations > 0),
+            (a.iterations, a.empty_dispatches, a.tail_paths, a.speculative_iterations > 0),
+            "{name}: {a:?} vs {b:?}"
+        );
+        assert_eq!(pool.resolved.wavefront.launch, Launch::Pool, "{name}: recorded as it ran");
     }
 }
 
@@ -855,7 +947,7 @@ fn waves_never_wait_inside_the_frame_and_count_the_same() {
         let waves = paths.div_ceil(pool);
         let wf = WavefrontOptions {
             schedule: Schedule::Waves,
-            pool_size: Some(pool as u32),
+            pool_size: Some(PoolSize::Paths(pool as u32)),
             ..Default::default()
         };
         let render = |timing| {
@@ -910,7 +1002,12 @@ fn the_regenerating_host_never_waits_inside_a_share() {
     }
     let s = settings(8); // 7 680 samples
     for tail in [Tail::Off, Tail::Megakernel] {
-        for (pool, chunk_pools) in [(None, 8), (Some(700), 8), (Some(700), 2), (Some(1024), 1)] {
+        for (pool, chunk_pools) in [
+            (None, 8),
+            (Some(PoolSize::Paths(700)), 8),
+            (Some(PoolSize::Paths(700)), 2),
+            (Some(PoolSize::Paths(1024)), 1),
+        ] {
             let wf = WavefrontOptions {
                 pool_size: pool,
                 chunk_pools,
@@ -971,7 +1068,7 @@ fn speculative_iterations_change_no_film() {
         return;
     }
     let s = settings(8);
-    let base = WavefrontOptions { pool_size: Some(700), ..Default::default() };
+    let base = WavefrontOptions { pool_size: Some(PoolSize::Paths(700)), ..Default::default() };
     let waves = run_wavefront("rtiow-final", &s, base).film;
     for sync_every in [1, 24] {
         let wf = WavefrontOptions { sync_every, chunk_pools: 2, ..regenerating(base) };
@@ -1025,7 +1122,7 @@ fn path_state_traffic_is_charged_with_counted_items() {
         ("cornell", RenderSettings { nee: true, max_depth: 12, ..settings(8) }),
     ];
     for (scene, s) in cases {
-        let waves = WavefrontOptions { pool_size: Some(700), ..Default::default() };
+        let waves = WavefrontOptions { pool_size: Some(PoolSize::Paths(700)), ..Default::default() };
         let w = run_wavefront(scene, &s, waves);
         let tail = WavefrontOptions { tail: Tail::Megakernel, ..regenerating(waves) };
         let r = run_wavefront(scene, &s, tail);

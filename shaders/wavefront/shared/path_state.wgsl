@@ -136,7 +136,10 @@ struct Wave {
     // ray from its slot's pixel and sample (wavefront/shared/path_camera.wgsl), and generate writes only
     // the queue entry (and, regenerating, the slot's sample).
     camera_in_place: u32,
-    pad2: u32,
+    // 1: the passes that consume a queue (intersect, shade, shadow, the refill) are launched at
+    // the pool's size, not sized by a setup pass (`--launch pool`): threads past the queue's
+    // length return (queued_entry), and past a regenerating share's end every thread does.
+    launch_pool: u32,
 }
 
 @group(1) @binding(0) var<uniform> dispatch: Dispatch;
@@ -359,6 +362,16 @@ fn retire(slot: u32, position: u32) {
 
 // The path slot handled by thread `i` of a pass over queue `q`, or DEAD past the queue's end.
 // Without compaction, thread i handles slot i of the whole pool.
+// (--launch pool, regenerate) Whether the share is done (schedule_decide set DONE): in the
+// iterations the host recorded past its end, which indirect launches give zero workgroups, every
+// thread of a pool-size launch runs, so intersect and shade return when this says so. (The
+// refill starts nothing once every sample has; the shadow pass finds its queue emptied by
+// queue_setup_shade and filled by no shade pass; the tail and accumulate_range, sized by the
+// decision that sets DONE, keep their indirect launches.)
+fn launched_past_done() -> bool {
+    return REGENERATE && wave.launch_pool != 0u && atomicLoad(&counters[COUNTER_DONE]) != 0u;
+}
+
 fn queued_slot(q: u32, i: u32) -> u32 {
     let entry = queued_entry(q, i);
     if entry == DEAD {

@@ -49,7 +49,7 @@ impl Generate {
     /// Regenerating: the refill, sized by queue_setup_regenerate (nothing in waves).
     pub fn record_refill(&self, wave: &mut WaveRecorder<'_>, iteration: u32) {
         if let Generate::Regenerate { refill, .. } = self {
-            let args = Workgroups::Indirect(&wave.b.state.indirect, ARGS_REGENERATE * 12);
+            let args = wave.consumer(ARGS_REGENERATE);
             wave.record(refill, Some(iteration), usize::MAX, args);
         }
     }

@@ -1,7 +1,7 @@
 //! intersect (`shaders/wavefront/intersect.wgsl`): closest hits for the bounce's ray queue,
 //! sized on the GPU by queue_setup_intersect.
 
-use super::super::stage::{Stage, Workgroups};
+use super::super::stage::Stage;
 use super::super::{context::GpuContext, label, shaders};
 use super::path_state::ARGS_INTERSECT;
 use super::{Bindings, WaveRecorder};
@@ -20,7 +20,7 @@ impl Intersect {
     }
 
     pub fn record(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
-        let args = Workgroups::Indirect(&wave.b.state.indirect, ARGS_INTERSECT * 12);
+        let args = wave.consumer(ARGS_INTERSECT);
         wave.record(&self.stage, Some(bounce), usize::MAX, args);
     }
 }

@@ -61,6 +61,7 @@ pub mod generate;
 pub mod intersect;
 pub mod intersect_registers;
 pub mod path_state;
+pub mod pool;
 pub mod queue_order;
 pub mod queue_setup;
 pub mod ray_sort;
@@ -94,32 +95,19 @@ use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
 // The options live in `crate::options`; the wavefront's are re-exported where it is built.
 pub use crate::options::{
-    Append, CompactStates, Compaction, ComputePasses, QueueOrder, RaySort, ResolvedWavefront, RunSchedule,
-    Scan, Schedule, ShadePasses, Tail, WavefrontOptions, BATCHES_IN_FLIGHT, MAX_BATCHES_IN_FLIGHT,
+    Append, CompactStates, Compaction, ComputePasses, Launch, QueueOrder, RaySort, ResolvedWavefront,
+    RunSchedule, Scan, Schedule, ShadePasses, Tail, WavefrontOptions, BATCHES_IN_FLIGHT,
+    MAX_BATCHES_IN_FLIGHT,
 };
 use compact::Target;
-use path_state::{
-    schedule_word as word, PathState, PoolLayout, LARGEST_BINDING_PER_PATH, QUEUE_COUNT, QUEUE_SHADOW,
-};
+use path_state::{schedule_word as word, PathState, PoolLayout, QUEUE_COUNT, QUEUE_SHADOW};
+pub use pool::{max_pool, DEFAULT_POOL};
 pub use schedule::ScheduleStats;
 use share_ledger::{ShareLedger, ShareWork};
 use std::time::Instant;
 
-/// Default pool: about a million paths in flight (pbrt-v4's choice), less where limits say so.
-pub const DEFAULT_POOL: u32 = 1 << 20;
 /// Bounce histogram rows kept; deeper bounces are added to the last row.
 pub const STATS_BOUNCES: u32 = path_state::MAX_STATS_BOUNCES as u32;
-
-/// The largest pool the adapter can hold: every per-path buffer within one storage binding,
-/// and one thread per path within one dispatch.
-pub fn max_pool(ctx: &GpuContext, workgroup_size: u32) -> u32 {
-    let s = &ctx.summary;
-    let by_binding =
-        s.max_storage_buffer_binding_size.min(s.max_buffer_size) / LARGEST_BINDING_PER_PATH.max(16);
-    let by_threads =
-        s.max_compute_workgroups_per_dimension as u64 * workgroup_size.min(path_state::SCAN_WG as u32) as u64;
-    by_binding.min(by_threads).min(u32::MAX as u64) as u32
-}
 
 /// Per-bounce queue sizes summed over waves: `rays[b]` paths were intersected at bounce b,
 /// `materials[k][b]` shaded with material kind k (all in `materials[0]` with one shade pass) and
@@ -195,6 +183,21 @@ pub struct WaveRecorder<'a> {
     pub dispatches: u64,
     /// Compute passes opened: `dispatches` with a pass per dispatch, fewer when they share.
     pub compute_passes: u64,
+    /// `--launch pool`: the workgroups that cover the pool's slots (a wave's paths), which the
+    /// passes consuming a queue are launched with instead of their indirect arguments.
+    pub pool_launch: Option<u32>,
+}
+
+impl<'a> WaveRecorder<'a> {
+    /// The launch of a pass that consumes a queue: at the pool's size (`--launch pool`), or the
+    /// indirect arguments a setup pass wrote at argument slot `slot`.
+    pub fn consumer(&self, slot: u64) -> Workgroups<'a> {
+        let b: &'a Bindings = self.b;
+        match self.pool_launch {
+            Some(groups) => Workgroups::Direct(groups),
+            None => Workgroups::Indirect(&b.state.indirect, slot * 12),
+        }
+    }
 }
 
 impl WaveRecorder<'_> {
@@ -554,7 +557,7 @@ pub fn render(
     ctx.check_workgroup_size(wg)?;
     // A job smaller than the pool needs no more slots than samples: passes over the whole pool
     // (the regenerating schedule's start, compaction off) and its memory shrink with it.
-    let pool = choose_pool(ctx, opts)?.min(u32::try_from(settings.sample_count()).unwrap_or(u32::MAX));
+    let pool = pool::choose(ctx, opts)?.min(u32::try_from(settings.sample_count()).unwrap_or(u32::MAX));
     let queue_order = opts.queue_order.resolve(opts.schedule, opts.compaction, settings.sample_count(), pool);
     let subgroup_scan = opts.scan.uses_subgroups(ctx)?;
     let subgroup_append = opts.append.uses_subgroups(ctx)?;
@@ -595,7 +598,7 @@ pub fn render(
         refill_live: refill::refill_live(opts.refill_below, pool),
         compact_states: (opts.compact_states == CompactStates::On) as u32,
         camera_in_place: camera_in_place as u32,
-        pad2: 0,
+        launch_pool: (opts.launch == Launch::Pool) as u32,
     };
     let stats_bounces = if regenerate { 1 } else { settings.max_depth.min(STATS_BOUNCES) };
     let frame = scene.frame_uniform(camera, settings);
@@ -706,6 +709,8 @@ pub fn render(
             per_bounce: !regenerate,
             dispatches: 0,
             compute_passes: 0,
+            pool_launch: (opts.launch == Launch::Pool)
+                .then(|| (if regenerate { pool } else { paths }).div_ceil(wg)),
         };
 
         stages.generate.record_start(&mut wave);
@@ -800,7 +805,7 @@ pub fn render(
         schedule: stats,
         coherence,
         resolved: WavefrontOptions {
-            pool_size: Some(pool),
+            pool_size: Some(crate::options::PoolSize::Paths(pool)),
             queue_order,
             scan: if subgroup_scan { Scan::Subgroup } else { Scan::Workgroup },
             append: if subgroup_append { Append::Subgroup } else { Append::Lane },
@@ -835,27 +840,6 @@ fn traffic_items(
         init_slots: if regenerate { shares as u64 * pool as u64 } else { 0 },
         first_bounce: None,
     }
-}
-
-fn choose_pool(ctx: &GpuContext, opts: &WavefrontOptions) -> Result<u32> {
-    let max = max_pool(ctx, opts.workgroup_size);
-    if max == 0 {
-        bail!("{} cannot hold even one path's state in its storage bindings", ctx.summary.name);
-    }
-    Ok(match opts.pool_size {
-        Some(0) => bail!("--pool-size must be at least 1"),
-        Some(p) if p > max => {
-            eprintln!(
-                "notice: pool of {p} paths does not fit {} ({LARGEST_BINDING_PER_PATH} bytes per path in \
-                 its largest buffer, {} per binding); using {max}",
-                ctx.summary.name,
-                super::buffers::human_bytes(ctx.summary.max_storage_buffer_binding_size)
-            );
-            max
-        }
-        Some(p) => p,
-        None => DEFAULT_POOL.min(max),
-    })
 }
 
 /// Adds a wave's queue sizes per bounce (`rows`: `bounces` rows of `QUEUE_COUNT` words from

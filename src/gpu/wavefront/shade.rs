@@ -1,7 +1,7 @@
 //! shade (`shaders/wavefront/shade.wgsl`): one pass per material kind the scene uses, or one
 //! pass with a material switch; each sized on the GPU by queue_setup_shade.
 
-use super::super::stage::{Stage, Workgroups};
+use super::super::stage::Stage;
 use super::super::{context::GpuContext, label, shaders};
 use super::path_state::{ARGS_PATTERN_0, ARGS_SHADE_0};
 use super::{Bindings, WaveRecorder};
@@ -51,7 +51,7 @@ impl Shade {
 
     pub fn record(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
         for (slot, stage) in &self.stages {
-            let args = Workgroups::Indirect(&wave.b.state.indirect, slot * 12);
+            let args = wave.consumer(*slot);
             wave.record(stage, Some(bounce), usize::MAX, args);
         }
     }

@@ -2,7 +2,7 @@
 //! any-hit query per queued ray, sized on the GPU by queue_setup_shadow. Recorded only with
 //! `--nee on` in a scene with lights.
 
-use super::super::stage::{Stage, Workgroups};
+use super::super::stage::Stage;
 use super::super::{context::GpuContext, label, shaders};
 use super::path_state::ARGS_SHADOW;
 use super::{Bindings, WaveRecorder};
@@ -21,7 +21,7 @@ impl Shadow {
     }
 
     pub fn record(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
-        let args = Workgroups::Indirect(&wave.b.state.indirect, ARGS_SHADOW * 12);
+        let args = wave.consumer(ARGS_SHADOW);
         wave.record(&self.stage, Some(bounce), usize::MAX, args);
     }
 }
