@@ -182,7 +182,8 @@ pub const FILM_SQ_SCALE: f64 = 1.0 / 4294967296.0;
 pub struct WaveUniform {
     /// 0: no queues (whole pool each pass); 1: atomic append; 2: prefix-sum scan.
     pub compaction: u32,
-    /// 1: one shade pass per material kind; 0: one pass with a switch.
+    /// 1: one shade pass per material kind; 2: and one per costly pattern (`per-texture`); 0: one
+    /// pass with a switch; 3: one pass over the material queues end to end (`sorted`).
     pub per_material: u32,
     /// Pool size: the length of each queue region.
     pub pool: u32,

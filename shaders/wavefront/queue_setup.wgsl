@@ -171,6 +171,11 @@ fn queue_setup_shade() {
         atomicStore(&counters[COUNTER_SHADE_BASE + k], positions);
         positions += n;
     }
+    // --shade sorted: one pass over the four queues end to end.
+    if wave.per_material == 3u {
+        set_args(ARGS_SHADE_0, positions);
+        count_dispatches(positions, 1u);
+    }
     // The pattern queues (--shade per-texture, atomic appends only: no scan positions), counted
     // in the histogram with their material kind's queue, lambertian's (the pattern passes shade
     // a textured metal too).

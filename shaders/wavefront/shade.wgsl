@@ -232,3 +232,18 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/
     instrument_begin(/*@subgroup_size_arg*/);
     shade_path(gid.x, NO_KIND, PASS_SHADE);
 }
+
+// --shade sorted: one pass over the material queues laid end to end (queue_setup_shade's scan
+// positions: queue k starts at COUNTER_SHADE_BASE + k), so thread i shades the hit at position i
+// with its queue's kind: a subgroup's lanes share a kind but where two queues meet.
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn shade_sorted(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
+    instrument_begin(/*@subgroup_size_arg*/);
+    var kind = 0u;
+    for (var k = 1u; k < 4u; k++) {
+        if gid.x >= atomicLoad(&counters[COUNTER_SHADE_BASE + k]) {
+            kind = k;
+        }
+    }
+    shade_path(gid.x - atomicLoad(&counters[COUNTER_SHADE_BASE + kind]), kind, PASS_SHADE);
+}

@@ -76,6 +76,8 @@ pub mod label {
     ];
     /// The single shade pass with a material switch.
     pub const SHADE: &str = "shade";
+    /// `--shade sorted`: one shade pass over the material queues end to end.
+    pub const SHADE_SORTED: &str = "shade_sorted";
     pub const COMPACT_SCAN: &str = "compact_scan";
     pub const COMPACT_BLOCKS: &str = "compact_blocks";
     pub const COMPACT_SCATTER: &str = "compact_scatter";
@@ -126,7 +128,7 @@ pub mod label {
     pub fn group(label: &str) -> Group {
         match label {
             INTERSECT => Group::Intersect,
-            SHADE => Group::Shade,
+            SHADE | SHADE_SORTED => Group::Shade,
             l if SHADE_BY_KIND.contains(&l) || SHADE_BY_PATTERN.contains(&l) => Group::Shade,
             SHADOW => Group::Shadow,
             COMPACT_SCAN | COMPACT_BLOCKS | COMPACT_SCATTER | SLOT_SWEEP | RAY_SORT_COUNT | RAY_SORT_SCAN

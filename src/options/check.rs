@@ -205,6 +205,9 @@ pub fn check_wavefront(o: &WavefrontOptions) -> Result<(), OptionError> {
             },
         });
     }
+    if o.shade == ShadePasses::Sorted {
+        queues("shade", o.shade.name(), "shades the material queues end to end")?;
+    }
     if o.ray_sort != RaySort::Off {
         queues("ray_sort", o.ray_sort.name(), "sorts the ray queue")?;
     }

@@ -29,6 +29,11 @@ pub enum ShadePasses {
     PerTexture,
     /// One pass over every hit with a material switch (the megakernel's divergence).
     Single,
+    /// One pass over the material queues laid end to end, so hits come sorted by material kind:
+    /// a subgroup's lanes share a kind but at the queues' seams (Cycles' way: one shade kernel
+    /// over paths sorted by shader), one dispatch where per-material takes one per kind, every
+    /// kind compiled in (needs queues).
+    Sorted,
 }
 
 /// How the scan compaction scans a workgroup (`--scan`).
@@ -191,8 +196,9 @@ pub struct WavefrontOptions {
     #[arg(skip = Compaction::Atomic)]
     pub compaction: Compaction,
     /// Wavefront: one shade pass per material kind, one per material kind and costly pattern
-    /// (`per-texture`: each pattern shaded in a pass of its own; needs atomic queues), or one
-    /// with a material switch.
+    /// (`per-texture`: each pattern shaded in a pass of its own; needs atomic queues), one
+    /// with a material switch (`single`), or one over the material queues end to end (`sorted`:
+    /// subgroups of one kind, one dispatch; needs queues).
     #[arg(long, value_enum, default_value_t = ShadePasses::PerMaterial, hide_short_help = true)]
     pub shade: ShadePasses,
     /// `--schedule`, which the command line sets for both GPU methods.

@@ -639,7 +639,8 @@ impl Wave<'_> {
         });
         for &l in rays {
             if let Some(e) = self.lanes[l].next().filter(|&e| is_hit(e)) {
-                let k = if shade == ShadePasses::PerMaterial { (e & 0xff).min(3) as usize } else { 0 };
+                let by_kind = matches!(shade, ShadePasses::PerMaterial | ShadePasses::Sorted);
+                let k = if by_kind { (e & 0xff).min(3) as usize } else { 0 };
                 material[k].push(l);
             }
         }
@@ -650,6 +651,14 @@ impl Wave<'_> {
                 kinds.iter().map(|&k| (k as usize, label::SHADE_BY_KIND[(k as usize).min(3)])).collect()
             }
             ShadePasses::Single => vec![(0, label::SHADE)],
+            // One pass over the kinds' queues end to end, in kind order (queue_setup_shade's
+            // positions): subgroups of one kind but at the seams. Its lanes are counted in the
+            // single shade pass's slot, as the device counts them (shade.wgsl's PASS_SHADE).
+            ShadePasses::Sorted => {
+                let sorted: Vec<usize> = material.iter().flatten().copied().collect();
+                material[0] = sorted;
+                vec![(0, label::SHADE)]
+            }
             ShadePasses::PerTexture => unreachable!("the replay refuses --shade per-texture"),
         };
         for (k, name) in passes {

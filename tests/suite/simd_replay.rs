@@ -244,8 +244,9 @@ fn regenerate_replay_matches_the_device() {
     assert_replay_matches("regenerate", Method::Megakernel, &opts);
 }
 
-/// The wavefront per pass, in the deterministic scan order, one shade pass per material and
-/// one over every hit; and in slot order, where the scan lists the shadow queue too, so the
+/// The wavefront per pass, in the deterministic scan order, one shade pass per material, one
+/// over every hit and one over the material queues end to end (its subgroups mixed only at the
+/// queues' seams); and in slot order, where the scan lists the shadow queue too, so the
 /// shadow pass is compared as well.
 #[test]
 fn wavefront_replay_matches_the_device() {
@@ -255,6 +256,7 @@ fn wavefront_replay_matches_the_device() {
     for (order, shade, label) in [
         (QueueOrder::Arrival, ShadePasses::PerMaterial, "wavefront"),
         (QueueOrder::Arrival, ShadePasses::Single, "wavefront single shade"),
+        (QueueOrder::Arrival, ShadePasses::Sorted, "wavefront sorted shade"),
         (QueueOrder::Slot, ShadePasses::PerMaterial, "wavefront, slot order"),
         (QueueOrder::Slot, ShadePasses::Single, "wavefront single shade, slot order"),
     ] {

@@ -37,7 +37,10 @@ fn run_wavefront(scene: &str, s: &RenderSettings, wf: WavefrontOptions) -> Rende
 fn all_knobs() -> Vec<WavefrontOptions> {
     let mut v = Vec::new();
     for compaction in [Compaction::Off, Compaction::Atomic, Compaction::Scan] {
-        for shade in [ShadePasses::PerMaterial, ShadePasses::Single] {
+        for shade in [ShadePasses::PerMaterial, ShadePasses::Single, ShadePasses::Sorted] {
+            if shade == ShadePasses::Sorted && compaction == Compaction::Off {
+                continue; // sorted shading needs queues
+            }
             // A small pool so every render runs several waves.
             v.push(WavefrontOptions {
                 pool_size: Some(PoolSize::Paths(7000)),
@@ -861,6 +864,46 @@ fn shared_compute_passes_give_the_same_film_from_fewer_passes() {
         let timed = run(Method::Wavefront, "cornell", &s, &opts);
         assert_eq!(timed.compute_passes, Some(timed.dispatches));
     }
+}
+
+/// `--shade sorted` (issue 42, Cycles' way): one pass over the material queues end to end shades
+/// every hit the per-material passes shade, so the film is theirs bit for bit, on both schedules,
+/// with NEE, in fewer dispatches: one shade pass per iteration where per-material records one
+/// per kind the scene uses. Without queues it is refused.
+#[test]
+fn sorted_shading_gives_the_per_material_film_in_one_pass() {
+    if common::gpu().is_none() {
+        return;
+    }
+    // rtiow-final's kinds: lambertian, metal, dielectric.
+    let kinds = 3;
+    for (name, s, base) in [
+        (
+            "waves",
+            settings(8),
+            WavefrontOptions { pool_size: Some(PoolSize::Paths(2000)), ..Default::default() },
+        ),
+        (
+            "regenerate+tail",
+            RenderSettings { nee: true, ..settings(8) },
+            WavefrontOptions { tail: Tail::Megakernel, sync_every: 3, ..regenerating(Default::default()) },
+        ),
+    ] {
+        let per_material = run_wavefront("rtiow-final", &s, base);
+        let sorted =
+            run_wavefront("rtiow-final", &s, WavefrontOptions { shade: ShadePasses::Sorted, ..base });
+        assert_eq!(sorted.film, per_material.film, "{name}");
+        let iterations = per_material.schedule.as_ref().unwrap().iterations;
+        assert_eq!(sorted.schedule.as_ref().unwrap().iterations, iterations, "{name}");
+        assert_eq!(sorted.dispatches + (kinds - 1) * iterations, per_material.dispatches, "{name}");
+        let passes: Vec<&str> = sorted.timings.as_ref().unwrap().passes.keys().copied().collect();
+        assert!(passes.contains(&"shade_sorted"), "{name}: {passes:?}");
+        assert!(!passes.iter().any(|p| p.starts_with("shade_l")), "{name}: {passes:?}");
+    }
+    assert_refused(
+        WavefrontOptions { shade: ShadePasses::Sorted, compaction: Compaction::Off, ..Default::default() },
+        "--shade",
+    );
 }
 
 /// `--launch pool` (issue 42, pbrt-v4's way): the passes that consume a queue launched at the

@@ -111,7 +111,7 @@ struct Wave {
     // 1: queues built by atomic append; 2: by prefix-sum scan; 0: no queues (whole pool).
     compaction: u32,
     // 1: one shade pass per material kind; 2: and one per costly pattern (`--shade per-texture`);
-    // 0: one pass with a switch.
+    // 0: one pass with a switch; 3: one pass over the material queues end to end (`sorted`).
     per_material: u32,
     // Queue region length (the pool size).
     pool: u32,

@@ -572,7 +572,6 @@ pub fn render(
     // Per-texture: the patterns' passes, and the material kinds' passes for what is left.
     let (kinds, patterns) =
         if per_texture { scene.shade_classes() } else { (scene.material_kinds_used(), vec![]) };
-    let per_material = opts.shade != ShadePasses::Single;
     // Regenerating: every share's sample ring has the same chunks (one pool) and at most the
     // same number of them, so one ring buffer serves them all.
     let ring_budget = schedule::ring_budget(ctx, pool, opts.chunk_pools);
@@ -584,13 +583,21 @@ pub fn render(
     let camera_in_place = opts.compaction != Compaction::Off && opts.ray_sort == RaySort::Off;
     let wave = WaveUniform {
         compaction: opts.compaction as u32,
-        per_material: if per_texture { 2 } else { per_material as u32 },
+        per_material: match opts.shade {
+            ShadePasses::Single => 0,
+            ShadePasses::PerMaterial => 1,
+            ShadePasses::PerTexture => 2,
+            ShadePasses::Sorted => 3,
+        },
         pool,
-        // Bits 0–3: the material kinds' passes; 4–11: the patterns'.
-        shade_mask: if per_material {
-            kinds.iter().fold(0, |m, k| m | 1 << k) | patterns.iter().fold(0, |m, p| m | 1 << (4 + p))
-        } else {
-            1
+        // Bits 0–3: the material kinds' passes; 4–11: the patterns'; none for the sorted pass
+        // (queue_setup_shade counts it itself).
+        shade_mask: match opts.shade {
+            ShadePasses::Single => 1,
+            ShadePasses::Sorted => 0,
+            ShadePasses::PerMaterial | ShadePasses::PerTexture => {
+                kinds.iter().fold(0, |m, k| m | 1 << k) | patterns.iter().fold(0, |m, p| m | 1 << (4 + p))
+            }
         },
         chunk: if regenerate { ring.chunk } else { 0 },
         ring: if regenerate { ring.ring } else { 0 },
@@ -628,7 +635,6 @@ pub fn render(
 
     let samples = if regenerate { &b.state.samples } else { &b.state.radiance };
     let accumulate = Accumulate::new(ctx, samples, &film, &params, regenerate, measure.shader_checks)?;
-    let shade_kinds = per_material.then_some(kinds.as_slice());
     let stages = Stages {
         generate: generate::Generate::new(ctx, &b, schedule, pool, wg, instrument)?,
         queue_setup: queue_setup::QueueSetup::new(
@@ -638,7 +644,7 @@ pub fn render(
             regenerate.then(|| accumulate.range_buffer()),
         )?,
         intersect: intersect::Intersect::new(ctx, &b, wg, instrument)?,
-        shade: shade::Shade::new(ctx, &b, shade_kinds, &patterns, wg, instrument)?,
+        shade: shade::Shade::new(ctx, &b, opts.shade, &kinds, &patterns, wg, instrument)?,
         compact: uses_scan.then(|| compact::Compact::new(ctx, &b, subgroup_scan)).transpose()?,
         slot_sweep: uses_sweep.then(|| slot_sweep::SlotSweep::new(ctx, &b)).transpose()?,
         shadow: has_shadow_pass.then(|| shadow::Shadow::new(ctx, &b, wg, instrument)).transpose()?,

@@ -1,10 +1,11 @@
-//! shade (`shaders/wavefront/shade.wgsl`): one pass per material kind the scene uses, or one
-//! pass with a material switch; each sized on the GPU by queue_setup_shade.
+//! shade (`shaders/wavefront/shade.wgsl`): one pass per material kind the scene uses (and costly
+//! pattern), one pass with a material switch, or one over the material queues end to end
+//! (`--shade`); each sized on the GPU by queue_setup_shade.
 
 use super::super::stage::Stage;
 use super::super::{context::GpuContext, label, shaders};
 use super::path_state::{ARGS_PATTERN_0, ARGS_SHADE_0};
-use super::{Bindings, WaveRecorder};
+use super::{Bindings, ShadePasses, WaveRecorder};
 use anyhow::Result;
 
 pub struct Shade {
@@ -13,13 +14,14 @@ pub struct Shade {
 }
 
 impl Shade {
-    /// `kinds`: material kinds the scene uses; `None` builds the single switch pass. `patterns`
-    /// (`--shade per-texture`): the costly patterns with a pass of their own (indices into
-    /// `scene::Pattern::ALL`), each compiled with its texture kind alone.
+    /// `kinds`: material kinds the scene uses (a pass each with `per-material` and
+    /// `per-texture`). `patterns` (`--shade per-texture`): the costly patterns with a pass of
+    /// their own (indices into `scene::Pattern::ALL`), each compiled with its texture kind alone.
     pub fn new(
         ctx: &GpuContext,
         b: &Bindings,
-        kinds: Option<&[u32]>,
+        mode: ShadePasses,
+        kinds: &[u32],
         patterns: &[u32],
         workgroup_size: u32,
         instrument: bool,
@@ -27,11 +29,12 @@ impl Shade {
         let module =
             ctx.shader(label::SHADE, shaders::SHADE.select(&b.hooks(instrument)), b.shader_checks)?;
         let constants = b.constants(&[("WORKGROUP_SIZE", workgroup_size as f64)]);
-        let passes: Vec<(u64, &'static str)> = match kinds {
-            Some(kinds) => {
+        let passes: Vec<(u64, &'static str)> = match mode {
+            ShadePasses::PerMaterial | ShadePasses::PerTexture => {
                 kinds.iter().map(|&k| (ARGS_SHADE_0 + k as u64, label::SHADE_BY_KIND[k as usize])).collect()
             }
-            None => vec![(ARGS_SHADE_0, label::SHADE)],
+            ShadePasses::Single => vec![(ARGS_SHADE_0, label::SHADE)],
+            ShadePasses::Sorted => vec![(ARGS_SHADE_0, label::SHADE_SORTED)],
         };
         let mut stages: Vec<(u64, Stage)> = passes
             .into_iter()

@@ -82,7 +82,7 @@ impl PassTraffic {
                 .iter()
                 .chain(&label::SHADE_BY_PATTERN)
                 .copied()
-                .chain([label::SHADE])
+                .chain([label::SHADE, label::SHADE_SORTED])
                 .collect(),
             "compact" => vec![label::COMPACT_SCAN, label::COMPACT_BLOCKS, label::COMPACT_SCATTER],
             other => [
@@ -524,6 +524,7 @@ mod tests {
             (shaders::GENERATE.plain(), "regenerate_init"),
             (shaders::INTERSECT.plain(), "intersect"),
             (shaders::SHADE.plain(), "shade"),
+            (shaders::SHADE.plain(), "shade_sorted"),
             (shaders::SHADE.plain(), "shade_lambertian"),
             (shaders::SHADE.plain(), "shade_noise"),
             (shaders::SHADOW.plain(), "shadow"),
