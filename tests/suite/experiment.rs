@@ -729,6 +729,7 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
             "device/simd.json",
             "device/specialize.json",
             "device/warmup.json",
+            "dispatch_counts.json",
             "fresnel.json",
             "light_sampling.json",
             "material_cost.json",
