@@ -10,6 +10,7 @@ pub mod light;
 pub mod material;
 pub mod observe;
 pub mod offset;
+pub mod image_texture;
 pub mod planar;
 pub mod primitive;
 pub mod ray;
