@@ -525,7 +525,7 @@ impl Cx<'_> {
         ];
         for (field, present) in textures {
             if present {
-                self.warn(format!("{path}.{field}: ignored (only baseColorTexture is used, averaged)"));
+                self.warn(format!("{path}.{field}: ignored (only baseColorTexture is mapped)"));
             }
         }
         let others: Vec<String> = m.extensions().map(|e| e.keys().cloned().collect()).unwrap_or_default();
