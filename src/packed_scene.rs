@@ -73,10 +73,12 @@ impl PackedScene {
         let textured = scene.materials.iter().any(|m| {
             matches!(
                 m.material,
-                Material::Lambertian { albedo: Texture::Image { .. } } | Material::Metal { albedo: Texture::Image { .. }, .. }
+                Material::Lambertian { albedo: Texture::Image { .. } }
+                    | Material::Metal { albedo: Texture::Image { .. }, .. }
             )
         });
-        let uvs = if textured { bvh.order.iter().map(|&i| uv_records[i as usize]).collect() } else { Vec::new() };
+        let uvs =
+            if textured { bvh.order.iter().map(|&i| uv_records[i as usize]).collect() } else { Vec::new() };
         let texels = if textured { texel_buffer(&scene.images) } else { Vec::new() };
         let image_sources =
             scene.images.iter().map(|im| (im.source.to_string(), 4 * im.texels.len() as u64)).collect();

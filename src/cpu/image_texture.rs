@@ -68,7 +68,8 @@ fn decode<T: Real>(texels: &[u32], word: u32) -> V3<T> {
 /// tint (`m.color`).
 #[inline(always)]
 pub fn image_albedo<T: Real>(m: &MaterialRecord, texels: &[u32], uv: [T; 2]) -> V3<T> {
-    let header = (image_word::HEADERS + image_word::HEADER_WORDS * (m.octaves & image_word::INDEX_MASK)) as usize;
+    let header =
+        (image_word::HEADERS + image_word::HEADER_WORDS * (m.octaves & image_word::INDEX_MASK)) as usize;
     let (first, width, height) = (texels[header], texels[header + 1], texels[header + 2]);
     let wrap_u = m.octaves >> image_word::WRAP_U_SHIFT & 3;
     let wrap_v = m.octaves >> image_word::WRAP_V_SHIFT & 3;

@@ -2,13 +2,13 @@
 //! `trace_path` in `shaders/megakernel.wgsl`.
 
 use super::bvh::{closest_hit_observed, occluder_observed};
+use super::image_texture::surface_uv;
 use super::light::{diffuse_pdf, emission_weight, next_event};
 use super::observe::PathObserver;
 use super::offset::{is_self_hit, spawn_origin, surface_point, NO_ORIGIN};
+use super::texture::TexturePoint;
 use super::{background::background, camera::Camera, material::scatter};
 use super::{primitive::outward_normal, ray::Ray, real::Real, vec3::V3};
-use super::image_texture::surface_uv;
-use super::texture::TexturePoint;
 use crate::layout::{material_kind, texture_kind};
 use crate::numerics::Failures;
 use crate::packed_scene::PackedScene;

@@ -124,8 +124,16 @@ mod tests {
         let n = V3::new(0.0, -1.0, 0.0); // facing the ray, which travels up and out
         let r = ray([60f64.to_radians().sin(), 60f64.to_radians().cos(), 0.0]);
         for u in [0.0, 0.5, 0.999] {
-            let s =
-                scatter(&glass, &r, &TexturePoint::at(V3::splat(0.0)), n, false, [0.3, 0.3, u, 0.0], Fresnel::Schlick).unwrap();
+            let s = scatter(
+                &glass,
+                &r,
+                &TexturePoint::at(V3::splat(0.0)),
+                n,
+                false,
+                [0.3, 0.3, u, 0.0],
+                Fresnel::Schlick,
+            )
+            .unwrap();
             assert!(s.dir.y < 0.0, "reflected back down into the glass");
             assert!((s.dir.y + r.dir.y).abs() < 1e-12 && (s.dir.x - r.dir.x).abs() < 1e-12);
         }
@@ -137,13 +145,30 @@ mod tests {
         let n = V3::new(0.0, 1.0, 0.0);
         let r = ray([30f64.to_radians().sin(), -30f64.to_radians().cos(), 0.0]);
         // u = 0.999 > Schlick reflectance (~0.04): refracts.
-        let s =
-            scatter(&glass, &r, &TexturePoint::at(V3::splat(0.0)), n, true, [0.0, 0.0, 0.999, 0.0], Fresnel::Schlick).unwrap();
+        let s = scatter(
+            &glass,
+            &r,
+            &TexturePoint::at(V3::splat(0.0)),
+            n,
+            true,
+            [0.0, 0.0, 0.999, 0.0],
+            Fresnel::Schlick,
+        )
+        .unwrap();
         let sin_out = s.dir.x / s.dir.length();
         assert!((sin_out - 0.5 / 1.5).abs() < 1e-12, "sin θt = sin θi / 1.5");
         assert!(s.dir.y < 0.0);
         // u = 0 < reflectance: reflects.
-        let s = scatter(&glass, &r, &TexturePoint::at(V3::splat(0.0)), n, true, [0.0, 0.0, 0.0, 0.0], Fresnel::Schlick).unwrap();
+        let s = scatter(
+            &glass,
+            &r,
+            &TexturePoint::at(V3::splat(0.0)),
+            n,
+            true,
+            [0.0, 0.0, 0.0, 0.0],
+            Fresnel::Schlick,
+        )
+        .unwrap();
         assert!(s.dir.y > 0.0);
     }
 
@@ -160,8 +185,16 @@ mod tests {
         let mut st = crate::rng::Stream::new(5);
         for _ in 0..1000 {
             let u = [st.next_f32(), st.next_f32(), 0.0, 0.0];
-            let s =
-                scatter(&m, &ray([0.0, 0.0, -1.0]), &TexturePoint::at(V3::splat(0.0)), n, true, u, Fresnel::Schlick).unwrap();
+            let s = scatter(
+                &m,
+                &ray([0.0, 0.0, -1.0]),
+                &TexturePoint::at(V3::splat(0.0)),
+                n,
+                true,
+                u,
+                Fresnel::Schlick,
+            )
+            .unwrap();
             assert!(s.dir.dot(n) >= 0.0);
             assert!((s.dir.length() - 1.0).abs() < 1e-12);
             assert_eq!(s.attenuation, V3::new(0.2f32 as f64, 0.4f32 as f64, 0.6f32 as f64));
@@ -173,8 +206,16 @@ mod tests {
         let mirror = record(material_kind::METAL, [1.0; 3], 0.0);
         let n = V3::new(0.0, 1.0, 0.0);
         let r = ray([1.0, -1.0, 0.0]);
-        let s =
-            scatter(&mirror, &r, &TexturePoint::at(V3::splat(0.0)), n, true, [0.1, 0.2, 0.0, 0.0], Fresnel::Schlick).unwrap();
+        let s = scatter(
+            &mirror,
+            &r,
+            &TexturePoint::at(V3::splat(0.0)),
+            n,
+            true,
+            [0.1, 0.2, 0.0, 0.0],
+            Fresnel::Schlick,
+        )
+        .unwrap();
         assert!((s.dir.x - r.dir.x).abs() < 1e-12 && (s.dir.y + r.dir.y).abs() < 1e-12);
         // A grazing ray with full fuzz: some samples end below the surface and are absorbed.
         let fuzzy = record(material_kind::METAL, [1.0; 3], 1.0);

@@ -5,12 +5,12 @@
 pub mod background;
 pub mod bvh;
 pub mod camera;
+pub mod image_texture;
 pub mod integrator;
 pub mod light;
 pub mod material;
 pub mod observe;
 pub mod offset;
-pub mod image_texture;
 pub mod planar;
 pub mod primitive;
 pub mod ray;

@@ -154,8 +154,11 @@ pub fn check_fits_limits(
             // The images are what the user can act on: name them, largest first.
             let mut images = scene.image_sources.clone();
             images.sort_by_key(|(_, bytes)| std::cmp::Reverse(*bytes));
-            let named: Vec<String> =
-                images.iter().take(4).map(|(source, bytes)| format!("{source} ({})", human_bytes(*bytes))).collect();
+            let named: Vec<String> = images
+                .iter()
+                .take(4)
+                .map(|(source, bytes)| format!("{source} ({})", human_bytes(*bytes)))
+                .collect();
             let more = images.len().saturating_sub(4);
             bail!(
                 "the scene's image textures do not fit on {adapter}: their texels need {} ({size} bytes) \

@@ -551,7 +551,8 @@ impl Cx<'_> {
                 let Some(view) = self.doc.views().nth(view.value()) else {
                     return self.err(&field, "names no bufferView of the file");
                 };
-                let bytes = self.view_bytes(&view).map_err(|r| InputError::new(self.file, &field, r))?.to_vec();
+                let bytes =
+                    self.view_bytes(&view).map_err(|r| InputError::new(self.file, &field, r))?.to_vec();
                 (bytes, field)
             }
             (None, Some(uri)) => {
@@ -564,7 +565,8 @@ impl Cx<'_> {
             None
         } else {
             let source = ImageSource::Gltf { file: self.source.to_owned(), image: path.clone() };
-            let decoded = Image::from_png(&bytes, source).map_err(|r| InputError::new(self.file, &field, r))?;
+            let decoded =
+                Image::from_png(&bytes, source).map_err(|r| InputError::new(self.file, &field, r))?;
             self.mapped.push(format!(
                 "{path} → image {}×{} (PNG, sRGB decoded to linear)",
                 decoded.width, decoded.height
@@ -792,7 +794,13 @@ impl Cx<'_> {
             ));
             return Ok(None);
         };
-        self.check_accessor(&accessor, &uv_path, &[DataType::F32, DataType::U8, DataType::U16], Dimensions::Vec2, true)?;
+        self.check_accessor(
+            &accessor,
+            &uv_path,
+            &[DataType::F32, DataType::U8, DataType::U16],
+            Dimensions::Vec2,
+            true,
+        )?;
         if accessor.count() != vertices {
             return self.err(
                 &uv_path,

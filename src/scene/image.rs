@@ -100,13 +100,15 @@ impl Image {
             let what = if bytes.starts_with(b"\xff\xd8\xff") { "a JPEG" } else { "not a PNG" };
             return Err(format!("{what} (no PNG signature); this build decodes PNG images only"));
         }
-        let (width, height, rgb) = crate::image_io::decode_png_rgb8(bytes)
-            .map_err(|e| format!("the PNG cannot be decoded: {e}"))?;
+        let (width, height, rgb) =
+            crate::image_io::decode_png_rgb8(bytes).map_err(|e| format!("the PNG cannot be decoded: {e}"))?;
         if width == 0 || height == 0 {
             return Err("the image is empty".into());
         }
         if width.max(height) > MAX_IMAGE_SIDE {
-            return Err(format!("the image is {width}×{height}; images may be at most {MAX_IMAGE_SIDE} a side"));
+            return Err(format!(
+                "the image is {width}×{height}; images may be at most {MAX_IMAGE_SIDE} a side"
+            ));
         }
         let texels =
             rgb.chunks(3).map(|p| u32::from(p[0]) | u32::from(p[1]) << 8 | u32::from(p[2]) << 16).collect();
@@ -116,7 +118,8 @@ impl Image {
     /// Reads a PNG file.
     pub fn read_png(path: &std::path::Path) -> Result<Image, String> {
         let bytes = std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-        Image::from_png(&bytes, ImageSource::File(path.to_owned())).map_err(|e| format!("{}: {e}", path.display()))
+        Image::from_png(&bytes, ImageSource::File(path.to_owned()))
+            .map_err(|e| format!("{}: {e}", path.display()))
     }
 
     /// The mean linear colour of the texels.

@@ -67,8 +67,9 @@ pub const SUPPORTED_FORMATS: &[&str] = &[FORMAT];
 const MATERIAL_TYPES: &[&str] = &["lambertian", "metal", "dielectric", "emissive"];
 const BACKGROUND_TYPES: &[&str] = &["sky", "constant"];
 const OBJECT_TYPES: &[&str] = &["sphere", "quad", "mesh"];
-const TEXTURE_TYPES: &[&str] =
-    &["solid", "checker", "noise", "marble", "wood", "ridged", "warp", "cellular", "crackle", "value", "image"];
+const TEXTURE_TYPES: &[&str] = &[
+    "solid", "checker", "noise", "marble", "wood", "ridged", "warp", "cellular", "crackle", "value", "image",
+];
 const WRAP_NAMES: &[&str] = &["repeat", "clamp", "mirror"];
 
 /// Below this sine of the angle between a quad's edges it is refused as degenerate: a sliver
@@ -255,12 +256,18 @@ pub fn validate(scene: &Scene, file: &str) -> Result<(), InputError> {
         if image as usize >= scene.images.len() {
             return err(
                 format!("{}.albedo", join("materials", &m.name)),
-                format!("refers to image {image}, but the scene has {} images (materials[{i}])", scene.images.len()),
+                format!(
+                    "refers to image {image}, but the scene has {} images (materials[{i}])",
+                    scene.images.len()
+                ),
             );
         }
     }
     for im in &scene.images {
-        if im.width == 0 || im.height == 0 || im.texels.len() as u64 != u64::from(im.width) * u64::from(im.height) {
+        if im.width == 0
+            || im.height == 0
+            || im.texels.len() as u64 != u64::from(im.width) * u64::from(im.height)
+        {
             return err(
                 "images".into(),
                 format!("{}: {}×{} with {} texels", im.source, im.width, im.height, im.texels.len()),
@@ -526,6 +533,9 @@ impl Cx<'_> {
                             mesh.degenerate + mesh.triangles.len()
                         );
                     }
+                    if let Some(note) = &mesh.uv_note {
+                        log::warn!("{}: {fpath}: {note}", self.file);
+                    }
                     meshes.push(Mesh {
                         source: MeshSource::File(file),
                         triangles: mesh.triangles,
@@ -667,7 +677,11 @@ impl Cx<'_> {
                     _ => {
                         return self.err(
                             &wpath,
-                            format!("expected [u, v] wraps, each of {}, found {}", quoted_list(WRAP_NAMES), describe(wv)),
+                            format!(
+                                "expected [u, v] wraps, each of {}, found {}",
+                                quoted_list(WRAP_NAMES),
+                                describe(wv)
+                            ),
                         )
                     }
                 };
@@ -696,7 +710,8 @@ impl Cx<'_> {
         let file = std::path::absolute(self.dir.join(name))
             .map_err(|e| InputError::new(self.file, &fpath, format!("bad path {name:?}: {e}")))?;
         let mut images = self.images.borrow_mut();
-        let known = images.iter().position(|im| matches!(&im.source, super::ImageSource::File(f) if *f == file));
+        let known =
+            images.iter().position(|im| matches!(&im.source, super::ImageSource::File(f) if *f == file));
         if let Some(i) = known {
             return Ok(i as u32);
         }

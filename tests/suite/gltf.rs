@@ -499,7 +499,11 @@ fn what_cannot_be_mapped_is_named_in_a_warning() {
         tint: Vec3::new(0.75, 0.125, 0.125),
     };
     assert_eq!(red, &wavetrace::scene::Material::Lambertian { albedo: want });
-    assert_eq!((scene.images.len(), scene.images[0].width, scene.images[0].height), (1, 2, 1), "the JPEG is not kept");
+    assert_eq!(
+        (scene.images.len(), scene.images[0].width, scene.images[0].height),
+        (1, 2, 1),
+        "the JPEG is not kept"
+    );
     assert_eq!(scene.images[0].mean(), Vec3::splat(0.5));
     let last = scene.materials.last().unwrap();
     assert_eq!(last.name, "gltf-default");
@@ -558,7 +562,9 @@ fn cli_renders_a_gltf_scene_and_scene_info_shows_the_mapping() {
 
 /// A 4×3 PNG whose texels all differ, so that a lookup in the wrong place shows.
 fn texture_png(path: &Path) {
-    let rgb: Vec<u8> = (0..12u32).flat_map(|i| [(20 * i + 15) as u8, (230 - 17 * i) as u8, (60 + 90 * (i % 3)) as u8]).collect();
+    let rgb: Vec<u8> = (0..12u32)
+        .flat_map(|i| [(20 * i + 15) as u8, (230 - 17 * i) as u8, (60 + 90 * (i % 3)) as u8])
+        .collect();
     wavetrace::image_io::write_png_rgb8(path, 4, 3, &rgb).unwrap();
 }
 
@@ -640,7 +646,16 @@ fn textured_json(dir: &Path, png: &str) -> Scene {
 }
 
 fn textured_settings(spp: u32) -> RenderSettings {
-    RenderSettings { width: 32, height: 24, spp, max_depth: 4, seed: 9, accel: Accel::Bvh, nee: false, roulette: false }
+    RenderSettings {
+        width: 32,
+        height: 24,
+        spp,
+        max_depth: 4,
+        seed: 9,
+        accel: Accel::Bvh,
+        nee: false,
+        roulette: false,
+    }
 }
 
 /// Image textures: the glTF loads as its JSON twin (same images, wraps, coordinates), renders
@@ -664,13 +679,21 @@ fn textured_gltf_renders_the_same_image_as_its_json_twin_on_every_method() {
     assert!(mapped.contains("images[0] → image 4×3"), "{mapped}");
     assert!(mapped.contains("wrap mirror/clamp"), "{mapped}");
 
+    // Only scenes with image textures carry coordinates and texels, and compile the lookup in.
+    let packed = wavetrace::packed_scene::PackedScene::new(&json_scene, Accel::Bvh);
+    assert_eq!(packed.texture_kinds(), 1 << wavetrace::layout::texture_kind::IMAGE);
+    assert_eq!(packed.uvs.len(), packed.primitives.len());
+    assert_eq!(packed.texels.len(), 256 + 4 + 12, "table, one header, 4×3 texels");
+    let plain = wavetrace::packed_scene::PackedScene::new(&equivalent_json(&dir), Accel::Bvh);
+    assert!(plain.uvs.is_empty() && plain.texels.is_empty());
     let gpu = common::gpu();
     let s = textured_settings(4);
     for method in [Method::Cpu, Method::CpuF64, Method::Megakernel, Method::Wavefront] {
         if method.needs_gpu() && gpu.is_none() {
             continue;
         }
-        let run = |scene: &Scene| render(method, scene, &s, &MethodOptions::default(), gpu, &|_| {}).unwrap().film;
+        let run =
+            |scene: &Scene| render(method, scene, &s, &MethodOptions::default(), gpu, &|_| {}).unwrap().film;
         let (a, b) = (run(&json_scene), run(&gltf_scene));
         assert!(a.pixels.iter().any(|p| p.sum.iter().any(|&x| x > 0.0)), "{method:?}: black");
         assert!(a == b, "{}: the textured glTF's film differs from the JSON twin's", method.name());
@@ -681,7 +704,9 @@ fn textured_gltf_renders_the_same_image_as_its_json_twin_on_every_method() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(text.contains("images[0] (4×3, wrap mirror/clamp) × [1, 1, 1]"), "{text}");
     // A JSON scene written back out loads as itself, image and all.
-    let again = load::from_str_in(&wavetrace::scene::export::to_json(&json_scene), "<export>", "textured", &dir).unwrap();
+    let again =
+        load::from_str_in(&wavetrace::scene::export::to_json(&json_scene), "<export>", "textured", &dir)
+            .unwrap();
     assert_eq!(again, json_scene);
 }
 
@@ -700,8 +725,8 @@ fn textured_scene_agrees_between_cpu_and_gpu() {
     common::assert_agree_rays("textured f32 vs f64", &cpu, &run(Method::CpuF64, &scene), 1e-2);
     let mut flat = scene.clone();
     for m in &mut flat.materials {
-        if let wavetrace::scene::Material::Lambertian { albedo } | wavetrace::scene::Material::Metal { albedo, .. } =
-            &mut m.material
+        if let wavetrace::scene::Material::Lambertian { albedo }
+        | wavetrace::scene::Material::Metal { albedo, .. } = &mut m.material
         {
             if let wavetrace::scene::Texture::Image { image, tint, .. } = *albedo {
                 *albedo = wavetrace::scene::Texture::Solid(tint * scene.images[image as usize].mean());
@@ -714,7 +739,12 @@ fn textured_scene_agrees_between_cpu_and_gpu() {
         return;
     }
     for method in [Method::Megakernel, Method::Wavefront] {
-        common::assert_agree_rays(&format!("textured cpu vs {}", method.name()), &cpu, &run(method, &scene), common::F32_RAY_TOLERANCE);
+        common::assert_agree_rays(
+            &format!("textured cpu vs {}", method.name()),
+            &cpu,
+            &run(method, &scene),
+            common::F32_RAY_TOLERANCE,
+        );
     }
 }
 
@@ -725,17 +755,45 @@ fn malformed_textures_name_the_file_the_field_and_the_reason() {
     std::fs::write(dir.join("fake.png"), b"GIF89a not a png").unwrap();
     type TexEdit = Box<dyn FnOnce(&mut Value, &mut Vec<u8>)>;
     let cases: Vec<(&str, TexEdit, &str, &str)> = vec![
-        ("missing", Box::new(|r, _| r["images"][0]["uri"] = json!("nowhere.png")), "images[0].uri", "cannot read"),
+        (
+            "missing",
+            Box::new(|r, _| r["images"][0]["uri"] = json!("nowhere.png")),
+            "images[0].uri",
+            "cannot read",
+        ),
         ("not-png", Box::new(|r, _| r["images"][0]["uri"] = json!("fake.png")), "images[0].uri", "not a PNG"),
-        ("source-range", Box::new(|r, _| r["textures"][0]["source"] = json!(7)), "textures[0].source", "Index out of range"),
-        ("texture-range", Box::new(|r, _| r["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["index"] = json!(5)),
-            "materials[0].pbrMetallicRoughness.baseColorTexture.index", "Index out of range"),
-        ("uv-type", Box::new(|r, _| r["accessors"][1]["type"] = json!("VEC3")),
-            "meshes[0].primitives[0].attributes.TEXCOORD_0", "expected Vec2"),
-        ("uv-count", Box::new(|r, _| r["accessors"][1]["count"] = json!(3)),
-            "meshes[0].primitives[0].attributes.TEXCOORD_0", "has 3 elements, but POSITION has 4 vertices"),
-        ("uv-integer", Box::new(|r, _| r["accessors"][1]["componentType"] = json!(5121)),
-            "meshes[0].primitives[0].attributes.TEXCOORD_0", "(integers normalized)"),
+        (
+            "source-range",
+            Box::new(|r, _| r["textures"][0]["source"] = json!(7)),
+            "textures[0].source",
+            "Index out of bounds",
+        ),
+        (
+            "texture-range",
+            Box::new(|r, _| {
+                r["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["index"] = json!(5)
+            }),
+            "materials[0].pbrMetallicRoughness.baseColorTexture.index",
+            "Index out of bounds",
+        ),
+        (
+            "uv-type",
+            Box::new(|r, _| r["accessors"][1]["type"] = json!("VEC3")),
+            "meshes[0].primitives[0].attributes.TEXCOORD_0",
+            "expected Vec2",
+        ),
+        (
+            "uv-count",
+            Box::new(|r, _| r["accessors"][1]["count"] = json!(3)),
+            "meshes[0].primitives[0].attributes.TEXCOORD_0",
+            "has 3 elements, but POSITION has 4 vertices",
+        ),
+        (
+            "uv-integer",
+            Box::new(|r, _| r["accessors"][1]["componentType"] = json!(5121)),
+            "meshes[0].primitives[0].attributes.TEXCOORD_0",
+            "(integers normalized)",
+        ),
     ];
     for (name, edit, path, reason) in cases {
         let (mut root, mut bin) = textured_document("tex.png");
@@ -749,11 +807,31 @@ fn malformed_textures_name_the_file_the_field_and_the_reason() {
     }
     // The JSON format's image albedo: a bad file or wrap names the scene file and the field.
     for (albedo, path, reason) in [
-        (r#"{"type": "image", "file": "nowhere.png", "wrap": ["repeat", "repeat"], "tint": [1, 1, 1]}"#, "materials.m.albedo.file", "cannot read"),
-        (r#"{"type": "image", "file": "fake.png", "wrap": ["repeat", "repeat"], "tint": [1, 1, 1]}"#, "materials.m.albedo.file", "fake.png: not a PNG"),
-        (r#"{"type": "image", "file": "tex.png", "wrap": ["repeat", "wrap"], "tint": [1, 1, 1]}"#, "materials.m.albedo.wrap[1]", "unknown wrap \"wrap\""),
-        (r#"{"type": "image", "file": "tex.png", "wrap": "repeat", "tint": [1, 1, 1]}"#, "materials.m.albedo.wrap", "expected [u, v] wraps"),
-        (r#"{"type": "image", "file": "tex.png", "wrap": ["repeat", "clamp"], "tint": [1, -1, 1]}"#, "materials.m.albedo.tint[1]", "must be >= 0"),
+        (
+            r#"{"type": "image", "file": "nowhere.png", "wrap": ["repeat", "repeat"], "tint": [1, 1, 1]}"#,
+            "materials.m.albedo.file",
+            "cannot read",
+        ),
+        (
+            r#"{"type": "image", "file": "fake.png", "wrap": ["repeat", "repeat"], "tint": [1, 1, 1]}"#,
+            "materials.m.albedo.file",
+            "fake.png: not a PNG",
+        ),
+        (
+            r#"{"type": "image", "file": "tex.png", "wrap": ["repeat", "wrap"], "tint": [1, 1, 1]}"#,
+            "materials.m.albedo.wrap[1]",
+            "unknown wrap \"wrap\"",
+        ),
+        (
+            r#"{"type": "image", "file": "tex.png", "wrap": "repeat", "tint": [1, 1, 1]}"#,
+            "materials.m.albedo.wrap",
+            "expected [u, v] wraps",
+        ),
+        (
+            r#"{"type": "image", "file": "tex.png", "wrap": ["repeat", "clamp"], "tint": [1, -1, 1]}"#,
+            "materials.m.albedo.tint[1]",
+            "must be >= 0",
+        ),
     ] {
         let text = format!(
             r#"{{"format": "wavetrace-scene/1",

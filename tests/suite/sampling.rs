@@ -753,7 +753,12 @@ fn light_test_scene_with(spheres: Vec<Sphere>, quads: Vec<Quad>, triangles: Vec<
         ],
         spheres,
         quads,
-        meshes: vec![Mesh { source: MeshSource::File("light-test.obj".into()), triangles, uvs: None, material: 0 }],
+        meshes: vec![Mesh {
+            source: MeshSource::File("light-test.obj".into()),
+            triangles,
+            uvs: None,
+            material: 0,
+        }],
         images: Vec::new(),
     }
 }
