@@ -684,7 +684,8 @@ fn textured_gltf_renders_the_same_image_as_its_json_twin_on_every_method() {
     assert_eq!(packed.texture_kinds(), 1 << wavetrace::layout::texture_kind::IMAGE);
     assert_eq!(packed.uvs.len(), packed.primitives.len());
     assert_eq!(packed.texels.len(), 256 + 4 + 12, "table, one header, 4×3 texels");
-    let plain = wavetrace::packed_scene::PackedScene::new(&equivalent_json(&dir), Accel::Bvh);
+    let plain =
+        wavetrace::packed_scene::PackedScene::new(&equivalent_json(&scratch("textured-plain")), Accel::Bvh);
     assert!(plain.uvs.is_empty() && plain.texels.is_empty());
     let gpu = common::gpu();
     let s = textured_settings(4);
