@@ -684,6 +684,13 @@ fn textured_gltf_renders_the_same_image_as_its_json_twin_on_every_method() {
     assert_eq!(packed.texture_kinds(), 1 << wavetrace::layout::texture_kind::IMAGE);
     assert_eq!(packed.uvs.len(), packed.primitives.len());
     assert_eq!(packed.texels.len(), 256 + 4 + 12, "table, one header, 4×3 texels");
+    // Images too big for the adapter's storage binding are refused naming their files.
+    let texel_bytes = 4 * packed.texels.len() as u64;
+    let err =
+        wavetrace::gpu::scene_buffers::check_fits_limits(&packed, "Tiny GPU", texel_bytes - 1, u64::MAX)
+            .unwrap_err()
+            .to_string();
+    assert!(err.contains("image textures do not fit on Tiny GPU") && err.contains("tex.png (48 B)"), "{err}");
     let plain =
         wavetrace::packed_scene::PackedScene::new(&equivalent_json(&scratch("textured-plain")), Accel::Bvh);
     assert!(plain.uvs.is_empty() && plain.texels.is_empty());
