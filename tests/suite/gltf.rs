@@ -853,3 +853,99 @@ fn malformed_textures_name_the_file_the_field_and_the_reason() {
         assert!(e.reason.contains(reason), "{e}");
     }
 }
+
+/// The WGSL lookup (`shaders/shared/image_texture.wgsl`) agrees with the CPU reference's
+/// (`cpu/image_texture.rs`) at coordinates inside, on and beyond the image, in every wrap mode:
+/// to a few ulps (the GPU may fuse the coordinate's multiply and add, which can move a texel
+/// boundary by an ulp, so equality is not asked).
+#[test]
+fn wgsl_image_lookup_matches_the_cpu() {
+    use wavetrace::gpu::buffers::{read_back, storage_entry, storage_init, storage_zeroed};
+    use wavetrace::layout::{image_word, texture_kind, MaterialRecord};
+    let Some(ctx) = common::gpu() else { return };
+    let dir = scratch("image-probe");
+    texture_png(&dir.join("tex.png"));
+    let mut scene = textured_json(&dir, "tex.png");
+    // A second, 1×1 image: the header of an image other than the first.
+    let one = wavetrace::scene::Image {
+        width: 1,
+        height: 1,
+        texels: vec![0x00_80_40_20],
+        ..scene.images[0].clone()
+    };
+    scene.images.push(one);
+    let packed = wavetrace::packed_scene::PackedScene::new(&scene, Accel::Bvh);
+    let mut rng = wavetrace::rng::Stream::new(17);
+    let mut probes: Vec<[f32; 4]> = Vec::new();
+    for image in 0..2u32 {
+        for wrap in 0..9u32 {
+            let word =
+                image | (wrap % 3) << image_word::WRAP_U_SHIFT | (wrap / 3) << image_word::WRAP_V_SHIFT;
+            for k in 0..64 {
+                // Texel centres and edges, then anywhere in [-3, 3).
+                let uv = if k < 16 {
+                    [(k % 4) as f32 / 8.0, (k / 4) as f32 / 6.0]
+                } else {
+                    [rng.range(-3.0, 3.0), rng.range(-3.0, 3.0)]
+                };
+                probes.push([uv[0], uv[1], f32::from_bits(word), 0.0]);
+            }
+        }
+    }
+    let n = probes.len() as u64;
+    let none = wgpu::BufferUsages::empty();
+    let texels = storage_init(ctx, "texels", &packed.texels, none).unwrap();
+    let input = storage_init(ctx, "probe in", &probes, none).unwrap();
+    let output = storage_zeroed(ctx, "probe out", n * 16, wgpu::BufferUsages::COPY_SRC).unwrap();
+    let scene_layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: None,
+        entries: &[storage_entry(7, true)],
+    });
+    let io_layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: None,
+        entries: &[storage_entry(0, true), storage_entry(1, false)],
+    });
+    let scene_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &scene_layout,
+        entries: &[wgpu::BindGroupEntry { binding: 7, resource: texels.as_entire_binding() }],
+    });
+    let io_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &io_layout,
+        entries: &[
+            wgpu::BindGroupEntry { binding: 0, resource: input.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: output.as_entire_binding() },
+        ],
+    });
+    let module = ctx.shader("image_probe", wavetrace::gpu::shaders::IMAGE_PROBE, Default::default()).unwrap();
+    let pipeline = ctx.compute_pipeline("image_probe", &module, &[&scene_layout, &io_layout], &[]).unwrap();
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    {
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &scene_group, &[]);
+        pass.set_bind_group(1, &io_group, &[]);
+        pass.dispatch_workgroups((n as u32).div_ceil(64), 1, 1);
+    }
+    ctx.queue.submit([enc.finish()]);
+    let gpu: Vec<[f32; 4]> = read_back(ctx, &output, n * 16).unwrap();
+    for (q, g) in probes.iter().zip(&gpu) {
+        let m = MaterialRecord {
+            color: [1.0; 3],
+            texture: texture_kind::IMAGE,
+            octaves: q[2].to_bits(),
+            ..Default::default()
+        };
+        let want = wavetrace::cpu::image_texture::image_albedo(&m, &packed.texels, [q[0], q[1]]);
+        for (c, (w, got)) in [want.x, want.y, want.z].iter().zip(g).enumerate() {
+            assert!(
+                (w - got).abs() <= 1e-5,
+                "uv ({}, {}) word {:#x} channel {c}: CPU {w}, GPU {got}",
+                q[0],
+                q[1],
+                q[2].to_bits()
+            );
+        }
+    }
+}
