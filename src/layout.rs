@@ -48,6 +48,8 @@ pub mod texture_kind {
     pub const CELLULAR: u32 = 7;
     pub const CRACKLE: u32 = 8;
     pub const VALUE: u32 = 9;
+    /// An image looked up at the surface's texture coordinates (`scene::image`).
+    pub const IMAGE: u32 = 10;
 
     /// The costly procedural patterns (`scene::Pattern`), which loop over octaves.
     pub fn is_procedural(kind: u32) -> bool {
@@ -67,13 +69,42 @@ pub struct MaterialRecord {
     pub kind: u32,
     /// [`texture_kind`] of the albedo (lambertian and metal).
     pub texture: u32,
-    /// Octaves of a procedural pattern (noise, marble, ...): the shading-cost knob.
+    /// Octaves of a procedural pattern (noise, marble, ...): the shading-cost knob. For an
+    /// image: its index in the texel buffer's headers (bits 0..24, [`image_word`]) and the
+    /// wrap codes along u (bits 24..26) and v (bits 26..28).
     pub octaves: u32,
     /// Checker square size, or a procedural pattern's frequency.
     pub scale: f32,
     /// A checker's odd squares.
     pub color2: [f32; 3],
     pub _pad: u32,
+}
+
+/// The texel buffer of a scene with image textures (WGSL: `texels` in
+/// `shaders/shared/scene.wgsl`): one `array<u32>` holding, in order, the sRGB decoding table
+/// (256 f32s as bits, `scene::image::srgb_table`), one header of [`image_word::HEADER_WORDS`]
+/// words per image (first texel's word, width, height, unused), then every image's texels (r |
+/// g << 8 | b << 16, sRGB-encoded, rows top first).
+pub mod image_word {
+    /// Words of the decoding table, where the headers start.
+    pub const HEADERS: u32 = 256;
+    pub const HEADER_WORDS: u32 = 4;
+    /// Bits of [`super::MaterialRecord::octaves`] that hold the image's index.
+    pub const INDEX_MASK: u32 = 0x00ff_ffff;
+    pub const WRAP_U_SHIFT: u32 = 24;
+    pub const WRAP_V_SHIFT: u32 = 26;
+}
+
+/// WGSL: `UvRecord` in `shaders/shared/image_texture.wgsl`: the texture coordinates of a quad or
+/// triangle, one per primitive slot (only in scenes with image textures): `uv0` at corner `a`,
+/// and the change along edges `b` (`du`) and `c` (`dv`), so the point `a + α·b + β·c` has
+/// coordinates `uv0 + α·du + β·dv` for either shape.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct UvRecord {
+    pub uv0: [f32; 2],
+    pub du: [f32; 2],
+    pub dv: [f32; 2],
 }
 
 /// WGSL: `BvhNode` in `shaders/shared/bvh.wgsl`. An interior node has `count == 0`, its left

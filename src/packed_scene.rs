@@ -6,8 +6,8 @@
 use crate::bvh::{Aabb, Bvh};
 use crate::camera::CameraFrame;
 use crate::layout::{
-    background_kind, material_kind, primitive_kind, texture_kind, BvhNode, FrameUniform, LightEntry,
-    MaterialRecord, PrimitiveRecord,
+    background_kind, image_word, material_kind, primitive_kind, texture_kind, BvhNode, FrameUniform,
+    LightEntry, MaterialRecord, PrimitiveRecord, UvRecord,
 };
 use crate::light_options::{LightOptions, LightSampling, LightSelect};
 use crate::light_table;
@@ -25,7 +25,7 @@ use glam::Vec3;
 /// from 0 to its last kind): what `--specialize none` compiles in, and the WGSL defaults.
 pub const EVERY_PRIMITIVE_KIND: u32 = (1 << (primitive_kind::TRIANGLE + 1)) - 1;
 pub const EVERY_MATERIAL_KIND: u32 = (1 << (material_kind::EMISSIVE + 1)) - 1;
-pub const EVERY_TEXTURE_KIND: u32 = (1 << (texture_kind::VALUE + 1)) - 1;
+pub const EVERY_TEXTURE_KIND: u32 = (1 << (texture_kind::IMAGE + 1)) - 1;
 
 #[derive(Clone, Debug)]
 pub struct PackedScene {
@@ -51,17 +51,37 @@ pub struct PackedScene {
     /// The stress transform the scene was moved by (`--scale`, `--translate`): textures undo it.
     pub stress: StressTransform,
     pub background: Background,
+    /// Texture coordinates per primitive slot (as `primitives`), only where some material has
+    /// an image texture (empty otherwise, so other scenes upload and read none).
+    pub uvs: Vec<UvRecord>,
+    /// The images' texels and their decoding table (`layout::image_word`), empty without image
+    /// textures.
+    pub texels: Vec<u32>,
+    /// Each image's source and its texel bytes, for errors naming what does not fit.
+    pub image_sources: Vec<(String, u64)>,
 }
 
 impl PackedScene {
     pub fn new(scene: &Scene, accel: Accel) -> Self {
-        let records = records(scene);
+        let (records, uv_records) = records(scene);
         let boxes: Vec<Aabb> = records.iter().map(primitive_box).collect();
         let bvh = match accel {
             Accel::Bvh => Bvh::build(&boxes),
             Accel::None => Bvh::single_leaf(&boxes),
         };
         let primitives: Vec<PrimitiveRecord> = bvh.order.iter().map(|&i| records[i as usize]).collect();
+        let textured = scene.materials.iter().any(|m| {
+            matches!(
+                m.material,
+                Material::Lambertian { albedo: Texture::Image { .. } }
+                    | Material::Metal { albedo: Texture::Image { .. }, .. }
+            )
+        });
+        let uvs =
+            if textured { bvh.order.iter().map(|&i| uv_records[i as usize]).collect() } else { Vec::new() };
+        let texels = if textured { texel_buffer(&scene.images) } else { Vec::new() };
+        let image_sources =
+            scene.images.iter().map(|im| (im.source.to_string(), 4 * im.texels.len() as u64)).collect();
         let materials: Vec<MaterialRecord> =
             scene.materials.iter().map(|m| material_record(&m.material)).collect();
         let lights = (0..primitives.len() as u32)
@@ -82,6 +102,9 @@ impl PackedScene {
             numerics: NumericOptions::default(),
             stress: StressTransform::default(),
             background: scene.background.clone(),
+            uvs,
+            texels,
+            image_sources,
         }
     }
 
@@ -293,9 +316,39 @@ fn light_distribution(
     }
 }
 
-/// Every shape of the scene as a record, in scene order: spheres, quads, mesh triangles.
-fn records(scene: &Scene) -> Vec<PrimitiveRecord> {
+/// The texel buffer (`layout::image_word`): the decoding table, a header per image, the texels.
+fn texel_buffer(images: &[crate::scene::Image]) -> Vec<u32> {
+    let mut out: Vec<u32> = crate::scene::image::srgb_table().iter().map(|x| x.to_bits()).collect();
+    let mut first = image_word::HEADERS + image_word::HEADER_WORDS * images.len() as u32;
+    for im in images {
+        out.extend([first, im.width, im.height, 0]);
+        first += im.texels.len() as u32;
+    }
+    for im in images {
+        out.extend_from_slice(&im.texels);
+    }
+    out
+}
+
+/// Every shape of the scene as a record, in scene order: spheres, quads, mesh triangles; and
+/// each one's texture coordinates (a sphere's unused; a quad's, and a triangle's of a mesh
+/// without them, (0, 0) at `a`, (1, 0) at the end of `b`, (0, 1) at the end of `c`).
+fn records(scene: &Scene) -> (Vec<PrimitiveRecord>, Vec<UvRecord>) {
     let mut out = Vec::with_capacity(scene.primitive_count());
+    let mut uvs = Vec::with_capacity(scene.primitive_count());
+    let unit = UvRecord { uv0: [0.0, 0.0], du: [1.0, 0.0], dv: [0.0, 1.0] };
+    uvs.extend(std::iter::repeat_n(UvRecord::default(), scene.spheres.len()));
+    uvs.extend(std::iter::repeat_n(unit, scene.quads.len()));
+    for m in &scene.meshes {
+        match &m.uvs {
+            Some(corners) => uvs.extend(corners.iter().map(|[a, b, c]| UvRecord {
+                uv0: a.to_array(),
+                du: (*b - *a).to_array(),
+                dv: (*c - *a).to_array(),
+            })),
+            None => uvs.extend(std::iter::repeat_n(unit, m.triangles.len())),
+        }
+    }
     for s in &scene.spheres {
         out.push(PrimitiveRecord {
             a: s.center.to_array(),
@@ -321,7 +374,7 @@ fn records(scene: &Scene) -> Vec<PrimitiveRecord> {
             out.push(planar(primitive_kind::TRIANGLE, t[0], t[1] - t[0], t[2] - t[0], m.material));
         }
     }
-    out
+    (out, uvs)
 }
 
 /// The primitive's box, padded by a few ulps so that traversal in f64 (`cpu-f64`) of this f32
@@ -358,6 +411,12 @@ fn material_record(m: &Material) -> MaterialRecord {
         Texture::Checker { scale, even, odd } => (texture_kind::CHECKER, even, odd, scale, 0),
         Texture::Procedural { pattern, scale, octaves, color } => {
             (pattern.kind(), color, Vec3::ZERO, scale, octaves)
+        }
+        Texture::Image { image, wrap, tint } => {
+            let word = image
+                | wrap[0].code() << image_word::WRAP_U_SHIFT
+                | wrap[1].code() << image_word::WRAP_V_SHIFT;
+            (texture_kind::IMAGE, tint, Vec3::ZERO, 0.0, word)
         }
     };
     MaterialRecord {

@@ -59,7 +59,8 @@ fn trace_bounce(path: ptr<function, TracedPath>, pixel: u32, sample: u32, bounce
     let front_face = dot(ray.dir, outward) < 0.0;
     let normal = select(-outward, outward, front_face);
     let u = uniform4(pixel, sample, bounce, PURPOSE_SCATTER, frame.seed);
-    let s = scatter(material, ray, texture_point(p), normal, front_face, u);
+    let uv = surface_texture_uv(material, hit.prim, prim, p);
+    let s = scatter(material, ray, texture_point(p), uv, normal, front_face, u);
     if !s.ok {
         return false;
     }

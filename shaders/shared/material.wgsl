@@ -85,21 +85,21 @@ fn reflect_probability(cosine: f32, eta_ratio: f32) -> f32 {
     return reflectance(cosine, eta_ratio);
 }
 
-fn scatter_lambertian(m: Material, p: vec3<f32>, normal: vec3<f32>, u: vec4<f32>) -> Scatter {
+fn scatter_lambertian(m: Material, p: vec3<f32>, uv: vec2<f32>, normal: vec3<f32>, u: vec4<f32>) -> Scatter {
     var d = normal + unit_vector(u.x, u.y);
     // The book's near_zero guard.
     if all(abs(d) < vec3<f32>(1e-8)) {
         d = normal;
     }
-    return Scatter(texture_albedo(m, p), normalize(d), true);
+    return Scatter(texture_albedo(m, p, uv), normalize(d), true);
 }
 
-fn scatter_metal(m: Material, ray: Ray, p: vec3<f32>, normal: vec3<f32>, u: vec4<f32>) -> Scatter {
+fn scatter_metal(m: Material, ray: Ray, p: vec3<f32>, uv: vec2<f32>, normal: vec3<f32>, u: vec4<f32>) -> Scatter {
     let d = reflect_dir(ray.dir, normal) + unit_vector(u.x, u.y) * m.param;
     if dot(d, normal) <= 0.0 {
         return Scatter(vec3<f32>(0.0), vec3<f32>(0.0), false);
     }
-    return Scatter(texture_albedo(m, p), normalize(d), true);
+    return Scatter(texture_albedo(m, p, uv), normalize(d), true);
 }
 
 fn scatter_dielectric(m: Material, ray: Ray, normal: vec3<f32>, front_face: bool, u: vec4<f32>) -> Scatter {
@@ -118,16 +118,17 @@ fn scatter_dielectric(m: Material, ray: Ray, normal: vec3<f32>, front_face: bool
     return Scatter(vec3<f32>(1.0), normalize(d), true);
 }
 
-// `p`: the hit point, where textures are evaluated. Never called for an emitter (its path ends
+// `p`: the hit point, where the solid textures are evaluated; `uv`: its texture coordinates
+// (read by an image alone: surface_texture_uv). Never called for an emitter (its path ends
 // at the hit), so the kinds that scatter are the scene's less emissive: a scene with one of them
 // branches on no kind at all.
-fn scatter(m: Material, ray: Ray, p: vec3<f32>, normal: vec3<f32>, front_face: bool, u: vec4<f32>) -> Scatter {
+fn scatter(m: Material, ray: Ray, p: vec3<f32>, uv: vec2<f32>, normal: vec3<f32>, front_face: bool, u: vec4<f32>) -> Scatter {
     let scattering = MATERIAL_KINDS & ~(1u << MATERIAL_EMISSIVE);
     if kind_is(scattering, m.kind, MATERIAL_LAMBERTIAN) {
-        return scatter_lambertian(m, p, normal, u);
+        return scatter_lambertian(m, p, uv, normal, u);
     }
     if kind_is(scattering, m.kind, MATERIAL_METAL) {
-        return scatter_metal(m, ray, p, normal, u);
+        return scatter_metal(m, ray, p, uv, normal, u);
     }
     if kind_is(scattering, m.kind, MATERIAL_DIELECTRIC) {
         return scatter_dielectric(m, ray, normal, front_face, u);

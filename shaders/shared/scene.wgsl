@@ -15,6 +15,12 @@
 @group(0) @binding(4) var<storage, read> lights: array<LightEntry>;
 // Self-hits and depth-cut paths (shared/offset.wgsl), read back once per render.
 @group(0) @binding(5) var<storage, read_write> failures: array<atomic<u32>, 6>;
+// Image textures (shared/image_texture.wgsl): texture coordinates per primitive slot and the
+// texel buffer; one unused element each in a scene without image textures.
+@group(0) @binding(6) var<storage, read> uvs: array<UvRecord>;
+@group(0) @binding(7) var<storage, read> texels: array<u32>;
+
+#include "shared/image_texture.wgsl"
 
 #include "shared/offset.wgsl"
 
@@ -40,4 +46,14 @@ fn shadow_unblocked(ray: Ray, t_max: f32, light: u32, left: u32) -> bool {
 // Where the texture of a surface at `p` is looked up: the stress transform undone.
 fn texture_point(p: vec3<f32>) -> vec3<f32> {
     return (p - frame.texture_origin) * frame.texture_inv_scale;
+}
+
+// The texture coordinates of the hit at `p` on primitive `slot`, where material `m` looks up an
+// image (zero otherwise, never read): recomputed from the hit point, so nothing is stored for
+// them, and compiled out of scenes without image textures.
+fn surface_texture_uv(m: Material, slot: u32, prim: Primitive, p: vec3<f32>) -> vec2<f32> {
+    if kind_is(TEXTURE_KINDS, m.texture, TEXTURE_IMAGE) {
+        return surface_uv(slot, prim, p);
+    }
+    return vec2<f32>(0.0);
 }

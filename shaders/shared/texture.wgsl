@@ -18,6 +18,8 @@ const TEXTURE_WARP: u32 = 6u;
 const TEXTURE_CELLULAR: u32 = 7u;
 const TEXTURE_CRACKLE: u32 = 8u;
 const TEXTURE_VALUE: u32 = 9u;
+// An image at the surface's texture coordinates (shared/image_texture.wgsl).
+const TEXTURE_IMAGE: u32 = 10u;
 
 // A hash word's top 24 bits in [0, 1), exact in f32.
 fn hash_unit(h: u32) -> f32 {
@@ -106,8 +108,9 @@ fn turbulence(p: vec3<f32>, octaves: u32) -> f32 {
 
 // Bit k is set when a textured material of the scene (lambertian, metal) has texture kind k
 // (PackedScene::texture_kinds), set per pipeline so that only the scene's textures are compiled
-// in: the patterns' octave loops above all. 1023: every kind (`--specialize none`).
-override TEXTURE_KINDS: u32 = 1023u;
+// in: the patterns' octave loops above all, and the image lookup with its bindings. 2047: every
+// kind (`--specialize none`).
+override TEXTURE_KINDS: u32 = 2047u;
 
 // The six patterns beyond noise and marble, in [0, 1] (twin of `pattern` in src/cpu/texture.rs).
 fn pattern_wood(p: vec3<f32>, scale: f32, octaves: u32) -> f32 {
@@ -172,7 +175,9 @@ fn pattern_value(p: vec3<f32>, scale: f32, octaves: u32) -> f32 {
     return clamp(0.5 + accum, 0.0, 1.0);
 }
 
-fn texture_albedo(m: Material, p: vec3<f32>) -> vec3<f32> {
+// `p`: where the solid textures are evaluated; `uv`: the surface's texture coordinates (only
+// computed, and only read, for an image).
+fn texture_albedo(m: Material, p: vec3<f32>, uv: vec2<f32>) -> vec3<f32> {
     if kind_is(TEXTURE_KINDS, m.texture, TEXTURE_CHECKER) {
         let c = floor(p / m.scale);
         let parity = (i32(c.x) + i32(c.y) + i32(c.z)) & 1;
@@ -201,6 +206,9 @@ fn texture_albedo(m: Material, p: vec3<f32>) -> vec3<f32> {
     }
     if kind_is(TEXTURE_KINDS, m.texture, TEXTURE_VALUE) {
         return m.color * pattern_value(p, m.scale, m.octaves);
+    }
+    if kind_is(TEXTURE_KINDS, m.texture, TEXTURE_IMAGE) {
+        return image_albedo(m, uv);
     }
     return m.color;
 }

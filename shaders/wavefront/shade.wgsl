@@ -79,7 +79,8 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     let front_face = dot(ray.dir, outward) < 0.0;
     let normal = select(-outward, outward, front_face);
     let u = uniform4(slot_pixel(slot), slot_sample(slot), bounce, PURPOSE_SCATTER, frame.seed);
-    let s = scatter(material, ray, texture_point(p), normal, front_face, u);
+    let uv = surface_texture_uv(material, prim_slot, prim, p);
+    let s = scatter(material, ray, texture_point(p), uv, normal, front_face, u);
     // The book's depth limit: a path still going after max_depth rays contributes nothing.
     if !s.ok || bounce + 1u >= frame.max_depth {
         if s.ok {

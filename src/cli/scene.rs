@@ -116,6 +116,18 @@ pub fn info(scene: &Scene) -> String {
     for m in &scene.materials {
         let albedo = |t: &Texture| match t {
             Texture::Solid(color) => v(*color),
+            Texture::Image { image, wrap, tint } => match scene.images.get(*image as usize) {
+                Some(im) => format!(
+                    "image {} ({}×{}, wrap {}/{}) × {}",
+                    im.source,
+                    im.width,
+                    im.height,
+                    wrap[0].name(),
+                    wrap[1].name(),
+                    v(*tint)
+                ),
+                None => format!("image #{image} (missing)"),
+            },
             t => t.kind_name().to_owned(),
         };
         let what = match &m.material {

@@ -2,12 +2,14 @@
 //! `trace_path` in `shaders/megakernel.wgsl`.
 
 use super::bvh::{closest_hit_observed, occluder_observed};
+use super::image_texture::surface_uv;
 use super::light::{diffuse_pdf, emission_weight, next_event};
 use super::observe::PathObserver;
 use super::offset::{is_self_hit, spawn_origin, surface_point, NO_ORIGIN};
+use super::texture::TexturePoint;
 use super::{background::background, camera::Camera, material::scatter};
 use super::{primitive::outward_normal, ray::Ray, real::Real, vec3::V3};
-use crate::layout::material_kind;
+use crate::layout::{material_kind, texture_kind};
 use crate::numerics::Failures;
 use crate::packed_scene::PackedScene;
 use crate::rng::{uniform4, Purpose};
@@ -83,7 +85,14 @@ pub fn trace_path_observed<T: Real>(
         let front_face = ray.dir.dot(outward) < T::zero();
         let normal = if front_face { outward } else { -outward };
         let u = uniform4(pixel, sample, bounce, Purpose::Scatter, seed);
-        let Some(s) = scatter(material, &ray, scene.texture_point(p), normal, front_face, u, fresnel) else {
+        // Texture coordinates only for an image (other textures never read them, as on the GPU).
+        let uv = if material.texture == texture_kind::IMAGE {
+            surface_uv(prim, &scene.uvs[hit.prim as usize], p)
+        } else {
+            [T::zero(); 2]
+        };
+        let at = TexturePoint { p: scene.texture_point(p), uv, texels: &scene.texels };
+        let Some(s) = scatter(material, &ray, &at, normal, front_face, u, fresnel) else {
             return out;
         };
         // Direct light at diffuse hits, when the ray it stands in for (ray bounce + 2) is within

@@ -1,6 +1,7 @@
 //! Scattering by the book's materials; twin of `shaders/shared/material.wgsl`.
 
-use super::{ray::Ray, real::Real, sampling::unit_vector, texture, vec3::V3};
+use super::texture::{self, TexturePoint};
+use super::{ray::Ray, real::Real, sampling::unit_vector, vec3::V3};
 use crate::layout::{material_kind, MaterialRecord};
 use crate::numerics::Fresnel;
 
@@ -56,7 +57,7 @@ pub fn reflect_probability<T: Real>(cos: T, eta_ratio: T, fresnel: Fresnel) -> T
     }
 }
 
-/// Scatters `ray` at the surface point `p` (where textures are evaluated) with shading normal
+/// Scatters `ray` at the surface point whose texture is looked up at `at` with shading normal
 /// `normal` (facing the ray), `front_face` true when the ray arrived from outside. `u` are the
 /// bounce's three scatter numbers; glass reflects by `fresnel`. `None`: the path is absorbed
 /// (or the surface only emits).
@@ -64,7 +65,7 @@ pub fn reflect_probability<T: Real>(cos: T, eta_ratio: T, fresnel: Fresnel) -> T
 pub fn scatter<T: Real>(
     m: &MaterialRecord,
     ray: &Ray<T>,
-    p: V3<T>,
+    at: &TexturePoint<T>,
     normal: V3<T>,
     front_face: bool,
     u: [f32; 4],
@@ -76,7 +77,7 @@ pub fn scatter<T: Real>(
             // The book's near_zero guard: a sample opposite the normal falls back to it.
             let tiny = T::of(1e-8);
             let dir = if d.x.abs() < tiny && d.y.abs() < tiny && d.z.abs() < tiny { normal } else { d };
-            Some(Scatter { attenuation: texture::albedo(m, p), dir: dir.normalize() })
+            Some(Scatter { attenuation: texture::albedo(m, at), dir: dir.normalize() })
         }
         material_kind::METAL => {
             let fuzz = T::of(m.param);
@@ -84,7 +85,7 @@ pub fn scatter<T: Real>(
             if dir.dot(normal) <= T::zero() {
                 return None;
             }
-            Some(Scatter { attenuation: texture::albedo(m, p), dir: dir.normalize() })
+            Some(Scatter { attenuation: texture::albedo(m, at), dir: dir.normalize() })
         }
         material_kind::DIELECTRIC => {
             let ior = T::of(m.param);
@@ -123,8 +124,16 @@ mod tests {
         let n = V3::new(0.0, -1.0, 0.0); // facing the ray, which travels up and out
         let r = ray([60f64.to_radians().sin(), 60f64.to_radians().cos(), 0.0]);
         for u in [0.0, 0.5, 0.999] {
-            let s =
-                scatter(&glass, &r, V3::splat(0.0), n, false, [0.3, 0.3, u, 0.0], Fresnel::Schlick).unwrap();
+            let s = scatter(
+                &glass,
+                &r,
+                &TexturePoint::at(V3::splat(0.0)),
+                n,
+                false,
+                [0.3, 0.3, u, 0.0],
+                Fresnel::Schlick,
+            )
+            .unwrap();
             assert!(s.dir.y < 0.0, "reflected back down into the glass");
             assert!((s.dir.y + r.dir.y).abs() < 1e-12 && (s.dir.x - r.dir.x).abs() < 1e-12);
         }
@@ -136,13 +145,30 @@ mod tests {
         let n = V3::new(0.0, 1.0, 0.0);
         let r = ray([30f64.to_radians().sin(), -30f64.to_radians().cos(), 0.0]);
         // u = 0.999 > Schlick reflectance (~0.04): refracts.
-        let s =
-            scatter(&glass, &r, V3::splat(0.0), n, true, [0.0, 0.0, 0.999, 0.0], Fresnel::Schlick).unwrap();
+        let s = scatter(
+            &glass,
+            &r,
+            &TexturePoint::at(V3::splat(0.0)),
+            n,
+            true,
+            [0.0, 0.0, 0.999, 0.0],
+            Fresnel::Schlick,
+        )
+        .unwrap();
         let sin_out = s.dir.x / s.dir.length();
         assert!((sin_out - 0.5 / 1.5).abs() < 1e-12, "sin θt = sin θi / 1.5");
         assert!(s.dir.y < 0.0);
         // u = 0 < reflectance: reflects.
-        let s = scatter(&glass, &r, V3::splat(0.0), n, true, [0.0, 0.0, 0.0, 0.0], Fresnel::Schlick).unwrap();
+        let s = scatter(
+            &glass,
+            &r,
+            &TexturePoint::at(V3::splat(0.0)),
+            n,
+            true,
+            [0.0, 0.0, 0.0, 0.0],
+            Fresnel::Schlick,
+        )
+        .unwrap();
         assert!(s.dir.y > 0.0);
     }
 
@@ -159,8 +185,16 @@ mod tests {
         let mut st = crate::rng::Stream::new(5);
         for _ in 0..1000 {
             let u = [st.next_f32(), st.next_f32(), 0.0, 0.0];
-            let s =
-                scatter(&m, &ray([0.0, 0.0, -1.0]), V3::splat(0.0), n, true, u, Fresnel::Schlick).unwrap();
+            let s = scatter(
+                &m,
+                &ray([0.0, 0.0, -1.0]),
+                &TexturePoint::at(V3::splat(0.0)),
+                n,
+                true,
+                u,
+                Fresnel::Schlick,
+            )
+            .unwrap();
             assert!(s.dir.dot(n) >= 0.0);
             assert!((s.dir.length() - 1.0).abs() < 1e-12);
             assert_eq!(s.attenuation, V3::new(0.2f32 as f64, 0.4f32 as f64, 0.6f32 as f64));
@@ -172,8 +206,16 @@ mod tests {
         let mirror = record(material_kind::METAL, [1.0; 3], 0.0);
         let n = V3::new(0.0, 1.0, 0.0);
         let r = ray([1.0, -1.0, 0.0]);
-        let s =
-            scatter(&mirror, &r, V3::splat(0.0), n, true, [0.1, 0.2, 0.0, 0.0], Fresnel::Schlick).unwrap();
+        let s = scatter(
+            &mirror,
+            &r,
+            &TexturePoint::at(V3::splat(0.0)),
+            n,
+            true,
+            [0.1, 0.2, 0.0, 0.0],
+            Fresnel::Schlick,
+        )
+        .unwrap();
         assert!((s.dir.x - r.dir.x).abs() < 1e-12 && (s.dir.y + r.dir.y).abs() < 1e-12);
         // A grazing ray with full fuzz: some samples end below the surface and are absorbed.
         let fuzzy = record(material_kind::METAL, [1.0; 3], 1.0);
@@ -184,7 +226,7 @@ mod tests {
                 scatter(
                     &fuzzy,
                     &grazing,
-                    V3::splat(0.0),
+                    &TexturePoint::at(V3::splat(0.0)),
                     n,
                     true,
                     [st.next_f32(), st.next_f32(), 0.0, 0.0],
@@ -216,7 +258,7 @@ mod tests {
         assert!(scatter(
             &light,
             &ray([0.0, 0.0, 1.0]),
-            V3::splat(0.0),
+            &TexturePoint::at(V3::splat(0.0)),
             V3::new(0.0, 0.0, -1.0),
             true,
             [0.5; 4],

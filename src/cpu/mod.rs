@@ -5,6 +5,7 @@
 pub mod background;
 pub mod bvh;
 pub mod camera;
+pub mod image_texture;
 pub mod integrator;
 pub mod light;
 pub mod material;

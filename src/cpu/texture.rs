@@ -180,9 +180,26 @@ pub fn pattern<T: Real>(kind: u32, p: V3<T>, scale: T, octaves: u32) -> T {
     }
 }
 
-/// The albedo of `m` at `p`.
-pub fn albedo<T: Real>(m: &MaterialRecord, p: V3<T>) -> V3<T> {
+/// Where a surface's albedo is looked up: the point (the stress transform undone) for the solid
+/// textures, the texture coordinates and the scene's texel buffer for an image.
+#[derive(Clone, Copy, Debug)]
+pub struct TexturePoint<'a, T> {
+    pub p: V3<T>,
+    pub uv: [T; 2],
+    pub texels: &'a [u32],
+}
+
+impl<T: Real> TexturePoint<'static, T> {
+    /// A point of a scene without image textures.
+    pub fn at(p: V3<T>) -> Self {
+        TexturePoint { p, uv: [T::zero(); 2], texels: &[] }
+    }
+}
+
+/// The albedo of `m` at `at`.
+pub fn albedo<T: Real>(m: &MaterialRecord, at: &TexturePoint<T>) -> V3<T> {
     let color = V3::of(m.color);
+    let p = at.p;
     match m.texture {
         texture_kind::CHECKER => {
             let s = T::of(m.scale);
@@ -195,6 +212,7 @@ pub fn albedo<T: Real>(m: &MaterialRecord, p: V3<T>) -> V3<T> {
             }
         }
         k if texture_kind::is_procedural(k) => color * pattern(k, p, T::of(m.scale), m.octaves),
+        texture_kind::IMAGE => super::image_texture::image_albedo(m, at.texels, at.uv),
         _ => color,
     }
 }
@@ -251,11 +269,12 @@ mod tests {
             scale: 0.5,
             ..Default::default()
         };
-        assert_eq!(albedo(&m, v(0.1, 0.1, 0.1)).x, 1.0);
-        assert_eq!(albedo(&m, v(0.6, 0.1, 0.1)).x, 0.0);
-        assert_eq!(albedo(&m, v(-0.1, 0.1, 0.1)).x, 0.0);
+        let at = |x, y, z| TexturePoint::at(v(x, y, z));
+        assert_eq!(albedo(&m, &at(0.1, 0.1, 0.1)).x, 1.0);
+        assert_eq!(albedo(&m, &at(0.6, 0.1, 0.1)).x, 0.0);
+        assert_eq!(albedo(&m, &at(-0.1, 0.1, 0.1)).x, 0.0);
         let solid = MaterialRecord { color: [0.2, 0.3, 0.4], ..Default::default() };
-        assert_eq!(albedo(&solid, v(5.0, 1.0, -3.0)).y, 0.3f32 as f64);
+        assert_eq!(albedo(&solid, &at(5.0, 1.0, -3.0)).y, 0.3f32 as f64);
     }
 
     /// Every costly pattern stays in [0, 1] (the book's noise, an unclamped turbulence, in

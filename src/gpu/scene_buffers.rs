@@ -38,6 +38,8 @@ impl SceneBuffers {
                 storage_entry(3, true),
                 storage_entry(4, true),
                 storage_entry(5, false),
+                storage_entry(6, true),
+                storage_entry(7, true),
             ],
         )
     }
@@ -68,7 +70,9 @@ impl SceneBuffers {
         let materials = storage_init(ctx, "materials", &scene.materials, none)?;
         let nodes = storage_init(ctx, "BVH nodes", &scene.nodes, none)?;
         let lights = storage_init(ctx, "lights", &scene.light_table, none)?;
-        let bytes = [&primitives, &materials, &nodes, &lights].iter().map(|b| b.size()).sum();
+        let uvs = storage_init(ctx, "texture coordinates", &scene.uvs, none)?;
+        let texels = storage_init(ctx, "texels", &scene.texels, none)?;
+        let bytes = [&primitives, &materials, &nodes, &lights, &uvs, &texels].iter().map(|b| b.size()).sum();
         memory.add(MemoryCategory::Scene, bytes + frame_buf.size());
         let failures = storage_zeroed(
             ctx,
@@ -88,6 +92,8 @@ impl SceneBuffers {
                 wgpu::BindGroupEntry { binding: 3, resource: nodes.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 4, resource: lights.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 5, resource: failures.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 6, resource: uvs.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 7, resource: texels.as_entire_binding() },
             ],
         });
         ctx.check()?;
@@ -116,13 +122,15 @@ pub fn decode_failures(words: &[u32]) -> Failures {
 }
 
 /// The storage buffers a scene needs: (label, bytes), labelled as in errors and in wgpu.
-pub fn buffer_sizes(scene: &PackedScene) -> [(&'static str, u64); 4] {
+pub fn buffer_sizes(scene: &PackedScene) -> [(&'static str, u64); 6] {
     use std::mem::size_of_val;
     [
         ("primitives", size_of_val(scene.primitives.as_slice()) as u64),
         ("materials", size_of_val(scene.materials.as_slice()) as u64),
         ("BVH nodes", size_of_val(scene.nodes.as_slice()) as u64),
         ("lights", size_of_val(scene.light_table.as_slice()) as u64),
+        ("texture coordinates", size_of_val(scene.uvs.as_slice()) as u64),
+        ("texels", size_of_val(scene.texels.as_slice()) as u64),
     ]
 }
 
@@ -142,6 +150,27 @@ pub fn check_fits_limits(
     // A storage binding is bounded by both limits; wgpu checks each separately.
     let limit = max_storage_buffer_binding_size.min(max_buffer_size);
     for (label, size) in buffer_sizes(scene) {
+        if label == "texels" && size > limit {
+            // The images are what the user can act on: name them, largest first.
+            let mut images = scene.image_sources.clone();
+            images.sort_by_key(|(_, bytes)| std::cmp::Reverse(*bytes));
+            let named: Vec<String> = images
+                .iter()
+                .take(4)
+                .map(|(source, bytes)| format!("{source} ({})", human_bytes(*bytes)))
+                .collect();
+            let more = images.len().saturating_sub(4);
+            bail!(
+                "the scene's image textures do not fit on {adapter}: their texels need {} ({size} bytes) \
+                 but the adapter allows at most {} ({limit} bytes) per storage buffer \
+                 (max_storage_buffer_binding_size {max_storage_buffer_binding_size}, max_buffer_size \
+                 {max_buffer_size}); the images, 4 bytes a texel: {}{}; use smaller images",
+                human_bytes(size),
+                human_bytes(limit),
+                named.join(", "),
+                if more > 0 { format!(" and {more} more") } else { String::new() },
+            );
+        }
         if size > limit {
             bail!(
                 "the scene ({} primitives) does not fit on {adapter}: its {label} buffer needs {} \

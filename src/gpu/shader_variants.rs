@@ -93,6 +93,7 @@ pub const ENTRIES: &[Entry] = &[
     Entry { name: "BANDWIDTH", file: "bandwidth.wgsl", hooks: &[] },
     Entry { name: "PREHEAT", file: "preheat.wgsl", hooks: &[] },
     Entry { name: "RNG_PROBE", file: "tests/rng_probe.wgsl", hooks: &[] },
+    Entry { name: "IMAGE_PROBE", file: "tests/image_probe.wgsl", hooks: &[] },
     Entry { name: "INDIRECT_PROBE", file: "tests/indirect_probe.wgsl", hooks: &[] },
     Entry { name: "SCHEDULE_PROBE", file: "tests/schedule_probe.wgsl", hooks: &[] },
     Entry { name: "GENERATE", file: "wavefront/generate.wgsl", hooks: &[Instrument, AppendSubgroup] },

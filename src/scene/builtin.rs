@@ -264,6 +264,7 @@ impl Builder {
             spheres: self.spheres,
             quads: Vec::new(),
             meshes: Vec::new(),
+            images: Vec::new(),
         }
     }
 }

@@ -55,6 +55,7 @@ pub fn cornell() -> Scene {
         spheres: Vec::new(),
         quads,
         meshes: Vec::new(),
+        images: Vec::new(),
     }
 }
 

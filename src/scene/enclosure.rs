@@ -48,6 +48,7 @@ pub fn enclosure() -> Scene {
         ],
         quads: Vec::new(),
         meshes: Vec::new(),
+        images: Vec::new(),
     }
 }
 

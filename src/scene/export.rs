@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 
 use glam::Vec3;
 
-use super::{Background, Material, MeshSource, Scene, Texture, FORMAT};
+use super::{Background, ImageSource, Material, MeshSource, Scene, Texture, FORMAT};
 
 /// The scene as pretty-printed JSON: `format`, `camera`, `background`, `materials` (in scene
 /// order), `objects` (spheres, quads, then meshes by their absolute OBJ path or terrain size; a glTF
@@ -46,9 +46,9 @@ pub fn to_json(scene: &Scene) -> String {
     let materials = scene.materials.iter().map(|m| {
         let kind = string(m.material.kind_name());
         let fields = match m.material {
-            Material::Lambertian { albedo } => format!(r#""albedo": {}"#, texture(&albedo)),
+            Material::Lambertian { albedo } => format!(r#""albedo": {}"#, texture(&albedo, scene)),
             Material::Metal { albedo, fuzz } => {
-                format!(r#""albedo": {}, "fuzz": {}"#, texture(&albedo), number(fuzz))
+                format!(r#""albedo": {}, "fuzz": {}"#, texture(&albedo, scene), number(fuzz))
             }
             Material::Dielectric { ior } => format!(r#""ior": {}"#, number(ior)),
             Material::Emissive { radiance } => format!(r#""radiance": {}"#, vec3(radiance)),
@@ -150,8 +150,10 @@ fn reads_back(text: &str, x: f32) -> bool {
     serde_json::from_str::<f64>(text).is_ok_and(|y| (y as f32).to_bits() == x.to_bits())
 }
 
-/// A solid albedo as `[r, g, b]` (as before textures existed), others as tagged objects.
-fn texture(t: &Texture) -> String {
+/// A solid albedo as `[r, g, b]` (as before textures existed), others as tagged objects; an
+/// image by its absolute file, or, for a glTF file's image, by the file and the image's glTF
+/// path (which, like a glTF primitive, no scene file can load: it fails at `gltf`).
+fn texture(t: &Texture, scene: &Scene) -> String {
     let kind = string(t.kind_name());
     match *t {
         Texture::Solid(c) => vec3(c),
@@ -168,6 +170,21 @@ fn texture(t: &Texture) -> String {
             number(scale),
             vec3(color)
         ),
+        Texture::Image { image, wrap, tint } => {
+            let source = match scene.images.get(image as usize).map(|im| &im.source) {
+                Some(ImageSource::File(f)) => format!(r#""file": {}"#, string(&f.to_string_lossy())),
+                Some(ImageSource::Gltf { file, image }) => {
+                    format!(r#""gltf": {}, "image": {}"#, string(&file.to_string_lossy()), string(image))
+                }
+                None => format!(r#""file": {}"#, string(&format!("<missing image #{image}>"))),
+            };
+            format!(
+                r#"{{"type": {kind}, {source}, "wrap": [{}, {}], "tint": {}}}"#,
+                string(wrap[0].name()),
+                string(wrap[1].name()),
+                vec3(tint)
+            )
+        }
     }
 }
 

@@ -73,7 +73,9 @@ mod tests {
         for m in &heavy.materials {
             if let Material::Lambertian { albedo } = m.material {
                 match albedo {
-                    Texture::Solid(_) => panic!("{} is untextured", m.name),
+                    Texture::Solid(_) | Texture::Image { .. } => {
+                        panic!("{} is untextured or an image", m.name)
+                    }
                     Texture::Checker { .. } => kinds[1] += 1,
                     Texture::Procedural { pattern, octaves, .. } => {
                         assert_eq!(octaves, 5);

@@ -27,6 +27,9 @@
 //! `background` is `{"type": "sky"}` or `{"type": "constant", "color": [r, g, b]}`. A quad is
 //! `corner + α·u + β·v` for α, β in [0, 1] (The Next Week's `quad`). A mesh's `file` is an OBJ
 //! ([`super::obj`]) whose path is relative to the scene file; its vertices are used as written.
+//! An albedo may be an image: `{"type": "image", "file": "wood.png", "wrap": ["repeat",
+//! "clamp"], "tint": [1, 1, 1]}`, a PNG relative to the scene file looked up at the surface's
+//! texture coordinates (`super::image`; wrap along u then v: `repeat`, `clamp` or `mirror`).
 //!
 //! Rules:
 //! - Every field shown is required; there are no defaults, so a file says everything it means.
@@ -53,8 +56,8 @@ use crate::strict_json::{describe, did_you_mean, join, parse_strict, quoted_list
 
 use super::texture::MAX_OCTAVES;
 use super::{
-    obj, Background, CameraSpec, InputError, Material, Mesh, MeshSource, NamedMaterial, Quad, Scene, Sphere,
-    Texture, FORMAT,
+    obj, Background, CameraSpec, Image, InputError, Material, Mesh, MeshSource, NamedMaterial, Quad, Scene,
+    Sphere, Texture, Wrap, FORMAT,
 };
 
 /// The `format` tags this build reads.
@@ -64,8 +67,10 @@ pub const SUPPORTED_FORMATS: &[&str] = &[FORMAT];
 const MATERIAL_TYPES: &[&str] = &["lambertian", "metal", "dielectric", "emissive"];
 const BACKGROUND_TYPES: &[&str] = &["sky", "constant"];
 const OBJECT_TYPES: &[&str] = &["sphere", "quad", "mesh"];
-const TEXTURE_TYPES: &[&str] =
-    &["solid", "checker", "noise", "marble", "wood", "ridged", "warp", "cellular", "crackle", "value"];
+const TEXTURE_TYPES: &[&str] = &[
+    "solid", "checker", "noise", "marble", "wood", "ridged", "warp", "cellular", "crackle", "value", "image",
+];
+const WRAP_NAMES: &[&str] = &["repeat", "clamp", "mirror"];
 
 /// Below this sine of the angle between a quad's edges it is refused as degenerate: a sliver
 /// whose normal f32 cannot resolve.
@@ -93,7 +98,7 @@ pub fn from_str(text: &str, file_label: &str, name: &str) -> Result<Scene, Input
 
 /// [`from_str`] with mesh files found relative to `dir` (the scene file's folder).
 pub fn from_str_in(text: &str, file_label: &str, name: &str, dir: &Path) -> Result<Scene, InputError> {
-    let cx = Cx { file: file_label, dir };
+    let cx = Cx { file: file_label, dir, images: Default::default() };
     let root = parse_strict(text).map_err(|(path, reason)| InputError::new(file_label, path, reason))?;
     let scene = cx.scene(&root, name)?;
     validate(&scene, file_label)?;
@@ -230,6 +235,44 @@ pub fn validate(scene: &Scene, file: &str) -> Result<(), InputError> {
         if let Some(t) = m.triangles.iter().flatten().find(|p| !p.is_finite()) {
             return err(format!("{path}.file"), format!("a vertex is not finite: {}", fmt_vec(*t)));
         }
+        if let Some(uvs) = &m.uvs {
+            if uvs.len() != m.triangles.len() {
+                return err(
+                    format!("{path}.file"),
+                    format!("{} triangles but texture coordinates for {}", m.triangles.len(), uvs.len()),
+                );
+            }
+            if let Some(uv) = uvs.iter().flatten().find(|uv| !uv.is_finite()) {
+                return err(format!("{path}.file"), format!("a texture coordinate is not finite: {uv}"));
+            }
+        }
+    }
+    for (i, m) in scene.materials.iter().enumerate() {
+        let (Material::Lambertian { albedo: Texture::Image { image, .. } }
+        | Material::Metal { albedo: Texture::Image { image, .. }, .. }) = m.material
+        else {
+            continue;
+        };
+        if image as usize >= scene.images.len() {
+            return err(
+                format!("{}.albedo", join("materials", &m.name)),
+                format!(
+                    "refers to image {image}, but the scene has {} images (materials[{i}])",
+                    scene.images.len()
+                ),
+            );
+        }
+    }
+    for im in &scene.images {
+        if im.width == 0
+            || im.height == 0
+            || im.texels.len() as u64 != u64::from(im.width) * u64::from(im.height)
+        {
+            return err(
+                "images".into(),
+                format!("{}: {}×{} with {} texels", im.source, im.width, im.height, im.texels.len()),
+            );
+        }
     }
     Ok(())
 }
@@ -298,6 +341,7 @@ fn check_texture(path: &str, t: &Texture) -> Option<(String, String)> {
         Texture::Procedural { scale, octaves, color, .. } => positive("scale", scale)
             .or_else(|| octaves_ok(octaves))
             .or_else(|| check_vec3(&format!("{path}.color"), color, true)),
+        Texture::Image { tint, .. } => check_vec3(&format!("{path}.tint"), tint, true),
     }
 }
 
@@ -313,8 +357,10 @@ type Res<T> = Result<T, InputError>;
 /// The walk's context: the file label every error carries.
 struct Cx<'a> {
     file: &'a str,
-    /// Where relative mesh paths start.
+    /// Where relative mesh and image paths start.
     dir: &'a Path,
+    /// The images read so far, each file once.
+    images: std::cell::RefCell<Vec<Image>>,
 }
 
 /// A JSON object being read: its fields, its path, and the fields it may have.
@@ -349,7 +395,8 @@ impl Cx<'_> {
         let background = self.background(&root)?;
         let materials = self.materials(&root)?;
         let (spheres, quads, meshes) = self.objects(&root, &materials)?;
-        Ok(Scene { name: name.to_owned(), camera, background, materials, spheres, quads, meshes })
+        let images = self.images.take();
+        Ok(Scene { name: name.to_owned(), camera, background, materials, spheres, quads, meshes, images })
     }
 
     fn camera(&self, root: &Obj) -> Res<CameraSpec> {
@@ -463,7 +510,12 @@ impl Cx<'_> {
                     let (tv, tpath) = self.field(&o, "terrain")?;
                     let n = self.terrain_size(tv, &tpath)?;
                     let triangles = super::terrain::triangles(n);
-                    meshes.push(Mesh { source: MeshSource::Terrain(n), triangles, material: material(&o)? });
+                    meshes.push(Mesh {
+                        source: MeshSource::Terrain(n),
+                        triangles,
+                        uvs: None,
+                        material: material(&o)?,
+                    });
                     None
                 }
                 _ => {
@@ -481,9 +533,13 @@ impl Cx<'_> {
                             mesh.degenerate + mesh.triangles.len()
                         );
                     }
+                    if let Some(note) = &mesh.uv_note {
+                        log::warn!("{}: {fpath}: {note}", self.file);
+                    }
                     meshes.push(Mesh {
                         source: MeshSource::File(file),
                         triangles: mesh.triangles,
+                        uvs: mesh.uvs,
                         material: material(&o)?,
                     });
                     None
@@ -594,6 +650,43 @@ impl Cx<'_> {
                     odd: self.vec3_field(&t, "odd")?,
                 }
             }
+            "image" => {
+                self.only(&t, &["type", "file", "wrap", "tint"])?;
+                let image = self.image_file(&t)?;
+                let (wv, wpath) = self.field(&t, "wrap")?;
+                let wrap = match wv {
+                    Value::Array(a) if a.len() == 2 => {
+                        let mut out = [Wrap::Repeat; 2];
+                        for (i, (w, v)) in out.iter_mut().zip(a).enumerate() {
+                            let path = format!("{wpath}[{i}]");
+                            let name = self.string(v, &path)?;
+                            *w = Wrap::from_name(name).ok_or_else(|| {
+                                InputError::new(
+                                    self.file,
+                                    &path,
+                                    format!(
+                                        "unknown wrap {name:?}{}; expected {}",
+                                        did_you_mean(name, WRAP_NAMES),
+                                        quoted_list(WRAP_NAMES)
+                                    ),
+                                )
+                            })?;
+                        }
+                        out
+                    }
+                    _ => {
+                        return self.err(
+                            &wpath,
+                            format!(
+                                "expected [u, v] wraps, each of {}, found {}",
+                                quoted_list(WRAP_NAMES),
+                                describe(wv)
+                            ),
+                        )
+                    }
+                };
+                Texture::Image { image, wrap, tint: self.vec3_field(&t, "tint")? }
+            }
             kind => {
                 self.only(&t, &["type", "scale", "octaves", "color"])?;
                 let scale = self.number_field(&t, "scale")?;
@@ -607,6 +700,24 @@ impl Cx<'_> {
                 Texture::Procedural { pattern, scale, octaves, color }
             }
         })
+    }
+
+    /// An image texture's `file`: a PNG relative to the scene file, read once however many
+    /// materials name it; its index in the scene's images.
+    fn image_file(&self, t: &Obj) -> Res<u32> {
+        let (fv, fpath) = self.field(t, "file")?;
+        let name = self.string(fv, &fpath)?;
+        let file = std::path::absolute(self.dir.join(name))
+            .map_err(|e| InputError::new(self.file, &fpath, format!("bad path {name:?}: {e}")))?;
+        let mut images = self.images.borrow_mut();
+        let known =
+            images.iter().position(|im| matches!(&im.source, super::ImageSource::File(f) if *f == file));
+        if let Some(i) = known {
+            return Ok(i as u32);
+        }
+        let image = Image::read_png(&file).map_err(|e| InputError::new(self.file, &fpath, e))?;
+        images.push(image);
+        Ok(images.len() as u32 - 1)
     }
 
     fn vec3_field(&self, o: &Obj, key: &str) -> Res<Vec3> {

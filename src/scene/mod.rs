@@ -10,6 +10,7 @@ pub mod enclosure;
 pub mod export;
 pub mod gltf;
 pub mod heavy;
+pub mod image;
 pub mod kinds;
 pub mod load;
 pub mod obj;
@@ -18,9 +19,10 @@ pub mod terrain;
 pub mod texture;
 pub mod two_lights;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 pub use crate::input_error::InputError;
+pub use image::{Image, ImageSource, Wrap};
 pub use texture::{Pattern, Texture};
 
 /// N of a built-in family's name `PREFIX` + N (`spheres-100`, `rtiow-heavy-4`): decimal digits
@@ -124,6 +126,10 @@ pub struct Quad {
 pub struct Mesh {
     pub source: MeshSource,
     pub triangles: Vec<[Vec3; 3]>,
+    /// Texture coordinates at each triangle's corners (glTF `TEXCOORD_0`, OBJ `vt`), if the mesh
+    /// has them; without, an image is looked up at (0, 0), (1, 0), (0, 1) at the corners, as a
+    /// quad's corner, `u` and `v` ends are.
+    pub uvs: Option<Vec<[Vec2; 3]>>,
     pub material: u32,
 }
 
@@ -151,6 +157,8 @@ pub struct Scene {
     pub spheres: Vec<Sphere>,
     pub quads: Vec<Quad>,
     pub meshes: Vec<Mesh>,
+    /// The images that [`Texture::Image`] albedos index.
+    pub images: Vec<Image>,
 }
 
 impl Scene {

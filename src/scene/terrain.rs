@@ -79,6 +79,7 @@ pub fn scene(three_spheres: Scene, n: u32) -> Scene {
     s.meshes.push(Mesh {
         source: MeshSource::Terrain(n),
         triangles: triangles(n),
+        uvs: None,
         material: ground.material,
     });
     s.name = format!("triangles-{n}");

@@ -80,6 +80,9 @@ pub enum Texture {
     Checker { scale: f32, even: Vec3, odd: Vec3 },
     /// A costly procedural pattern tinted by `color`, `octaves` of it at frequency `scale`.
     Procedural { pattern: Pattern, scale: f32, octaves: u32, color: Vec3 },
+    /// [`Scene::images`](super::Scene::images)`[image]` looked up at the surface's texture
+    /// coordinates (bilinear, `wrap` along u and v: `super::image`), times `tint`.
+    Image { image: u32, wrap: [super::image::Wrap; 2], tint: Vec3 },
 }
 
 impl Texture {
@@ -89,6 +92,7 @@ impl Texture {
             Texture::Solid(_) => "solid",
             Texture::Checker { .. } => "checker",
             Texture::Procedural { pattern, .. } => pattern.name(),
+            Texture::Image { .. } => "image",
         }
     }
 

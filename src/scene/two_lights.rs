@@ -65,5 +65,6 @@ pub fn two_lights() -> Scene {
             q([-half, 3.0, -half], [PANEL_SIZE, 0.0, 0.0], [0.0, 0.0, PANEL_SIZE], panel),
         ],
         meshes: Vec::new(),
+        images: Vec::new(),
     }
 }

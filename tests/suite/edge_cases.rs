@@ -31,6 +31,7 @@ fn scene(name: &str, materials: Vec<(&str, Material)>) -> Scene {
         spheres: vec![],
         quads: vec![],
         meshes: vec![],
+        images: vec![],
     }
 }
 
@@ -63,6 +64,7 @@ fn cases() -> Vec<(Scene, RenderSettings)> {
     one_triangle.meshes.push(Mesh {
         source: MeshSource::File("inline.obj".into()),
         triangles: vec![[Vec3::new(0.0, -1.0, -1.0), Vec3::new(0.0, -1.0, 1.0), Vec3::new(0.0, 1.5, 0.0)]],
+        uvs: None,
         material: 0,
     });
     let mut only_emitters = scene("only-emitters", vec![("light", light())]);

@@ -29,6 +29,7 @@ fn constant(background: Vec3) -> Scene {
         spheres: Vec::new(),
         quads: Vec::new(),
         meshes: Vec::new(),
+        images: Vec::new(),
     }
 }
 

@@ -20,9 +20,10 @@ fn scratch(dir: &str) -> PathBuf {
     dir
 }
 
-/// A primitive: positions, optional u16 indices, optional mode and material.
+/// A primitive: positions, optional u16 indices, optional mode, material and TEXCOORD_0.
 struct Prim {
     positions: Vec<[f32; 3]>,
+    uvs: Option<Vec<[f32; 2]>>,
     indices: Option<Vec<u16>>,
     mode: Option<u32>,
     material: Option<usize>,
@@ -53,6 +54,16 @@ fn document(mut root: Value, meshes: &[Vec<Prim>]) -> (Value, Vec<u8>) {
             accessors.push(json!({"bufferView": views.len() - 1, "componentType": 5126,
                 "count": p.positions.len(), "type": "VEC3", "min": lo, "max": hi}));
             let mut prim = json!({"attributes": {"POSITION": accessors.len() - 1}});
+            if let Some(uvs) = &p.uvs {
+                let offset = bin.len();
+                for c in uvs.iter().flatten() {
+                    bin.extend_from_slice(&c.to_le_bytes());
+                }
+                views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bin.len() - offset}));
+                accessors.push(json!({"bufferView": views.len() - 1, "componentType": 5126,
+                    "count": uvs.len(), "type": "VEC2"}));
+                prim["attributes"]["TEXCOORD_0"] = json!(accessors.len() - 1);
+            }
             if let Some(ind) = &p.indices {
                 let offset = bin.len();
                 for i in ind {
@@ -159,11 +170,12 @@ fn test_document() -> (Value, Vec<u8>) {
     });
     let floor = Prim {
         positions: vec![[-4.0, 0.0, -4.0], [4.0, 0.0, -4.0], [4.0, 0.0, 4.0], [-4.0, 0.0, 4.0]],
+        uvs: None,
         indices: Some(vec![0, 2, 1, 0, 3, 2]),
         mode: None,
         material: Some(0),
     };
-    let tetra = Prim { positions: tetrahedron(), indices: None, mode: None, material: Some(1) };
+    let tetra = Prim { positions: tetrahedron(), uvs: None, indices: None, mode: None, material: Some(1) };
     // A strip of three triangles and a fan of two (a square).
     let glass = Prim {
         positions: vec![
@@ -173,12 +185,14 @@ fn test_document() -> (Value, Vec<u8>) {
             [-0.5, 0.5, 0.25],
             [0.0, 0.0, 0.0],
         ],
+        uvs: None,
         indices: None,
         mode: Some(5),
         material: Some(2),
     };
     let lamp = Prim {
         positions: vec![[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]],
+        uvs: None,
         indices: None,
         mode: Some(6),
         material: Some(3),
@@ -463,7 +477,7 @@ fn what_cannot_be_mapped_is_named_in_a_warning() {
     let w = import.warnings.join("\n");
     for want in [
         "extensionsUsed: KHR_lights_punctual is not mapped",
-        "materials[0].pbrMetallicRoughness.baseColorTexture: averaged",
+        "meshes[0].primitives[0].attributes.TEXCOORD_0: missing, but the material has a baseColorTexture",
         "materials[0].normalTexture: ignored",
         "materials[0]: alpha ignored",
         "materials[1].pbrMetallicRoughness.baseColorTexture: ignored (images[1]",
@@ -479,10 +493,18 @@ fn what_cannot_be_mapped_is_named_in_a_warning() {
     }
     let scene = &import.scene;
     let red = &scene.materials[0].material;
-    let wavetrace::scene::Material::Lambertian { albedo: wavetrace::scene::Texture::Solid(c) } = red else {
-        panic!("{red:?}")
+    let want = wavetrace::scene::Texture::Image {
+        image: 0,
+        wrap: [wavetrace::scene::Wrap::Repeat; 2],
+        tint: Vec3::new(0.75, 0.125, 0.125),
     };
-    assert!((*c - Vec3::new(0.375, 0.0625, 0.0625)).abs().max_element() < 1e-6, "albedo × mean 0.5: {c}");
+    assert_eq!(red, &wavetrace::scene::Material::Lambertian { albedo: want });
+    assert_eq!(
+        (scene.images.len(), scene.images[0].width, scene.images[0].height),
+        (1, 2, 1),
+        "the JPEG is not kept"
+    );
+    assert_eq!(scene.images[0].mean(), Vec3::splat(0.5));
     let last = scene.materials.last().unwrap();
     assert_eq!(last.name, "gltf-default");
     assert_eq!(last.material, wavetrace::scene::Material::Metal { albedo: Vec3::ONE.into(), fuzz: 1.0 });
@@ -536,4 +558,394 @@ fn cli_renders_a_gltf_scene_and_scene_info_shows_the_mapping() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && !err.contains("panicked"), "{err}");
     assert!(err.contains("bad.gltf") && err.contains("scenes[0].nodes[0]"), "{err}");
+}
+
+/// A 4×3 PNG whose texels all differ, so that a lookup in the wrong place shows.
+fn texture_png(path: &Path) {
+    let rgb: Vec<u8> = (0..12u32)
+        .flat_map(|i| [(20 * i + 15) as u8, (230 - 17 * i) as u8, (60 + 90 * (i % 3)) as u8])
+        .collect();
+    wavetrace::image_io::write_png_rgb8(path, 4, 3, &rgb).unwrap();
+}
+
+/// A textured wall facing the camera (lambertian, texture mirrored along u, clamped along v) and
+/// a textured metal floor (repeated), their coordinates running past [0, 1] so that every wrap
+/// mode is seen, under the sky. Coordinates are dyadic, so the OBJ twin's flipped v is exact.
+fn textured_document(png_uri: &str) -> (Value, Vec<u8>) {
+    let root = json!({
+        "scene": 0,
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"camera": 0, "translation": [0.0, 0.0, 4.0]}, {"mesh": 0}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": yfov(), "znear": 0.01}}],
+        "images": [{"uri": png_uri}],
+        "samplers": [{"wrapS": 33648, "wrapT": 33071}, {}],
+        "textures": [{"source": 0, "sampler": 0}, {"source": 0, "sampler": 1}],
+        "materials": [
+            {"name": "wall", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0.0}},
+            {"name": "floor", "pbrMetallicRoughness": {"baseColorFactor": [0.75, 0.75, 0.5, 1.0],
+                "baseColorTexture": {"index": 1}, "metallicFactor": 1.0, "roughnessFactor": 0.25}}
+        ]
+    });
+    let wall = Prim {
+        positions: vec![[-2.0, -1.5, 0.0], [2.0, -1.5, 0.0], [2.0, 1.5, 0.0], [-2.0, 1.5, 0.0]],
+        uvs: Some(vec![[-0.5, 1.25], [1.5, 1.25], [1.5, -0.25], [-0.5, -0.25]]),
+        indices: Some(vec![0, 1, 2, 0, 2, 3]),
+        mode: None,
+        material: Some(0),
+    };
+    let floor = Prim {
+        positions: vec![[-2.0, -1.5, 0.0], [-2.0, -1.5, 4.0], [2.0, -1.5, 4.0], [2.0, -1.5, 0.0]],
+        uvs: Some(vec![[0.0, 0.0], [0.0, 3.5], [2.25, 3.5], [2.25, 0.0]]),
+        indices: Some(vec![0, 1, 2, 0, 2, 3]),
+        mode: None,
+        material: Some(1),
+    };
+    document(root, &[vec![wall, floor]])
+}
+
+/// The textured glTF as our JSON format: OBJ meshes with `vt` (v flipped, OBJ's v runs up) and
+/// image albedos naming the same PNG.
+fn textured_json(dir: &Path, png: &str) -> Scene {
+    let obj = |name: &str, p: [[f32; 3]; 4], uv: [[f32; 2]; 4]| {
+        let mut text = String::new();
+        for v in p {
+            text += &format!("v {} {} {}\n", v[0], v[1], v[2]);
+        }
+        for t in uv {
+            text += &format!("vt {} {}\n", t[0], 1.0 - t[1]);
+        }
+        text += "f 1/1 2/2 3/3\nf 1/1 3/3 4/4\n";
+        std::fs::write(dir.join(name), text).unwrap();
+    };
+    obj(
+        "wall.obj",
+        [[-2.0, -1.5, 0.0], [2.0, -1.5, 0.0], [2.0, 1.5, 0.0], [-2.0, 1.5, 0.0]],
+        [[-0.5, 1.25], [1.5, 1.25], [1.5, -0.25], [-0.5, -0.25]],
+    );
+    obj(
+        "floor.obj",
+        [[-2.0, -1.5, 0.0], [-2.0, -1.5, 4.0], [2.0, -1.5, 4.0], [2.0, -1.5, 0.0]],
+        [[0.0, 0.0], [0.0, 3.5], [2.25, 3.5], [2.25, 0.0]],
+    );
+    let vfov = (f64::from(yfov())).to_degrees() as f32;
+    let text = format!(
+        r#"{{"format": "wavetrace-scene/1",
+  "camera": {{"lookfrom": [0, 0, 4], "lookat": [0, 0, 3], "vup": [0, 1, 0], "vfov": {vfov}, "defocus_angle": 0, "focus_dist": 1}},
+  "background": {{"type": "sky"}},
+  "materials": {{
+    "wall": {{"type": "lambertian", "albedo": {{"type": "image", "file": "{png}", "wrap": ["mirror", "clamp"], "tint": [1, 1, 1]}}}},
+    "floor": {{"type": "metal", "albedo": {{"type": "image", "file": "{png}", "wrap": ["repeat", "repeat"], "tint": [0.75, 0.75, 0.5]}}, "fuzz": 0.25}}
+  }},
+  "objects": [
+    {{"type": "mesh", "file": "wall.obj", "material": "wall"}},
+    {{"type": "mesh", "file": "floor.obj", "material": "floor"}}
+  ]}}"#
+    );
+    std::fs::write(dir.join("textured.json"), text).unwrap();
+    load::from_file(&dir.join("textured.json")).unwrap()
+}
+
+fn textured_settings(spp: u32) -> RenderSettings {
+    RenderSettings {
+        width: 32,
+        height: 24,
+        spp,
+        max_depth: 4,
+        seed: 9,
+        accel: Accel::Bvh,
+        nee: false,
+        roulette: false,
+    }
+}
+
+/// Image textures: the glTF loads as its JSON twin (same images, wraps, coordinates), renders
+/// the same film bit for bit on every method, and `scene info` shows the mapping.
+#[test]
+fn textured_gltf_renders_the_same_image_as_its_json_twin_on_every_method() {
+    let dir = scratch("textured");
+    texture_png(&dir.join("tex.png"));
+    let json_scene = textured_json(&dir, "tex.png");
+    let glb = dir.join("textured.glb");
+    write_glb(&glb, &textured_document("tex.png"));
+    let import = gltf::read(&glb).unwrap();
+    assert!(import.warnings.is_empty(), "{:?}", import.warnings);
+    let gltf_scene = import.scene;
+    assert_same_scene(&gltf_scene, &json_scene);
+    assert_eq!(gltf_scene.images, json_scene.images);
+    assert_eq!(json_scene.images.len(), 1, "one PNG, read once for both materials");
+    let uvs = |s: &Scene| s.meshes.iter().map(|m| m.uvs.clone()).collect::<Vec<_>>();
+    assert_eq!(uvs(&gltf_scene), uvs(&json_scene));
+    let mapped = import.mapped.join("\n");
+    assert!(mapped.contains("images[0] → image 4×3"), "{mapped}");
+    assert!(mapped.contains("wrap mirror/clamp"), "{mapped}");
+
+    // Only scenes with image textures carry coordinates and texels, and compile the lookup in.
+    let packed = wavetrace::packed_scene::PackedScene::new(&json_scene, Accel::Bvh);
+    assert_eq!(packed.texture_kinds(), 1 << wavetrace::layout::texture_kind::IMAGE);
+    assert_eq!(packed.uvs.len(), packed.primitives.len());
+    assert_eq!(packed.texels.len(), 256 + 4 + 12, "table, one header, 4×3 texels");
+    // Images too big for the adapter's storage binding are refused naming their files.
+    let texel_bytes = 4 * packed.texels.len() as u64;
+    let err =
+        wavetrace::gpu::scene_buffers::check_fits_limits(&packed, "Tiny GPU", texel_bytes - 1, u64::MAX)
+            .unwrap_err()
+            .to_string();
+    assert!(err.contains("image textures do not fit on Tiny GPU") && err.contains("tex.png (48 B)"), "{err}");
+    let plain =
+        wavetrace::packed_scene::PackedScene::new(&equivalent_json(&scratch("textured-plain")), Accel::Bvh);
+    assert!(plain.uvs.is_empty() && plain.texels.is_empty());
+    let gpu = common::gpu();
+    let s = textured_settings(4);
+    for method in [Method::Cpu, Method::CpuF64, Method::Megakernel, Method::Wavefront] {
+        if method.needs_gpu() && gpu.is_none() {
+            continue;
+        }
+        let run =
+            |scene: &Scene| render(method, scene, &s, &MethodOptions::default(), gpu, &|_| {}).unwrap().film;
+        let (a, b) = (run(&json_scene), run(&gltf_scene));
+        assert!(a.pixels.iter().any(|p| p.sum.iter().any(|&x| x > 0.0)), "{method:?}: black");
+        assert!(a == b, "{}: the textured glTF's film differs from the JSON twin's", method.name());
+    }
+
+    let out = Command::new(common::bin()).args(["scene", "info", glb.to_str().unwrap()]).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(text.contains("images[0] (4×3, wrap mirror/clamp) × [1, 1, 1]"), "{text}");
+    // A JSON scene written back out loads as itself, image and all.
+    let again =
+        load::from_str_in(&wavetrace::scene::export::to_json(&json_scene), "<export>", "textured", &dir)
+            .unwrap();
+    assert_eq!(again, json_scene);
+}
+
+/// The GPU methods' lookup agrees with the CPU reference's, pixel by pixel within noise, and the
+/// texture shows: the same scene with each image replaced by its mean colour renders otherwise.
+#[test]
+fn textured_scene_agrees_between_cpu_and_gpu() {
+    let dir = scratch("textured-agree");
+    texture_png(&dir.join("tex.png"));
+    let scene = textured_json(&dir, "tex.png");
+    let s = textured_settings(48);
+    let run = |method, scene: &Scene| {
+        render(method, scene, &s, &MethodOptions::default(), common::gpu(), &|_| {}).unwrap().film
+    };
+    let cpu = run(Method::Cpu, &scene);
+    common::assert_agree_rays("textured f32 vs f64", &cpu, &run(Method::CpuF64, &scene), 1e-2);
+    let mut flat = scene.clone();
+    for m in &mut flat.materials {
+        if let wavetrace::scene::Material::Lambertian { albedo }
+        | wavetrace::scene::Material::Metal { albedo, .. } = &mut m.material
+        {
+            if let wavetrace::scene::Texture::Image { image, tint, .. } = *albedo {
+                *albedo = wavetrace::scene::Texture::Solid(tint * scene.images[image as usize].mean());
+            }
+        }
+    }
+    let t = wavetrace::stats::z_test(&cpu, &run(Method::Cpu, &flat), 0.01);
+    assert!(t.pass_fraction < 0.9, "the texture barely changes the image: {t:?}");
+    if common::gpu().is_none() {
+        return;
+    }
+    for method in [Method::Megakernel, Method::Wavefront] {
+        common::assert_agree_rays(
+            &format!("textured cpu vs {}", method.name()),
+            &cpu,
+            &run(method, &scene),
+            common::F32_RAY_TOLERANCE,
+        );
+    }
+}
+
+#[test]
+fn malformed_textures_name_the_file_the_field_and_the_reason() {
+    let dir = scratch("textured-bad");
+    texture_png(&dir.join("tex.png"));
+    std::fs::write(dir.join("fake.png"), b"GIF89a not a png").unwrap();
+    type TexEdit = Box<dyn FnOnce(&mut Value, &mut Vec<u8>)>;
+    let cases: Vec<(&str, TexEdit, &str, &str)> = vec![
+        (
+            "missing",
+            Box::new(|r, _| r["images"][0]["uri"] = json!("nowhere.png")),
+            "images[0].uri",
+            "cannot read",
+        ),
+        ("not-png", Box::new(|r, _| r["images"][0]["uri"] = json!("fake.png")), "images[0].uri", "not a PNG"),
+        (
+            "source-range",
+            Box::new(|r, _| r["textures"][0]["source"] = json!(7)),
+            "textures[0].source",
+            "Index out of bounds",
+        ),
+        (
+            "texture-range",
+            Box::new(|r, _| {
+                r["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["index"] = json!(5)
+            }),
+            "materials[0].pbrMetallicRoughness.baseColorTexture.index",
+            "Index out of bounds",
+        ),
+        (
+            "uv-type",
+            Box::new(|r, _| r["accessors"][1]["type"] = json!("VEC3")),
+            "meshes[0].primitives[0].attributes.TEXCOORD_0",
+            "expected Vec2",
+        ),
+        (
+            "uv-count",
+            Box::new(|r, _| r["accessors"][1]["count"] = json!(3)),
+            "meshes[0].primitives[0].attributes.TEXCOORD_0",
+            "has 3 elements, but POSITION has 4 vertices",
+        ),
+        (
+            "uv-integer",
+            Box::new(|r, _| r["accessors"][1]["componentType"] = json!(5121)),
+            "meshes[0].primitives[0].attributes.TEXCOORD_0",
+            "(integers normalized)",
+        ),
+    ];
+    for (name, edit, path, reason) in cases {
+        let (mut root, mut bin) = textured_document("tex.png");
+        edit(&mut root, &mut bin);
+        let file = dir.join(format!("{name}.gltf"));
+        write_external(&file, &format!("{name}.bin"), &(root, bin));
+        let e = gltf::read(&file).err().unwrap_or_else(|| panic!("{name}: loaded"));
+        assert!(e.file.ends_with(&format!("{name}.gltf")), "{name}: {e}");
+        assert_eq!(e.path, path, "{name}: {e}");
+        assert!(e.reason.contains(reason), "{name}: {e}");
+    }
+    // The JSON format's image albedo: a bad file or wrap names the scene file and the field.
+    for (albedo, path, reason) in [
+        (
+            r#"{"type": "image", "file": "nowhere.png", "wrap": ["repeat", "repeat"], "tint": [1, 1, 1]}"#,
+            "materials.m.albedo.file",
+            "cannot read",
+        ),
+        (
+            r#"{"type": "image", "file": "fake.png", "wrap": ["repeat", "repeat"], "tint": [1, 1, 1]}"#,
+            "materials.m.albedo.file",
+            "fake.png: not a PNG",
+        ),
+        (
+            r#"{"type": "image", "file": "tex.png", "wrap": ["repeat", "wrap"], "tint": [1, 1, 1]}"#,
+            "materials.m.albedo.wrap[1]",
+            "unknown wrap \"wrap\"",
+        ),
+        (
+            r#"{"type": "image", "file": "tex.png", "wrap": "repeat", "tint": [1, 1, 1]}"#,
+            "materials.m.albedo.wrap",
+            "expected [u, v] wraps",
+        ),
+        (
+            r#"{"type": "image", "file": "tex.png", "wrap": ["repeat", "clamp"], "tint": [1, -1, 1]}"#,
+            "materials.m.albedo.tint[1]",
+            "must be >= 0",
+        ),
+    ] {
+        let text = format!(
+            r#"{{"format": "wavetrace-scene/1",
+  "camera": {{"lookfrom": [0, 0, 4], "lookat": [0, 0, 0], "vup": [0, 1, 0], "vfov": 40, "defocus_angle": 0, "focus_dist": 1}},
+  "background": {{"type": "sky"}},
+  "materials": {{"m": {{"type": "lambertian", "albedo": {albedo}}}}},
+  "objects": [{{"type": "quad", "corner": [0, 0, 0], "u": [1, 0, 0], "v": [0, 1, 0], "material": "m"}}]}}"#
+        );
+        let e = load::from_str_in(&text, "bad.json", "bad", &dir).unwrap_err();
+        assert_eq!((e.file.as_str(), e.path.as_str()), ("bad.json", path), "{e}");
+        assert!(e.reason.contains(reason), "{e}");
+    }
+}
+
+/// The WGSL lookup (`shaders/shared/image_texture.wgsl`) agrees with the CPU reference's
+/// (`cpu/image_texture.rs`) at coordinates inside, on and beyond the image, in every wrap mode:
+/// to a few ulps (the GPU may fuse the coordinate's multiply and add, which can move a texel
+/// boundary by an ulp, so equality is not asked).
+#[test]
+fn wgsl_image_lookup_matches_the_cpu() {
+    use wavetrace::gpu::buffers::{read_back, storage_entry, storage_init, storage_zeroed};
+    use wavetrace::layout::{image_word, texture_kind, MaterialRecord};
+    let Some(ctx) = common::gpu() else { return };
+    let dir = scratch("image-probe");
+    texture_png(&dir.join("tex.png"));
+    let mut scene = textured_json(&dir, "tex.png");
+    // A second, 1×1 image: the header of an image other than the first.
+    let one = wavetrace::scene::Image {
+        width: 1,
+        height: 1,
+        texels: vec![0x00_80_40_20],
+        ..scene.images[0].clone()
+    };
+    scene.images.push(one);
+    let packed = wavetrace::packed_scene::PackedScene::new(&scene, Accel::Bvh);
+    let mut rng = wavetrace::rng::Stream::new(17);
+    let mut probes: Vec<[f32; 4]> = Vec::new();
+    for image in 0..2u32 {
+        for wrap in 0..9u32 {
+            let word =
+                image | (wrap % 3) << image_word::WRAP_U_SHIFT | (wrap / 3) << image_word::WRAP_V_SHIFT;
+            for k in 0..64 {
+                // Texel centres and edges, then anywhere in [-3, 3).
+                let uv = if k < 16 {
+                    [(k % 4) as f32 / 8.0, (k / 4) as f32 / 6.0]
+                } else {
+                    [rng.range(-3.0, 3.0), rng.range(-3.0, 3.0)]
+                };
+                probes.push([uv[0], uv[1], f32::from_bits(word), 0.0]);
+            }
+        }
+    }
+    let n = probes.len() as u64;
+    let none = wgpu::BufferUsages::empty();
+    let texels = storage_init(ctx, "texels", &packed.texels, none).unwrap();
+    let input = storage_init(ctx, "probe in", &probes, none).unwrap();
+    let output = storage_zeroed(ctx, "probe out", n * 16, wgpu::BufferUsages::COPY_SRC).unwrap();
+    let scene_layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: None,
+        entries: &[storage_entry(7, true)],
+    });
+    let io_layout = ctx.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: None,
+        entries: &[storage_entry(0, true), storage_entry(1, false)],
+    });
+    let scene_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &scene_layout,
+        entries: &[wgpu::BindGroupEntry { binding: 7, resource: texels.as_entire_binding() }],
+    });
+    let io_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &io_layout,
+        entries: &[
+            wgpu::BindGroupEntry { binding: 0, resource: input.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 1, resource: output.as_entire_binding() },
+        ],
+    });
+    let module = ctx.shader("image_probe", wavetrace::gpu::shaders::IMAGE_PROBE, Default::default()).unwrap();
+    let pipeline = ctx.compute_pipeline("image_probe", &module, &[&scene_layout, &io_layout], &[]).unwrap();
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    {
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &scene_group, &[]);
+        pass.set_bind_group(1, &io_group, &[]);
+        pass.dispatch_workgroups((n as u32).div_ceil(64), 1, 1);
+    }
+    ctx.queue.submit([enc.finish()]);
+    let gpu: Vec<[f32; 4]> = read_back(ctx, &output, n * 16).unwrap();
+    for (q, g) in probes.iter().zip(&gpu) {
+        let m = MaterialRecord {
+            color: [1.0; 3],
+            texture: texture_kind::IMAGE,
+            octaves: q[2].to_bits(),
+            ..Default::default()
+        };
+        let want = wavetrace::cpu::image_texture::image_albedo(&m, &packed.texels, [q[0], q[1]]);
+        for (c, (w, got)) in [want.x, want.y, want.z].iter().zip(g).enumerate() {
+            assert!(
+                (w - got).abs() <= 1e-5,
+                "uv ({}, {}) word {:#x} channel {c}: CPU {w}, GPU {got}",
+                q[0],
+                q[1],
+                q[2].to_bits()
+            );
+        }
+    }
 }

@@ -42,6 +42,11 @@ fn material() {
 }
 
 #[test]
+fn uv_record() {
+    check!(UvRecord, "UvRecord", [uv0, du, dv]);
+}
+
+#[test]
 fn bvh_node() {
     check!(BvhNode, "BvhNode", [min, left_or_first, max, count]);
 }

@@ -35,6 +35,7 @@ fn every_kind() -> Scene {
     scene.meshes.push(Mesh {
         source: MeshSource::File("inline.obj".into()),
         triangles: vec![[a, b, c]],
+        uvs: None,
         material: 0,
     });
     scene.spheres.push(wavetrace::scene::Sphere {

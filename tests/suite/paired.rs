@@ -23,7 +23,9 @@ fn scale_metal(scene: &Scene, k: f32) -> Scene {
     for m in &mut scene.materials {
         if let Material::Metal { albedo, .. } = &mut m.material {
             match albedo {
-                Texture::Solid(c) | Texture::Procedural { color: c, .. } => *c *= k,
+                Texture::Solid(c) | Texture::Procedural { color: c, .. } | Texture::Image { tint: c, .. } => {
+                    *c *= k
+                }
                 Texture::Checker { even, odd, .. } => {
                     *even *= k;
                     *odd *= k;

@@ -28,6 +28,7 @@ use wavetrace::cpu::bvh::occluded;
 use wavetrace::cpu::light::{
     choose_light, emission_weight, light_pmf, next_event, power_heuristic, sample_light,
 };
+use wavetrace::cpu::texture::TexturePoint;
 use wavetrace::cpu::{material::scatter, ray::Ray, ray::T_MIN, real::Real, vec3::V3};
 use wavetrace::layout::{material_kind, primitive_kind, MaterialRecord, PrimitiveRecord};
 use wavetrace::light_options::{LightOptions, LightSampling, LightSelect};
@@ -171,7 +172,7 @@ fn scatter_each<T: Real>(
     let normal = V3::<T>::of64(n).normalize();
     for i in 0..SAMPLES {
         let u = uniform4(i, case, 0, Purpose::Scatter, SEED);
-        let s = scatter(m, &ray, V3::splat(T::zero()), normal, front, u, fresnel);
+        let s = scatter(m, &ray, &TexturePoint::at(V3::splat(T::zero())), normal, front, u, fresnel);
         f(s.map(|s| DVec3::from_array(s.dir.to_f64())));
     }
 }
@@ -752,7 +753,13 @@ fn light_test_scene_with(spheres: Vec<Sphere>, quads: Vec<Quad>, triangles: Vec<
         ],
         spheres,
         quads,
-        meshes: vec![Mesh { source: MeshSource::File("light-test.obj".into()), triangles, material: 0 }],
+        meshes: vec![Mesh {
+            source: MeshSource::File("light-test.obj".into()),
+            triangles,
+            uvs: None,
+            material: 0,
+        }],
+        images: Vec::new(),
     }
 }
 

@@ -181,6 +181,10 @@ fn texture_bits(t: &Texture, out: &mut Vec<u32>) {
             out.extend([pattern.kind(), scale.to_bits(), octaves]);
             v3(color, out);
         }
+        Texture::Image { image, wrap, tint } => {
+            out.extend([image, wrap[0].code(), wrap[1].code()]);
+            v3(tint, out);
+        }
     }
 }
 
