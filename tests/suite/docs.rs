@@ -223,6 +223,11 @@ const ACCEPTED_SOURCES: &[(&str, &str)] = &[
          commands, the build and the machine in the file",
     ),
     (
+        "experiments/results/llvmpipe-2core/launch_shade/interleave.txt",
+        "scripts/interleave.py's summary tables: two builds, and the launch and shade knobs, \
+         each command and build in the file",
+    ),
+    (
         "experiments/results/llvmpipe-2core/build_time/profile_ab.txt",
         "scripts/interleave.py's summary tables: the release profile with and without thin LTO \
          and one codegen unit, each command and build in the file",
