@@ -11,6 +11,11 @@
 #include "shared/instrument.wgsl"
 
 override WORKGROUP_SIZE: u32 = 64u;
+// --shadow-rays inline: a diffuse hit's shadow ray is traced here, not queued for the shadow pass.
+override SHADOW_INLINE: bool = false;
+// The bounce histogram's rows (queue_setup.wgsl's): inline shadow rays are counted in its shadow
+// column, as queue_setup_shadow counts the queued ones.
+override STATS_BOUNCES: u32 = 64u;
 
 // `kind`: the material kind this pass shades, PATTERN_KIND + p for costly pattern p's queue
 // (--shade per-texture: texture kind TEXTURE_NOISE + p; its pipeline compiled with that texture
@@ -114,16 +119,20 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         bsdf_pdf = diffuse_pdf(dot(normal, s.dir));
         let u_light = uniform4(slot_pixel(slot), slot_sample(slot), bounce, PURPOSE_LIGHT, frame.seed);
         let shadow = next_event(p, normal, u_light);
-        if shadow.ok && rr.ok {
+        if shadow.ok && rr.ok && !SHADOW_INLINE {
             shadow_ray[slot] = vec4<f32>(shadow.ray.dir, shadow.t_max);
             // w: the light's slot + 1 (0: no shadow ray pending), as bits.
             shadow_weight[slot] = vec4<f32>(next_throughput * shadow.weight, bitcast<f32>(shadow.light + 1u));
             enqueue_shadow(slot);
             shadow_queued = true;
         } else if shadow.ok {
-            // The roulette ends the path, so its slot leaves every queue here: its shadow ray,
-            // unaffected by the roulette, is traced now, as the shadow pass would trace it (same
-            // ray, weight and counters; its steps counted as the shadow pass's traversal).
+            // Inline, or the roulette ends the path (its slot leaves every queue here): the
+            // shadow ray is traced now, as the shadow pass would trace it (same ray, weight and
+            // counters; its steps counted as the shadow pass's traversal).
+            if SHADOW_INLINE && rr.ok {
+                let row = min(bounce, STATS_BOUNCES - 1u);
+                count_one(COUNTER_STATS + row * QUEUE_COUNT + QUEUE_SHADOW);
+            }
             instrument_traversal(PASS_SHADOW_TRAVERSE);
             let ray_s = Ray(origin, shadow.ray.dir);
             shadow_add = vec4<f32>(0.0, 0.0, 0.0, 1.0); // one more ray traced
@@ -147,6 +156,11 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         if REGENERATE && wave.camera_in_place != 0u {
             count_one(COUNTER_FIRST_CONTINUING);
         }
+    }
+    if SHADOW_INLINE && shadow_add.w != 0.0 {
+        // The shadow ray traced above: what the shadow pass would add to the radiance, added
+        // here (from bounce 0 onto the first radiance just written).
+        radiance[slot] = path_radiance(slot, bounce) + shadow_add;
     }
     if REGENERATE {
         path_sample[slot].y = bounce + 1u;

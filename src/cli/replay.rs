@@ -168,6 +168,11 @@ pub fn run(a: ReplayArgs) -> Result<()> {
             bail!("replay: {flag} moves paths between slots or queue positions in ways the replay does not model");
         }
     }
+    if wf.shadow_rays != defaults.shadow_rays {
+        bail!(
+            "replay: --shadow-rays inline is not modelled (the replay traces shadow rays in the shadow pass)"
+        );
+    }
     let pool = match wf.pool_size {
         None => DEFAULT_POOL,
         Some(PoolSize::Paths(n)) => n,

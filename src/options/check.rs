@@ -7,7 +7,7 @@ use super::{
     CompactStates, Compaction, Method, MethodOptions, RaySort, Schedule, ShadePasses, Tail, CHUNK_POOLS,
     DEFAULT_REFILL_BELOW, MAX_BATCHES_IN_FLIGHT, MAX_CHUNK_POOLS, MAX_SYNC_EVERY,
 };
-use super::{MegakernelOptions, Named, PoolSize, WavefrontOptions};
+use super::{MegakernelOptions, Named, PoolSize, ShadowRays, WavefrontOptions};
 
 /// Largest workgroup any knob asks for (WebGPU's limit on `maxComputeInvocationsPerWorkgroup`
 /// is 256 by default; adapters allow up to 1024, checked against the device when it runs).
@@ -204,6 +204,9 @@ pub fn check_wavefront(o: &WavefrontOptions) -> Result<(), OptionError> {
                 values: &["atomic"],
             },
         });
+    }
+    if o.shadow_rays == ShadowRays::Inline {
+        queues("shadow_rays", o.shadow_rays.name(), "traces shadow rays from the queued hits")?;
     }
     if o.shade == ShadePasses::Sorted {
         queues("shade", o.shade.name(), "shades the material queues end to end")?;

@@ -6,7 +6,7 @@
 
 use super::{
     Append, CompactStates, Compaction, ComputePasses, Launch, Method, MethodOptions, Named, PoolSize,
-    QueueOrder, RaySort, Scan, Schedule, ShadePasses, ShaderChecks, Specialize, Tail, Timing,
+    QueueOrder, RaySort, Scan, Schedule, ShadePasses, ShaderChecks, ShadowRays, Specialize, Tail, Timing,
 };
 use crate::light_options::{LightSampling, LightSelect};
 use crate::numerics::{Fresnel, RayOffset, SphereHit};
@@ -99,6 +99,7 @@ enum_values!(
     RaySort,
     ComputePasses,
     Launch,
+    ShadowRays,
     ShaderChecks,
     Specialize,
     Timing,
@@ -245,6 +246,7 @@ pub static KNOBS: &[Knob] = &[
     knob!("ray_sort", "ray-sort", WAVEFRONT, RaySort, o => o.wavefront.ray_sort),
     knob!("compute_passes", "compute-passes", WAVEFRONT, ComputePasses, o => o.wavefront.compute_passes),
     knob!("launch", "launch", WAVEFRONT, Launch, o => o.wavefront.launch),
+    knob!("shadow_rays", "shadow-rays", WAVEFRONT, ShadowRays, o => o.wavefront.shadow_rays),
     knob!("shader_checks", "shader-checks", GPU, ShaderChecks, o => o.shader_checks),
     knob!("specialize", "specialize", GPU, Specialize, o => o.specialize),
     knob!("timing", "timing", GPU, Timing, o => o.timing),
@@ -315,6 +317,7 @@ pub const COLUMNS: &[&str] = &[
     "specialize",
     "batches_in_flight",
     "launch",
+    "shadow_rays",
 ];
 
 /// The knob named `name`.

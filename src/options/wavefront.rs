@@ -162,6 +162,20 @@ pub enum Launch {
     Pool,
 }
 
+/// Where the wavefront traces the shadow rays of next-event estimation (`--shadow-rays`, issue
+/// 44).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ShadowRays {
+    /// Queued by shade with their weights and traced by the shadow pass (pbrt-v4's and Cycles'
+    /// way): the ray and its weight stored and read back.
+    #[default]
+    Pass,
+    /// Traced by shade where it samples the light, as the megakernel does: nothing stored but
+    /// the radiance, no shadow pass, a traversal inside shade (needs queues).
+    Inline,
+}
+
 /// Iterations between checks (and per submitted batch) when regenerating: each check's passes
 /// and each batch's submission and read-back cost fixed time; each iteration recorded after the
 /// work ran out costs its (empty) dispatches.
@@ -248,6 +262,11 @@ pub struct WavefrontOptions {
     /// pool's size, threads past the queue's length returning at once (`pool`, pbrt-v4's way).
     #[arg(long, value_enum, default_value_t = Launch::Indirect, hide_short_help = true)]
     pub launch: Launch,
+    /// Wavefront, --nee on: trace the shadow rays in a pass of their own, queued with their
+    /// weights (`pass`), or in shade where the light is sampled, storing nothing but the
+    /// radiance (`inline`, the megakernel's way; needs queues).
+    #[arg(long, value_enum, default_value_t = ShadowRays::Pass, hide_short_help = true)]
+    pub shadow_rays: ShadowRays,
     /// Wavefront: keep queues in the order their paths arrived, or build the ray queue in slot
     /// order by a pass over the pool (a subgroup reads neighbouring path states; regenerated
     /// samples fill the lowest free slots): a stable scan with --compaction-method scan, a sweep
@@ -295,6 +314,7 @@ impl Default for WavefrontOptions {
             append: Append::Auto,
             compute_passes: ComputePasses::Shared,
             launch: Launch::Indirect,
+            shadow_rays: ShadowRays::Pass,
             queue_order: QueueOrder::Auto,
             refill_below: DEFAULT_REFILL_BELOW,
             compact_states: CompactStates::Off,

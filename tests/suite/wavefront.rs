@@ -906,6 +906,58 @@ fn sorted_shading_gives_the_per_material_film_in_one_pass() {
     );
 }
 
+/// `--shadow-rays inline` (issue 44): shade traces each shadow ray it samples, as the megakernel
+/// does, instead of queuing it for the shadow pass; the film is the shadow pass's bit for bit on
+/// both schedules, with the roulette, in slot order and with the scan; no shadow pass runs, the
+/// shadow rays are counted all the same (the traffic model's items), and the pool holds no shadow
+/// ray or weight. Without queues it is refused.
+#[test]
+fn inline_shadow_rays_give_the_shadow_pass_film() {
+    use wavetrace::gpu::wavefront::{QueueOrder, ShadowRays};
+    if common::gpu().is_none() {
+        return;
+    }
+    let s = RenderSettings { nee: true, ..settings(4) };
+    let waves = WavefrontOptions { pool_size: Some(PoolSize::Paths(1024)), ..Default::default() };
+    let tail = WavefrontOptions { tail: Tail::Megakernel, sync_every: 2, ..regenerating(waves) };
+    let slot = WavefrontOptions { queue_order: QueueOrder::Slot, ..tail };
+    let scan = WavefrontOptions { compaction: Compaction::Scan, ..tail };
+    for (name, wf, roulette) in [
+        ("waves", waves, false),
+        ("regenerate+tail", tail, true),
+        ("slot order", slot, false),
+        ("scan", scan, false),
+    ] {
+        let s = RenderSettings { roulette, ..s.clone() };
+        let pass = run_wavefront("cornell", &s, wf);
+        let inline = run_wavefront("cornell", &s, WavefrontOptions { shadow_rays: ShadowRays::Inline, ..wf });
+        assert_eq!(inline.film, pass.film, "{name}");
+        let passes: Vec<&str> = inline.timings.as_ref().unwrap().passes.keys().copied().collect();
+        assert!(!passes.contains(&"shadow"), "{name}: {passes:?}");
+        let shadow_items = |r: &RenderOutput| {
+            let t = r.schedule.as_ref().unwrap().state_traffic.as_ref().unwrap();
+            t.passes.iter().find(|p| p.label == "shadow").map(|p| p.items)
+        };
+        let queued = shadow_items(&pass).expect("the shadow pass's items");
+        assert!(queued > 0, "{name}");
+        assert_eq!(shadow_items(&inline), None, "{name}");
+        assert_eq!(
+            inline.schedule.as_ref().unwrap().queued,
+            pass.schedule.as_ref().unwrap().queued,
+            "{name}"
+        );
+        assert!(inline.bytes_per_path < pass.bytes_per_path, "{name}");
+    }
+    assert_refused(
+        WavefrontOptions {
+            shadow_rays: ShadowRays::Inline,
+            compaction: Compaction::Off,
+            ..Default::default()
+        },
+        "--shadow-rays",
+    );
+}
+
 /// `--launch pool` (issue 42, pbrt-v4's way): the passes that consume a queue launched at the
 /// pool's size, threads past the queue returning, give the films of indirect launches bit for bit
 /// and the same counts, on every schedule, with NEE's shadow pass, other queue orders, and

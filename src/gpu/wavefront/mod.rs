@@ -104,7 +104,7 @@ use anyhow::Result;
 // The options live in `crate::options`; the wavefront's are re-exported where it is built.
 pub use crate::options::{
     Append, CompactStates, Compaction, ComputePasses, Launch, QueueOrder, RaySort, ResolvedWavefront,
-    RunSchedule, Scan, Schedule, ShadePasses, Tail, WavefrontOptions, BATCHES_IN_FLIGHT,
+    RunSchedule, Scan, Schedule, ShadePasses, ShadowRays, Tail, WavefrontOptions, BATCHES_IN_FLIGHT,
     MAX_BATCHES_IN_FLIGHT,
 };
 use drive::Drive;

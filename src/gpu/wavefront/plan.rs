@@ -7,7 +7,7 @@ use super::path_state::{self, PoolLayout};
 use super::{pool, refill, schedule, traffic, ScheduleStats};
 use super::{
     Append, CompactStates, Compaction, ComputePasses, Launch, QueueOrder, RaySort, RunSchedule, Scan,
-    ShadePasses, WavefrontOptions,
+    ShadePasses, ShadowRays, WavefrontOptions,
 };
 use crate::layout::DispatchParams;
 use crate::layout::WaveUniform;
@@ -43,8 +43,11 @@ pub struct Plan {
     pub wave: WaveUniform,
     /// Rows of the bounce histogram (one when regenerating: queues mix bounces).
     pub stats_bounces: u32,
-    /// `--nee on` in a scene with lights.
+    /// `--nee on` in a scene with lights, its shadow rays traced by a pass of their own.
     pub shadow_pass: bool,
+    /// `--nee on` in a scene with lights, its shadow rays traced in shade (`--shadow-rays
+    /// inline`).
+    pub inline_shadow: bool,
     /// Slot order with atomic appends: a sweep over the pool after shade.
     pub uses_sweep: bool,
     /// The scan passes: the scan method's, or the depth key's over the pool after shade.
@@ -111,7 +114,8 @@ impl Plan {
             camera_in_place: camera_in_place as u32,
             launch_pool: (opts.launch == Launch::Pool) as u32,
         };
-        let shadow_pass = settings.nee && !scene.lights.is_empty();
+        let lit = settings.nee && !scene.lights.is_empty();
+        let shadow_pass = lit && opts.shadow_rays == ShadowRays::Pass;
         // The scan passes: the scan method's, or the depth key's over the pool after shade; slot
         // order with atomic appends sweeps the pool instead (slot_sweep.wgsl).
         let uses_sweep = queue_order == QueueOrder::Slot && opts.compaction == Compaction::Atomic;
@@ -138,6 +142,7 @@ impl Plan {
             wave,
             stats_bounces: if regenerate { 1 } else { settings.max_depth.min(STATS_BOUNCES) },
             shadow_pass,
+            inline_shadow: lit && opts.shadow_rays == ShadowRays::Inline,
             uses_sweep,
             uses_scan,
             layout,
@@ -168,6 +173,7 @@ impl Plan {
             slot_order: self.queue_order.is_slot(),
             sweep: self.uses_sweep,
             camera_in_place: self.camera_in_place,
+            inline_shadow: self.inline_shadow,
         }
     }
 

@@ -5,6 +5,7 @@
 use super::super::stage::Stage;
 use super::super::{context::GpuContext, label, shaders};
 use super::path_state::{ARGS_PATTERN_0, ARGS_SHADE_0};
+use super::plan::Plan;
 use super::{Bindings, ShadePasses, WaveRecorder};
 use anyhow::Result;
 
@@ -14,21 +15,26 @@ pub struct Shade {
 }
 
 impl Shade {
-    /// `kinds`: material kinds the scene uses (a pass each with `per-material` and
-    /// `per-texture`). `patterns` (`--shade per-texture`): the costly patterns with a pass of
-    /// their own (indices into `scene::Pattern::ALL`), each compiled with its texture kind alone.
+    /// The shade passes of `mode` for `plan`: a pass per material kind the scene uses with
+    /// `per-material` and `per-texture`, and with `per-texture` a pass per costly pattern
+    /// (`plan.patterns`: indices into `scene::Pattern::ALL`), each compiled with its texture kind
+    /// alone; the shadow rays traced inline where `plan.inline_shadow`.
     pub fn new(
         ctx: &GpuContext,
         b: &Bindings,
+        plan: &Plan,
         mode: ShadePasses,
-        kinds: &[u32],
-        patterns: &[u32],
         workgroup_size: u32,
         instrument: bool,
     ) -> Result<Self> {
+        let (kinds, patterns, inline_shadow) = (&plan.kinds, &plan.patterns, plan.inline_shadow);
         let module =
             ctx.shader(label::SHADE, shaders::SHADE.select(&b.hooks(instrument)), b.shader_checks)?;
-        let constants = b.constants(&[("WORKGROUP_SIZE", workgroup_size as f64)]);
+        let constants = b.constants(&[
+            ("WORKGROUP_SIZE", workgroup_size as f64),
+            ("SHADOW_INLINE", inline_shadow as u32 as f64),
+            ("STATS_BOUNCES", b.state.stats_bounces as f64),
+        ]);
         let passes: Vec<(u64, &'static str)> = match mode {
             ShadePasses::PerMaterial | ShadePasses::PerTexture => {
                 kinds.iter().map(|&k| (ARGS_SHADE_0 + k as u64, label::SHADE_BY_KIND[k as usize])).collect()

@@ -56,7 +56,7 @@ impl Stages {
                 regenerate.then(|| accumulate.range_buffer()),
             )?,
             intersect: intersect::Intersect::new(ctx, b, wg, instrument)?,
-            shade: shade::Shade::new(ctx, b, opts.shade, &plan.kinds, &plan.patterns, wg, instrument)?,
+            shade: shade::Shade::new(ctx, b, plan, opts.shade, wg, instrument)?,
             compact: plan.uses_scan.then(|| compact::Compact::new(ctx, b, plan.subgroup_scan)).transpose()?,
             slot_sweep: plan.uses_sweep.then(|| slot_sweep::SlotSweep::new(ctx, b)).transpose()?,
             shadow: plan.shadow_pass.then(|| shadow::Shadow::new(ctx, b, wg, instrument)).transpose()?,

@@ -55,6 +55,9 @@ pub struct Shape {
     pub sweep: bool,
     /// Camera rays made where they are used, not stored (`WaveUniform::camera_in_place`).
     pub camera_in_place: bool,
+    /// `--shadow-rays inline`: shade traces each shadow ray it samples and adds what it finds
+    /// to the radiance; no shadow pass, nothing else stored.
+    pub inline_shadow: bool,
 }
 
 /// One pass's modelled traffic.
@@ -255,8 +258,16 @@ impl StateTraffic {
         let camera_spared = if s.camera_in_place { 2 * VEC4 - 2 * WORD } else { 0 };
         let go_w = 3 * VEC4 + if s.regenerate { WORD } else { 0 } + s.enqueue();
         let end_w = WORD + s.retire() + finish_w;
-        let shadow_w = 2 * VEC4 + if s.atomic && !s.slot_order { WORD } else { 0 };
-        let shade_read = hits * shade_r
+        // A shadow ray queued: its ray and weight (and queue entry) written for the shadow pass;
+        // traced inline: the radiance read and written with what it found (an upper bound: from
+        // bounce 0 no radiance is read, and the write repeats the first one).
+        let (shadow_r, shadow_w) = if s.inline_shadow {
+            (VEC4, VEC4)
+        } else {
+            (0, 2 * VEC4 + if s.atomic && !s.slot_order { WORD } else { 0 })
+        };
+        let shade_read = n.shadow * shadow_r
+            + hits * shade_r
             + (hits - camera_hits) * VEC4
             + shade_ends * finish_r
             + (shade_ends - first_ends) * VEC4
@@ -268,7 +279,8 @@ impl StateTraffic {
         if s.sweep {
             // Every slot's mark read; continuing rays, shadow rays and (regenerate) ended paths'
             // slots appended.
-            let appends = continuing + n.shadow + if s.regenerate { n.samples } else { 0 };
+            let queued_shadow = if s.inline_shadow { 0 } else { n.shadow };
+            let appends = continuing + queued_shadow + if s.regenerate { n.samples } else { 0 };
             add(label::SLOT_SWEEP, n.slot_visits, n.slot_visits * WORD, appends * WORD);
         } else if !s.atomic || s.slot_order {
             // The scan: each position's mark read by the scan and the scatter, its offset written
@@ -327,6 +339,7 @@ mod tests {
             slot_order,
             sweep,
             camera_in_place: false,
+            inline_shadow: false,
         }
     }
 
