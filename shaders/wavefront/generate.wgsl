@@ -6,7 +6,7 @@
 #include "shared/rng.wgsl"
 #include "shared/scene.wgsl"
 #include "wavefront/shared/path_state.wgsl"
-#include "wavefront/shared/path_camera.wgsl"
+#include "wavefront/shared/path_start.wgsl"
 #include "shared/instrument.wgsl"
 
 override WORKGROUP_SIZE: u32 = 64u;
@@ -32,25 +32,6 @@ fn generate(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_para
     }
     if slot_order() {
         next_queue[slot] = DEAD; // intersect sets it: until then the slot goes nowhere
-    }
-}
-
-// Slot `slot` starts tracing sample `l` of the share: its camera ray, at bounce 0.
-fn start_path(slot: u32, l: u32) {
-    if REGENERATE {
-        path_sample[slot] = vec2<u32>(l, 0u);
-    }
-    if wave.camera_in_place == 0u {
-        let ray = sample_camera_ray(l);
-        path_origin[slot] = vec4<f32>(ray.origin, 0.0);
-        // w: the primitive the ray leaves, none (intersect counts self-hits against it).
-        path_dir[slot] = vec4<f32>(ray.dir, bitcast<f32>(NO_ORIGIN));
-    }
-    // No throughput or radiance: a camera ray's are known (path_throughput_at, path_radiance).
-    // Without queues the shadow pass visits every slot and skips those with no shadow ray
-    // pending; with them only queued shadow rays are visited, and their weight is written first.
-    if NEE && wave.compaction == 0u {
-        shadow_weight[slot] = vec4<f32>(0.0);
     }
 }
 

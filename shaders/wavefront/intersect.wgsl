@@ -4,7 +4,7 @@
 #include "shared/rng.wgsl"
 #include "shared/scene.wgsl"
 #include "wavefront/shared/path_state.wgsl"
-#include "wavefront/shared/path_camera.wgsl"
+#include "wavefront/shared/path_start.wgsl"
 #include "shared/instrument.wgsl"
 #include "wavefront/shared/coherence.wgsl"
 
@@ -60,7 +60,7 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_par
         let sky = path_throughput_at(slot, bounce).xyz * background(ray.dir);
         path_dir[slot].w = bitcast<f32>(DEAD);
         retire(slot, gid.x);
-        finish_path(slot, bounce, path_radiance(slot, bounce) + vec4<f32>(sky, 0.0));
+        finish_path(slot, bounce, path_radiance(slot, bounce) + vec4<f32>(sky, 0.0), COUNTER_REFILLED_INTERSECT);
         return;
     }
     if is_self_hit(left, hit.prim, ray, hit.t) {

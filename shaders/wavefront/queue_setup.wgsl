@@ -60,10 +60,28 @@ fn set_compact_args(positions: u32, dispatches: u32) {
     }
 }
 
+// (regenerate, --refill in-place) The samples the refills in place claimed since the last call
+// (intersect's and shade's tickets, path_start.wgsl's `refill_in_place`) become started ones:
+// the share's next sample moves past them, up to the ring's fill limit (claims past it failed).
+// Called by the single-thread passes that read or move the next sample, the refill's setup and
+// the decision pass, before they do: the decision runs last in every batch, so the host's
+// read-backs see settled counts.
+fn settle_claims() {
+    let claims = atomicLoad(&counters[COUNTER_CLAIMS]);
+    if claims == 0u {
+        return;
+    }
+    let next = atomicLoad(&counters[COUNTER_NEXT_SAMPLE]);
+    let limit = min(atomicLoad(&counters[COUNTER_FILL_LIMIT]), wave_paths());
+    atomicStore(&counters[COUNTER_NEXT_SAMPLE], max(next, min(next + claims, limit)));
+    atomicStore(&counters[COUNTER_CLAIMS], 0u);
+}
+
 // (regenerate) Before the refill: as many of the share's next samples as there are free slots,
 // up to the sample ring's end, once at most `wave.refill_live` paths are live (`--refill-below`).
 @compute @workgroup_size(1)
 fn queue_setup_regenerate() {
+    settle_claims();
     let next = atomicLoad(&counters[COUNTER_NEXT_SAMPLE]);
     let free = atomicLoad(&counters[QUEUE_FREE]);
     var n = min(free, atomicLoad(&counters[COUNTER_FILL_LIMIT]) - next);
@@ -123,11 +141,14 @@ fn record(bounce: u32, q: u32, n: u32) {
     }
 }
 
-// Before intersect: advance the bounce, size the intersect pass, empty the material queues.
+// Before intersect: advance the bounce, size the intersect pass, empty the material queues and
+// the next iteration's ray queue (traced in the last iteration; with --refill in-place,
+// intersect appends the camera rays of the slots it refills to it).
 @compute @workgroup_size(1)
 fn queue_setup_intersect() {
     let bounce = atomicAdd(&counters[COUNTER_BOUNCE], 1u) + 1u;
     let q = QUEUE_RAY_0 + bounce % 2u;
+    atomicStore(&counters[QUEUE_RAY_0 + (bounce + 1u) % 2u], 0u);
     var n = pool_slots();
     if wave.compaction != 0u {
         n = atomicLoad(&counters[q]);
@@ -153,7 +174,7 @@ fn queue_setup_intersect() {
     }
 }
 
-// Before shade: size each shade pass, empty the next bounce's ray queue.
+// Before shade: size each shade pass, empty the shadow queue.
 @compute @workgroup_size(1)
 fn queue_setup_shade() {
     let bounce = current_bounce();
@@ -198,7 +219,6 @@ fn queue_setup_shade() {
     } else {
         set_compact_args(positions, select(0u, 2u, wave.compaction == 2u));
     }
-    atomicStore(&counters[QUEUE_RAY_0 + (bounce + 1u) % 2u], 0u);
     atomicStore(&counters[QUEUE_SHADOW], 0u);
     // In slot order the pass after shade lists the free slots afresh (the sweep appends them).
     if slot_order() {
@@ -247,6 +267,7 @@ fn queue_setup_shadow_decide() {
 }
 
 fn decide() {
+    settle_claims();
     let tail = atomicLoad(&counters[COUNTER_TAIL_ON]) != 0u;
     var tail_threads = 0u;
     var film_threads = 0u;

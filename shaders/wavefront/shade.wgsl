@@ -7,7 +7,7 @@
 #include "shared/rng.wgsl"
 #include "shared/scene.wgsl"
 #include "wavefront/shared/path_state.wgsl"
-#include "wavefront/shared/path_camera.wgsl"
+#include "wavefront/shared/path_start.wgsl"
 #include "shared/instrument.wgsl"
 
 override WORKGROUP_SIZE: u32 = 64u;
@@ -77,7 +77,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         let emitted = vec4<f32>(throughput * material.color * w, 0.0);
         path_dir[slot].w = bitcast<f32>(DEAD);
         retire(slot, position);
-        finish_path(slot, bounce, path_radiance(slot, bounce) + emitted);
+        finish_path(slot, bounce, path_radiance(slot, bounce) + emitted, COUNTER_REFILLED_SHADE);
         return;
     }
     let outward = outward_normal(prim, p);
@@ -93,7 +93,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
         }
         path_dir[slot].w = bitcast<f32>(DEAD);
         retire(slot, position);
-        finish_path(slot, bounce, path_radiance(slot, bounce));
+        finish_path(slot, bounce, path_radiance(slot, bounce), COUNTER_REFILLED_SHADE);
         return;
     }
     let next_throughput = throughput * s.attenuation;
@@ -144,7 +144,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     if !rr.ok {
         path_dir[slot].w = bitcast<f32>(DEAD);
         retire(slot, position);
-        finish_path(slot, bounce, path_radiance(slot, bounce) + shadow_add);
+        finish_path(slot, bounce, path_radiance(slot, bounce) + shadow_add, COUNTER_REFILLED_SHADE);
         return;
     }
     path_origin[slot] = vec4<f32>(origin, 0.0);

@@ -9,6 +9,7 @@
 #include "shared/rng.wgsl"
 #include "shared/scene.wgsl"
 #include "wavefront/shared/path_state.wgsl"
+#include "wavefront/shared/path_camera.wgsl"
 #include "shared/instrument.wgsl"
 #include "shared/integrator.wgsl"
 
@@ -17,8 +18,24 @@ override WORKGROUP_SIZE: u32 = 64u;
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn tail(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
     instrument_begin(/*@subgroup_size_arg*/);
-    let slot = queued_slot(next_ray_queue(), gid.x);
-    if slot == DEAD {
+    let q = next_ray_queue();
+    let entry = queued_entry(q, gid.x);
+    if entry == DEAD {
+        return;
+    }
+    let slot = entry & ~CAMERA_RAY;
+    if (entry & CAMERA_RAY) != 0u {
+        // (--refill in-place) A camera ray queued where its slot was refilled: nothing stored
+        // but the sample.
+        if slot_index(slot) >= atomicLoad(&counters[COUNTER_TAIL_BOUND]) {
+            return;
+        }
+        var path = TracedPath(sample_camera_ray(slot_index(slot)), vec3<f32>(1.0), vec3<f32>(0.0), 0u, 0.0, NO_ORIGIN);
+        continue_path(&path, slot_pixel(slot), slot_sample(slot), 0u);
+        // The entry unmarked, so the next intersect reads the FLUSHED mark and frees the slot.
+        queues[q * wave.pool + gid.x] = slot;
+        path_dir[slot].w = bitcast<f32>(FLUSHED);
+        store_sample(slot, vec4<f32>(path.radiance, f32(path.rays)));
         return;
     }
     let d = path_dir[slot];

@@ -163,6 +163,7 @@ pub fn run(a: ReplayArgs) -> Result<()> {
         (wf.refill_below != defaults.refill_below, "--refill-below"),
         (wf.compact_states != defaults.compact_states, "--compact-states"),
         (wf.ray_sort != defaults.ray_sort, "--ray-sort"),
+        (wf.refill != defaults.refill, "--refill in-place"),
     ] {
         if moved {
             bail!("replay: {flag} moves paths between slots or queue positions in ways the replay does not model");

@@ -7,7 +7,7 @@ use super::{
     CompactStates, Compaction, Method, MethodOptions, RaySort, Schedule, ShadePasses, Tail, CHUNK_POOLS,
     DEFAULT_REFILL_BELOW, MAX_BATCHES_IN_FLIGHT, MAX_CHUNK_POOLS, MAX_SYNC_EVERY,
 };
-use super::{MegakernelOptions, Named, PoolSize, ShadowRays, WavefrontOptions};
+use super::{MegakernelOptions, Named, PoolSize, Refill, ShadowRays, WavefrontOptions};
 
 /// Largest workgroup any knob asks for (WebGPU's limit on `maxComputeInvocationsPerWorkgroup`
 /// is 256 by default; adapters allow up to 1024, checked against the device when it runs).
@@ -192,6 +192,29 @@ pub fn check_wavefront(o: &WavefrontOptions) -> Result<(), OptionError> {
     }
     if o.queue_order.is_slot() {
         queues("queue_order", o.queue_order.name(), "orders the queues")?;
+    }
+    if o.refill == Refill::InPlace {
+        let value = o.refill.name();
+        let why = "starts samples where paths end, appending their camera rays";
+        needs_regenerate("refill", value.clone(), true, why, o.schedule)?;
+        let needs = |other, values| {
+            Err(OptionError {
+                knob: "refill",
+                problem: Problem::Needs { value: value.clone(), text: true, why, other, values },
+            })
+        };
+        if o.compaction != Compaction::Atomic {
+            return needs("compaction", &["atomic"]);
+        }
+        if o.queue_order.is_slot() {
+            return needs("queue_order", &["arrival", "auto"]);
+        }
+        if o.refill_below != DEFAULT_REFILL_BELOW {
+            return needs("refill_below", &["1"]);
+        }
+        if o.compact_states == CompactStates::On {
+            return needs("compact_states", &["off"]);
+        }
     }
     if o.shade == ShadePasses::PerTexture && o.compaction != Compaction::Atomic {
         return Err(OptionError {

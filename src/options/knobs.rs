@@ -6,7 +6,8 @@
 
 use super::{
     Append, CompactStates, Compaction, ComputePasses, Launch, Method, MethodOptions, Named, PoolSize,
-    QueueOrder, RaySort, Scan, Schedule, ShadePasses, ShaderChecks, ShadowRays, Specialize, Tail, Timing,
+    QueueOrder, RaySort, Refill, Scan, Schedule, ShadePasses, ShaderChecks, ShadowRays, Specialize, Tail,
+    Timing,
 };
 use crate::light_options::{LightSampling, LightSelect};
 use crate::numerics::{Fresnel, RayOffset, SphereHit};
@@ -100,6 +101,7 @@ enum_values!(
     ComputePasses,
     Launch,
     ShadowRays,
+    Refill,
     ShaderChecks,
     Specialize,
     Timing,
@@ -247,6 +249,7 @@ pub static KNOBS: &[Knob] = &[
     knob!("compute_passes", "compute-passes", WAVEFRONT, ComputePasses, o => o.wavefront.compute_passes),
     knob!("launch", "launch", WAVEFRONT, Launch, o => o.wavefront.launch),
     knob!("shadow_rays", "shadow-rays", WAVEFRONT, ShadowRays, o => o.wavefront.shadow_rays),
+    knob!("refill", "refill", WAVEFRONT, Refill, o => o.wavefront.refill),
     knob!("shader_checks", "shader-checks", GPU, ShaderChecks, o => o.shader_checks),
     knob!("specialize", "specialize", GPU, Specialize, o => o.specialize),
     knob!("timing", "timing", GPU, Timing, o => o.timing),
@@ -318,6 +321,7 @@ pub const COLUMNS: &[&str] = &[
     "batches_in_flight",
     "launch",
     "shadow_rays",
+    "refill",
 ];
 
 /// The knob named `name`.

@@ -104,8 +104,8 @@ pub enum RaySort {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum QueueOrder {
-    /// Slot order when regenerating with queues a job of at least four pools,
-    /// arrival order otherwise: what measured faster (experiments/queue_order.json): the
+    /// Slot order when regenerating with queues a job of at least four pools (but with
+    /// `--refill in-place`, whose refills land in arrival order), arrival order otherwise: what measured faster (experiments/queue_order.json): the
     /// pool-wide scan pays where many refills scatter the pool, and only costs where waves empty
     /// it or a job barely refills it.
     #[default]
@@ -160,6 +160,21 @@ pub enum Launch {
     /// At the pool's size (a wave's paths): threads past the queue's length return at once, as
     /// pbrt-v4's `ForAllQueued` launches its queues' largest size; no indirect arguments read.
     Pool,
+}
+
+/// Where the regenerating wavefront starts its next samples (`--refill`, issue 44: generate fused
+/// into the passes where paths end).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Refill {
+    /// A pass at each iteration's start takes the slots on the free list (Laine et al.'s
+    /// regeneration kernel).
+    #[default]
+    Pass,
+    /// Where a path ends (an escape in intersect, an end in shade) its slot takes the share's
+    /// next sample there and then and queues its camera ray: no free-list round trip; the pass
+    /// takes only slots freed while the sample ring was full.
+    InPlace,
 }
 
 /// Where the wavefront traces the shadow rays of next-event estimation (`--shadow-rays`, issue
@@ -281,6 +296,12 @@ pub struct WavefrontOptions {
     /// paths are left).
     #[arg(long, default_value_t = DEFAULT_REFILL_BELOW, hide_short_help = true)]
     pub refill_below: f64,
+    /// Wavefront, --schedule regenerate: start the next samples in a pass over the free slots
+    /// (`pass`), or in the slot of each path that ends, in intersect or shade, as it ends
+    /// (`in-place`: generate fused into them; needs atomic queues in arrival order and refills at
+    /// every iteration).
+    #[arg(long, value_enum, default_value_t = Refill::Pass, hide_short_help = true)]
+    pub refill: Refill,
     /// Wavefront, --schedule regenerate: before each refill, move the live paths above the live
     /// count into the free slots below it (Cycles' compact_states), so the refill's consecutive
     /// samples take one contiguous run of slots. Needs --compaction on.
@@ -317,6 +338,7 @@ impl Default for WavefrontOptions {
             shadow_rays: ShadowRays::Pass,
             queue_order: QueueOrder::Auto,
             refill_below: DEFAULT_REFILL_BELOW,
+            refill: Refill::Pass,
             compact_states: CompactStates::Off,
             ray_sort: RaySort::Off,
         }
@@ -359,13 +381,21 @@ pub const BATCHES_IN_FLIGHT: u32 = 3;
 pub const MAX_BATCHES_IN_FLIGHT: u32 = 16;
 
 impl QueueOrder {
-    /// The order a render uses, `Arrival` or `Slot`, with this schedule and compaction, for a
-    /// job of `samples` samples on a pool of `pool` slots.
-    pub fn resolve(self, schedule: Schedule, compaction: Compaction, samples: u64, pool: u32) -> QueueOrder {
+    /// The order a render uses, `Arrival` or `Slot`, with this schedule, compaction and refill,
+    /// for a job of `samples` samples on a pool of `pool` slots.
+    pub fn resolve(
+        self,
+        schedule: Schedule,
+        compaction: Compaction,
+        refill: Refill,
+        samples: u64,
+        pool: u32,
+    ) -> QueueOrder {
         match self {
             QueueOrder::Auto
                 if schedule == Schedule::Regenerate
                     && compaction != Compaction::Off
+                    && refill == Refill::Pass
                     && samples >= AUTO_SLOT_POOLS * pool as u64 =>
             {
                 QueueOrder::Slot

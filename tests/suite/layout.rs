@@ -131,7 +131,8 @@ fn wave() {
             refill_live,
             compact_states,
             camera_in_place,
-            launch_pool
+            launch_pool,
+            refill_in_place
         ]
     );
 }
@@ -174,6 +175,11 @@ fn path_state_counters_and_arguments() {
         ("COUNTER_COMPACTIONS", w::COMPACTIONS),
         ("COUNTER_COMPACT_FREE", w::COMPACT_FREE),
         ("COUNTER_COMPACT_MISMATCH", w::COMPACT_MISMATCH),
+        ("COUNTER_OLDEST", w::OLDEST),
+        ("COUNTER_FAILED", w::FAILED),
+        ("COUNTER_CLAIMS", w::CLAIMS),
+        ("COUNTER_REFILLED_INTERSECT", w::REFILLED_INTERSECT),
+        ("COUNTER_REFILLED_SHADE", w::REFILLED_SHADE),
     ] {
         assert_eq!(wgsl_u32(src, name), ps::COUNTER_SCHEDULE + word as u64, "{name}");
     }

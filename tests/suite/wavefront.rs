@@ -958,6 +958,66 @@ fn inline_shadow_rays_give_the_shadow_pass_film() {
     );
 }
 
+/// `--refill in-place` (issue 44: generate fused into the passes where paths end): a slot whose
+/// path escapes in intersect or ends in shade takes the share's next sample there and then. It
+/// changes which slot traces which sample and when, never a sample's random numbers or the film's
+/// order: the film is the refill pass's bit for bit, with the tail (also one that runs as soon as
+/// every sample has started, and so meets camera rays just queued by refills in place), NEE and the roulette, a sample ring of two pools (claims past its
+/// fill limit fail and go to the free list), stored camera rays (the ray sort), pool-size
+/// launches, sorted shading, inline shadow rays and either kind of ticket (per lane, per
+/// subgroup). Both passes refill, the refill pass starts fewer samples, and the modelled state
+/// traffic falls. What it cannot run with is refused.
+#[test]
+fn refills_in_place_give_the_refill_pass_film() {
+    use wavetrace::gpu::wavefront::{Append, CompactStates, Launch, QueueOrder, RaySort, Refill, ShadowRays};
+    if common::gpu().is_none() {
+        return;
+    }
+    let s = RenderSettings { nee: true, ..settings(4) };
+    let base =
+        regenerating(WavefrontOptions { pool_size: Some(PoolSize::Paths(1024)), ..Default::default() });
+    let tail = WavefrontOptions { tail: Tail::Megakernel, sync_every: 2, ..base };
+    for (name, scene, wf, roulette) in [
+        ("regenerate", "cornell", base, false),
+        ("regenerate+tail", "cornell", tail, true),
+        ("two-pool ring", "rtiow-final", WavefrontOptions { chunk_pools: 2, ..tail }, false),
+        // The tail as soon as every sample has started: it finishes camera rays just queued.
+        ("eager tail", "cornell", WavefrontOptions { tail_threshold: 1.0, sync_every: 1, ..tail }, false),
+        ("lane tickets", "cornell", WavefrontOptions { append: Append::Lane, ..base }, false),
+        ("ray sort", "cornell", WavefrontOptions { ray_sort: RaySort::Octant, ..tail }, false),
+        ("pool launches", "cornell", WavefrontOptions { launch: Launch::Pool, ..tail }, false),
+        ("sorted shade", "rtiow-final", WavefrontOptions { shade: ShadePasses::Sorted, ..tail }, false),
+        ("inline shadows", "cornell", WavefrontOptions { shadow_rays: ShadowRays::Inline, ..tail }, true),
+    ] {
+        let s = RenderSettings { roulette, ..s.clone() };
+        let pass = run_wavefront(scene, &s, wf);
+        let fused = run_wavefront(scene, &s, WavefrontOptions { refill: Refill::InPlace, ..wf });
+        assert_eq!(fused.film, pass.film, "{name}");
+        let stats = fused.schedule.as_ref().unwrap();
+        let refilled = stats.refilled_in_place.expect("counted");
+        assert!(refilled.intersect > 0 && refilled.shade > 0, "{name}: {refilled:?}");
+        assert_eq!(pass.schedule.as_ref().unwrap().refilled_in_place, None, "{name}");
+        let traffic = |r: &RenderOutput| r.schedule.as_ref().unwrap().state_traffic.clone().unwrap();
+        let items = |r: &RenderOutput| {
+            traffic(r).passes.iter().find(|p| p.label == "regenerate").map(|p| p.items).unwrap()
+        };
+        let samples = s.sample_count();
+        assert_eq!(items(&pass), samples, "{name}");
+        assert_eq!(items(&fused), samples - refilled.intersect - refilled.shade, "{name}");
+        assert!(traffic(&fused).bytes_per_sample < traffic(&pass).bytes_per_sample, "{name}");
+    }
+    let fused = WavefrontOptions { refill: Refill::InPlace, ..base };
+    for (wf, flag) in [
+        (WavefrontOptions { schedule: Schedule::Waves, ..fused }, "--schedule regenerate"),
+        (WavefrontOptions { compaction: Compaction::Scan, ..fused }, "--compaction-method atomic"),
+        (WavefrontOptions { queue_order: QueueOrder::Slot, ..fused }, "--queue-order arrival or auto"),
+        (WavefrontOptions { refill_below: 0.5, ..fused }, "--refill-below 1"),
+        (WavefrontOptions { compact_states: CompactStates::On, ..fused }, "--compact-states off"),
+    ] {
+        assert_refused(wf, flag);
+    }
+}
+
 /// `--launch pool` (issue 42, pbrt-v4's way): the passes that consume a queue launched at the
 /// pool's size, threads past the queue returning, give the films of indirect launches bit for bit
 /// and the same counts, on every schedule, with NEE's shadow pass, other queue orders, and

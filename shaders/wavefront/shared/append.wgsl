@@ -11,3 +11,9 @@ fn append(q: u32, slot: u32) {
 fn count_one(w: u32) {
     atomicAdd(&counters[w], 1u);
 }
+
+// (--refill in-place) The next ticket of counter word `w`: 0, 1, 2, … in whatever order the lanes
+// take them.
+fn take_ticket(w: u32) -> u32 {
+    return atomicAdd(&counters[w], 1u);
+}

@@ -29,3 +29,15 @@ fn count_one(w: u32) {
         atomicAdd(&counters[w], count);
     }
 }
+
+// (--refill in-place) The next ticket of counter word `w`, one atomic per subgroup: the lanes
+// taking one get consecutive tickets.
+fn take_ticket(w: u32) -> u32 {
+    let rank = subgroupExclusiveAdd(1u);
+    let count = subgroupAdd(1u);
+    var base = 0u;
+    if rank == 0u {
+        base = atomicAdd(&counters[w], count);
+    }
+    return subgroupBroadcastFirst(base) + rank;
+}

@@ -67,7 +67,13 @@ const COUNTER_SYNC_EVERY: u32 = COUNTER_SHADE_BASE + 27u;
 const COUNTER_TAIL_ON: u32 = COUNTER_SHADE_BASE + 28u;
 const COUNTER_TAIL_MAX_LIVE: u32 = COUNTER_SHADE_BASE + 29u;
 const COUNTER_FAILED: u32 = COUNTER_SHADE_BASE + 30u;
-const COUNTER_RING_0: u32 = COUNTER_SHADE_BASE + 31u;      // + ring chunk: its samples finished
+// (regenerate, --refill in-place) Samples claimed by slots refilled where their paths ended
+// since the claims were last settled (`settle_claims`): the next samples are the share's next
+// sample + the claim's ticket. Then the slots refilled so, by intersect and by shade.
+const COUNTER_CLAIMS: u32 = COUNTER_SHADE_BASE + 31u;
+const COUNTER_REFILLED_INTERSECT: u32 = COUNTER_SHADE_BASE + 32u;
+const COUNTER_REFILLED_SHADE: u32 = COUNTER_SHADE_BASE + 33u;
+const COUNTER_RING_0: u32 = COUNTER_SHADE_BASE + 34u;      // + ring chunk: its samples finished
 // (--shade per-texture) + pattern: the pattern queues' counts, after the ring's 1024 chunks.
 const COUNTER_PATTERN_0: u32 = COUNTER_RING_0 + 1024u;
 // (regenerate, wave.camera_in_place) Camera rays that hit, and paths going on from that hit: in
@@ -140,6 +146,10 @@ struct Wave {
     // the pool's size, not sized by a setup pass (`--launch pool`): threads past the queue's
     // length return (queued_entry), and past a regenerating share's end every thread does.
     launch_pool: u32,
+    // (regenerate) 1: a slot whose path ends in intersect or shade takes the share's next sample
+    // there and then, its camera ray queued for the next iteration (`--refill in-place`); the
+    // refill pass takes only the slots freed while the sample ring was full.
+    refill_in_place: u32,
 }
 
 @group(1) @binding(0) var<uniform> dispatch: Dispatch;
@@ -249,21 +259,6 @@ fn path_throughput_at(slot: u32, bounce: u32) -> vec4<f32> {
         return vec4<f32>(1.0, 1.0, 1.0, 0.0);
     }
     return path_throughput[slot];
-}
-
-// The path in `slot` has ended at `bounce` with `value` (rgb: its radiance; w: the shadow rays it
-// traced): final once its rays are counted (w + the bounce + 1 rays it traced, added here so that
-// intersect need not touch `radiance` on a hit). Computed by the caller in registers and written
-// once: regenerating, straight into the sample ring (and the slot to the free queue, for the next
-// iteration's refill); in waves into `radiance`, which the accumulate pass reads.
-fn finish_path(slot: u32, bounce: u32, value: vec4<f32>) {
-    let done = value + vec4<f32>(0.0, 0.0, 0.0, f32(bounce + 1u));
-    if REGENERATE {
-        store_sample(slot, done);
-        free_slot(slot);
-    } else {
-        radiance[slot] = done;
-    }
 }
 
 // (regenerate) A finished path's `value` into the sample ring, counted for its chunk.

@@ -103,7 +103,7 @@ use crate::settings::RenderSettings;
 use anyhow::Result;
 // The options live in `crate::options`; the wavefront's are re-exported where it is built.
 pub use crate::options::{
-    Append, CompactStates, Compaction, ComputePasses, Launch, QueueOrder, RaySort, ResolvedWavefront,
+    Append, CompactStates, Compaction, ComputePasses, Launch, QueueOrder, RaySort, Refill, ResolvedWavefront,
     RunSchedule, Scan, Schedule, ShadePasses, ShadowRays, Tail, WavefrontOptions, BATCHES_IN_FLIGHT,
     MAX_BATCHES_IN_FLIGHT,
 };
@@ -325,6 +325,7 @@ fn traffic_items(
         },
         init_slots: if regenerate { shares as u64 * pool as u64 } else { 0 },
         first_bounce: None,
+        refilled: stats.refilled_in_place.map_or((0, 0), |r| (r.intersect, r.shade)),
     }
 }
 

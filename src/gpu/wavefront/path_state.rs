@@ -66,7 +66,13 @@ pub mod schedule_word {
     pub const TAIL_ON: usize = 24;
     pub const TAIL_MAX_LIVE: usize = 25;
     pub const FAILED: usize = 26;
-    pub const WORDS: u64 = 27;
+    /// (`--refill in-place`) Tickets taken by refills in place since they were last settled
+    /// (the GPU's own), then the slots refilled so by intersect and by shade (summed over a
+    /// share).
+    pub const CLAIMS: usize = 27;
+    pub const REFILLED_INTERSECT: usize = 28;
+    pub const REFILLED_SHADE: usize = 29;
+    pub const WORDS: u64 = 30;
 }
 /// `COUNTER_RING_0`: the finished samples of each chunk of the sample ring.
 pub const COUNTER_RING: u64 = COUNTER_SCHEDULE + schedule_word::WORDS;

@@ -6,7 +6,7 @@ use super::super::context::GpuContext;
 use super::path_state::{self, PoolLayout};
 use super::{pool, refill, schedule, traffic, ScheduleStats};
 use super::{
-    Append, CompactStates, Compaction, ComputePasses, Launch, QueueOrder, RaySort, RunSchedule, Scan,
+    Append, CompactStates, Compaction, ComputePasses, Launch, QueueOrder, RaySort, Refill, RunSchedule, Scan,
     ShadePasses, ShadowRays, WavefrontOptions,
 };
 use crate::layout::DispatchParams;
@@ -68,8 +68,13 @@ impl Plan {
         // A job smaller than the pool needs no more slots than samples: passes over the whole
         // pool (the regenerating schedule's start, compaction off) and its memory shrink with it.
         let pool = pool::choose(ctx, opts)?.min(u32::try_from(settings.sample_count()).unwrap_or(u32::MAX));
-        let queue_order =
-            opts.queue_order.resolve(opts.schedule, opts.compaction, settings.sample_count(), pool);
+        let queue_order = opts.queue_order.resolve(
+            opts.schedule,
+            opts.compaction,
+            opts.refill,
+            settings.sample_count(),
+            pool,
+        );
         let subgroup_scan = opts.scan.uses_subgroups(ctx)?;
         let subgroup_append = opts.append.uses_subgroups(ctx)?;
         let regenerate = schedule == RunSchedule::Regenerate;
@@ -113,6 +118,7 @@ impl Plan {
             compact_states: (opts.compact_states == CompactStates::On) as u32,
             camera_in_place: camera_in_place as u32,
             launch_pool: (opts.launch == Launch::Pool) as u32,
+            refill_in_place: (regenerate && opts.refill == Refill::InPlace) as u32,
         };
         let lit = settings.nee && !scene.lights.is_empty();
         let shadow_pass = lit && opts.shadow_rays == ShadowRays::Pass;
@@ -160,6 +166,7 @@ impl Plan {
         if self.regenerate {
             stats.refill_below = Some(opts.refill_below);
             stats.compact_states = Some(opts.compact_states == CompactStates::On);
+            stats.refilled_in_place = (opts.refill == Refill::InPlace).then(Default::default);
         }
         stats
     }

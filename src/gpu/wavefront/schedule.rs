@@ -287,6 +287,13 @@ impl Progress {
     }
 }
 
+/// Slots refilled where their paths ended (`--refill in-place`), by the pass they ended in.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RefilledInPlace {
+    pub intersect: u64,
+    pub shade: u64,
+}
+
 /// What a render's schedule cost, for run reports.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct ScheduleStats {
@@ -350,6 +357,10 @@ pub struct ScheduleStats {
     /// The dispatches those iterations recorded (not in `dispatches`).
     #[serde(default)]
     pub speculative_dispatches: u64,
+    /// Regenerating with `--refill in-place`: slots that took their next sample where their path
+    /// ended, in intersect (an escape) and in shade; the refill pass started the others.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refilled_in_place: Option<RefilledInPlace>,
     /// Bytes of path state the passes read and wrote, modelled from the queue counts
     /// ([`super::traffic`]; with compaction, whose queues are counted).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -393,6 +404,7 @@ impl ScheduleStats {
             throttles: 0,
             speculative_iterations: 0,
             speculative_dispatches: 0,
+            refilled_in_place: None,
             state_traffic: None,
             queued: [0; QUEUE_COUNT as usize],
             first_bounce: (0, 0),
@@ -469,6 +481,10 @@ impl ScheduleStats {
         // (regenerate) Counted on the GPU by the decision pass.
         self.tail_passes += w(word::TAIL_PASSES);
         self.tail_paths += w(word::TAIL_PATHS);
+        if let Some(r) = &mut self.refilled_in_place {
+            r.intersect += w(word::REFILLED_INTERSECT);
+            r.shade += w(word::REFILLED_SHADE);
+        }
         self.states_moved += w(word::STATES_MOVED);
         self.iterations += iterations as u64;
         self.idle_iterations += w(word::IDLE);

@@ -39,6 +39,9 @@ pub struct Items {
     /// whose queues mix bounces, and the model then charges an upper bound (every escape and
     /// hit as a later bounce's, every path as going on from bounce 0).
     pub first_bounce: Option<(u64, u64)>,
+    /// (`--refill in-place`) Samples started in the slot of a path that ended in intersect and
+    /// in shade, not by the refill pass.
+    pub refilled: (u64, u64),
 }
 
 /// How the render was configured, as far as the traffic depends on it.
@@ -219,7 +222,14 @@ impl StateTraffic {
         };
         let slot_mark = if s.slot_order && !s.regenerate { WORD } else { 0 };
         let label = if s.regenerate { label::REGENERATE } else { label::GENERATE };
-        add(label, n.samples, n.samples * start_qr, n.samples * (start_w + start_qw + slot_mark));
+        // (--refill in-place) A sample started where a path ended: its start and queue entry
+        // written by intersect or shade, instead of the slot's free-list entry (written there,
+        // read by the refill pass).
+        let (refilled_i, refilled_s) = n.refilled;
+        let started = n.samples.saturating_sub(refilled_i + refilled_s);
+        let free_w = if s.regenerate && !s.slot_order { WORD } else { 0 };
+        let restart_w = (start_w + WORD).saturating_sub(free_w);
+        add(label, started, started * start_qr, started * (start_w + start_qw + slot_mark));
         if s.regenerate {
             // Every slot freed: its queue entry, dead direction word and slot-order mark.
             let w = WORD + WORD + if s.slot_order { WORD } else { 0 };
@@ -245,7 +255,7 @@ impl StateTraffic {
                 + (n.rays - camera_rays) * (WORD + XYZ + VEC4)
                 + later_escapes * (XYZ + VEC4)
                 + escapes * finish_r,
-            hits * hit_w + escapes * (WORD + s.retire() + finish_w),
+            hits * hit_w + escapes * (WORD + s.retire() + finish_w) + refilled_i * restart_w,
         );
 
         // shade: the queue entry, the ray with its hit, the throughput and MIS density (past
@@ -272,8 +282,11 @@ impl StateTraffic {
             + shade_ends * finish_r
             + (shade_ends - first_ends) * VEC4
             - camera_hits * camera_spared;
-        let shade_written =
-            continuing * go_w + first_continuing * VEC4 + shade_ends * end_w + n.shadow * shadow_w;
+        let shade_written = continuing * go_w
+            + first_continuing * VEC4
+            + shade_ends * end_w
+            + n.shadow * shadow_w
+            + refilled_s * restart_w;
         add("shade", hits, shade_read, shade_written);
 
         if s.sweep {
@@ -356,6 +369,7 @@ mod tests {
             slot_visits: 0,
             init_slots: 0,
             first_bounce: Some((60, 50)),
+            refilled: (0, 0),
         };
         let t = StateTraffic::model(&shape(false, true, false, true), &items);
         let pass = |l: &str| t.passes.iter().find(|p| p.label == l).unwrap().clone();
@@ -387,6 +401,36 @@ mod tests {
         let bound =
             StateTraffic::model(&shape(false, true, false, true), &Items { first_bounce: None, ..items });
         assert!(bound.bytes_per_sample > t.bytes_per_sample);
+    }
+
+    /// A regenerating render's samples started in place (`--refill in-place`) move their start
+    /// from the refill pass to intersect and shade, and skip the free list: 8 bytes less each
+    /// (the free entry written and read), the rest of the model unchanged.
+    #[test]
+    fn refills_in_place_skip_the_free_list() {
+        let items = Items {
+            samples: 100,
+            rays: 150,
+            hits: [40, 20, 0, 0],
+            shadow: 20,
+            slot_visits: 1000,
+            init_slots: 10,
+            ..Default::default()
+        };
+        let s = Shape { camera_in_place: true, ..shape(true, true, false, true) };
+        let pass = StateTraffic::model(&s, &items);
+        let fused = StateTraffic::model(&s, &Items { refilled: (30, 25), ..items });
+        let get = |t: &StateTraffic, l: &str| t.passes.iter().find(|p| p.label == l).unwrap().clone();
+        let regen = (get(&pass, "regenerate"), get(&fused, "regenerate"));
+        assert_eq!(regen.1.items, 45);
+        // The refill pass: a free entry read, the sample (8) and a queue entry written each.
+        assert_eq!(regen.0.bytes_read - regen.1.bytes_read, 55 * 4);
+        assert_eq!(regen.0.bytes_written - regen.1.bytes_written, 55 * 12);
+        // Where the paths end: the sample and the queue entry, not the free entry.
+        assert_eq!(get(&fused, "intersect").bytes_written - get(&pass, "intersect").bytes_written, 30 * 8);
+        assert_eq!(get(&fused, "shade").bytes_written - get(&pass, "shade").bytes_written, 25 * 8);
+        let total = |t: &StateTraffic| t.passes.iter().map(|p| p.bytes_read + p.bytes_written).sum::<u64>();
+        assert_eq!(total(&pass) - total(&fused), 55 * 8);
     }
 
     /// Every entry of the model is charged to passes that exist (their static labels), so its
@@ -485,6 +529,8 @@ mod tests {
             }
             "regenerate" => &["path_origin", "path_dir", "shadow_weight", "queues", "path_sample"],
             "regenerate_init" => &["queues", "path_dir", "next_queue", "shadow_weight"],
+            // shadow_weight: reached through a refill in place's `start_path`, which clears it
+            // without queues only (a refill in place needs them).
             "intersect" => &[
                 "queues",
                 "path_origin",
@@ -495,6 +541,7 @@ mod tests {
                 "scan_slot",
                 "path_sample",
                 "samples",
+                "shadow_weight",
             ],
             "shade" => &[
                 "queues",
