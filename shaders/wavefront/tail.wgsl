@@ -30,7 +30,8 @@ fn tail(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/)
         if slot_index(slot) >= atomicLoad(&counters[COUNTER_TAIL_BOUND]) {
             return;
         }
-        var path = TracedPath(sample_camera_ray(slot_index(slot)), vec3<f32>(1.0), vec3<f32>(0.0), 0u, 0.0, NO_ORIGIN);
+        let ray = sample_camera_ray(slot_index(slot));
+        var path = TracedPath(ray, vec3<f32>(1.0), vec3<f32>(0.0), 0u, 0.0, NO_ORIGIN);
         continue_path(&path, slot_pixel(slot), slot_sample(slot), 0u);
         // The entry unmarked, so the next intersect reads the FLUSHED mark and frees the slot.
         queues[q * wave.pool + gid.x] = slot;
