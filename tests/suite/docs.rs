@@ -223,6 +223,11 @@ const ACCEPTED_SOURCES: &[(&str, &str)] = &[
          inline/ beside it: the untrimmed state, and shadow rays traced in shade)",
     ),
     (
+        "experiments/results/llvmpipe-2core/state_traffic/comparison_refill.md",
+        "scripts/traffic_compare.py's table of two committed report.json files (refill_pass/ and \
+         refill_in_place/ beside it: the refill pass, and samples started where paths end)",
+    ),
+    (
         "experiments/results/llvmpipe-2core/build_time/fresh_machine.txt",
         "the README's two commands timed on a fresh checkout with an empty cargo cache: the \
          commands, the build and the machine in the file",
