@@ -710,6 +710,7 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
             "coherence.json",
             "compute_passes.json",
             "cpu_vs_gpu.json",
+            "decomposition.json",
             "device/compute_passes.json",
             "device/decomposition.json",
             "device/fixed_costs.json",
