@@ -210,6 +210,48 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
         md.push('\n');
     }
 
+    let traffic: Vec<&RunRecord> = report.runs.iter().filter(|r| r.state_traffic.is_some()).collect();
+    if !traffic.is_empty() {
+        md.push_str(
+            "## Path-state traffic
+
+",
+        );
+        md.push_str(
+            "Bytes of path state the wavefront's passes read and wrote per sample, modelled from the \
+             render's queue counts (`state_traffic`; [path-state traffic](../../methods.md#path-state-traffic)), \
+             and per pass, with per-pass timestamps, its bytes over its GPU time: the achieved \
+             bandwidth, a lower bound, to read against `wavetrace bandwidth` on the same device.\n\n",
+        );
+        md.push_str("| # | scene | job | variant | bytes per sample | per pass: bytes per sample (GB/s) |\n");
+        md.push_str("| ---: | --- | --- | --- | ---: | --- |\n");
+        for r in traffic {
+            let flag = stability::flag(stability::of_run(r, threshold).flagged());
+            let t = r.state_traffic.as_ref().expect("filtered");
+            let per_sample = |bytes: u64| bytes as f64 / r.samples.max(1) as f64;
+            let passes: Vec<String> = t
+                .passes
+                .iter()
+                .map(|p| {
+                    let rate =
+                        p.bytes_per_second.map_or(String::new(), |b| format!(" ({:.2}{flag})", b / 1e9));
+                    format!("{} {:.1}{rate}", p.label, per_sample(p.bytes_read + p.bytes_written))
+                })
+                .collect();
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {} | {:.1} | {} |",
+                r.index,
+                r.scene,
+                job_text(r),
+                cell(&r.label),
+                t.bytes_per_sample,
+                passes.join(", ")
+            );
+        }
+        md.push('\n');
+    }
+
     let per_bounce: Vec<(&RunRecord, Vec<String>)> = report
         .runs
         .iter()

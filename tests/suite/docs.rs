@@ -228,6 +228,15 @@ const ACCEPTED_SOURCES: &[(&str, &str)] = &[
          refill_in_place/ beside it: the refill pass, and samples started where paths end)",
     ),
     (
+        "experiments/results/llvmpipe-2core/decomposition_320x180/intersect_cost.txt",
+        "`wavetrace intersect-cost`'s printed tables for rtiow-final and mesh-room at 320x180x16 \
+         (the JSON files beside it hold the same figures)",
+    ),
+    (
+        "experiments/results/llvmpipe-2core/decomposition_320x180/bandwidth.txt",
+        "`wavetrace bandwidth --mib 64`'s printed table (bandwidth.json beside it)",
+    ),
+    (
         "experiments/results/llvmpipe-2core/build_time/fresh_machine.txt",
         "the README's two commands timed on a fresh checkout with an empty cargo cache: the \
          commands, the build and the machine in the file",
