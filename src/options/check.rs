@@ -76,7 +76,11 @@ impl OptionError {
             Problem::Range(r) => r.clone(),
             Problem::Needs { value, text, why, other, values } => {
                 let value = if *text { format!("{value:?}") } else { value.clone() };
-                let want: Vec<String> = values.iter().map(|v| format!("{v:?}")).collect();
+                // A number as JSON writes it, a name quoted.
+                let want: Vec<String> = values
+                    .iter()
+                    .map(|v| if v.parse::<f64>().is_ok() { v.to_string() } else { format!("{v:?}") })
+                    .collect();
                 format!("{value} {why}: it needs \"{other}\": {}", want.join(" or "))
             }
         }
@@ -326,6 +330,38 @@ mod tests {
         assert_eq!(check(Method::Wavefront, &o), Ok(()));
         assert_eq!(check(Method::Megakernel, &o).unwrap_err().knob, "threads");
         assert_eq!(check(Method::Cpu, &o), Ok(()));
+    }
+
+    /// `--refill in-place` needs regeneration, atomic queues in arrival order (or `auto`, which
+    /// resolves to it), refills at every iteration and no state compaction: each refusal names
+    /// the knob it needs, as the command line and a config say it.
+    #[test]
+    fn refills_in_place_name_what_they_need() {
+        use crate::options::QueueOrder;
+        let fused = |f: fn(&mut WavefrontOptions)| {
+            wavefront_with(|w| {
+                w.refill = Refill::InPlace;
+                w.schedule = Schedule::Regenerate;
+                f(w);
+            })
+        };
+        assert_eq!(check(Method::Wavefront, &fused(|_| {})), Ok(()));
+        let e = check(Method::Wavefront, &fused(|w| w.refill_below = 0.5)).unwrap_err();
+        assert_eq!(e.knob, "refill");
+        assert!(e.for_cli().ends_with("it needs --refill-below 1"), "{}", e.for_cli());
+        assert!(e.for_config().ends_with("it needs \"refill_below\": 1"), "{}", e.for_config());
+        for (f, cli) in [
+            (
+                (|w: &mut WavefrontOptions| w.schedule = Schedule::Waves) as fn(&mut WavefrontOptions),
+                "--schedule regenerate",
+            ),
+            (|w| w.compaction = Compaction::Scan, "--compaction on and --compaction-method atomic"),
+            (|w| w.queue_order = QueueOrder::Slot, "--queue-order arrival or auto"),
+            (|w| w.compact_states = CompactStates::On, "--compact-states off"),
+        ] {
+            let e = check(Method::Wavefront, &fused(f)).unwrap_err();
+            assert!(e.for_cli().ends_with(&format!("it needs {cli}")), "{}", e.for_cli());
+        }
     }
 
     #[test]
