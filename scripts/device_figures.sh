@@ -30,10 +30,9 @@
 #                       and mesh-room at 1920x1080x64 NEE (device/shader_checks.json) 11e9 ~2 min
 #   specialize          shaders with only the scene's kinds compiled in or every kind
 #                       (--specialize scene|none), every GPU method, and regenerate + tail with
-#                       shadow rays traced in shade (--shadow-rays inline) and, in arrival
-#                       order, with and without refills in place (--refill in-place),
-#                       rtiow-final and mesh-room at 1920x1080x64 NEE (device/specialize.json)
-#                       14.6e9 ~3 min
+#                       shadow rays traced in shade (--shadow-rays inline) and with samples
+#                       started where paths end (--refill in-place), rtiow-final and
+#                       mesh-room at 1920x1080x64 NEE (device/specialize.json) 13.3e9 ~2 min
 #   warmup              the warm-up itself: rtiow-final 1920x1080x16 NEE, the regenerating
 #                       megakernel and regenerate + tail, each a fixed 15 s warm-up traced frame
 #                       by frame with the GPU's clocks (device/warmup.json)  fixed  ~40 s

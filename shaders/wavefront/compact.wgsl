@@ -200,7 +200,12 @@ fn compact_scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(workg
     if all(v == vec4<u32>(0u)) {
         return;
     }
-    let slot = slot_at(p);
+    var slot = slot_at(p);
+    // (--refill in-place, slot order) A slot just refilled goes on the ray queue marked: its
+    // camera ray is made in intersect. (Never DEAD nor with a shadow ray: no other lane.)
+    if TARGET_RAYS && slot_order() && (next_queue[p] & NEW_CAMERA) != 0u {
+        slot |= CAMERA_RAY;
+    }
     let packed = scan_offset[p];
     let offset = lane_base() + block_sums[block_prefix_base() + wid.x]
         + (vec4<u32>(packed) >> vec4<u32>(0u, 8u, 16u, 24u)) % 256u;

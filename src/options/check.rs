@@ -210,9 +210,6 @@ pub fn check_wavefront(o: &WavefrontOptions) -> Result<(), OptionError> {
         if o.compaction != Compaction::Atomic {
             return needs("compaction", &["atomic"]);
         }
-        if o.queue_order.is_slot() {
-            return needs("queue_order", &["arrival", "auto"]);
-        }
         if o.refill_below != DEFAULT_REFILL_BELOW {
             return needs("refill_below", &["1"]);
         }
@@ -332,12 +329,11 @@ mod tests {
         assert_eq!(check(Method::Cpu, &o), Ok(()));
     }
 
-    /// `--refill in-place` needs regeneration, atomic queues in arrival order (or `auto`, which
-    /// resolves to it), refills at every iteration and no state compaction: each refusal names
+    /// `--refill in-place` needs regeneration, the atomic method, refills at every iteration and
+    /// no state compaction: each refusal names
     /// the knob it needs, as the command line and a config say it.
     #[test]
     fn refills_in_place_name_what_they_need() {
-        use crate::options::QueueOrder;
         let fused = |f: fn(&mut WavefrontOptions)| {
             wavefront_with(|w| {
                 w.refill = Refill::InPlace;
@@ -356,7 +352,6 @@ mod tests {
                 "--schedule regenerate",
             ),
             (|w| w.compaction = Compaction::Scan, "--compaction on and --compaction-method atomic"),
-            (|w| w.queue_order = QueueOrder::Slot, "--queue-order arrival or auto"),
             (|w| w.compact_states = CompactStates::On, "--compact-states off"),
         ] {
             let e = check(Method::Wavefront, &fused(f)).unwrap_err();

@@ -104,8 +104,8 @@ pub enum RaySort {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum QueueOrder {
-    /// Slot order when regenerating with queues a job of at least four pools (but with
-    /// `--refill in-place`, whose refills land in arrival order), arrival order otherwise: what measured faster (experiments/queue_order.json): the
+    /// Slot order when regenerating with queues a job of at least four pools,
+    /// arrival order otherwise: what measured faster (experiments/queue_order.json): the
     /// pool-wide scan pays where many refills scatter the pool, and only costs where waves empty
     /// it or a job barely refills it.
     #[default]
@@ -298,7 +298,7 @@ pub struct WavefrontOptions {
     pub refill_below: f64,
     /// Wavefront, --schedule regenerate: start the next samples in a pass over the free slots
     /// (`pass`), or in the slot of each path that ends, in intersect or shade, as it ends
-    /// (`in-place`: generate fused into them; needs atomic queues in arrival order and refills at
+    /// (`in-place`: generate fused into them; needs --compaction-method atomic and refills at
     /// every iteration).
     #[arg(long, value_enum, default_value_t = Refill::Pass, hide_short_help = true)]
     pub refill: Refill,
@@ -381,21 +381,13 @@ pub const BATCHES_IN_FLIGHT: u32 = 3;
 pub const MAX_BATCHES_IN_FLIGHT: u32 = 16;
 
 impl QueueOrder {
-    /// The order a render uses, `Arrival` or `Slot`, with this schedule, compaction and refill,
-    /// for a job of `samples` samples on a pool of `pool` slots.
-    pub fn resolve(
-        self,
-        schedule: Schedule,
-        compaction: Compaction,
-        refill: Refill,
-        samples: u64,
-        pool: u32,
-    ) -> QueueOrder {
+    /// The order a render uses, `Arrival` or `Slot`, with this schedule and compaction, for a
+    /// job of `samples` samples on a pool of `pool` slots.
+    pub fn resolve(self, schedule: Schedule, compaction: Compaction, samples: u64, pool: u32) -> QueueOrder {
         match self {
             QueueOrder::Auto
                 if schedule == Schedule::Regenerate
                     && compaction != Compaction::Off
-                    && refill == Refill::Pass
                     && samples >= AUTO_SLOT_POOLS * pool as u64 =>
             {
                 QueueOrder::Slot

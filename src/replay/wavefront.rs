@@ -267,13 +267,7 @@ pub fn replay(
     crate::options::check_wavefront(&launch.options())?;
     // The full job's pool and queue order, whatever the subset.
     let pool = launch.pool.min(u32::try_from(settings.sample_count()).unwrap_or(u32::MAX));
-    let order = launch.queue_order.resolve(
-        launch.schedule,
-        launch.compaction,
-        crate::options::Refill::Pass, // the replay refuses `--refill in-place`
-        settings.sample_count(),
-        pool,
-    );
+    let order = launch.queue_order.resolve(launch.schedule, launch.compaction, settings.sample_count(), pool);
     let job = Job { pool, order };
     if !regenerate {
         let plan = launch.shares(settings, pool);

@@ -964,8 +964,9 @@ fn inline_shadow_rays_give_the_shadow_pass_film() {
 /// order: the film is the refill pass's bit for bit, with the tail (also one that runs as soon as
 /// every sample has started, and so meets camera rays just queued by refills in place), NEE and the roulette, a sample ring of two pools (claims past its
 /// fill limit fail and go to the free list), stored camera rays (the ray sort), pool-size
-/// launches, sorted shading, inline shadow rays and either kind of ticket (per lane, per
-/// subgroup). Both passes refill, the refill pass starts fewer samples, and the modelled state
+/// launches, sorted shading, inline shadow rays, either kind of ticket (per lane, per subgroup),
+/// and slot order (the sweep, and the depth key's scan, queue the refilled slots the passes
+/// marked). Both passes refill, the refill pass starts fewer samples, and the modelled state
 /// traffic falls. What it cannot run with is refused.
 #[test]
 fn refills_in_place_give_the_refill_pass_film() {
@@ -988,6 +989,14 @@ fn refills_in_place_give_the_refill_pass_film() {
         ("pool launches", "cornell", WavefrontOptions { launch: Launch::Pool, ..tail }, false),
         ("sorted shade", "rtiow-final", WavefrontOptions { shade: ShadePasses::Sorted, ..tail }, false),
         ("inline shadows", "cornell", WavefrontOptions { shadow_rays: ShadowRays::Inline, ..tail }, true),
+        ("slot order", "cornell", WavefrontOptions { queue_order: QueueOrder::Slot, ..tail }, true),
+        ("slot-depth", "rtiow-final", WavefrontOptions { queue_order: QueueOrder::SlotDepth, ..tail }, false),
+        (
+            "slot order, stored rays",
+            "cornell",
+            WavefrontOptions { queue_order: QueueOrder::Slot, ray_sort: RaySort::Octant, ..base },
+            false,
+        ),
     ] {
         let s = RenderSettings { roulette, ..s.clone() };
         let pass = run_wavefront(scene, &s, wf);
@@ -1010,7 +1019,6 @@ fn refills_in_place_give_the_refill_pass_film() {
     for (wf, flag) in [
         (WavefrontOptions { schedule: Schedule::Waves, ..fused }, "--schedule regenerate"),
         (WavefrontOptions { compaction: Compaction::Scan, ..fused }, "--compaction-method atomic"),
-        (WavefrontOptions { queue_order: QueueOrder::Slot, ..fused }, "--queue-order arrival or auto"),
         (WavefrontOptions { refill_below: 0.5, ..fused }, "--refill-below 1"),
         (WavefrontOptions { compact_states: CompactStates::On, ..fused }, "--compact-states off"),
     ] {

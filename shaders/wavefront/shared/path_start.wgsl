@@ -25,7 +25,8 @@ fn finish_path(slot: u32, bounce: u32, value: vec4<f32>, refilled: u32) {
 
 // (regenerate, --refill in-place) The slot of a path that just ended starts the share's next
 // sample, if the sample ring has room for it (its fill limit), as the refill pass would start it
-// in a free slot, and queues the camera ray for the next iteration; counted in `refilled`. The
+// in a free slot, and queues the camera ray for the next iteration (in slot order: marks the slot
+// for the pass after shade, which queues it); counted in `refilled`. The
 // sample is claimed by a ticket (one atomic add, no compare-and-swap loop): ticket k is the
 // sample k past the share's next, which no pass moves until `settle_claims`, so claims past
 // the limit simply fail and the slot goes to the free list.
@@ -39,7 +40,13 @@ fn refill_in_place(slot: u32, refilled: u32) -> bool {
         return false;
     }
     start_path(slot, l);
-    append(next_ray_queue(), slot | select(0u, CAMERA_RAY, wave.camera_in_place != 0u));
+    let camera = wave.camera_in_place != 0u;
+    if slot_order() {
+        // The pass after shade lists the slot on the ray queue (overwriting retire's DEAD).
+        next_queue[slot] = next_ray_queue() | select(0u, NEW_CAMERA, camera);
+    } else {
+        append(next_ray_queue(), slot | select(0u, CAMERA_RAY, camera));
+    }
     count_one(refilled);
     return true;
 }

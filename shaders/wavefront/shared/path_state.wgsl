@@ -290,10 +290,12 @@ fn depth_key() -> bool {
     return wave.order == 2u;
 }
 
-// In slot order, next_queue's flags for a path that also has a shadow ray queued, and for one
-// whose next ray is its first bounce (depth key).
+// In slot order, next_queue's flags for a path that also has a shadow ray queued, for one
+// whose next ray is its first bounce (depth key), and (--refill in-place, camera rays made in
+// place) for a slot just refilled, whose ray-queue entry the pass after shade marks CAMERA_RAY.
 const SHADOW_PENDING: u32 = 0x100u;
 const FIRST_BOUNCE: u32 = 0x200u;
+const NEW_CAMERA: u32 = 0x400u;
 
 // (regenerate) `slot` is on no queue and traces nothing: the next refill may take it. In slot
 // order the pass after shade lists every free slot itself.

@@ -68,13 +68,8 @@ impl Plan {
         // A job smaller than the pool needs no more slots than samples: passes over the whole
         // pool (the regenerating schedule's start, compaction off) and its memory shrink with it.
         let pool = pool::choose(ctx, opts)?.min(u32::try_from(settings.sample_count()).unwrap_or(u32::MAX));
-        let queue_order = opts.queue_order.resolve(
-            opts.schedule,
-            opts.compaction,
-            opts.refill,
-            settings.sample_count(),
-            pool,
-        );
+        let queue_order =
+            opts.queue_order.resolve(opts.schedule, opts.compaction, settings.sample_count(), pool);
         let subgroup_scan = opts.scan.uses_subgroups(ctx)?;
         let subgroup_append = opts.append.uses_subgroups(ctx)?;
         let regenerate = schedule == RunSchedule::Regenerate;
