@@ -202,8 +202,10 @@ fn compact_scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(workg
     }
     var slot = slot_at(p);
     // (--refill in-place, slot order) A slot just refilled goes on the ray queue marked: its
-    // camera ray is made in intersect. (Never DEAD nor with a shadow ray: no other lane.)
-    if TARGET_RAYS && slot_order() && (next_queue[p] & NEW_CAMERA) != 0u {
+    // camera ray is made in intersect. (DEAD, every bit set, is a free slot; a refilled one has
+    // no shadow ray, so no other lane.)
+    let mark = next_queue[p];
+    if TARGET_RAYS && slot_order() && mark != DEAD && (mark & NEW_CAMERA) != 0u {
         slot |= CAMERA_RAY;
     }
     let packed = scan_offset[p];
