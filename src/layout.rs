@@ -239,9 +239,6 @@ pub struct WaveUniform {
     /// past a regenerating share's end (DONE) they return at once instead of getting zero
     /// workgroups.
     pub launch_pool: u32,
-    /// Regenerating: 1 to start the next sample in the slot of each path that ends, where it
-    /// ends (`--refill in-place`).
-    pub refill_in_place: u32,
 }
 
 /// WGSL: `Range` in `shaders/accumulate.wgsl`: the samples l in `first .. first + count` of a

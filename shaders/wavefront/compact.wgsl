@@ -204,9 +204,11 @@ fn compact_scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(workg
     // (--refill in-place, slot order) A slot just refilled goes on the ray queue marked: its
     // camera ray is made in intersect. (DEAD, every bit set, is a free slot; a refilled one has
     // no shadow ray, so no other lane.)
-    let mark = next_queue[p];
-    if TARGET_RAYS && slot_order() && mark != DEAD && (mark & NEW_CAMERA) != 0u {
-        slot |= CAMERA_RAY;
+    if REFILL_IN_PLACE && TARGET_RAYS && slot_order() {
+        let mark = next_queue[p];
+        if mark != DEAD && (mark & NEW_CAMERA) != 0u {
+            slot |= CAMERA_RAY;
+        }
     }
     let packed = scan_offset[p];
     let offset = lane_base() + block_sums[block_prefix_base() + wid.x]

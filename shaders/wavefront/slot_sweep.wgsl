@@ -30,7 +30,7 @@ fn slot_sweep(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     // (--refill in-place) A slot just refilled: its camera ray is made in intersect.
-    append(next_ray_queue(), slot | select(0u, CAMERA_RAY, (q & NEW_CAMERA) != 0u));
+    append(next_ray_queue(), slot | select(0u, CAMERA_RAY, REFILL_IN_PLACE && (q & NEW_CAMERA) != 0u));
     if (q & SHADOW_PENDING) != 0u {
         append(QUEUE_SHADOW, slot);
     }

@@ -24,34 +24,33 @@ fn tail(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/)
         return;
     }
     let slot = entry & ~CAMERA_RAY;
-    if (entry & CAMERA_RAY) != 0u {
-        // (--refill in-place) A camera ray queued where its slot was refilled: nothing stored
-        // but the sample.
-        if slot_index(slot) >= atomicLoad(&counters[COUNTER_TAIL_BOUND]) {
-            return;
+    // (--refill in-place) A camera ray queued where its slot was refilled: nothing stored but
+    // the sample.
+    let camera = REFILL_IN_PLACE && (entry & CAMERA_RAY) != 0u;
+    var d = vec4<f32>(0.0, 0.0, 0.0, bitcast<f32>(NO_ORIGIN));
+    if !camera {
+        d = path_dir[slot];
+        if bitcast<u32>(d.w) == DEAD || bitcast<u32>(d.w) == FLUSHED {
+            return; // only without compaction: an ended path in the pool
         }
-        let ray = sample_camera_ray(slot_index(slot));
-        var path = TracedPath(ray, vec3<f32>(1.0), vec3<f32>(0.0), 0u, 0.0, NO_ORIGIN);
-        continue_path(&path, slot_pixel(slot), slot_sample(slot), 0u);
-        // The entry unmarked, so the next intersect reads the FLUSHED mark and frees the slot.
-        queues[q * wave.pool + gid.x] = slot;
-        path_dir[slot].w = bitcast<f32>(FLUSHED);
-        store_sample(slot, vec4<f32>(path.radiance, f32(path.rays)));
-        return;
-    }
-    let d = path_dir[slot];
-    if bitcast<u32>(d.w) == DEAD || bitcast<u32>(d.w) == FLUSHED {
-        return; // only without compaction: an ended path in the pool
     }
     if slot_index(slot) >= atomicLoad(&counters[COUNTER_TAIL_BOUND]) {
         return; // a younger chunk's path: the passes go on with it
     }
-    let o = path_origin[slot];
-    let bounce = path_bounce(slot);
-    let t = path_throughput_at(slot, bounce);
-    let r = path_radiance(slot, bounce);
-    // r.w: the shadow rays traced so far; the path traced `bounce` rays before this one.
-    var path = TracedPath(Ray(o.xyz, d.xyz), t.xyz, r.xyz, u32(r.w) + bounce, t.w, bitcast<u32>(d.w));
+    var bounce = 0u;
+    var path = TracedPath(Ray(vec3<f32>(0.0), d.xyz), vec3<f32>(1.0), vec3<f32>(0.0), 0u, 0.0, NO_ORIGIN);
+    if camera {
+        path.ray = sample_camera_ray(slot_index(slot));
+        // The entry unmarked, so the next intersect reads the FLUSHED mark and frees the slot.
+        queues[q * wave.pool + gid.x] = slot;
+    } else {
+        bounce = path_bounce(slot);
+        let t = path_throughput_at(slot, bounce);
+        let r = path_radiance(slot, bounce);
+        // r.w: the shadow rays traced so far; the path traced `bounce` rays before this one.
+        path = TracedPath(Ray(path_origin[slot].xyz, d.xyz), t.xyz, r.xyz, u32(r.w) + bounce, t.w, bitcast<u32>(d.w));
+    }
+    // One call of the megakernel's loop (inlined once): the tail's code stays its size.
     continue_path(&path, slot_pixel(slot), slot_sample(slot), bounce);
     // Still on the ray queue: the next intersect frees the slot.
     path_dir[slot].w = bitcast<f32>(FLUSHED);

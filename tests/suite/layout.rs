@@ -131,8 +131,7 @@ fn wave() {
             refill_live,
             compact_states,
             camera_in_place,
-            launch_pool,
-            refill_in_place
+            launch_pool
         ]
     );
 }

@@ -31,7 +31,7 @@ fn finish_path(slot: u32, bounce: u32, value: vec4<f32>, refilled: u32) {
 // sample k past the share's next, which no pass moves until `settle_claims`, so claims past
 // the limit simply fail and the slot goes to the free list.
 fn refill_in_place(slot: u32, refilled: u32) -> bool {
-    if wave.refill_in_place == 0u {
+    if !REFILL_IN_PLACE {
         return false;
     }
     let l = atomicLoad(&counters[COUNTER_NEXT_SAMPLE]) + take_ticket(COUNTER_CLAIMS);

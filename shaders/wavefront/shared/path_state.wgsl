@@ -13,6 +13,11 @@
 
 // Pipeline constant: true with `--schedule regenerate`.
 override REGENERATE: bool = false;
+// Pipeline constant (regenerate): a slot whose path ends in intersect or shade takes the share's
+// next sample there and then, its camera ray queued for the next iteration (`--refill in-place`,
+// path_start.wgsl); the refill pass takes only the slots freed while the sample ring was full.
+// A constant, not a uniform, so that without it none of that code is compiled in.
+override REFILL_IN_PLACE: bool = false;
 
 // Queue ids: regions of `queues`, each `pool` entries long, and their counters.
 const QUEUE_RAY_0: u32 = 0u;        // ray queues alternate by iteration parity
@@ -146,10 +151,6 @@ struct Wave {
     // the pool's size, not sized by a setup pass (`--launch pool`): threads past the queue's
     // length return (queued_entry), and past a regenerating share's end every thread does.
     launch_pool: u32,
-    // (regenerate) 1: a slot whose path ends in intersect or shade takes the share's next sample
-    // there and then, its camera ray queued for the next iteration (`--refill in-place`); the
-    // refill pass takes only the slots freed while the sample ring was full.
-    refill_in_place: u32,
 }
 
 @group(1) @binding(0) var<uniform> dispatch: Dispatch;

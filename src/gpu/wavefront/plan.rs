@@ -39,6 +39,8 @@ pub struct Plan {
     pub ring: schedule::Ring,
     /// Camera rays made where they are used, not stored (queues on, no ray sort).
     pub camera_in_place: bool,
+    /// Regenerating with `--refill in-place` (the `REFILL_IN_PLACE` pipeline constant).
+    pub refill_in_place: bool,
     /// The knobs as the shaders read them.
     pub wave: WaveUniform,
     /// Rows of the bounce histogram (one when regenerating: queues mix bounces).
@@ -113,7 +115,6 @@ impl Plan {
             compact_states: (opts.compact_states == CompactStates::On) as u32,
             camera_in_place: camera_in_place as u32,
             launch_pool: (opts.launch == Launch::Pool) as u32,
-            refill_in_place: (regenerate && opts.refill == Refill::InPlace) as u32,
         };
         let lit = settings.nee && !scene.lights.is_empty();
         let shadow_pass = lit && opts.shadow_rays == ShadowRays::Pass;
@@ -140,6 +141,7 @@ impl Plan {
             patterns,
             ring,
             camera_in_place,
+            refill_in_place: regenerate && opts.refill == Refill::InPlace,
             wave,
             stats_bounces: if regenerate { 1 } else { settings.max_depth.min(STATS_BOUNCES) },
             shadow_pass,

@@ -18,6 +18,8 @@ pub struct Bindings {
     pub simd: Option<SimdCounters>,
     /// `--schedule regenerate` (the `REGENERATE` pipeline constant).
     pub regenerate: bool,
+    /// `--refill in-place`, regenerating (the `REFILL_IN_PLACE` pipeline constant).
+    pub refill_in_place: bool,
     /// Whether passes use the shader variants with subgroup-aggregated appends (`--append`).
     pub subgroup_append: bool,
     /// The runtime checks the passes' shaders are compiled with (`--shader-checks`).
@@ -29,6 +31,7 @@ impl Bindings {
     pub fn constants(&self, own: &[(&'static str, f64)]) -> Vec<(&'static str, f64)> {
         let mut c = self.scene.constants(own);
         c.push(("REGENERATE", self.regenerate as u32 as f64));
+        c.push(("REFILL_IN_PLACE", self.refill_in_place as u32 as f64));
         c
     }
 
