@@ -228,6 +228,11 @@ const ACCEPTED_SOURCES: &[(&str, &str)] = &[
          refill_in_place/ beside it: the refill pass, and samples started where paths end)",
     ),
     (
+        "experiments/results/llvmpipe-2core/refill_in_place/interleave.txt",
+        "scripts/interleave.py's summary tables (commands and builds in the file): this session's \
+         build against its start, and --refill in-place against the refill pass",
+    ),
+    (
         "experiments/results/llvmpipe-2core/decomposition_320x180/intersect_cost.txt",
         "`wavetrace intersect-cost`'s printed tables for rtiow-final and mesh-room at 320x180x16 \
          (the JSON files beside it hold the same figures)",
