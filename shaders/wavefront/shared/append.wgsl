@@ -3,8 +3,7 @@
 // order the atomics run in; nothing depends on it (the film adds samples in sample order).
 
 fn append(q: u32, slot: u32) {
-    let at = atomicAdd(&counters[queue_counter(q)], 1u);
-    queues[q * wave.pool + at] = slot;
+    queues[q * wave.pool + take_ticket(queue_counter(q))] = slot;
 }
 
 // Adds one to the statistic in counter word `w`, the same word for every lane.
@@ -12,8 +11,8 @@ fn count_one(w: u32) {
     atomicAdd(&counters[w], 1u);
 }
 
-// (--refill in-place) The next ticket of counter word `w`: 0, 1, 2, … in whatever order the lanes
-// take them.
+// The next ticket of counter word `w` (an entry of a queue, or --refill in-place's claim on a
+// sample): 0, 1, 2, … in whatever order the lanes take them.
 fn take_ticket(w: u32) -> u32 {
     return atomicAdd(&counters[w], 1u);
 }

@@ -9,13 +9,7 @@
 fn append(q: u32, slot: u32) {
     loop {
         if q == subgroupBroadcastFirst(q) {
-            let rank = subgroupExclusiveAdd(1u);
-            let count = subgroupAdd(1u);
-            var base = 0u;
-            if rank == 0u {
-                base = atomicAdd(&counters[queue_counter(q)], count);
-            }
-            queues[q * wave.pool + subgroupBroadcastFirst(base) + rank] = slot;
+            queues[q * wave.pool + take_ticket(queue_counter(q))] = slot;
             break;
         }
     }
@@ -30,8 +24,9 @@ fn count_one(w: u32) {
     }
 }
 
-// (--refill in-place) The next ticket of counter word `w`, one atomic per subgroup: the lanes
-// taking one get consecutive tickets.
+// The next ticket of counter word `w` (an entry of a queue, or --refill in-place's claim on a
+// sample), one atomic per subgroup, made by its first lane: the lanes taking one get consecutive
+// tickets.
 fn take_ticket(w: u32) -> u32 {
     let rank = subgroupExclusiveAdd(1u);
     let count = subgroupAdd(1u);

@@ -50,11 +50,8 @@ impl Compact {
         let module = ctx.shader(label::COMPACT_SCAN, source, b.shader_checks)?;
         let layouts = &b.layouts()[..2];
         let build = |rays: bool| -> Result<[Stage; 3]> {
-            let c = [
-                ("TARGET_RAYS", rays as u32 as f64),
-                ("REGENERATE", b.regenerate as u32 as f64),
-                ("REFILL_IN_PLACE", b.refill_in_place as u32 as f64),
-            ];
+            let mut c = vec![("TARGET_RAYS", rays as u32 as f64)];
+            c.extend(b.schedule_constants());
             Ok([
                 Stage::new(ctx, label::COMPACT_SCAN, &module, layouts, &c)?,
                 Stage::new(ctx, label::COMPACT_BLOCKS, &module, layouts, &c)?,

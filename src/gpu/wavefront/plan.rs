@@ -163,7 +163,7 @@ impl Plan {
         if self.regenerate {
             stats.refill_below = Some(opts.refill_below);
             stats.compact_states = Some(opts.compact_states == CompactStates::On);
-            stats.refilled_in_place = (opts.refill == Refill::InPlace).then(Default::default);
+            stats.refilled_in_place = self.refill_in_place.then(Default::default);
         }
         stats
     }

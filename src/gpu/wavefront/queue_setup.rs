@@ -35,13 +35,13 @@ impl QueueSetup {
         film_range: Option<&wgpu::Buffer>,
     ) -> Result<Self> {
         let module = ctx.shader(label::QUEUE_SETUP_INTERSECT, shaders::QUEUE_SETUP, b.shader_checks)?;
-        let constants = [
+        let mut constants = vec![
             ("WORKGROUP_SIZE", workgroup_size as f64),
             ("STATS_BOUNCES", b.state.stats_bounces as f64),
-            ("REGENERATE", b.regenerate as u32 as f64),
             // The clamp of every indirect argument (wavefront/shared/indirect_args.wgsl): the device's limit.
             ("MAX_WORKGROUPS", ctx.device.limits().max_compute_workgroups_per_dimension as f64),
         ];
+        constants.extend(b.schedule_constants());
         // Scene, path state and the indirect arguments (never the instrument counters).
         let layouts = &[b.layouts()[0], b.layouts()[1], &b.state.indirect_layout];
         let decide = film_range

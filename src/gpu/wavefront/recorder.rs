@@ -30,9 +30,17 @@ impl Bindings {
     /// A pass's own pipeline constants plus the scene's and the schedule's.
     pub fn constants(&self, own: &[(&'static str, f64)]) -> Vec<(&'static str, f64)> {
         let mut c = self.scene.constants(own);
-        c.push(("REGENERATE", self.regenerate as u32 as f64));
-        c.push(("REFILL_IN_PLACE", self.refill_in_place as u32 as f64));
+        c.extend(self.schedule_constants());
         c
+    }
+
+    /// The schedule's pipeline constants, which every pass over the path state declares
+    /// (path_state.wgsl): the passes that take no scene constants add their own to these.
+    pub fn schedule_constants(&self) -> [(&'static str, f64); 2] {
+        [
+            ("REGENERATE", self.regenerate as u32 as f64),
+            ("REFILL_IN_PLACE", self.refill_in_place as u32 as f64),
+        ]
     }
 
     /// The shader variant an appending pass takes: instrumented or not, and its appends.

@@ -22,10 +22,7 @@ impl SlotSweep {
         let module = ctx.shader(label::SLOT_SWEEP, source, b.shader_checks)?;
         // Scene and path state only: no instrument counters.
         let layouts = &b.layouts()[..2];
-        let constants = [
-            ("REGENERATE", b.regenerate as u32 as f64),
-            ("REFILL_IN_PLACE", b.refill_in_place as u32 as f64),
-        ];
+        let constants = b.schedule_constants();
         Ok(Self { stage: Stage::new(ctx, label::SLOT_SWEEP, &module, layouts, &constants)? })
     }
 

@@ -358,19 +358,20 @@ mod tests {
 
     /// A wave of 100 samples: 100 camera rays, 60 hit (40 escape); 50 of the hits go on and are
     /// traced at bounce 1 (all escape), 10 end; 20 shadow rays. Every sample ends once.
-    #[test]
-    fn the_model_adds_up_a_small_wave() {
-        let items = Items {
+    fn small_wave() -> Items {
+        Items {
             samples: 100,
             rays: 150,
             hits: [40, 20, 0, 0],
             shadow: 20,
-            tail_paths: 0,
-            slot_visits: 0,
-            init_slots: 0,
             first_bounce: Some((60, 50)),
-            refilled: (0, 0),
-        };
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn the_model_adds_up_a_small_wave() {
+        let items = small_wave();
         let t = StateTraffic::model(&shape(false, true, false, true), &items);
         let pass = |l: &str| t.passes.iter().find(|p| p.label == l).unwrap().clone();
         // generate: origin and direction, and the queue entry, per sample.
@@ -405,18 +406,11 @@ mod tests {
 
     /// A regenerating render's samples started in place (`--refill in-place`) move their start
     /// from the refill pass to intersect and shade, and skip the free list: 8 bytes less each
-    /// (the free entry written and read), the rest of the model unchanged.
+    /// (the free entry written and read), the rest of the model unchanged. (The small wave's
+    /// counts, regenerating: its queues mix bounces, so no first-bounce counts.)
     #[test]
     fn refills_in_place_skip_the_free_list() {
-        let items = Items {
-            samples: 100,
-            rays: 150,
-            hits: [40, 20, 0, 0],
-            shadow: 20,
-            slot_visits: 1000,
-            init_slots: 10,
-            ..Default::default()
-        };
+        let items = Items { slot_visits: 1000, init_slots: 10, first_bounce: None, ..small_wave() };
         let s = Shape { camera_in_place: true, ..shape(true, true, false, true) };
         let pass = StateTraffic::model(&s, &items);
         let fused = StateTraffic::model(&s, &Items { refilled: (30, 25), ..items });
