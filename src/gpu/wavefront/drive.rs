@@ -2,11 +2,10 @@
 //! regenerating: batches submitted ahead, their counters read back through a ring of staging
 //! buffers without waiting, until one says the share is done).
 
-use super::super::accumulate::Accumulate;
 use super::super::buffers::{self, Staging};
 use super::super::context::GpuContext;
-use super::super::stage::Workgroups;
-use super::path_state::{self, schedule_word as word};
+use super::graph::Phase;
+use super::path_state::schedule_word as word;
 use super::recorder::{Bindings, WaveRecorder};
 use super::share_ledger::{ShareLedger, ShareWork};
 use super::stages::Stages;
@@ -17,9 +16,8 @@ use anyhow::{bail, Result};
 /// schedule records a share's iterations and returns how many it recorded.
 pub(super) struct Drive<'a> {
     pub(super) ctx: &'a GpuContext,
-    pub(super) stages: &'a Stages,
+    pub(super) stages: &'a Stages<'a>,
     pub(super) b: &'a Bindings,
-    pub(super) accumulate: &'a Accumulate,
     pub(super) opts: &'a WavefrontOptions,
     pub(super) max_depth: u32,
     pub(super) pool: u32,
@@ -34,7 +32,7 @@ impl Drive<'_> {
             if wave.timer.remaining() < self.per_iteration + 1 {
                 wave.submit_and_wait(self.ctx)?;
             }
-            self.stages.record_iteration(wave, bounce, false, false);
+            self.stages.record(wave, Phase::Iteration, bounce, false, false);
         }
         Ok(self.max_depth)
     }
@@ -56,7 +54,7 @@ impl Drive<'_> {
         progress: &dyn Fn(u64),
     ) -> Result<u32> {
         let (ctx, state) = (self.ctx, &self.b.state);
-        let tail = self.stages.tail.is_some();
+        let tail = self.stages.graph.phase(Phase::Decided).any(|p| p.label == crate::gpu::label::TAIL);
         let sync_every = self.opts.sync_every;
         // The decision pass's knobs and the refills' first limit; its own words start at zero
         // (the buffer's creation, or the clear after the last share).
@@ -127,9 +125,9 @@ impl Drive<'_> {
                 // With the tail the GPU may check after any iteration (every one once every
                 // sample has started), so it decides after each; else after every batch.
                 let decide = tail || (recorded + 1).is_multiple_of(sync_every);
-                self.stages.record_iteration(wave, recorded, recorded == 0 || !one_refill, decide);
+                self.stages.record(wave, Phase::Iteration, recorded, recorded == 0 || !one_refill, decide);
                 if decide {
-                    self.record_decided(wave);
+                    self.stages.record(wave, Phase::Decided, recorded, false, false);
                 }
                 recorded += 1;
                 dispatches_at.push((wave.dispatches, wave.compute_passes));
@@ -165,17 +163,6 @@ impl Drive<'_> {
         Ok(ran)
     }
 
-    /// (regenerate) After an iteration that ends with the decision pass: the passes it sizes
-    /// (zero workgroups unless it decided to run them): the tail, and the film's new chunks.
-    fn record_decided(&self, wave: &mut WaveRecorder<'_>) {
-        if let Some(tail) = &self.stages.tail {
-            tail.record(wave);
-        }
-        let (stage, groups) = self.accumulate.range_pass(wave.offset);
-        let args = Workgroups::Indirect(&self.b.state.indirect, path_state::ARGS_ACCUMULATE * 12);
-        wave.record_groups(stage, None, &groups, args);
-    }
-
     /// (waves) A wave's end: its radiance into the film, its counters copied into the share
     /// ledger on the GPU (per wave, so the GPU's u32 counters never overflow on long renders),
     /// and submitted without waiting, but for the `last` wave or a full ledger, which are waited
@@ -184,18 +171,13 @@ impl Drive<'_> {
     pub(super) fn end_wave(
         &self,
         wave: &mut WaveRecorder<'_>,
-        pixel_count: u32,
         iterations: u32,
         ledger: &mut ShareLedger,
         last: bool,
         stats: &mut ScheduleStats,
         histogram: Option<&mut QueueHistogram>,
     ) -> Result<()> {
-        let offset = wave.offset;
-        let (enc, timer) = wave.encoder();
-        self.accumulate.record(enc, timer, offset, pixel_count);
-        wave.dispatches += 1;
-        wave.compute_passes += 1;
+        self.stages.record(wave, Phase::End, iterations, false, false);
         let work = ShareWork { units: 1, iterations, dispatches: wave.dispatches };
         ledger.record(wave.encoder().0, &self.b.state, work);
         if last || ledger.is_full() {

@@ -1,26 +1,21 @@
 //! intersect (`shaders/wavefront/intersect.wgsl`): closest hits for the bounce's ray queue,
 //! sized on the GPU by queue_setup_intersect.
 
-use super::super::stage::Stage;
-use super::super::{context::GpuContext, label, shaders};
+use super::graph::{Constants, Launch, Pass, Queue, Shader};
 use super::path_state::ARGS_INTERSECT;
-use super::{Bindings, WaveRecorder};
-use anyhow::Result;
+use super::plan::Plan;
+use crate::gpu::label;
 
-pub struct Intersect {
-    stage: Stage,
-}
-
-impl Intersect {
-    pub fn new(ctx: &GpuContext, b: &Bindings, workgroup_size: u32, instrument: bool) -> Result<Self> {
-        let module =
-            ctx.shader(label::INTERSECT, shaders::INTERSECT.select(&b.hooks(instrument)), b.shader_checks)?;
-        let constants = b.constants(&[("WORKGROUP_SIZE", workgroup_size as f64)]);
-        Ok(Self { stage: Stage::new(ctx, label::INTERSECT, &module, &b.layouts(), &constants)? })
+/// Closest hits of the ray queue: hits onto the material (or pattern) queues; regenerating, the
+/// slots of escaped paths onto the free list.
+pub(super) fn pass(plan: &Plan, c: &Constants) -> Pass {
+    let mut produces = vec![Queue::Materials];
+    if !plan.patterns.is_empty() {
+        produces.push(Queue::Patterns);
     }
-
-    pub fn record(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
-        let args = wave.consumer(ARGS_INTERSECT);
-        wave.record(&self.stage, Some(bounce), usize::MAX, args);
+    if plan.regenerate {
+        produces.push(Queue::Free);
     }
+    Pass::over_paths(label::INTERSECT, Shader::Intersect, Launch::Queue(ARGS_INTERSECT), c)
+        .queues(&[Queue::Rays], &produces)
 }

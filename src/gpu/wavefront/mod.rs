@@ -66,6 +66,7 @@ pub mod compact;
 pub mod compact_states;
 mod drive;
 pub mod generate;
+pub mod graph;
 pub mod intersect;
 pub mod intersect_registers;
 pub mod path_state;
@@ -191,7 +192,7 @@ pub fn render(
             Staging::new(ctx, "schedule counters read-back", bytes)
         })
         .collect();
-    let per_iteration = stages.per_iteration();
+    let per_iteration = stages.graph.per_iteration();
     let mut timer = GpuTimer::new(ctx, measure.timing, measure.preheat_seconds, &mut memory);
     // Per-pass timestamps need a pass per dispatch.
     let shared_passes = opts.compute_passes == ComputePasses::Shared && !timer.times_passes();
@@ -201,16 +202,8 @@ pub fn render(
     let finished = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
     let mut ledger = (!regenerate).then(|| ShareLedger::new(ctx, &b.state, &mut memory));
     let mut compute_passes = 0u64;
-    let drive = Drive {
-        ctx,
-        stages: &stages,
-        b: &b,
-        accumulate: &accumulate,
-        opts,
-        max_depth: settings.max_depth,
-        pool,
-        per_iteration,
-    };
+    let drive =
+        Drive { ctx, stages: &stages, b: &b, opts, max_depth: settings.max_depth, pool, per_iteration };
     for (w, d) in plan.shares.iter().enumerate() {
         let paths = d.pixel_count * d.sample_count;
         // Regenerating: this share's sample ring (the render's chunk and ring sizes).
@@ -218,8 +211,9 @@ pub fn render(
         let launch =
             (opts.launch == Launch::Pool).then(|| (if regenerate { pool } else { paths }).div_ceil(wg));
         let mut wave = WaveRecorder::new(ctx, shared_passes, &mut timer, &b, params.offset(w), paths, launch);
+        wave.pixels = d.pixel_count;
 
-        stages.generate.record_start(&mut wave);
+        stages.record(&mut wave, graph::Phase::Start, 0, false, false);
         let iterations = match schedule {
             RunSchedule::Waves => drive.waves(&mut wave)?,
             RunSchedule::Regenerate => {
@@ -233,15 +227,7 @@ pub fn render(
         } else {
             let ledger = ledger.as_mut().expect("waves keep a share ledger");
             let last = w + 1 == plan.shares.len();
-            drive.end_wave(
-                &mut wave,
-                d.pixel_count,
-                iterations,
-                ledger,
-                last,
-                &mut stats,
-                histogram.as_mut(),
-            )?;
+            drive.end_wave(&mut wave, iterations, ledger, last, &mut stats, histogram.as_mut())?;
         }
         compute_passes += wave.compute_passes;
         let count = finished.clone();

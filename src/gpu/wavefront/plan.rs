@@ -54,6 +54,14 @@ pub struct Plan {
     pub uses_sweep: bool,
     /// The scan passes: the scan method's, or the depth key's over the pool after shade.
     pub uses_scan: bool,
+    /// The scan method builds the material queues after intersect too.
+    pub scan_materials: bool,
+    /// (regenerate) `--compact-states on`: the state compaction's passes before each refill.
+    pub compact_states: bool,
+    /// `--ray-sort`: the origin-cell bits per axis of its key (0: the octant alone).
+    pub ray_sort_cell_bits: Option<u32>,
+    /// Workgroups of the scan's pass over its block totals (`compact_blocks`).
+    pub scan_blocks: u32,
     pub layout: PoolLayout,
 }
 
@@ -148,8 +156,21 @@ impl Plan {
             inline_shadow: lit && opts.shadow_rays == ShadowRays::Inline,
             uses_sweep,
             uses_scan,
+            scan_materials: opts.compaction == Compaction::Scan,
+            compact_states: regenerate && opts.compact_states == CompactStates::On,
+            ray_sort_cell_bits: (opts.ray_sort != RaySort::Off).then(|| opts.ray_sort.cell_bits()),
+            scan_blocks: path_state::scan_block_groups(pool as u64) as u32,
             layout,
         })
+    }
+
+    /// The knobs as pipeline constants, which every pass over the path state declares
+    /// (path_state.wgsl).
+    pub fn knob_constants(&self) -> Vec<(&'static str, f64)> {
+        vec![
+            ("REGENERATE", self.regenerate as u32 as f64),
+            ("REFILL_IN_PLACE", self.refill_in_place as u32 as f64),
+        ]
     }
 
     /// The schedule's record, with what this plan resolved.

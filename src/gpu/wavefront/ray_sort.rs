@@ -8,11 +8,8 @@
 //! which are empty until intersect fills them, so the sort needs 4 KiB of new memory.
 
 use super::super::buffers::{storage_entry, storage_zeroed};
+use super::super::context::GpuContext;
 use super::super::memory::{MemoryCategory, MemoryLedger};
-use super::super::stage::{Stage, Workgroups};
-use super::super::{context::GpuContext, label, shaders};
-use super::path_state::ARGS_INTERSECT;
-use super::{Bindings, WaveRecorder};
 use crate::options::RaySort;
 use anyhow::Result;
 
@@ -21,7 +18,7 @@ const KEYS: u64 = 512;
 
 impl RaySort {
     /// The `CELL_BITS` pipeline constant: origin-cell bits per axis in the key.
-    fn cell_bits(self) -> u32 {
+    pub fn cell_bits(self) -> u32 {
         match self {
             RaySort::OctantCell => 2,
             _ => 0,
@@ -29,53 +26,40 @@ impl RaySort {
     }
 }
 
-pub struct RaySortPasses {
-    count: Stage,
-    scan: Stage,
-    scatter: Stage,
-    group: wgpu::BindGroup,
+/// The ray sort's buckets and their bind group (group 2 of its passes): counts, then each key's
+/// next position, zeroed once (the scan clears the counts).
+pub(super) fn buckets(
+    ctx: &GpuContext,
+    memory: &mut MemoryLedger,
+) -> Result<(wgpu::BindGroupLayout, wgpu::BindGroup)> {
+    let buckets = memory.track(
+        MemoryCategory::Queues,
+        storage_zeroed(ctx, "ray sort buckets", 2 * KEYS * 4, wgpu::BufferUsages::empty())?,
+    );
+    let layout = ctx.bind_group_layout("ray sort", &[storage_entry(0, false)]);
+    let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("ray sort"),
+        layout: &layout,
+        entries: &[wgpu::BindGroupEntry { binding: 0, resource: buckets.as_entire_binding() }],
+    });
+    Ok((layout, group))
 }
 
-impl RaySortPasses {
-    pub fn new(
-        ctx: &GpuContext,
-        b: &Bindings,
-        workgroup_size: u32,
-        sort: RaySort,
-        memory: &mut MemoryLedger,
-    ) -> Result<Self> {
-        let module = ctx.shader(label::RAY_SORT_COUNT, shaders::RAY_SORT, b.shader_checks)?;
-        let constants =
-            b.constants(&[("WORKGROUP_SIZE", workgroup_size as f64), ("CELL_BITS", sort.cell_bits() as f64)]);
-        // Counts, then each key's next position: zeroed once, and the scan clears the counts.
-        let buckets = memory.track(
-            MemoryCategory::Queues,
-            storage_zeroed(ctx, "ray sort buckets", 2 * KEYS * 4, wgpu::BufferUsages::empty())?,
-        );
-        let layout = ctx.bind_group_layout("ray sort", &[storage_entry(0, false)]);
-        let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("ray sort"),
-            layout: &layout,
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: buckets.as_entire_binding() }],
-        });
-        // Scene, path state and the buckets (never the instrument counters).
-        let layouts = [b.layouts()[0], b.layouts()[1], &layout];
-        let stage = |l| Stage::new(ctx, l, &module, &layouts, &constants);
-        Ok(Self {
-            count: stage(label::RAY_SORT_COUNT)?,
-            scan: stage(label::RAY_SORT_SCAN)?,
-            scatter: stage(label::RAY_SORT_SCATTER)?,
-            group,
-        })
-    }
+use super::graph::{Binds, Constants, Launch, Pass, Phase, Queue, Shader};
+use super::path_state::ARGS_INTERSECT;
+use crate::gpu::label;
 
-    /// The passes between queue_setup_intersect and intersect of iteration `i`.
-    pub fn record(&self, wave: &mut WaveRecorder<'_>, i: u32) {
-        let indirect = &wave.b.state.indirect;
-        let over_queue = || Workgroups::Indirect(indirect, ARGS_INTERSECT * 12);
-        let group = || Some((&self.group, vec![]));
-        wave.record_with(&self.count, Some(i), 2, group(), over_queue());
-        wave.record_with(&self.scan, Some(i), 2, group(), Workgroups::Direct(1));
-        wave.record_with(&self.scatter, Some(i), 2, group(), over_queue());
-    }
+/// Count, scan (one workgroup), scatter over the ray queue, before intersect.
+pub(super) fn passes(cell_bits: u32, c: &Constants) -> Vec<Pass> {
+    let pass = |l, launch| {
+        Pass::new(l, Phase::Iteration, Shader::RaySort, launch, Binds::RaySort)
+            .with(&[c.workgroup, ("CELL_BITS", cell_bits as f64)])
+            .scene()
+            .queues(&[Queue::Rays], &[Queue::Rays])
+    };
+    vec![
+        pass(label::RAY_SORT_COUNT, Launch::Indirect(ARGS_INTERSECT)),
+        pass(label::RAY_SORT_SCAN, Launch::Direct(1)),
+        pass(label::RAY_SORT_SCATTER, Launch::Indirect(ARGS_INTERSECT)),
+    ]
 }

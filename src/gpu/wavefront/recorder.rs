@@ -77,6 +77,8 @@ pub struct WaveRecorder<'a> {
     pub offset: u32,
     /// Paths in this wave.
     pub paths: u32,
+    /// Pixels of this share (its film accumulation's threads).
+    pub pixels: u32,
     /// Whether passes are timed per bounce (waves) or only per label (regenerating: an
     /// iteration holds paths at every bounce).
     pub per_bounce: bool,
@@ -111,6 +113,7 @@ impl<'a> WaveRecorder<'a> {
             b,
             offset,
             paths,
+            pixels: 0,
             per_bounce: !b.regenerate,
             dispatches: 0,
             compute_passes: 0,

@@ -2,70 +2,45 @@
 //! pattern), one pass with a material switch, or one over the material queues end to end
 //! (`--shade`); each sized on the GPU by queue_setup_shade.
 
-use super::super::stage::Stage;
-use super::super::{context::GpuContext, label, shaders};
+use super::graph::{Constants, Launch, Pass, Queue, Shader};
 use super::path_state::{ARGS_PATTERN_0, ARGS_SHADE_0};
 use super::plan::Plan;
-use super::{Bindings, ShadePasses, WaveRecorder};
-use anyhow::Result;
+use super::ShadePasses;
+use crate::gpu::label;
 
-pub struct Shade {
-    /// (argument slot, stage) for each pass to run per bounce.
-    stages: Vec<(u64, Stage)>,
-}
-
-impl Shade {
-    /// The shade passes of `mode` for `plan`: a pass per material kind the scene uses with
-    /// `per-material` and `per-texture`, and with `per-texture` a pass per costly pattern
-    /// (`plan.patterns`: indices into `scene::Pattern::ALL`), each compiled with its texture kind
-    /// alone; the shadow rays traced inline where `plan.inline_shadow`.
-    pub fn new(
-        ctx: &GpuContext,
-        b: &Bindings,
-        plan: &Plan,
-        mode: ShadePasses,
-        workgroup_size: u32,
-        instrument: bool,
-    ) -> Result<Self> {
-        let (kinds, patterns, inline_shadow) = (&plan.kinds, &plan.patterns, plan.inline_shadow);
-        let module =
-            ctx.shader(label::SHADE, shaders::SHADE.select(&b.hooks(instrument)), b.shader_checks)?;
-        let constants = b.constants(&[
-            ("WORKGROUP_SIZE", workgroup_size as f64),
-            ("SHADOW_INLINE", inline_shadow as u32 as f64),
-            ("STATS_BOUNCES", b.state.stats_bounces as f64),
-        ]);
-        let passes: Vec<(u64, &'static str)> = match mode {
-            ShadePasses::PerMaterial | ShadePasses::PerTexture => {
-                kinds.iter().map(|&k| (ARGS_SHADE_0 + k as u64, label::SHADE_BY_KIND[k as usize])).collect()
-            }
-            ShadePasses::Single => vec![(ARGS_SHADE_0, label::SHADE)],
-            ShadePasses::Sorted => vec![(ARGS_SHADE_0, label::SHADE_SORTED)],
-        };
-        let mut stages: Vec<(u64, Stage)> = passes
-            .into_iter()
-            .map(|(slot, l)| Ok((slot, Stage::new(ctx, l, &module, &b.layouts(), &constants)?)))
-            .collect::<Result<_>>()?;
-        for &p in patterns {
-            let own = crate::layout::texture_kind::NOISE + p;
-            let constants: Vec<(&str, f64)> = constants
-                .iter()
-                .map(|&(n, v)| if n == "TEXTURE_KINDS" { (n, (1u32 << own) as f64) } else { (n, v) })
-                .collect();
-            let l = label::SHADE_BY_PATTERN[p as usize];
-            stages.push((ARGS_PATTERN_0 + p as u64, Stage::new(ctx, l, &module, &b.layouts(), &constants)?));
-        }
-        Ok(Self { stages })
+/// The shade passes of `mode`: a pass per material kind the scene uses with `per-material`
+/// and `per-texture`, and with `per-texture` a pass per costly pattern (`plan.patterns`: indices
+/// into `scene::Pattern::ALL`), each compiled with its texture kind alone; one pass with a
+/// switch; or one over the material queues end to end.
+pub(super) fn passes(plan: &Plan, mode: ShadePasses, c: &Constants) -> Vec<Pass> {
+    let mut produces = vec![Queue::Rays];
+    if plan.regenerate {
+        produces.push(Queue::Free);
     }
-
-    pub fn record(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
-        for (slot, stage) in &self.stages {
-            let args = wave.consumer(*slot);
-            wave.record(stage, Some(bounce), usize::MAX, args);
-        }
+    if plan.shadow_pass {
+        produces.push(Queue::Shadow);
     }
-
-    pub fn passes(&self) -> usize {
-        self.stages.len()
+    let pass = |l, slot, consumes| {
+        Pass::over_paths(l, Shader::Shade, Launch::Queue(slot), c)
+            .with(&[("SHADOW_INLINE", plan.inline_shadow as u32 as f64), c.stats_bounces])
+            .queues(&[consumes], &produces)
+    };
+    let mut p: Vec<Pass> = match mode {
+        ShadePasses::PerMaterial | ShadePasses::PerTexture => plan
+            .kinds
+            .iter()
+            .map(|&k| pass(label::SHADE_BY_KIND[k as usize], ARGS_SHADE_0 + k as u64, Queue::Materials))
+            .collect(),
+        ShadePasses::Single => vec![pass(label::SHADE, ARGS_SHADE_0, Queue::Materials)],
+        ShadePasses::Sorted => vec![pass(label::SHADE_SORTED, ARGS_SHADE_0, Queue::Materials)],
+    };
+    for &pattern in &plan.patterns {
+        let own = crate::layout::texture_kind::NOISE + pattern;
+        let l = label::SHADE_BY_PATTERN[pattern as usize];
+        p.push(
+            pass(l, ARGS_PATTERN_0 + pattern as u64, Queue::Patterns)
+                .with(&[("TEXTURE_KINDS", (1u32 << own) as f64)]),
+        );
     }
+    p
 }

@@ -2,26 +2,26 @@
 //! any-hit query per queued ray, sized on the GPU by queue_setup_shadow. Recorded only with
 //! `--nee on` in a scene with lights.
 
-use super::super::stage::Stage;
-use super::super::{context::GpuContext, label, shaders};
+use super::graph::{Constants, Launch, Pass, Queue, Shader, When};
 use super::path_state::ARGS_SHADOW;
-use super::{Bindings, WaveRecorder};
-use anyhow::Result;
+use super::plan::Plan;
+use super::queue_setup;
+use crate::gpu::label;
 
-pub struct Shadow {
-    stage: Stage,
-}
-
-impl Shadow {
-    pub fn new(ctx: &GpuContext, b: &Bindings, workgroup_size: u32, instrument: bool) -> Result<Self> {
-        let module =
-            ctx.shader(label::SHADOW, shaders::SHADOW.select(&b.hooks(instrument)), b.shader_checks)?;
-        let constants = b.constants(&[("WORKGROUP_SIZE", workgroup_size as f64)]);
-        Ok(Self { stage: Stage::new(ctx, label::SHADOW, &module, &b.layouts(), &constants)? })
-    }
-
-    pub fn record(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
-        let args = wave.consumer(ARGS_SHADOW);
-        wave.record(&self.stage, Some(bounce), usize::MAX, args);
-    }
+/// Its setup (regenerating, with the decision folded in on the iterations that check), then
+/// the any-hit queries.
+pub(super) fn passes(plan: &Plan, c: &Constants) -> Vec<Pass> {
+    let mut p = if plan.regenerate {
+        vec![
+            queue_setup::pass(label::QUEUE_SETUP_SHADOW, When::NoCheck, c),
+            queue_setup::decide(label::QUEUE_SETUP_SHADOW_DECIDE, c),
+        ]
+    } else {
+        vec![queue_setup::pass(label::QUEUE_SETUP_SHADOW, When::Always, c)]
+    };
+    p.push(
+        Pass::over_paths(label::SHADOW, Shader::Shadow, Launch::Queue(ARGS_SHADOW), c)
+            .queues(&[Queue::Shadow], &[]),
+    );
+    p
 }

@@ -5,29 +5,18 @@
 //! state as in the scan's exact slot order (though not as one ascending stream), without the
 //! scan's three passes and their barriers. Sized on the GPU by queue_setup_shade (the scan's arguments: every slot).
 
-use super::super::shaders::{self, Hook};
-use super::super::stage::{Stage, Workgroups};
-use super::super::{context::GpuContext, label};
+use super::graph::{Binds, Launch, Pass, Phase, Queue, Shader};
 use super::path_state::ARGS_COMPACT;
-use super::{Bindings, WaveRecorder};
-use anyhow::Result;
+use crate::gpu::label;
 
-pub struct SlotSweep {
-    stage: Stage,
-}
-
-impl SlotSweep {
-    pub fn new(ctx: &GpuContext, b: &Bindings) -> Result<Self> {
-        let source = shaders::SLOT_SWEEP.select(&[(Hook::AppendSubgroup, b.subgroup_append)]);
-        let module = ctx.shader(label::SLOT_SWEEP, source, b.shader_checks)?;
-        // Scene and path state only: no instrument counters.
-        let layouts = &b.layouts()[..2];
-        let constants = b.schedule_constants();
-        Ok(Self { stage: Stage::new(ctx, label::SLOT_SWEEP, &module, layouts, &constants)? })
-    }
-
-    pub fn record(&self, wave: &mut WaveRecorder<'_>, bounce: u32) {
-        let args = Workgroups::Indirect(&wave.b.state.indirect, ARGS_COMPACT * 12);
-        wave.record(&self.stage, Some(bounce), 2, args);
-    }
+/// Over every slot after shade (sized as the scan: every slot), scene and path state only.
+pub(super) fn pass() -> Pass {
+    Pass::new(
+        label::SLOT_SWEEP,
+        Phase::Iteration,
+        Shader::SlotSweep,
+        Launch::Indirect(ARGS_COMPACT),
+        Binds::State,
+    )
+    .queues(&[Queue::Slots], &[Queue::Rays, Queue::Free, Queue::Shadow])
 }

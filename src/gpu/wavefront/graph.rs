@@ -1,0 +1,347 @@
+//! The wavefront's pass graph: the one statement of what a render records. [`Plan`] turns the
+//! resolved options into a [`Graph`], an ordered list of [`Pass`] specs, each with its label
+//! (the pipeline's, the WGSL entry point's, the timestamp slot's and the report's), its shader
+//! and pipeline constants, its launch, the bind groups it takes, the queues it consumes and
+//! produces, and when in an iteration it runs. Everything that used to restate the sequence
+//! reads it: the stages build a pipeline per pass (`stages.rs`), the recorder records
+//! `for pass in graph` (`drive.rs`), the timer's capacity is the longest iteration's pass count,
+//! `wavetrace plan` prints it, and the docs' diagram is generated from it
+//! (pbrt-v4's `Render()` loop, Falcor's printable render graphs).
+
+use super::path_state::ARGS_ACCUMULATE;
+use super::plan::Plan;
+use super::{
+    compact, compact_states, generate, intersect, queue_setup, ray_sort, shade, shadow, slot_sweep, tail,
+};
+use super::{Tail, WavefrontOptions};
+use crate::gpu::label;
+use serde::Serialize;
+
+/// Where in a share a pass runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Phase {
+    /// Once at a share's start.
+    Start,
+    /// In every iteration (a bounce in waves), subject to [`When`].
+    Iteration,
+    /// (regenerate) After an iteration that ends with the decision pass: the passes it sizes.
+    Decided,
+    /// Once at a wave's end.
+    End,
+}
+
+/// Which iterations a pass of [`Phase::Iteration`] runs in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum When {
+    Always,
+    /// (regenerate) The iterations that refill the pool: the first, and every one unless the
+    /// first refill starts every sample.
+    Refill,
+    /// (regenerate) The iterations that end with the schedule's decision (every one with the
+    /// tail, else every `--sync-every`).
+    Check,
+    /// The iterations that do not.
+    NoCheck,
+}
+
+/// How a pass is launched.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case", tag = "kind", content = "slot")]
+pub enum Launch {
+    /// One thread: a setup pass that writes indirect arguments from queue counters.
+    Single,
+    /// Over a queue: the indirect arguments at this slot, or the pool's size with
+    /// `--launch pool` (threads past the queue return).
+    Queue(u64),
+    /// The indirect arguments at this slot, always.
+    Indirect(u64),
+    /// A fixed number of workgroups.
+    Direct(u32),
+    /// A thread per path of the share (waves) or slot of the pool (regenerate).
+    Paths,
+    /// A thread per pixel of the share.
+    Pixels,
+}
+
+/// The bind groups a pass takes after the scene (0) and the path state (1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Binds {
+    /// Scene and path state.
+    State,
+    /// And the SIMD counters with `--instrument`.
+    Instrumented,
+    /// And the indirect arguments (setup passes).
+    Indirect,
+    /// And the indirect arguments and the film range (the decision pass).
+    Decide,
+    /// And the ray sort's buckets.
+    RaySort,
+    /// The film accumulation's own group.
+    Film,
+}
+
+/// The WGSL file a pass's pipeline comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Shader {
+    Generate,
+    QueueSetup,
+    CompactStates,
+    RaySort,
+    Intersect,
+    Compact,
+    Shade,
+    SlotSweep,
+    Shadow,
+    Tail,
+    Accumulate,
+}
+
+impl Shader {
+    /// The file under `shaders/`.
+    pub fn file(self) -> &'static str {
+        match self {
+            Shader::Generate => "wavefront/generate.wgsl",
+            Shader::QueueSetup => "wavefront/queue_setup.wgsl",
+            Shader::CompactStates => "wavefront/compact_states.wgsl",
+            Shader::RaySort => "wavefront/ray_sort.wgsl",
+            Shader::Intersect => "wavefront/intersect.wgsl",
+            Shader::Compact => "wavefront/compact.wgsl",
+            Shader::Shade => "wavefront/shade.wgsl",
+            Shader::SlotSweep => "wavefront/slot_sweep.wgsl",
+            Shader::Shadow => "wavefront/shadow.wgsl",
+            Shader::Tail => "wavefront/tail.wgsl",
+            Shader::Accumulate => "accumulate.wgsl",
+        }
+    }
+}
+
+/// The path queues passes consume and produce.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Queue {
+    /// The ray queue of this iteration (and the next's, produced).
+    Rays,
+    /// The material queues (one with `--shade single`).
+    Materials,
+    /// A costly pattern's queue (`--shade per-texture`).
+    Patterns,
+    Shadow,
+    /// (regenerate) The slots whose path ended.
+    Free,
+    /// Every slot of the pool.
+    Slots,
+    /// The finished samples of the sample ring, or the wave's radiance.
+    Samples,
+}
+
+/// One pass of the graph.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Pass {
+    pub label: &'static str,
+    pub phase: Phase,
+    pub when: When,
+    pub shader: Shader,
+    pub launch: Launch,
+    pub binds: Binds,
+    /// The pass's own pipeline constants (the graph's [`Graph::constants`] and the scene's are
+    /// added to every pass over the path state).
+    pub constants: Vec<(&'static str, f64)>,
+    /// Whether it takes the scene's specialization constants (`PRIM_KINDS`, ...).
+    pub scene_constants: bool,
+    /// Timed per bounce in waves (not the share's start, the tail or accumulation).
+    pub per_bounce: bool,
+    pub consumes: Vec<Queue>,
+    pub produces: Vec<Queue>,
+}
+
+/// A render's passes, in recording order.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Graph {
+    /// The knobs as pipeline constants, given to every pass over the path state.
+    pub constants: Vec<(&'static str, f64)>,
+    pub passes: Vec<Pass>,
+}
+
+impl Pass {
+    /// A pass of `phase` with no constants or queues yet, run always, timed per bounce in an
+    /// iteration.
+    pub(super) fn new(
+        label: &'static str,
+        phase: Phase,
+        shader: Shader,
+        launch: Launch,
+        binds: Binds,
+    ) -> Self {
+        Pass {
+            label,
+            phase,
+            when: When::Always,
+            shader,
+            launch,
+            binds,
+            constants: vec![],
+            scene_constants: false,
+            per_bounce: phase == Phase::Iteration,
+            consumes: vec![],
+            produces: vec![],
+        }
+    }
+
+    /// A pass of an iteration over a queue or the pool, with the scene's constants, the
+    /// instrument counters and a workgroup size.
+    pub(super) fn over_paths(label: &'static str, shader: Shader, launch: Launch, c: &Constants) -> Self {
+        Pass::new(label, Phase::Iteration, shader, launch, Binds::Instrumented).with(&[c.workgroup]).scene()
+    }
+
+    pub(super) fn when(mut self, w: When) -> Self {
+        self.when = w;
+        self
+    }
+
+    pub(super) fn with(mut self, constants: &[(&'static str, f64)]) -> Self {
+        self.constants.extend_from_slice(constants);
+        self
+    }
+
+    pub(super) fn scene(mut self) -> Self {
+        self.scene_constants = true;
+        self
+    }
+
+    pub(super) fn binds(mut self, binds: Binds) -> Self {
+        self.binds = binds;
+        self
+    }
+
+    /// Timed as a whole, not per bounce.
+    pub(super) fn unbounced(mut self) -> Self {
+        self.per_bounce = false;
+        self
+    }
+
+    pub(super) fn queues(mut self, consumes: &[Queue], produces: &[Queue]) -> Self {
+        self.consumes = consumes.to_vec();
+        self.produces = produces.to_vec();
+        self
+    }
+
+    /// Whether it runs in an iteration that refills (`refill`) and decides (`check`).
+    pub fn runs(&self, refill: bool, check: bool) -> bool {
+        match self.when {
+            When::Always => true,
+            When::Refill => refill,
+            When::Check => check,
+            When::NoCheck => !check,
+        }
+    }
+}
+
+/// The constants many passes share.
+pub(super) struct Constants {
+    pub(super) workgroup: (&'static str, f64),
+    pub(super) stats_bounces: (&'static str, f64),
+    /// A setup pass's: the workgroup size, the histogram's rows and the device's limit it
+    /// clamps indirect arguments to.
+    pub(super) setup: [(&'static str, f64); 3],
+}
+
+impl Graph {
+    /// The graph of `plan` for `opts` (resolved): `max_workgroups` is the device's limit that
+    /// setup passes clamp indirect arguments to. Reads as the module's pseudocode.
+    pub fn new(plan: &Plan, opts: &WavefrontOptions, max_workgroups: u32) -> Graph {
+        let workgroup = ("WORKGROUP_SIZE", opts.workgroup_size as f64);
+        let stats_bounces = ("STATS_BOUNCES", plan.stats_bounces as f64);
+        let c = Constants {
+            workgroup,
+            stats_bounces,
+            setup: [workgroup, stats_bounces, ("MAX_WORKGROUPS", max_workgroups as f64)],
+        };
+        let mut g = Graph { constants: plan.knob_constants(), passes: vec![] };
+        g.passes.push(generate::start(plan, &c));
+        if plan.regenerate {
+            g.passes.push(queue_setup::pass(label::QUEUE_SETUP_REGENERATE, When::Refill, &c));
+            if plan.compact_states {
+                g.passes.extend(compact_states::passes(&c));
+            }
+            g.passes.push(generate::refill(&c));
+        }
+        g.passes.push(queue_setup::pass(label::QUEUE_SETUP_INTERSECT, When::Always, &c));
+        if let Some(bits) = plan.ray_sort_cell_bits {
+            g.passes.extend(ray_sort::passes(bits, &c));
+        }
+        g.passes.push(intersect::pass(plan, &c));
+        if plan.scan_materials {
+            g.passes.extend(compact::passes(plan, compact::Target::MaterialQueues));
+        }
+        g.passes.push(queue_setup::pass(label::QUEUE_SETUP_SHADE, When::Always, &c));
+        g.passes.extend(shade::passes(plan, opts.shade, &c));
+        if plan.uses_scan {
+            g.passes.extend(compact::passes(plan, compact::Target::NextRayQueue));
+        }
+        if plan.uses_sweep {
+            g.passes.push(slot_sweep::pass());
+        }
+        if plan.shadow_pass {
+            g.passes.extend(shadow::passes(plan, &c));
+        } else if plan.regenerate {
+            g.passes.push(queue_setup::decide(label::SCHEDULE_DECIDE, &c));
+        }
+        if plan.regenerate {
+            if opts.tail == Tail::Megakernel {
+                g.passes.push(tail::pass(&c));
+            }
+            g.passes.push(accumulate_pass(
+                label::ACCUMULATE_RANGE,
+                Phase::Decided,
+                Launch::Indirect(ARGS_ACCUMULATE),
+            ));
+        } else {
+            g.passes.push(accumulate_pass(label::ACCUMULATE, Phase::End, Launch::Pixels));
+        }
+        g
+    }
+
+    /// The passes of `phase`.
+    pub fn phase(&self, phase: Phase) -> impl Iterator<Item = &Pass> {
+        self.passes.iter().filter(move |p| p.phase == phase)
+    }
+
+    /// The passes of an iteration that refills (`refill`) and checks (`check`), in order.
+    pub fn iteration(&self, refill: bool, check: bool) -> impl Iterator<Item = &Pass> {
+        self.phase(Phase::Iteration).filter(move |p| p.runs(refill, check))
+    }
+
+    /// The most dispatches any iteration records, with the passes the decision sizes (a
+    /// submission's timestamp capacity).
+    pub fn per_iteration(&self) -> usize {
+        let decided = self.phase(Phase::Decided).count();
+        [(false, false), (true, false), (false, true), (true, true)]
+            .iter()
+            .map(|&(r, c)| self.iteration(r, c).count() + if c { decided } else { 0 })
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// The labels in recording order, each once.
+    pub fn labels(&self) -> Vec<&'static str> {
+        let mut seen = Vec::new();
+        for p in &self.passes {
+            if !seen.contains(&p.label) {
+                seen.push(p.label);
+            }
+        }
+        seen
+    }
+}
+
+/// The film's passes (`accumulate.wgsl`, built by [`crate::gpu::accumulate::Accumulate`]): a
+/// wave's radiance, or the sample ring's finished chunks.
+fn accumulate_pass(label: &'static str, phase: Phase, launch: Launch) -> Pass {
+    Pass::new(label, phase, Shader::Accumulate, launch, Binds::Film)
+        .unbounced()
+        .queues(&[Queue::Samples], &[])
+}
