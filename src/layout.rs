@@ -207,38 +207,20 @@ pub struct FilmPixel {
 /// subnormal while those up to about 1.2e24 stay finite.
 pub const FILM_SQ_SCALE: f64 = 1.0 / 4294967296.0;
 
-/// WGSL: `Wave` in `shaders/wavefront/shared/path_state.wgsl`: the wavefront's knobs for a render.
+/// WGSL: `Wave` in `shaders/wavefront/shared/path_state.wgsl`: the wavefront's numbers for a
+/// render (its knobs are pipeline constants: `Plan::knob_constants`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct WaveUniform {
-    /// 0: no queues (whole pool each pass); 1: atomic append; 2: prefix-sum scan.
-    pub compaction: u32,
-    /// 1: one shade pass per material kind; 2: and one per costly pattern (`per-texture`); 0: one
-    /// pass with a switch; 3: one pass over the material queues end to end (`sorted`).
-    pub per_material: u32,
     /// Pool size: the length of each queue region.
     pub pool: u32,
-    /// Bit k: the shade pass over queue `QUEUE_MATERIAL_0 + k` is recorded (for counting the
-    /// empty ones).
-    pub shade_mask: u32,
     /// Regenerating: samples per chunk of the sample ring (0 in waves).
     pub chunk: u32,
     /// Regenerating: chunks in the sample ring (0 in waves).
     pub ring: u32,
-    /// 0: queues in arrival order; 1: in slot order; 2: slot order keyed by depth
-    /// (`--queue-order`).
-    pub order: u32,
     /// Regenerating: a refill runs only when at most this many paths are live
     /// (`--refill-below` × pool; the pool: every iteration).
     pub refill_live: u32,
-    /// Regenerating: 1 to compact the live states before each refill (`--compact-states on`).
-    pub compact_states: u32,
-    /// 1: camera rays are made where they are used, not stored (queues on, no ray sort).
-    pub camera_in_place: u32,
-    /// 1: the passes that consume a queue are launched at the pool's size (`--launch pool`), so
-    /// past a regenerating share's end (DONE) they return at once instead of getting zero
-    /// workgroups.
-    pub launch_pool: u32,
 }
 
 /// WGSL: `Range` in `shaders/accumulate.wgsl`: the samples l in `first .. first + count` of a

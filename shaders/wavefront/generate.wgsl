@@ -27,7 +27,7 @@ fn generate(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_para
     instrument(PASS_GENERATE);
     start_path(slot, slot);
     // With camera rays made in place, intersect takes the wave's slots in order without a queue.
-    if wave.camera_in_place == 0u {
+    if !CAMERA_IN_PLACE {
         queues[QUEUE_RAY_0 * wave.pool + slot] = slot;
     }
     if slot_order() {
@@ -60,7 +60,7 @@ fn regenerate_init(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_si
     if slot_order() {
         next_queue[slot] = DEAD; // no path: the scans skip it, and list it as free
     }
-    if NEE && wave.compaction == 0u {
+    if NEE && COMPACTION == COMPACTION_OFF {
         shadow_weight[slot] = vec4<f32>(0.0);
     }
 }
@@ -79,9 +79,9 @@ fn regenerate(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_pa
     instrument(PASS_GENERATE);
     let slot = queues[QUEUE_FREE * wave.pool + atomicLoad(&counters[COUNTER_FREE_BASE]) + gid.x];
     start_path(slot, base + gid.x);
-    if wave.compaction != 0u {
+    if COMPACTION != COMPACTION_OFF {
         let q = next_ray_queue();
-        let mark = select(0u, CAMERA_RAY, wave.camera_in_place != 0u);
+        let mark = select(0u, CAMERA_RAY, CAMERA_IN_PLACE);
         queues[q * wave.pool + atomicLoad(&counters[COUNTER_REFILL_QUEUED]) + gid.x] = slot | mark;
     }
 }

@@ -18,10 +18,10 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_par
         return;
     }
     let slot = entry & ~CAMERA_RAY;
-    // A camera ray made here (wave.camera_in_place): regenerating, the refill marked its entry; in
+    // A camera ray made here (CAMERA_IN_PLACE): regenerating, the refill marked its entry; in
     // waves every path is at the iteration's bounce.
     var camera = false;
-    if wave.camera_in_place != 0u {
+    if CAMERA_IN_PLACE {
         if REGENERATE {
             camera = (entry & CAMERA_RAY) != 0u;
         } else {
@@ -43,7 +43,7 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_par
             path_dir[slot].w = bitcast<f32>(DEAD);
             free_slot(slot);
             retire(slot, gid.x);
-            if wave.compaction != 0u {
+            if COMPACTION != COMPACTION_OFF {
                 atomicSub(&counters[COUNTER_INTERSECTED], 1u); // queued, but no ray traced
             }
             return;
@@ -72,12 +72,12 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_par
         count_one(COUNTER_CAMERA_HITS);
     }
     var q = QUEUE_MATERIAL_0;
-    if wave.per_material != 0u {
+    if SHADE_PASSES != SHADE_SINGLE {
         let m = materials[primitives[hit.prim].material];
         q += m.kind;
         // --shade per-texture: a costly pattern's hits go to that pattern's queue (only lambertian
         // and metal records carry one).
-        if wave.per_material == 2u && m.texture >= TEXTURE_NOISE {
+        if SHADE_PASSES == SHADE_PER_TEXTURE && m.texture >= TEXTURE_NOISE {
             q = QUEUE_PATTERN_0 + m.texture - TEXTURE_NOISE;
         }
     }

@@ -100,7 +100,7 @@ fn queue_setup_regenerate() {
     atomicStore(&counters[QUEUE_FREE], free - n);
     // The refill's entries on the coming iteration's ray queue (filled by the last shade passes,
     // so its count is final here): one reservation instead of an atomic append per new path.
-    if wave.compaction != 0u {
+    if COMPACTION != COMPACTION_OFF {
         let q = next_ray_queue();
         let queued = atomicLoad(&counters[q]);
         atomicStore(&counters[COUNTER_REFILL_QUEUED], queued);
@@ -108,7 +108,7 @@ fn queue_setup_regenerate() {
         // --compact-states on: a refill first moves the live states below the live count
         // (compact_states.wgsl), its find pass covering the ray queue and the free list; the
         // lists it builds use the material queues, empty until queue_setup_intersect.
-        if wave.compact_states != 0u {
+        if COMPACT_STATES {
             atomicStore(&counters[COUNTER_COMPACT_FREE], free);
             atomicStore(&counters[QUEUE_MATERIAL_0], 0u);
             atomicStore(&counters[QUEUE_MATERIAL_0 + 1u], 0u);
@@ -135,7 +135,7 @@ fn queue_setup_compact_states() {
 fn record(bounce: u32, q: u32, n: u32) {
     // Past a share's end the queues hold only what no pass will run (the tail's flushed paths),
     // and the counts stay the share's own however far ahead the host recorded.
-    if wave.compaction != 0u && !share_done() {
+    if COMPACTION != COMPACTION_OFF && !share_done() {
         let row = min(bounce, STATS_BOUNCES - 1u);
         atomicAdd(&counters[COUNTER_STATS + row * QUEUE_COUNT + q], n);
     }
@@ -150,7 +150,7 @@ fn queue_setup_intersect() {
     let q = QUEUE_RAY_0 + bounce % 2u;
     atomicStore(&counters[QUEUE_RAY_0 + (bounce + 1u) % 2u], 0u);
     var n = pool_slots();
-    if wave.compaction != 0u {
+    if COMPACTION != COMPACTION_OFF {
         n = atomicLoad(&counters[q]);
     }
     set_args(ARGS_INTERSECT, n);
@@ -163,11 +163,11 @@ fn queue_setup_intersect() {
     }
     record(bounce, QUEUE_RAY_0, n);
     // A scan after intersect (scan method) covers the ray queue's positions.
-    set_compact_args(n, select(0u, 2u, wave.compaction == 2u));
+    set_compact_args(n, select(0u, 2u, COMPACTION == COMPACTION_SCAN));
     for (var k = 0u; k < 4u; k++) {
         atomicStore(&counters[QUEUE_MATERIAL_0 + k], 0u);
     }
-    if wave.per_material == 2u {
+    if SHADE_PASSES == SHADE_PER_TEXTURE {
         for (var k = 0u; k < PATTERN_QUEUES; k++) {
             atomicStore(&counters[COUNTER_PATTERN_0 + k], 0u);
         }
@@ -181,11 +181,11 @@ fn queue_setup_shade() {
     var positions = 0u;
     for (var k = 0u; k < 4u; k++) {
         var n = pool_slots();
-        if wave.compaction != 0u {
+        if COMPACTION != COMPACTION_OFF {
             n = atomicLoad(&counters[QUEUE_MATERIAL_0 + k]);
         }
         set_args(ARGS_SHADE_0 + k, n);
-        if (wave.shade_mask & (1u << k)) != 0u {
+        if (SHADE_MASK & (1u << k)) != 0u {
             count_dispatches(n, 1u);
         }
         record(bounce, QUEUE_MATERIAL_0 + k, n);
@@ -193,18 +193,18 @@ fn queue_setup_shade() {
         positions += n;
     }
     // --shade sorted: one pass over the four queues end to end.
-    if wave.per_material == 3u {
+    if SHADE_PASSES == SHADE_SORTED {
         set_args(ARGS_SHADE_0, positions);
         count_dispatches(positions, 1u);
     }
     // The pattern queues (--shade per-texture, atomic appends only: no scan positions), counted
     // in the histogram with their material kind's queue, lambertian's (the pattern passes shade
     // a textured metal too).
-    if wave.per_material == 2u {
+    if SHADE_PASSES == SHADE_PER_TEXTURE {
         for (var k = 0u; k < PATTERN_QUEUES; k++) {
             let n = atomicLoad(&counters[COUNTER_PATTERN_0 + k]);
             set_args(ARGS_PATTERN_0 + k, n);
-            if (wave.shade_mask & (1u << (4u + k))) != 0u {
+            if (SHADE_MASK & (1u << (4u + k))) != 0u {
                 count_dispatches(n, 1u);
             }
             record(bounce, QUEUE_MATERIAL_0, n);
@@ -214,10 +214,10 @@ fn queue_setup_shade() {
     // order the scan or the sweep (plain slot order with the atomic method: one pass) covers
     // every slot.
     if slot_order() {
-        let sweep = wave.compaction == 1u && !depth_key();
+        let sweep = COMPACTION == COMPACTION_ATOMIC && !depth_key();
         set_compact_args(pool_slots(), select(2u, 1u, sweep));
     } else {
-        set_compact_args(positions, select(0u, 2u, wave.compaction == 2u));
+        set_compact_args(positions, select(0u, 2u, COMPACTION == COMPACTION_SCAN));
     }
     atomicStore(&counters[QUEUE_SHADOW], 0u);
     // In slot order the pass after shade lists the free slots afresh (the sweep appends them).
@@ -301,7 +301,7 @@ fn decide() {
                 // Every path on the ray queue the last shade pass filled (the tail skips those
                 // of samples from the bound on).
                 tail_threads = pool_slots();
-                if wave.compaction != 0u {
+                if COMPACTION != COMPACTION_OFF {
                     tail_threads = atomicLoad(&counters[next_ray_queue()]);
                 }
                 var left = 0u;
@@ -355,7 +355,7 @@ fn queue_setup_shadow() {
 
 fn setup_shadow() {
     var n = pool_slots();
-    if wave.compaction != 0u {
+    if COMPACTION != COMPACTION_OFF {
         n = atomicLoad(&counters[QUEUE_SHADOW]);
     }
     set_args(ARGS_SHADOW, n);

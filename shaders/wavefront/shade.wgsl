@@ -45,7 +45,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     // is made again here: only its hit is stored.
     var o: vec4<f32>;
     var d: vec4<f32>;
-    if wave.camera_in_place != 0u && bounce == 0u {
+    if CAMERA_IN_PLACE && bounce == 0u {
         let camera = sample_camera_ray(slot_index(slot));
         o = vec4<f32>(camera.origin, path_origin[slot].w);
         d = vec4<f32>(camera.dir, path_dir[slot].w);
@@ -153,7 +153,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     path_throughput[slot] = vec4<f32>(rr.throughput, bsdf_pdf);
     if bounce == 0u {
         radiance[slot] = vec4<f32>(0.0); // the first write of the path's radiance (generate's none)
-        if REGENERATE && wave.camera_in_place != 0u {
+        if REGENERATE && CAMERA_IN_PLACE {
             count_one(COUNTER_FIRST_CONTINUING);
         }
     }

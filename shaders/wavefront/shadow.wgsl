@@ -35,7 +35,7 @@ fn shadow(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*
         add += vec4<f32>(w.xyz, 0.0);
     }
     radiance[slot] += add;
-    if wave.compaction == 0u {
+    if COMPACTION == COMPACTION_OFF {
         shadow_weight[slot].w = 0.0; // without queues the pending mark is all that says it ran
     }
 }

@@ -94,6 +94,28 @@ fn film_pixel() {
     );
 }
 
+/// The wavefront's knobs reach WGSL as pipeline constants whose values are the options' enum
+/// discriminants (`Plan::knob_constants`): each value's name in path_state.wgsl must mean it.
+#[test]
+fn wavefront_knob_values_match() {
+    use wavetrace::options::{Compaction, QueueOrder, ShadePasses};
+    let src = shaders::INTERSECT.plain();
+    for (name, value) in [
+        ("COMPACTION_OFF", Compaction::Off as u32),
+        ("COMPACTION_ATOMIC", Compaction::Atomic as u32),
+        ("COMPACTION_SCAN", Compaction::Scan as u32),
+        ("SHADE_PER_MATERIAL", ShadePasses::PerMaterial as u32),
+        ("SHADE_PER_TEXTURE", ShadePasses::PerTexture as u32),
+        ("SHADE_SINGLE", ShadePasses::Single as u32),
+        ("SHADE_SORTED", ShadePasses::Sorted as u32),
+        ("ORDER_ARRIVAL", QueueOrder::Arrival.word()),
+        ("ORDER_SLOT", QueueOrder::Slot.word()),
+        ("ORDER_SLOT_DEPTH", QueueOrder::SlotDepth.word()),
+    ] {
+        assert!(src.contains(&format!("const {name}: u32 = {value}u;")), "{name} = {value} in WGSL");
+    }
+}
+
 #[test]
 fn light_entry() {
     check!(LightEntry, "LightEntry", [slot, other, threshold]);
@@ -116,24 +138,7 @@ fn material_kinds_match() {
 
 #[test]
 fn wave() {
-    check!(
-        WaveUniform,
-        "Wave",
-        shaders::INTERSECT.plain(),
-        [
-            compaction,
-            per_material,
-            pool,
-            shade_mask,
-            chunk,
-            ring,
-            order,
-            refill_live,
-            compact_states,
-            camera_in_place,
-            launch_pool
-        ]
-    );
+    check!(WaveUniform, "Wave", shaders::INTERSECT.plain(), [pool, chunk, ring, refill_live]);
 }
 
 #[test]

@@ -1,4 +1,4 @@
-// The camera ray of a share's sample: generate's, and with `wave.camera_in_place` (queues on, no
+// The camera ray of a share's sample: generate's, and with `CAMERA_IN_PLACE` (queues on, no
 // ray sort) intersect's and shade's, which make it where they use it instead of reading 32 bytes
 // of path state that generate would have written for it. The same function of the same pixel and
 // sample, so every pass traces and shades the same ray.

@@ -40,7 +40,7 @@ fn refill_in_place(slot: u32, refilled: u32) -> bool {
         return false;
     }
     start_path(slot, l);
-    let camera = wave.camera_in_place != 0u;
+    let camera = CAMERA_IN_PLACE;
     if slot_order() {
         // The pass after shade lists the slot on the ray queue (overwriting retire's DEAD).
         next_queue[slot] = next_ray_queue() | select(0u, NEW_CAMERA, camera);
@@ -57,7 +57,7 @@ fn start_path(slot: u32, l: u32) {
     if REGENERATE {
         path_sample[slot] = vec2<u32>(l, 0u);
     }
-    if wave.camera_in_place == 0u {
+    if !CAMERA_IN_PLACE {
         let ray = sample_camera_ray(l);
         path_origin[slot] = vec4<f32>(ray.origin, 0.0);
         // w: the primitive the ray leaves, none (intersect counts self-hits against it).
@@ -66,7 +66,7 @@ fn start_path(slot: u32, l: u32) {
     // No throughput or radiance: a camera ray's are known (path_throughput_at, path_radiance).
     // Without queues the shadow pass visits every slot and skips those with no shadow ray
     // pending; with them only queued shadow rays are visited, and their weight is written first.
-    if NEE && wave.compaction == 0u {
+    if NEE && COMPACTION == COMPACTION_OFF {
         shadow_weight[slot] = vec4<f32>(0.0);
     }
 }

@@ -81,7 +81,7 @@ const COUNTER_REFILLED_SHADE: u32 = COUNTER_SHADE_BASE + 33u;
 const COUNTER_RING_0: u32 = COUNTER_SHADE_BASE + 34u;      // + ring chunk: its samples finished
 // (--shade per-texture) + pattern: the pattern queues' counts, after the ring's 1024 chunks.
 const COUNTER_PATTERN_0: u32 = COUNTER_RING_0 + 1024u;
-// (regenerate, wave.camera_in_place) Camera rays that hit, and paths going on from that hit: in
+// (regenerate, CAMERA_IN_PLACE) Camera rays that hit, and paths going on from that hit: in
 // the histogram's second row, which regenerating renders (one row) leave unused. In waves the
 // histogram has them per bounce. The bounce-0 counts of the path-state traffic model
 // (src/gpu/wavefront/traffic.rs).
@@ -109,7 +109,7 @@ fn queue_counter(q: u32) -> u32 {
 
 // A path that no pass should touch again.
 const DEAD: u32 = 0xffffffffu;
-// (regenerate, wave.camera_in_place) The mark of a refill's ray-queue entries: the slot traces its
+// (regenerate, CAMERA_IN_PLACE) The mark of a refill's ray-queue entries: the slot traces its
 // camera ray, which intersect makes (a slot's bounce is not known there without reading it). Slots
 // stay below 2^31: the pool is bounded by one binding of 4-byte queue entries per slot and queue.
 const CAMERA_RAY: u32 = 0x80000000u;
@@ -117,40 +117,56 @@ const CAMERA_RAY: u32 = 0x80000000u;
 // intersect frees the slot (a slot must leave every queue before a refill takes it).
 const FLUSHED: u32 = 0xfffffffdu;
 
-// Knobs constant over a render; twin of WaveUniform in src/layout.rs.
+// The knobs as pipeline constants: the pass graph gives every pass over the path state the same
+// values (src/gpu/wavefront/plan.rs, `Plan::knob_constants`), so a pass is compiled with only
+// the code its knobs run.
+// How queues are built (`--compaction`, `--compaction-method`): none (every pass covers the
+// whole pool), atomic appends, or the prefix-sum scan.
+override COMPACTION: u32 = 1u;
+const COMPACTION_OFF: u32 = 0u;
+const COMPACTION_ATOMIC: u32 = 1u;
+const COMPACTION_SCAN: u32 = 2u;
+// How hits are shaded (`--shade`): a pass per material kind; and one per costly pattern
+// (`per-texture`); one pass with a switch (`single`); one pass over the material queues end to
+// end (`sorted`).
+override SHADE_PASSES: u32 = 0u;
+const SHADE_PER_MATERIAL: u32 = 0u;
+const SHADE_PER_TEXTURE: u32 = 1u;
+const SHADE_SINGLE: u32 = 2u;
+const SHADE_SORTED: u32 = 3u;
+// Bit k: the shade pass of queue QUEUE_MATERIAL_0 + k is recorded; bit 4 + p: the pattern p's
+// (to count the empty ones).
+override SHADE_MASK: u32 = 0u;
+// The order of the paths in each queue (`--queue-order`): as they arrive; slot order (the ray
+// queue, free list and shadow queue built by a pass over the pool's slots: the scan, or the
+// atomic method's sweep); slot order keyed by depth (`slot-depth`: the paths on their first
+// bounce after the others).
+override QUEUE_ORDER: u32 = 0u;
+const ORDER_ARRIVAL: u32 = 0u;
+const ORDER_SLOT: u32 = 1u;
+const ORDER_SLOT_DEPTH: u32 = 2u;
+// (regenerate) Compact the live states below the live count before each refill
+// (`--compact-states on`).
+override COMPACT_STATES: bool = false;
+// Camera rays are not stored (queues on, no ray sort): intersect and shade make a camera ray
+// from its slot's pixel and sample (wavefront/shared/path_camera.wgsl), and generate writes
+// only the queue entry (and, regenerating, the slot's sample).
+override CAMERA_IN_PLACE: bool = false;
+// The passes that consume a queue (intersect, shade, shadow, the refill) are launched at the
+// pool's size, not sized by a setup pass (`--launch pool`): threads past the queue's length
+// return (queued_entry), and past a regenerating share's end every thread does.
+override LAUNCH_POOL: bool = false;
+
+// The job's numbers, constant over a render; twin of WaveUniform in src/layout.rs.
 struct Wave {
-    // 1: queues built by atomic append; 2: by prefix-sum scan; 0: no queues (whole pool).
-    compaction: u32,
-    // 1: one shade pass per material kind; 2: and one per costly pattern (`--shade per-texture`);
-    // 0: one pass with a switch; 3: one pass over the material queues end to end (`sorted`).
-    per_material: u32,
     // Queue region length (the pool size).
     pool: u32,
-    // Bit k: the shade pass of queue QUEUE_MATERIAL_0 + k is recorded (to count empty ones).
-    shade_mask: u32,
     // (regenerate) Samples per chunk of the sample ring, and chunks in the ring.
     chunk: u32,
     ring: u32,
-    // 0: queues in the order their paths arrive; 1: slot order (`--queue-order slot`): the ray
-    // queue, free list and shadow queue built by a pass over the pool's slots (the scan, or the
-    // atomic method's sweep); 2: slot order
-    // keyed by depth (`slot-depth`): the ray queue lists the paths on their first bounce after
-    // the others.
-    order: u32,
     // (regenerate) A refill runs only when at most this many paths are live (`--refill-below` ×
     // pool; the pool itself: every iteration).
     refill_live: u32,
-    // (regenerate) 1: compact the live states below the live count before each refill
-    // (`--compact-states on`).
-    compact_states: u32,
-    // 1: camera rays are not stored (queues on, no ray sort): intersect and shade make a camera
-    // ray from its slot's pixel and sample (wavefront/shared/path_camera.wgsl), and generate writes only
-    // the queue entry (and, regenerating, the slot's sample).
-    camera_in_place: u32,
-    // 1: the passes that consume a queue (intersect, shade, shadow, the refill) are launched at
-    // the pool's size, not sized by a setup pass (`--launch pool`): threads past the queue's
-    // length return (queued_entry), and past a regenerating share's end every thread does.
-    launch_pool: u32,
 }
 
 @group(1) @binding(0) var<uniform> dispatch: Dispatch;
@@ -280,7 +296,7 @@ fn store_sample(slot: u32, value: vec4<f32>) {
 // of the same pass. The material queues keep the ray queue's order
 // (the stable scan) or its subgroups' runs (atomic appends).
 fn slot_order() -> bool {
-    return wave.order != 0u;
+    return QUEUE_ORDER != ORDER_ARRIVAL;
 }
 
 // Whether the scan after shade keys the ray queue by depth (`--queue-order slot-depth`): the
@@ -288,7 +304,7 @@ fn slot_order() -> bool {
 // refill, in ascending slots: consecutive samples) form one run after the others, as they do
 // in a wave, rather than being interleaved by slot with paths at every depth.
 fn depth_key() -> bool {
-    return wave.order == 2u;
+    return QUEUE_ORDER == ORDER_SLOT_DEPTH;
 }
 
 // In slot order, next_queue's flags for a path that also has a shadow ray queued, for one
@@ -327,9 +343,9 @@ fn enqueue_ray(slot: u32, position: u32, shadow: bool, first_bounce: bool) {
 // Puts `slot`, processed at scan position `position`, on queue `q`: appended atomically, or
 // marked for the scan, per the compaction knob.
 fn enqueue(q: u32, slot: u32, position: u32) {
-    if wave.compaction == 1u {
+    if COMPACTION == COMPACTION_ATOMIC {
         append(q, slot);
-    } else if wave.compaction == 2u {
+    } else if COMPACTION == COMPACTION_SCAN {
         let p = scan_index(slot, position);
         next_queue[p] = q;
         if !slot_order() {
@@ -344,7 +360,7 @@ fn enqueue(q: u32, slot: u32, position: u32) {
 // after shade;
 // without compaction the pending shadow weight alone marks it.
 fn enqueue_shadow(slot: u32) {
-    if wave.compaction != 0u && !slot_order() {
+    if COMPACTION != COMPACTION_OFF && !slot_order() {
         append(QUEUE_SHADOW, slot);
     }
 }
@@ -353,7 +369,7 @@ fn enqueue_shadow(slot: u32) {
 fn retire(slot: u32, position: u32) {
     if slot_order() {
         next_queue[slot] = DEAD;
-    } else if wave.compaction == 2u {
+    } else if COMPACTION == COMPACTION_SCAN {
         next_queue[position] = DEAD;
     }
 }
@@ -367,7 +383,7 @@ fn retire(slot: u32, position: u32) {
 // queue_setup_shade and filled by no shade pass; the tail and accumulate_range, sized by the
 // decision that sets DONE, keep their indirect launches.)
 fn launched_past_done() -> bool {
-    return REGENERATE && wave.launch_pool != 0u && atomicLoad(&counters[COUNTER_DONE]) != 0u;
+    return REGENERATE && LAUNCH_POOL && atomicLoad(&counters[COUNTER_DONE]) != 0u;
 }
 
 fn queued_slot(q: u32, i: u32) -> u32 {
@@ -382,7 +398,7 @@ fn queued_slot(q: u32, i: u32) -> u32 {
 // wave's camera rays made in place have no entries, their slots in order (generate writes none).
 fn ray_queue_entry(i: u32) -> u32 {
     let q = QUEUE_RAY_0 + current_bounce() % 2u;
-    if !REGENERATE && wave.camera_in_place != 0u && current_bounce() == 0u {
+    if !REGENERATE && CAMERA_IN_PLACE && current_bounce() == 0u {
         return select(DEAD, i, i < atomicLoad(&counters[q]));
     }
     return queued_entry(q, i);
@@ -390,7 +406,7 @@ fn ray_queue_entry(i: u32) -> u32 {
 
 // `queued_slot` with its CAMERA_RAY mark, if any.
 fn queued_entry(q: u32, i: u32) -> u32 {
-    if wave.compaction == 0u {
+    if COMPACTION == COMPACTION_OFF {
         return select(DEAD, i, i < pool_slots());
     }
     if i >= atomicLoad(&counters[queue_counter(q)]) {

@@ -171,7 +171,6 @@ pub fn render(
         state: PathState::new(ctx, pool, plan.wave, &params, plan.stats_bounces, plan.layout, &mut memory)?,
         simd: instrument.then(|| SimdCounters::new(ctx, &mut memory)).transpose()?,
         regenerate,
-        refill_in_place: plan.refill_in_place,
         subgroup_append: plan.subgroup_append,
         shader_checks: measure.shader_checks,
     };

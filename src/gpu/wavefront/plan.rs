@@ -41,8 +41,10 @@ pub struct Plan {
     pub camera_in_place: bool,
     /// Regenerating with `--refill in-place` (the `REFILL_IN_PLACE` pipeline constant).
     pub refill_in_place: bool,
-    /// The knobs as the shaders read them.
+    /// The job's numbers as the shaders read them.
     pub wave: WaveUniform,
+    /// The knobs as the shaders' pipeline constants (`knob_constants`).
+    knobs: Vec<(&'static str, f64)>,
     /// Rows of the bounce histogram (one when regenerating: queues mix bounces).
     pub stats_bounces: u32,
     /// `--nee on` in a scene with lights, its shadow rays traced by a pass of their own.
@@ -99,31 +101,32 @@ impl Plan {
         // sort (whose keys read the stored ray).
         let camera_in_place = opts.compaction != Compaction::Off && opts.ray_sort == RaySort::Off;
         let wave = WaveUniform {
-            compaction: opts.compaction as u32,
-            per_material: match opts.shade {
-                ShadePasses::Single => 0,
-                ShadePasses::PerMaterial => 1,
-                ShadePasses::PerTexture => 2,
-                ShadePasses::Sorted => 3,
-            },
             pool,
-            // Bits 0–3: the material kinds' passes; 4–11: the patterns'; none for the sorted
-            // pass (queue_setup_shade counts it itself).
-            shade_mask: match opts.shade {
-                ShadePasses::Single => 1,
-                ShadePasses::Sorted => 0,
-                ShadePasses::PerMaterial | ShadePasses::PerTexture => {
-                    kinds.iter().fold(0, |m, k| m | 1 << k) | patterns.iter().fold(0, |m, p| m | 1 << (4 + p))
-                }
-            },
             chunk: if regenerate { ring.chunk } else { 0 },
             ring: if regenerate { ring.ring } else { 0 },
-            order: queue_order.word(),
             refill_live: refill::refill_live(opts.refill_below, pool),
-            compact_states: (opts.compact_states == CompactStates::On) as u32,
-            camera_in_place: camera_in_place as u32,
-            launch_pool: (opts.launch == Launch::Pool) as u32,
         };
+        // Bits 0–3: the material kinds' passes; 4–11: the patterns'; none for the sorted pass
+        // (queue_setup_shade counts it itself).
+        let shade_mask = match opts.shade {
+            ShadePasses::Single => 1,
+            ShadePasses::Sorted => 0,
+            ShadePasses::PerMaterial | ShadePasses::PerTexture => {
+                kinds.iter().fold(0, |m, k| m | 1 << k) | patterns.iter().fold(0, |m, p| m | 1 << (4 + p))
+            }
+        };
+        let flag = |on: bool| on as u32 as f64;
+        let knobs = vec![
+            ("REGENERATE", flag(regenerate)),
+            ("REFILL_IN_PLACE", flag(regenerate && opts.refill == Refill::InPlace)),
+            ("COMPACTION", opts.compaction as u32 as f64),
+            ("SHADE_PASSES", opts.shade as u32 as f64),
+            ("SHADE_MASK", shade_mask as f64),
+            ("QUEUE_ORDER", queue_order.word() as f64),
+            ("COMPACT_STATES", flag(opts.compact_states == CompactStates::On)),
+            ("CAMERA_IN_PLACE", flag(camera_in_place)),
+            ("LAUNCH_POOL", flag(opts.launch == Launch::Pool)),
+        ];
         let lit = settings.nee && !scene.lights.is_empty();
         let shadow_pass = lit && opts.shadow_rays == ShadowRays::Pass;
         // The scan passes: the scan method's, or the depth key's over the pool after shade; slot
@@ -151,6 +154,7 @@ impl Plan {
             camera_in_place,
             refill_in_place: regenerate && opts.refill == Refill::InPlace,
             wave,
+            knobs,
             stats_bounces: if regenerate { 1 } else { settings.max_depth.min(STATS_BOUNCES) },
             shadow_pass,
             inline_shadow: lit && opts.shadow_rays == ShadowRays::Inline,
@@ -167,10 +171,7 @@ impl Plan {
     /// The knobs as pipeline constants, which every pass over the path state declares
     /// (path_state.wgsl).
     pub fn knob_constants(&self) -> Vec<(&'static str, f64)> {
-        vec![
-            ("REGENERATE", self.regenerate as u32 as f64),
-            ("REFILL_IN_PLACE", self.refill_in_place as u32 as f64),
-        ]
+        self.knobs.clone()
     }
 
     /// The schedule's record, with what this plan resolved.

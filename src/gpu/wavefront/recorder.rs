@@ -16,10 +16,8 @@ pub struct Bindings {
     pub scene: SceneBuffers,
     pub state: PathState,
     pub simd: Option<SimdCounters>,
-    /// `--schedule regenerate` (the `REGENERATE` pipeline constant).
+    /// `--schedule regenerate`.
     pub regenerate: bool,
-    /// `--refill in-place`, regenerating (the `REFILL_IN_PLACE` pipeline constant).
-    pub refill_in_place: bool,
     /// Whether passes use the shader variants with subgroup-aggregated appends (`--append`).
     pub subgroup_append: bool,
     /// The runtime checks the passes' shaders are compiled with (`--shader-checks`).
@@ -27,22 +25,6 @@ pub struct Bindings {
 }
 
 impl Bindings {
-    /// A pass's own pipeline constants plus the scene's and the schedule's.
-    pub fn constants(&self, own: &[(&'static str, f64)]) -> Vec<(&'static str, f64)> {
-        let mut c = self.scene.constants(own);
-        c.extend(self.schedule_constants());
-        c
-    }
-
-    /// The schedule's pipeline constants, which every pass over the path state declares
-    /// (path_state.wgsl): the passes that take no scene constants add their own to these.
-    pub fn schedule_constants(&self) -> [(&'static str, f64); 2] {
-        [
-            ("REGENERATE", self.regenerate as u32 as f64),
-            ("REFILL_IN_PLACE", self.refill_in_place as u32 as f64),
-        ]
-    }
-
     /// The shader variant an appending pass takes: instrumented or not, and its appends.
     pub fn hooks(&self, instrument: bool) -> [(Hook, bool); 2] {
         [(Hook::Instrument, instrument), (Hook::AppendSubgroup, self.subgroup_append)]
