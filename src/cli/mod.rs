@@ -6,6 +6,8 @@ pub mod dispatch_cost;
 pub mod experiment;
 pub mod info;
 pub mod intersect_cost;
+pub mod job;
+pub mod plan;
 pub mod render;
 pub mod replay;
 pub mod scene;
@@ -18,6 +20,7 @@ Examples:
       --out final.exr --png final.png
   wavetrace render --scene three-spheres --method cpu --spp 64 --out cpu.exr --report cpu.json
   wavetrace render --scene my_scene.json --method megakernel --adapter nvidia --out gpu.exr
+  wavetrace plan --scene rtiow-final --method wavefront --nee on   # the passes a render records
   wavetrace info
   wavetrace scene list
   wavetrace scene export rtiow-final > final.json
@@ -54,6 +57,9 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene with one method to EXR (and optionally PNG and a JSON report).
     Render(render::RenderArgs),
+    /// Print the wavefront's pass graph for a job without rendering: each pass, when it runs,
+    /// its launch, queues and pipeline constants (`--json` for scripts).
+    Plan(plan::PlanArgs),
     /// List GPU adapters, the one chosen and why, and the features and limits that matter.
     Info(info::InfoArgs),
     /// List the built-in scenes, describe any scene (glTF: what was mapped), export a built-in one.
@@ -79,6 +85,7 @@ pub enum Command {
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Render(a) => render::run(a),
+        Command::Plan(a) => plan::run(a),
         Command::Info(a) => info::run(a),
         Command::Scene(c) => scene::run(c),
         Command::Compare(a) => compare::run(a),

@@ -2,7 +2,7 @@
 //! CPU, for each GPU method: work-weighted efficiency per block and pass, the frame's warp
 //! execution efficiency and the subgroup-iterations an ideal W-lane machine issues.
 
-use super::render::{CompactionMethod, OnOff};
+use super::job::{CompactionMethod, OnOff};
 use crate::chart::{LineChart, Series};
 use crate::gpu::instrument::FRAME_KEY;
 use crate::gpu::megakernel::{MegakernelOptions, DEFAULT_THREADS_DISCRETE};

@@ -149,6 +149,7 @@ pub struct Pass {
     pub binds: Binds,
     /// The pass's own pipeline constants (the graph's [`Graph::constants`] and the scene's are
     /// added to every pass over the path state).
+    #[serde(serialize_with = "as_map")]
     pub constants: Vec<(&'static str, f64)>,
     /// Whether it takes the scene's specialization constants (`PRIM_KINDS`, ...).
     pub scene_constants: bool,
@@ -162,6 +163,7 @@ pub struct Pass {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Graph {
     /// The knobs as pipeline constants, given to every pass over the path state.
+    #[serde(serialize_with = "as_map")]
     pub constants: Vec<(&'static str, f64)>,
     pub passes: Vec<Pass>,
 }
@@ -344,4 +346,14 @@ fn accumulate_pass(label: &'static str, phase: Phase, launch: Launch) -> Pass {
     Pass::new(label, phase, Shader::Accumulate, launch, Binds::Film)
         .unbounced()
         .queues(&[Queue::Samples], &[])
+}
+
+/// Pipeline constants as a JSON object, name to value.
+fn as_map<S: serde::Serializer>(c: &[(&'static str, f64)], s: S) -> Result<S::Ok, S::Error> {
+    use serde::ser::SerializeMap;
+    let mut m = s.serialize_map(Some(c.len()))?;
+    for (n, v) in c {
+        m.serialize_entry(n, v)?;
+    }
+    m.end()
 }

@@ -145,6 +145,43 @@ pub struct WavefrontRender {
     pub resolved: WavefrontOptions,
 }
 
+/// What a render would record, without rendering (`wavetrace plan`): the options as they would
+/// run, the pool and its shares, and the pass graph.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Explained {
+    pub options: WavefrontOptions,
+    /// The schedule that runs (`auto` resolved).
+    pub schedule: Schedule,
+    pub pool: u32,
+    pub bytes_per_path: u64,
+    pub shares: usize,
+    pub graph: graph::Graph,
+}
+
+/// The plan and graph of a render of `scene` with `opts`, timed per pass or not (`timing`).
+pub fn explain(
+    ctx: &GpuContext,
+    scene: &PackedScene,
+    settings: &RenderSettings,
+    opts: &WavefrontOptions,
+    timing: crate::gpu::timing::Timing,
+) -> Result<Explained> {
+    let ResolvedWavefront { options: ref opts, schedule } = opts.resolve(ctx.summary.is_software());
+    crate::options::check_wavefront(opts)?;
+    let plan = Plan::new(ctx, scene, settings, opts, schedule)?;
+    let times_passes = ctx.summary.timestamps && timing == crate::gpu::timing::Timing::Passes;
+    let shared = opts.compute_passes == ComputePasses::Shared && !times_passes;
+    let graph = graph::Graph::new(&plan, opts, ctx.device.limits().max_compute_workgroups_per_dimension);
+    Ok(Explained {
+        options: plan.resolved(opts, shared),
+        schedule: schedule.into(),
+        pool: plan.pool,
+        bytes_per_path: plan.layout.bytes_per_path(),
+        shares: plan.shares.len(),
+        graph,
+    })
+}
+
 pub fn render(
     ctx: &GpuContext,
     scene: &PackedScene,
