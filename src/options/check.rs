@@ -4,8 +4,9 @@
 //! ([`OptionError::for_cli`], [`OptionError::for_config`]), naming the knob.
 
 use super::{
-    CompactStates, Compaction, Method, MethodOptions, RaySort, Schedule, ShadePasses, Tail, CHUNK_POOLS,
-    DEFAULT_REFILL_BELOW, MAX_BATCHES_IN_FLIGHT, MAX_CHUNK_POOLS, MAX_SYNC_EVERY,
+    Append, CompactStates, Compaction, Method, MethodOptions, QueueOrder, RaySort, Scan, Schedule,
+    ShadePasses, Tail, BATCHES_IN_FLIGHT, CHUNK_POOLS, DEFAULT_REFILL_BELOW, DEFAULT_SYNC_EVERY,
+    DEFAULT_THRESHOLD, MAX_BATCHES_IN_FLIGHT, MAX_CHUNK_POOLS, MAX_SYNC_EVERY,
 };
 use super::{MegakernelOptions, Named, PoolSize, Refill, ShadowRays, WavefrontOptions};
 
@@ -60,6 +61,10 @@ impl OptionError {
                     // chooses how they are built with --compaction-method.
                     "compaction" if values == &["atomic"] => {
                         "--compaction on and --compaction-method atomic".to_owned()
+                    }
+                    "compaction" if values == &["scan"] => {
+                        "--compaction on and --compaction-method scan (or --queue-order slot-depth)"
+                            .to_owned()
                     }
                     "compaction" => "--compaction on".to_owned(),
                     _ => format!("{} {}", flag(other), values.join(" or ")),
@@ -144,102 +149,178 @@ pub fn check_wavefront(o: &WavefrontOptions) -> Result<(), OptionError> {
     fraction("tail_threshold", o.tail_threshold, "a fraction of the pool")?;
     fraction("refill_below", o.refill_below, "a live fraction of the pool")?;
 
-    let queues = |knob, value: String, why| {
-        if o.compaction == Compaction::Off {
-            return Err(OptionError {
-                knob,
-                problem: Problem::Needs {
-                    value,
-                    text: true,
-                    why,
-                    other: "compaction",
-                    values: &["atomic", "scan"],
-                },
-            });
+    for rule in RULES {
+        let Some((value, text)) = (rule.set)(o) else { continue };
+        if let Some((other, values)) = (rule.needs)(o) {
+            let problem = Problem::Needs { value, text, why: rule.why, other, values };
+            return Err(OptionError { knob: rule.knob, problem });
         }
-        Ok(())
-    };
-    if o.tail == Tail::Megakernel {
-        needs_regenerate("tail", o.tail.name(), true, "finishes regenerated paths", o.schedule)?;
-    }
-    if o.chunk_pools != CHUNK_POOLS {
-        needs_regenerate(
-            "chunk_pools",
-            o.chunk_pools.to_string(),
-            false,
-            "sizes the regenerating sample ring",
-            o.schedule,
-        )?;
-    }
-    if o.refill_below != DEFAULT_REFILL_BELOW {
-        needs_regenerate(
-            "refill_below",
-            o.refill_below.to_string(),
-            false,
-            "batches the refills of regenerated paths",
-            o.schedule,
-        )?;
-    }
-    if o.compact_states == CompactStates::On {
-        needs_regenerate(
-            "compact_states",
-            o.compact_states.name(),
-            true,
-            "compacts the pool before refills",
-            o.schedule,
-        )?;
-        queues(
-            "compact_states",
-            o.compact_states.name(),
-            "rewrites the ray queue's entries of the paths it moves",
-        )?;
-    }
-    if o.queue_order.is_slot() {
-        queues("queue_order", o.queue_order.name(), "orders the queues")?;
-    }
-    if o.refill == Refill::InPlace {
-        let value = o.refill.name();
-        let why = "starts samples where paths end, appending their camera rays";
-        needs_regenerate("refill", value.clone(), true, why, o.schedule)?;
-        let needs = |other, values| {
-            Err(OptionError {
-                knob: "refill",
-                problem: Problem::Needs { value: value.clone(), text: true, why, other, values },
-            })
-        };
-        if o.compaction != Compaction::Atomic {
-            return needs("compaction", &["atomic"]);
-        }
-        if o.refill_below != DEFAULT_REFILL_BELOW {
-            return needs("refill_below", &["1"]);
-        }
-        if o.compact_states == CompactStates::On {
-            return needs("compact_states", &["off"]);
-        }
-    }
-    if o.shade == ShadePasses::PerTexture && o.compaction != Compaction::Atomic {
-        return Err(OptionError {
-            knob: "shade",
-            problem: Problem::Needs {
-                value: o.shade.name(),
-                text: true,
-                why: "queues each pattern's hits by atomic appends",
-                other: "compaction",
-                values: &["atomic"],
-            },
-        });
-    }
-    if o.shadow_rays == ShadowRays::Inline {
-        queues("shadow_rays", o.shadow_rays.name(), "traces shadow rays from the queued hits")?;
-    }
-    if o.shade == ShadePasses::Sorted {
-        queues("shade", o.shade.name(), "shades the material queues end to end")?;
-    }
-    if o.ray_sort != RaySort::Off {
-        queues("ray_sort", o.ray_sort.name(), "sorts the ray queue")?;
     }
     Ok(())
 }
+
+/// A knob that acts only beside other knobs' values: set away from its default (`set` gives the
+/// value as written, and whether it is a name), it needs them (`needs`: the first knob and
+/// values missing), or it would change nothing. One rule for every such knob, so a value that
+/// does nothing is refused (a sweep drops the combination) instead of accepted.
+struct Rule {
+    knob: &'static str,
+    /// What the knob does where it acts.
+    why: &'static str,
+    set: fn(&WavefrontOptions) -> Option<(String, bool)>,
+    needs: fn(&WavefrontOptions) -> Option<(&'static str, &'static [&'static str])>,
+}
+
+const REGENERATE: Option<(&str, &[&str])> = Some(("schedule", &["regenerate"]));
+const QUEUES: Option<(&str, &[&str])> = Some(("compaction", &["atomic", "scan"]));
+const ATOMIC: Option<(&str, &[&str])> = Some(("compaction", &["atomic"]));
+
+fn regenerating(o: &WavefrontOptions) -> Option<(&'static str, &'static [&'static str])> {
+    if o.schedule == Schedule::Regenerate {
+        None
+    } else {
+        REGENERATE
+    }
+}
+
+fn queued(o: &WavefrontOptions) -> Option<(&'static str, &'static [&'static str])> {
+    if o.compaction == Compaction::Off {
+        QUEUES
+    } else {
+        None
+    }
+}
+
+fn name(on: bool, v: impl Named) -> Option<(String, bool)> {
+    on.then(|| (v.name(), true))
+}
+
+fn number(on: bool, v: impl ToString) -> Option<(String, bool)> {
+    on.then(|| (v.to_string(), false))
+}
+
+/// Every such knob, in the order they are checked (the first refusal is the one reported).
+const RULES: &[Rule] = &[
+    Rule {
+        knob: "tail",
+        why: "finishes regenerated paths",
+        set: |o| name(o.tail == Tail::Megakernel, o.tail),
+        needs: regenerating,
+    },
+    Rule {
+        knob: "tail_threshold",
+        why: "sets when the megakernel tail takes over",
+        set: |o| number(o.tail_threshold != DEFAULT_THRESHOLD, o.tail_threshold),
+        needs: |o| {
+            regenerating(o).or(if o.tail == Tail::Megakernel {
+                None
+            } else {
+                Some(("tail", &["megakernel"]))
+            })
+        },
+    },
+    Rule {
+        knob: "sync_every",
+        why: "sets the iterations between the regenerating schedule's checks",
+        set: |o| number(o.sync_every != DEFAULT_SYNC_EVERY, o.sync_every),
+        needs: regenerating,
+    },
+    Rule {
+        knob: "batches_in_flight",
+        why: "sets the regenerating schedule's batches in flight",
+        set: |o| number(o.batches_in_flight != BATCHES_IN_FLIGHT, o.batches_in_flight),
+        needs: regenerating,
+    },
+    Rule {
+        knob: "chunk_pools",
+        why: "sizes the regenerating sample ring",
+        set: |o| number(o.chunk_pools != CHUNK_POOLS, o.chunk_pools),
+        needs: regenerating,
+    },
+    Rule {
+        knob: "refill_below",
+        why: "batches the refills of regenerated paths",
+        set: |o| number(o.refill_below != DEFAULT_REFILL_BELOW, o.refill_below),
+        needs: regenerating,
+    },
+    Rule {
+        knob: "compact_states",
+        why: "compacts the pool before refills",
+        set: |o| name(o.compact_states == CompactStates::On, o.compact_states),
+        needs: regenerating,
+    },
+    Rule {
+        knob: "compact_states",
+        why: "rewrites the ray queue's entries of the paths it moves",
+        set: |o| name(o.compact_states == CompactStates::On, o.compact_states),
+        needs: queued,
+    },
+    Rule {
+        knob: "queue_order",
+        why: "orders the queues",
+        set: |o| name(o.queue_order.is_slot(), o.queue_order),
+        needs: queued,
+    },
+    Rule {
+        knob: "scan",
+        why: "sets how the scan compaction (and slot-depth order's scan) scans",
+        set: |o| name(o.scan != Scan::Auto, o.scan),
+        needs: |o| {
+            let scans = o.compaction == Compaction::Scan
+                || (o.compaction != Compaction::Off && o.queue_order == QueueOrder::SlotDepth);
+            (!scans).then_some(("compaction", &["scan"]))
+        },
+    },
+    Rule {
+        knob: "append",
+        why: "sets how paths are appended to queues",
+        set: |o| name(o.append != Append::Auto, o.append),
+        needs: queued,
+    },
+    Rule {
+        knob: "refill",
+        why: "starts samples where paths end, appending their camera rays",
+        set: |o| name(o.refill == Refill::InPlace, o.refill),
+        needs: |o| {
+            regenerating(o)
+                .or(if o.compaction == Compaction::Atomic { None } else { ATOMIC })
+                .or(if o.refill_below == DEFAULT_REFILL_BELOW {
+                    None
+                } else {
+                    Some(("refill_below", &["1"]))
+                })
+                .or(if o.compact_states == CompactStates::Off {
+                    None
+                } else {
+                    Some(("compact_states", &["off"]))
+                })
+        },
+    },
+    Rule {
+        knob: "shade",
+        why: "queues each pattern's hits by atomic appends",
+        set: |o| name(o.shade == ShadePasses::PerTexture, o.shade),
+        needs: |o| if o.compaction == Compaction::Atomic { None } else { ATOMIC },
+    },
+    Rule {
+        knob: "shadow_rays",
+        why: "traces shadow rays from the queued hits",
+        set: |o| name(o.shadow_rays == ShadowRays::Inline, o.shadow_rays),
+        needs: queued,
+    },
+    Rule {
+        knob: "shade",
+        why: "shades the material queues end to end",
+        set: |o| name(o.shade == ShadePasses::Sorted, o.shade),
+        needs: queued,
+    },
+    Rule {
+        knob: "ray_sort",
+        why: "sorts the ray queue",
+        set: |o| name(o.ray_sort != RaySort::Off, o.ray_sort),
+        needs: queued,
+    },
+];
 
 fn needs_regenerate(
     knob: &'static str,
@@ -356,6 +437,65 @@ mod tests {
         ] {
             let e = check(Method::Wavefront, &fused(f)).unwrap_err();
             assert!(e.for_cli().ends_with(&format!("it needs {cli}")), "{}", e.for_cli());
+        }
+    }
+
+    /// A knob set where it changes nothing is refused, naming what it needs: the regenerating
+    /// schedule's batching, the tail's threshold, the scan's and the appends' ways.
+    #[test]
+    fn a_knob_is_accepted_only_where_it_acts() {
+        for (f, cli) in [
+            (
+                (|w: &mut WavefrontOptions| w.sync_every = 2) as fn(&mut WavefrontOptions),
+                "--sync-every 2 sets the iterations between the regenerating schedule's checks: it needs --schedule regenerate",
+            ),
+            (|w| w.batches_in_flight = 1, "--batches-in-flight 1 sets the regenerating schedule's batches in flight: it needs --schedule regenerate"),
+            (|w| w.tail_threshold = 0.5, "--tail-threshold 0.5 sets when the megakernel tail takes over: it needs --schedule regenerate"),
+            (
+                |w| {
+                    w.schedule = Schedule::Regenerate;
+                    w.tail_threshold = 0.5;
+                },
+                "--tail-threshold 0.5 sets when the megakernel tail takes over: it needs --tail megakernel",
+            ),
+            (|w| w.scan = Scan::Workgroup, "it needs --compaction on and --compaction-method scan (or --queue-order slot-depth)"),
+            (
+                |w| {
+                    w.compaction = Compaction::Off;
+                    w.append = Append::Lane;
+                },
+                "--append lane sets how paths are appended to queues: it needs --compaction on",
+            ),
+        ] {
+            let e = check(Method::Wavefront, &wavefront_with(f)).unwrap_err().for_cli();
+            assert!(e.ends_with(cli), "{e}");
+        }
+        // Where they act, they are accepted.
+        for f in [
+            (|w: &mut WavefrontOptions| {
+                w.schedule = Schedule::Regenerate;
+                w.sync_every = 2;
+                w.batches_in_flight = 1;
+            }) as fn(&mut WavefrontOptions),
+            |w| {
+                w.schedule = Schedule::Regenerate;
+                w.tail = Tail::Megakernel;
+                w.tail_threshold = 0.5;
+            },
+            |w| {
+                w.compaction = Compaction::Scan;
+                w.scan = Scan::Workgroup;
+            },
+            |w| {
+                w.queue_order = QueueOrder::SlotDepth;
+                w.scan = Scan::Workgroup;
+            },
+            |w| {
+                w.compaction = Compaction::Scan;
+                w.append = Append::Lane;
+            },
+        ] {
+            assert_eq!(check(Method::Wavefront, &wavefront_with(f)), Ok(()));
         }
     }
 
