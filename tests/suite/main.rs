@@ -27,6 +27,7 @@ mod lights;
 mod megakernel;
 mod metrics;
 mod paired;
+mod pass_graph;
 mod ray_sort;
 mod reference_cache;
 mod refill;

@@ -6,10 +6,10 @@ use super::path_state::ARGS_INTERSECT;
 use super::plan::Plan;
 use crate::gpu::label;
 
-/// Closest hits of the ray queue: hits onto the material (or pattern) queues; regenerating, the
-/// slots of escaped paths onto the free list.
+/// Closest hits of the ray queue: hits onto the material (or pattern) queues; an escaped path
+/// ends (its sample finished) and, regenerating, its slot goes onto the free list.
 pub(super) fn pass(plan: &Plan, c: &Constants) -> Pass {
-    let mut produces = vec![Queue::Materials];
+    let mut produces = vec![Queue::Materials, Queue::Samples];
     if !plan.patterns.is_empty() {
         produces.push(Queue::Patterns);
     }

@@ -13,7 +13,8 @@ use crate::gpu::label;
 /// into `scene::Pattern::ALL`), each compiled with its texture kind alone; one pass with a
 /// switch; or one over the material queues end to end.
 pub(super) fn passes(plan: &Plan, mode: ShadePasses, c: &Constants) -> Vec<Pass> {
-    let mut produces = vec![Queue::Rays];
+    // Paths going on, and those that end (their samples finished).
+    let mut produces = vec![Queue::Rays, Queue::Samples];
     if plan.regenerate {
         produces.push(Queue::Free);
     }
