@@ -168,8 +168,6 @@ fn parse_preheat(s: &str) -> Result<f64, String> {
     Ok(v)
 }
 
-/// `--warmup`: `auto` or a number of frames.
-
 impl JobArgs {
     /// The scene (resolved and loaded), the settings (validated) and the method options the
     /// flags state.

@@ -15,7 +15,7 @@ use std::path::PathBuf;
 const EXAMPLES: &str = "\
 Examples:
   wavetrace plan --scene rtiow-final --method wavefront --width 1920 --height 1080 --spp 64 --nee on
-  wavetrace plan --scene mesh-room --method wavefront --schedule regenerate --tail megakernel \\
+  wavetrace plan --scene rtiow-kinds-8 --method wavefront --schedule regenerate --tail megakernel \\
       --shade sorted --queue-order slot
   wavetrace plan --scene cornell --method wavefront --compaction-method scan --json plan.json";
 

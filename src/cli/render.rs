@@ -62,6 +62,7 @@ pub enum WarmupArg {
     Frames(u32),
 }
 
+/// `--warmup`: `auto` or a number of frames.
 fn parse_warmup(s: &str) -> Result<WarmupArg, String> {
     match s {
         "auto" => Ok(WarmupArg::Auto),

@@ -163,19 +163,22 @@ pub fn check_wavefront(o: &WavefrontOptions) -> Result<(), OptionError> {
 /// value as written, and whether it is a name), it needs them (`needs`: the first knob and
 /// values missing), or it would change nothing. One rule for every such knob, so a value that
 /// does nothing is refused (a sweep drops the combination) instead of accepted.
+/// The knob a rule's knob needs and its values.
+type Needs = Option<(&'static str, &'static [&'static str])>;
+
 struct Rule {
     knob: &'static str,
     /// What the knob does where it acts.
     why: &'static str,
     set: fn(&WavefrontOptions) -> Option<(String, bool)>,
-    needs: fn(&WavefrontOptions) -> Option<(&'static str, &'static [&'static str])>,
+    needs: fn(&WavefrontOptions) -> Needs,
 }
 
-const REGENERATE: Option<(&str, &[&str])> = Some(("schedule", &["regenerate"]));
-const QUEUES: Option<(&str, &[&str])> = Some(("compaction", &["atomic", "scan"]));
-const ATOMIC: Option<(&str, &[&str])> = Some(("compaction", &["atomic"]));
+const REGENERATE: Needs = Some(("schedule", &["regenerate"]));
+const QUEUES: Needs = Some(("compaction", &["atomic", "scan"]));
+const ATOMIC: Needs = Some(("compaction", &["atomic"]));
 
-fn regenerating(o: &WavefrontOptions) -> Option<(&'static str, &'static [&'static str])> {
+fn regenerating(o: &WavefrontOptions) -> Needs {
     if o.schedule == Schedule::Regenerate {
         None
     } else {
@@ -183,7 +186,7 @@ fn regenerating(o: &WavefrontOptions) -> Option<(&'static str, &'static [&'stati
     }
 }
 
-fn queued(o: &WavefrontOptions) -> Option<(&'static str, &'static [&'static str])> {
+fn queued(o: &WavefrontOptions) -> Needs {
     if o.compaction == Compaction::Off {
         QUEUES
     } else {

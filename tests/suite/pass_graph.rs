@@ -228,3 +228,28 @@ fn recorded_passes_are_the_graphs() {
         assert_eq!(out.dispatches, expected.values().sum::<u64>() - stats.speculative_dispatches, "{what}");
     }
 }
+
+/// docs/methods.md shows `wavetrace plan`'s table for a job: its passes, phase by phase, are the
+/// graph's for that job (the adapter's numbers aside: pool size, device limits).
+#[test]
+fn the_documented_plan_is_the_graphs() {
+    let Some(ctx) = common::gpu() else { return };
+    let doc = std::fs::read_to_string(common::root().join("docs/methods.md")).unwrap();
+    let start = doc.find("$ wavetrace plan --scene cornell").expect("the plan's example in methods.md");
+    let block = &doc[start..start + doc[start..].find("```").unwrap()];
+    let documented: Vec<&str> = block
+        .lines()
+        .filter(|l| {
+            l.starts_with("  ") && !l.trim_start().starts_with("pass ") && !l.trim_start().starts_with("--")
+        })
+        .filter_map(|l| l.split_whitespace().next())
+        .collect();
+    let scene = builtin::by_name("cornell").unwrap();
+    let s = RenderSettings { width: 160, height: 90, spp: 16, max_depth: 50, ..settings() };
+    let o = WavefrontOptions { schedule: Schedule::Regenerate, tail: Tail::Megakernel, ..Default::default() };
+    let opts = MethodOptions { wavefront: o, ..Default::default() };
+    let (packed, _) = method::prepare(Method::Wavefront, &scene, &s, &opts).unwrap();
+    let e = wavefront::explain(ctx, &packed, &s, &o, Timing::Passes).unwrap();
+    let labels: Vec<&str> = e.graph.passes.iter().map(|p| p.label).collect();
+    assert_eq!(documented, labels, "regenerate docs/methods.md's block with the command it shows");
+}
