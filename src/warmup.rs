@@ -11,7 +11,7 @@ use std::time::Instant;
 use anyhow::Result;
 use serde::{Deserialize, Serialize};
 
-use crate::gpu_state::GpuState;
+use crate::gpu::state::GpuState;
 
 /// The timed warm-up's bounds and targets.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

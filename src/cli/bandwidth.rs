@@ -4,8 +4,8 @@ use std::path::PathBuf;
 
 use anyhow::{bail, Result};
 
-use crate::gpu::bandwidth;
 use crate::gpu::GpuContext;
+use crate::measure::bandwidth;
 
 const EXAMPLES: &str = "\
 Examples:

@@ -4,8 +4,8 @@ use std::path::PathBuf;
 
 use anyhow::{bail, Result};
 
-use crate::gpu::dispatch_cost;
 use crate::gpu::GpuContext;
+use crate::measure::dispatch_cost;
 
 const EXAMPLES: &str = "\
 Examples:

@@ -5,8 +5,8 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 
-use crate::gpu::intersect_cost::{self, IntersectCost};
 use crate::gpu::GpuContext;
+use crate::measure::intersect_cost::{self, IntersectCost};
 use crate::scene::Scene;
 use crate::settings::{Accel, RenderSettings};
 

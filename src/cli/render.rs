@@ -3,9 +3,9 @@
 use super::job::JobArgs;
 use crate::gpu::buffers::human_bytes;
 use crate::gpu::memory::{GpuMemory, MemoryCategory};
+use crate::gpu::state::GpuMonitor;
 use crate::gpu::timing::{TimeSource, Timings, FRAME_LABEL};
 use crate::gpu::GpuContext;
-use crate::gpu_state::GpuMonitor;
 use crate::image_io::{self, RgbImage};
 use crate::method;
 use crate::progress::Progress;

@@ -5,8 +5,8 @@
 use anyhow::Result;
 
 use crate::gpu::context::AdapterSummary;
+use crate::gpu::state::{GpuMonitor, GpuState};
 use crate::gpu::GpuContext;
-use crate::gpu_state::{GpuMonitor, GpuState};
 
 pub struct GpuSlot {
     filter: Option<String>,

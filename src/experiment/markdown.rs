@@ -549,7 +549,7 @@ fn warmup_table(runs: &[RunRecord]) -> String {
             .map(|&t| w.trace.iter().find(|f| f.at >= t).map_or("–".into(), ms))
             .collect();
         let (first, last) = (&w.trace[0], &w.trace[w.trace.len() - 1]);
-        let ends = |f: fn(&crate::gpu_state::GpuState) -> Option<u32>| {
+        let ends = |f: fn(&crate::gpu::state::GpuState) -> Option<u32>| {
             let read = |x: &crate::warmup::WarmupFrame| x.gpu_state.as_ref().and_then(f);
             match (read(first), read(last)) {
                 (Some(a), Some(b)) => format!("{a} → {b}"),
@@ -578,7 +578,7 @@ fn warmup_table(runs: &[RunRecord]) -> String {
 /// without any).
 fn gpu_state_table(runs: &[RunRecord]) -> String {
     let mut md = String::new();
-    let read: Vec<(&RunRecord, &crate::gpu_state::GpuStateSpan)> =
+    let read: Vec<(&RunRecord, &crate::gpu::state::GpuStateSpan)> =
         runs.iter().filter_map(|r| Some((r, r.gpu_state.as_ref()?))).collect();
     if read.is_empty() {
         return md;
@@ -591,10 +591,10 @@ fn gpu_state_table(runs: &[RunRecord]) -> String {
     md.push_str("| # | variant | SM clock MHz | memory clock MHz | °C | W | throttle reasons |\n");
     md.push_str("| ---: | --- | ---: | ---: | ---: | ---: | --- |\n");
     for (r, g) in read {
-        let pair = |f: &dyn Fn(&crate::gpu_state::GpuState) -> Option<String>| {
+        let pair = |f: &dyn Fn(&crate::gpu::state::GpuState) -> Option<String>| {
             format!("{} → {}", f(&g.before).unwrap_or("–".into()), f(&g.after).unwrap_or("–".into()))
         };
-        let reasons = |s: &crate::gpu_state::GpuState| {
+        let reasons = |s: &crate::gpu::state::GpuState| {
             s.throttle_reasons.as_ref().map(|v| if v.is_empty() { "none".into() } else { v.join(", ") })
         };
         let _ = writeln!(

@@ -159,6 +159,50 @@ pub enum RunStatus {
     Failed,
 }
 
+/// How steady a run's time is. Stored in each run of `report.json`; pages recompute it from the
+/// repetitions for reports written before it existed.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Stability {
+    /// (max − min) / median over the timed repetitions of the run's time (frame time for GPU
+    /// methods, wall time for CPU methods); None with one repetition.
+    pub spread: Option<f64>,
+    /// An interval holding the population median with probability `confidence`, from the order
+    /// statistics of the repetitions (no assumption on their distribution); None with one.
+    pub median_low: Option<f64>,
+    pub median_high: Option<f64>,
+    pub confidence: Option<f64>,
+    /// The spread above which the run counts as unstable (the config's `unstable_spread`).
+    pub threshold: f64,
+    /// `spread > threshold`.
+    pub unstable: bool,
+    /// A GPU method timed without any warm-up render.
+    pub cold: bool,
+}
+
+impl Stability {
+    /// Unstable or cold: its times are not steady figures.
+    pub fn flagged(&self) -> bool {
+        self.unstable || self.cold
+    }
+
+    /// A short reason for pages: `unstable: 46% spread`, `cold: no warm-up`, both, or empty.
+    pub fn reason(&self) -> String {
+        let mut why = Vec::new();
+        if self.unstable {
+            why.push(format!("unstable: {:.0}% spread", 100.0 * self.spread.unwrap_or(0.0)));
+        }
+        if self.cold {
+            why.push("cold: no warm-up".to_string());
+        }
+        why.join("; ")
+    }
+
+    /// The interval of the median, or (median, median) where there is none.
+    pub fn interval_or(&self, median: f64) -> (f64, f64) {
+        (self.median_low.unwrap_or(median), self.median_high.unwrap_or(median))
+    }
+}
+
 /// Median, min and max over the timed repetitions, and the values themselves.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Stat {
@@ -244,11 +288,11 @@ pub struct RunRecord {
     /// (unstable, cold) that say whether its times are steady figures (absent in reports from
     /// before it existed: pages compute it from the repetitions).
     #[serde(default)]
-    pub stability: Option<super::stability::Stability>,
+    pub stability: Option<Stability>,
     /// The GPU's clocks, temperature, power and throttle reasons before the first timed render
     /// and after the last (NVIDIA through NVML only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub gpu_state: Option<crate::gpu_state::GpuStateSpan>,
+    pub gpu_state: Option<crate::gpu::state::GpuStateSpan>,
     /// Host time per render (GPU methods: scene upload and pipeline creation included).
     pub wall_seconds: Option<Stat>,
     /// Sum of GPU pass times per render (GPU methods).

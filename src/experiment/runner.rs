@@ -247,7 +247,7 @@ struct Run<'a> {
     /// The first render's image; every later one must be bit-identical to it.
     image: Option<Vec<f32>>,
     repeatable: bool,
-    state_before: Option<crate::gpu_state::GpuState>,
+    state_before: Option<crate::gpu::state::GpuState>,
 }
 
 impl<'a> Run<'a> {
@@ -331,7 +331,7 @@ impl<'a> Run<'a> {
     }
 
     /// The GPU's state now, for a GPU method's run where NVML reads it.
-    fn gpu_state(&self, gpu: &GpuSlot) -> Option<crate::gpu_state::GpuState> {
+    fn gpu_state(&self, gpu: &GpuSlot) -> Option<crate::gpu::state::GpuState> {
         if self.variant.method.needs_gpu() {
             gpu.sample()
         } else {
@@ -421,7 +421,7 @@ impl<'a> Run<'a> {
             &o,
         ));
         if let (Some(before), Some(after)) = (self.state_before.clone(), after) {
-            self.record.gpu_state = Some(crate::gpu_state::GpuStateSpan { before, after });
+            self.record.gpu_state = Some(crate::gpu::state::GpuStateSpan { before, after });
         }
         Ok(())
     }

@@ -9,9 +9,10 @@
 //! built on them) are not to be quoted as findings; the pages mark them, and the docs tests
 //! refuse a quoted figure that only a flagged run gives.
 
-use serde::{Deserialize, Serialize};
-
 use super::report::{RunRecord, Stat};
+// The verdict type lives with the record that stores it (report.rs), so the record does not
+// depend on this file; its makers are here.
+pub use super::report::Stability;
 
 /// Written right after every figure of a flagged run on the results pages (`0.1180⚠`,
 /// `0.07×⚠`), so a figure quoted from one can be refused (tests/suite/docs.rs).
@@ -22,50 +23,6 @@ pub use super::config::DEFAULT_UNSTABLE_SPREAD;
 /// The confidence the median's interval aims for (reached from 6 repetitions on; below that the
 /// interval is min–max and its `confidence` says how much it holds).
 pub const MEDIAN_CONFIDENCE: f64 = 0.95;
-
-/// How steady a run's time is. Stored in each run of `report.json`; pages recompute it from the
-/// repetitions for reports written before it existed.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Stability {
-    /// (max − min) / median over the timed repetitions of the run's time (frame time for GPU
-    /// methods, wall time for CPU methods); None with one repetition.
-    pub spread: Option<f64>,
-    /// An interval holding the population median with probability `confidence`, from the order
-    /// statistics of the repetitions (no assumption on their distribution); None with one.
-    pub median_low: Option<f64>,
-    pub median_high: Option<f64>,
-    pub confidence: Option<f64>,
-    /// The spread above which the run counts as unstable (the config's `unstable_spread`).
-    pub threshold: f64,
-    /// `spread > threshold`.
-    pub unstable: bool,
-    /// A GPU method timed without any warm-up render.
-    pub cold: bool,
-}
-
-impl Stability {
-    /// Unstable or cold: its times are not steady figures.
-    pub fn flagged(&self) -> bool {
-        self.unstable || self.cold
-    }
-
-    /// A short reason for pages: `unstable: 46% spread`, `cold: no warm-up`, both, or empty.
-    pub fn reason(&self) -> String {
-        let mut why = Vec::new();
-        if self.unstable {
-            why.push(format!("unstable: {:.0}% spread", 100.0 * self.spread.unwrap_or(0.0)));
-        }
-        if self.cold {
-            why.push("cold: no warm-up".to_string());
-        }
-        why.join("; ")
-    }
-
-    /// The interval of the median, or (median, median) where there is none.
-    pub fn interval_or(&self, median: f64) -> (f64, f64) {
-        (self.median_low.unwrap_or(median), self.median_high.unwrap_or(median))
-    }
-}
 
 /// The spread of `stat` and its median's interval, flagged against `threshold`.
 pub fn of_stat(stat: Option<&Stat>, threshold: f64, cold: bool) -> Stability {

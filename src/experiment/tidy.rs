@@ -231,7 +231,7 @@ fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
             Some(r.interleaved_with.iter().map(usize::to_string).collect::<Vec<_>>().join(" "))
         }),
     ]);
-    type Reading = fn(&crate::gpu_state::GpuState) -> Cell;
+    type Reading = fn(&crate::gpu::state::GpuState) -> Cell;
     let readings: [(&str, Reading); 5] = [
         ("sm_clock_mhz", |g| g.sm_clock_mhz.and_then(int)),
         ("memory_clock_mhz", |g| g.memory_clock_mhz.and_then(int)),

@@ -1,6 +1,7 @@
 //! Buffer creation checked against the adapter's limits, bind-group-layout entries, and
 //! read-back: the wgpu plumbing every stage shares.
 
+pub use super::binding::{storage_entry, uniform_entry};
 use super::context::GpuContext;
 use anyhow::{anyhow, bail, Result};
 use wgpu::util::DeviceExt;
@@ -64,34 +65,6 @@ pub fn human_bytes(b: u64) -> String {
         b if b >= 1 << 20 => format!("{:.1} MiB", b as f64 / (1u64 << 20) as f64),
         b if b >= 1 << 10 => format!("{:.1} KiB", b as f64 / 1024.0),
         b => format!("{b} B"),
-    }
-}
-
-/// Layout entry for a compute-visible storage buffer.
-pub fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-/// Layout entry for a compute-visible uniform buffer.
-pub fn uniform_entry(binding: u32, dynamic_offset: bool) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: dynamic_offset,
-            min_binding_size: None,
-        },
-        count: None,
     }
 }
 

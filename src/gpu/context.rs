@@ -21,7 +21,7 @@ pub struct AdapterSummary {
     /// PCI vendor id (0x10de NVIDIA, 0x1002 AMD, 0x8086 Intel; 0x10005 Mesa's software driver).
     pub vendor: u32,
     /// `domain:bus:device.function` where the driver reports it (empty otherwise): how the GPU's
-    /// state is read from the right device (`gpu_state.rs`).
+    /// state is read from the right device (`gpu/state.rs`).
     pub pci_bus_id: String,
     pub backend: String,
     pub device_type: String,
@@ -144,8 +144,6 @@ pub struct GpuContext {
     pub summary: AdapterSummary,
     /// Modules, layouts and pipelines built on this device, reused by later renders.
     pub stages: StageCache,
-    /// The preheat's pipeline, built on first use (`gpu::preheat`).
-    pub preheat: std::sync::OnceLock<super::preheat::Preheat>,
     errors: Arc<Mutex<Vec<String>>>,
 }
 
@@ -185,15 +183,7 @@ impl GpuContext {
         device.set_device_lost_callback(move |reason, msg| {
             sink.lock().unwrap().push(format!("device lost ({reason:?}): {msg}"));
         });
-        Ok(Self {
-            adapter,
-            device,
-            queue,
-            summary,
-            stages: StageCache::default(),
-            preheat: Default::default(),
-            errors,
-        })
+        Ok(Self { adapter, device, queue, summary, stages: StageCache::default(), errors })
     }
 
     /// Returns the first device error or loss reported since the last check.

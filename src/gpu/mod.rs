@@ -1,15 +1,13 @@
 //! The GPU methods on wgpu, and the plumbing they share.
 
 pub mod accumulate;
-pub mod bandwidth;
+pub mod binding;
 pub mod buffers;
 pub mod context;
-pub mod dispatch_cost;
 pub mod dispatch_plan;
 pub mod gpu_render;
 pub mod headless;
 pub mod instrument;
-pub mod intersect_cost;
 pub mod loop_limit;
 pub mod megakernel;
 pub mod memory;
@@ -21,6 +19,7 @@ pub mod shaders;
 pub mod specialize;
 pub mod stage;
 pub mod stage_cache;
+pub mod state;
 pub mod timestamp_pair;
 pub mod timing;
 pub mod wavefront;

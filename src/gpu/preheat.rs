@@ -16,12 +16,13 @@ use std::time::Instant;
 
 use anyhow::Result;
 
-use super::buffers::storage_entry;
+use super::binding::storage_entry;
 use super::context::GpuContext;
 use super::label;
 
-/// The busy kernel's pipeline and its (never written) output, built once per device.
-pub struct Preheat {
+/// The busy kernel's pipeline (built once per device: the device's stage cache keeps it) and its
+/// (never written) output.
+struct Preheat {
     pipeline: wgpu::ComputePipeline,
     group: wgpu::BindGroup,
 }
@@ -30,7 +31,9 @@ impl Preheat {
     fn new(ctx: &GpuContext) -> Result<Self> {
         let module = ctx.shader("preheat", super::shaders::PREHEAT, Default::default())?;
         let layout = ctx.bind_group_layout("preheat", &[storage_entry(0, false)]);
-        let pipeline = ctx.compute_pipeline(label::PREHEAT, &module, &[&layout], &[])?;
+        let pipeline = ctx.stages.pipeline(label::PREHEAT, &module, &[&layout], &[], || {
+            ctx.compute_pipeline(label::PREHEAT, &module, &[&layout], &[])
+        })?;
         let sink = ctx.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("preheat sink"),
             size: 16,
@@ -77,13 +80,7 @@ pub fn run(ctx: &GpuContext, seconds: f64) -> Result<f64> {
     if seconds <= 0.0 {
         return Ok(0.0);
     }
-    let preheat = match ctx.preheat.get() {
-        Some(p) => p,
-        None => {
-            let p = Preheat::new(ctx)?;
-            ctx.preheat.get_or_init(|| p)
-        }
-    };
+    let preheat = Preheat::new(ctx)?;
     let start = Instant::now();
     // Submissions of a few milliseconds each: the host's wait between them is microseconds,
     // and the last one ends close to the asked length.

@@ -2,7 +2,7 @@
 //! the adapter has timestamps; both copies copy; bad sizes are refused with the flag's name.
 
 use crate::common;
-use wavetrace::gpu::bandwidth::{measure, WAYS};
+use wavetrace::measure::bandwidth::{measure, WAYS};
 
 #[test]
 fn every_way_is_timed_and_both_copies_copy() {

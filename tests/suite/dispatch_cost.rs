@@ -3,7 +3,7 @@
 //! the host, and bad sizes are refused with the flag's name.
 
 use crate::common;
-use wavetrace::gpu::dispatch_cost::{measure, VARIANTS};
+use wavetrace::measure::dispatch_cost::{measure, VARIANTS};
 
 #[test]
 fn every_variant_runs_its_whole_chain_and_is_timed() {

@@ -3,7 +3,7 @@
 //! pool and the workgroup size, and the same tally every repetition), and both are timed.
 
 use crate::common;
-use wavetrace::gpu::intersect_cost::{measure, IntersectCost, IntersectCostReport};
+use wavetrace::measure::intersect_cost::{measure, IntersectCost, IntersectCostReport};
 use wavetrace::scene::Scene;
 use wavetrace::settings::{Accel, RenderSettings};
 

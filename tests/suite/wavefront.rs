@@ -242,7 +242,7 @@ fn a_pool_sized_to_the_device_follows_cycles_rule_or_the_default() {
     let Some(ctx) = common::gpu() else { return };
     let opts = WavefrontOptions { pool_size: Some(PoolSize::Device), ..Default::default() };
     let max = pool::max_pool(ctx, opts.workgroup_size);
-    let sms = wavetrace::gpu_state::GpuMonitor::open(&ctx.summary).and_then(|m| m.multiprocessors());
+    let sms = wavetrace::gpu::state::GpuMonitor::open(&ctx.summary).and_then(|m| m.multiprocessors());
     let expected = match sms {
         Some(m) => pool::cycles_pool(m).min(max as u64) as u32,
         None => pool::DEFAULT_POOL.min(max),

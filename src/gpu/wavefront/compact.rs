@@ -25,7 +25,7 @@ impl Scan {
     }
 }
 
-use super::graph::{Binds, Launch, Pass, Phase, Queue, Shader};
+use super::pass::{Binds, Launch, Pass, Phase, Queue, Shader};
 use super::path_state::ARGS_COMPACT;
 use super::plan::Plan;
 use crate::gpu::label;

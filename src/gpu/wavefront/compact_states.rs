@@ -4,7 +4,7 @@
 //! sized on the GPU (queue_setup_regenerate sizes the first; they dispatch nothing on iterations
 //! that do not refill).
 
-use super::graph::{Binds, Constants, Launch, Pass, Phase, Queue, Shader, When};
+use super::pass::{Binds, Constants, Launch, Pass, Phase, Queue, Shader, When};
 use super::path_state::{ARGS_COMPACT_STATES_FIND, ARGS_COMPACT_STATES_MOVE};
 use crate::gpu::label;
 

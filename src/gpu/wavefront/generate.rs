@@ -2,7 +2,7 @@
 //! starts every path of a wave; with `--schedule regenerate`, `regenerate_init` empties the pool
 //! at a share's start and `regenerate` refills the slots whose paths ended, every iteration.
 
-use super::graph::{Binds, Constants, Launch, Pass, Phase, Queue, Shader, When};
+use super::pass::{Binds, Constants, Launch, Pass, Phase, Queue, Shader, When};
 use super::path_state::ARGS_REGENERATE;
 use super::plan::Plan;
 use crate::gpu::label;

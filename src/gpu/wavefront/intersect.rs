@@ -1,7 +1,7 @@
 //! intersect (`shaders/wavefront/intersect.wgsl`): closest hits for the bounce's ray queue,
 //! sized on the GPU by queue_setup_intersect.
 
-use super::graph::{Constants, Launch, Pass, Queue, Shader};
+use super::pass::{Constants, Launch, Pass, Queue, Shader};
 use super::path_state::ARGS_INTERSECT;
 use super::plan::Plan;
 use crate::gpu::label;

@@ -1,6 +1,6 @@
 //! intersect_registers (`shaders/wavefront/intersect_registers.wgsl`): the diagnostic twin of
 //! the intersect pass that makes each camera ray in place and keeps only a tally of its hits, no
-//! path state read or written (issue 44, item 1b). `gpu::intersect_cost` times it beside the
+//! path state read or written (issue 44, item 1b). `measure::intersect_cost` times it beside the
 //! wavefront's own intersect of the same camera rays.
 
 use anyhow::{bail, Result};

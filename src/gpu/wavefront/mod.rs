@@ -69,6 +69,7 @@ pub mod generate;
 pub mod graph;
 pub mod intersect;
 pub mod intersect_registers;
+pub mod pass;
 pub mod path_state;
 pub mod plan;
 pub mod pool;

@@ -7,7 +7,7 @@
 use super::super::buffers::human_bytes;
 use super::super::context::GpuContext;
 use super::path_state::{self, LARGEST_BINDING_PER_PATH};
-use crate::gpu_state::{GpuMonitor, Multiprocessors};
+use crate::gpu::state::{GpuMonitor, Multiprocessors};
 use crate::options::{PoolSize, WavefrontOptions};
 use anyhow::{bail, Result};
 

@@ -2,7 +2,7 @@
 //! counters into indirect-dispatch arguments, so the host never reads a counter mid-render; and
 //! (regenerate) the schedule's decision after each check, on the GPU.
 
-use super::graph::{Binds, Constants, Launch, Pass, Phase, Shader, When};
+use super::pass::{Binds, Constants, Launch, Pass, Phase, Shader, When};
 
 /// A setup pass: one thread, with scene, path state and the indirect arguments bound.
 pub(super) fn pass(label: &'static str, when: When, c: &Constants) -> Pass {

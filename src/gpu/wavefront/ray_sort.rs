@@ -45,7 +45,7 @@ pub(super) fn buckets(
     Ok((layout, group))
 }
 
-use super::graph::{Binds, Constants, Launch, Pass, Phase, Queue, Shader};
+use super::pass::{Binds, Constants, Launch, Pass, Phase, Queue, Shader};
 use super::path_state::ARGS_INTERSECT;
 use crate::gpu::label;
 

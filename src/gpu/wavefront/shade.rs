@@ -2,7 +2,7 @@
 //! pattern), one pass with a material switch, or one over the material queues end to end
 //! (`--shade`); each sized on the GPU by queue_setup_shade.
 
-use super::graph::{Constants, Launch, Pass, Queue, Shader};
+use super::pass::{Constants, Launch, Pass, Queue, Shader};
 use super::path_state::{ARGS_PATTERN_0, ARGS_SHADE_0};
 use super::plan::Plan;
 use super::ShadePasses;

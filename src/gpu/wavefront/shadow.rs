@@ -2,7 +2,7 @@
 //! any-hit query per queued ray, sized on the GPU by queue_setup_shadow. Recorded only with
 //! `--nee on` in a scene with lights.
 
-use super::graph::{Constants, Launch, Pass, Queue, Shader, When};
+use super::pass::{Constants, Launch, Pass, Queue, Shader, When};
 use super::path_state::ARGS_SHADOW;
 use super::plan::Plan;
 use super::queue_setup;

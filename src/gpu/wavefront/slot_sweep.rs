@@ -5,7 +5,7 @@
 //! state as in the scan's exact slot order (though not as one ascending stream), without the
 //! scan's three passes and their barriers. Sized on the GPU by queue_setup_shade (the scan's arguments: every slot).
 
-use super::graph::{Binds, Launch, Pass, Phase, Queue, Shader};
+use super::pass::{Binds, Launch, Pass, Phase, Queue, Shader};
 use super::path_state::ARGS_COMPACT;
 use crate::gpu::label;
 

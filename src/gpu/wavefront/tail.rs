@@ -4,7 +4,7 @@
 //! fraction of the pool, and the oldest chunks' last ones when the sample ring needs them back
 //! (the paths of samples below the bound it sets).
 
-use super::graph::{Constants, Launch, Pass, Phase, Queue, Shader};
+use super::pass::{Constants, Launch, Pass, Phase, Queue, Shader};
 use super::path_state::ARGS_TAIL;
 use crate::gpu::label;
 

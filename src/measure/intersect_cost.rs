@@ -10,14 +10,14 @@
 use anyhow::{anyhow, bail, Result};
 use serde::Serialize;
 
-use super::context::{AdapterSummary, GpuContext};
 use super::dispatch_cost::Spread;
-use super::label;
-use super::memory::MemoryLedger;
-use super::scene_buffers::SceneBuffers;
-use super::timing::{GpuTimer, Timing};
-use super::wavefront::intersect_registers::{IntersectRegisters, Tally};
-use super::wavefront::{Schedule, WavefrontOptions};
+use crate::gpu::context::{AdapterSummary, GpuContext};
+use crate::gpu::label;
+use crate::gpu::memory::MemoryLedger;
+use crate::gpu::scene_buffers::SceneBuffers;
+use crate::gpu::timing::{GpuTimer, Timing};
+use crate::gpu::wavefront::intersect_registers::{IntersectRegisters, Tally};
+use crate::gpu::wavefront::{Schedule, WavefrontOptions};
 use crate::method::{self, Method, MethodOptions};
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
@@ -142,7 +142,7 @@ pub fn measure(ctx: &GpuContext, scene: &Scene, job: &IntersectCost) -> Result<I
         if round == 0 {
             continue; // untimed: pipelines compiled, caches warm
         }
-        let timed = |timings: Option<&super::timing::Timings>, pass: &str| {
+        let timed = |timings: Option<&crate::gpu::timing::Timings>, pass: &str| {
             timings.filter(|t| t.per_pass()).and_then(|t| t.passes.get(pass)).map(|p| p.seconds)
         };
         intersect_seconds.extend(timed(out.timings.as_ref(), label::INTERSECT));

@@ -15,11 +15,11 @@ use std::time::Instant;
 use anyhow::{bail, Result};
 use serde::Serialize;
 
-use super::buffers::{read_back, storage_entry};
-use super::context::{AdapterSummary, GpuContext};
 use super::dispatch_cost::Spread;
-use super::label;
-use super::timestamp_pair::{TimestampPair, END, START};
+use crate::gpu::buffers::{read_back, storage_entry};
+use crate::gpu::context::{AdapterSummary, GpuContext};
+use crate::gpu::label;
+use crate::gpu::timestamp_pair::{TimestampPair, END, START};
 
 /// The ways the benchmark moves memory.
 pub const WAYS: [&str; 3] = [label::STREAM_COPY, label::STREAM_READ, label::BUFFER_COPY];
@@ -70,7 +70,7 @@ pub fn measure(ctx: &GpuContext, mib: u64, repetitions: u32) -> Result<Bandwidth
             "--mib must be in 1..={} on {} (its largest storage binding is {}), got {mib}",
             limit >> 20,
             ctx.summary.name,
-            super::buffers::human_bytes(limit)
+            crate::gpu::buffers::human_bytes(limit)
         );
     }
     let bench = Bench::new(ctx, bytes)?;
@@ -137,7 +137,7 @@ impl Bench {
         let max = ctx.summary.max_compute_workgroups_per_dimension as u64;
         let x = groups.min(max);
         let grid = (x as u32, groups.div_ceil(x) as u32);
-        let module = ctx.shader("bandwidth", super::shaders::BANDWIDTH, Default::default())?;
+        let module = ctx.shader("bandwidth", crate::gpu::shaders::BANDWIDTH, Default::default())?;
         let layout = ctx.bind_group_layout("bandwidth", &[storage_entry(0, true), storage_entry(1, false)]);
         let row = [("ROW", (x * WORKGROUP) as f64)];
         let copy = ctx.compute_pipeline(label::STREAM_COPY, &module, &[&layout], &row)?;
@@ -234,7 +234,7 @@ impl BandwidthReport {
             "{} ({}), buffers of {}, median [min–max] of {} repetitions, GB/s (bytes read + written)\n",
             self.adapter.name,
             self.adapter.backend,
-            super::buffers::human_bytes(self.buffer_bytes),
+            crate::gpu::buffers::human_bytes(self.buffer_bytes),
             self.repetitions
         );
         let _ = writeln!(t, "{:<14} {:>28} {:>28}", "way", "GPU (timestamps)", "round trip");

@@ -14,10 +14,10 @@ use std::time::Instant;
 use anyhow::{bail, Result};
 use serde::Serialize;
 
-use super::buffers::{storage_entry, Staging};
-use super::context::{AdapterSummary, GpuContext};
-use super::label;
-use super::timestamp_pair::{TimestampPair, END, START};
+use crate::gpu::buffers::{storage_entry, Staging};
+use crate::gpu::context::{AdapterSummary, GpuContext};
+use crate::gpu::label;
+use crate::gpu::timestamp_pair::{TimestampPair, END, START};
 
 /// How a variant records its chain.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -49,7 +49,7 @@ pub struct Spread {
 }
 
 impl Spread {
-    /// Of one or more values (`gpu::intersect_cost` uses it too).
+    /// Of one or more values (`measure::intersect_cost` uses it too).
     pub fn of(values: &[f64]) -> Self {
         let mut v = values.to_vec();
         v.sort_by(f64::total_cmp);
@@ -174,7 +174,7 @@ struct Bench {
 
 impl Bench {
     fn new(ctx: &GpuContext) -> Result<Self> {
-        let module = ctx.shader("dispatch_chain", super::shaders::DISPATCH_CHAIN, Default::default())?;
+        let module = ctx.shader("dispatch_chain", crate::gpu::shaders::DISPATCH_CHAIN, Default::default())?;
         let link_layout = ctx.bind_group_layout("dispatch chain (read-write)", &[storage_entry(0, false)]);
         let read_layout = ctx.bind_group_layout("dispatch chain (read-only)", &[storage_entry(1, true)]);
         let link = ctx.compute_pipeline(label::CHAIN_LINK, &module, &[&link_layout], &[])?;
