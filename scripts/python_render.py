@@ -17,9 +17,9 @@ import sys
 try:
     import wavetrace
 except ImportError:
-    if os.environ.get("WAVETRACE_PYTHON_RENDER_REEXEC"):
+    if os.environ.get("PYTHON_RENDER_REEXECUTED"):
         raise
-    os.environ["WAVETRACE_PYTHON_RENDER_REEXEC"] = "1"
+    os.environ["PYTHON_RENDER_REEXECUTED"] = "1"
     python = os.environ.get("WAVETRACE_PYTHON", "target/exr-venv/bin/python")
     os.execv(python, [python, __file__, *sys.argv[1:]])
 

@@ -31,7 +31,7 @@ static INTERRUPTED: Mutex<BTreeSet<u64>> = Mutex::new(BTreeSet::new());
 /// How often the waiting thread looks at signals.
 const POLL: Duration = Duration::from_millis(50);
 /// How long an interrupt waits for the work to reach its checkpoint before raising anyway.
-const SETTLE: Duration = Duration::from_millis(800);
+const SETTLE: Duration = Duration::from_millis(500);
 
 enum Outcome<T> {
     Done(T),

@@ -35,7 +35,7 @@ def test_an_interrupted_render_raises_keyboard_interrupt_within_a_second(tmp_pat
         start = time.perf_counter()
         interrupt_when(lambda: time.perf_counter() - start > 0.3)
         try:
-            wt.render("cornell", "cpu", 160, 120, spp=1024, progress=False)
+            wt.render("cornell", "cpu", 320, 240, spp=64, progress=False)
             result = {"interrupted": False}
         except KeyboardInterrupt:
             result = {"interrupted": True, "latency": time.perf_counter() - sent[0]}
@@ -53,11 +53,11 @@ def test_an_interrupted_experiment_resumes(tmp_path):
     config = {
         "schema": "wavetrace-experiment/1",
         "question": "Is an interrupted experiment resumable?",
-        "scenes": ["three-spheres"],
+        "scenes": ["cornell"],
         "resolutions": ["48x32"],
         # Plan order: spp innermost. The first run is quick; the second (about a second on the
         # software driver's machine) is interrupted, then rendered again by the resume.
-        "spp": [1, 1024],
+        "spp": [1, 512],
         "repetitions": 1,
         "warmup": 0,
         "methods": [{"method": "cpu"}],
@@ -88,4 +88,4 @@ def test_an_interrupted_experiment_resumes(tmp_path):
     )
     assert out["interrupted"] and out["latency"] < 1.0, out
     assert out["status"] == "running" and out["runs"] == [1], out
-    assert out["resumed"] == [[1, "ok", True], [1024, "ok", False]] and out["final"] == "complete", out
+    assert out["resumed"] == [[1, "ok", True], [512, "ok", False]] and out["final"] == "complete", out
