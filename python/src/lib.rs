@@ -17,6 +17,9 @@ use pyo3::prelude::*;
 
 #[pymodule]
 fn _wavetrace(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // As the binary's main does: no Wayland session, no Mesa device-selection layer (its
+    // complaint on every instance). At import, before any render opens Vulkan.
+    wavetrace::gpu::headless::quiet_headless_vulkan();
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<scene::Scene>()?;
     m.add_function(wrap_pyfunction!(scene::load_scene, m)?)?;
