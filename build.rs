@@ -168,8 +168,12 @@ fn git_commit() {
         // Unstaged edits to the binary's sources must flip "-dirty" too.
         println!("cargo:rerun-if-changed=src");
         println!("cargo:rerun-if-changed=Cargo.toml");
+        // The branch's file by git's own path: in a linked worktree the refs live in the common
+        // directory, not in `--git-dir` (a path that does not exist reruns this on every build).
         if let Some(head_ref) = git(&["symbolic-ref", "-q", "HEAD"]) {
-            println!("cargo:rerun-if-changed={dir}/{head_ref}");
+            let path =
+                git(&["rev-parse", "--git-path", &head_ref]).unwrap_or_else(|| format!("{dir}/{head_ref}"));
+            println!("cargo:rerun-if-changed={path}");
         }
     }
 }

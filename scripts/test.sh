@@ -23,6 +23,17 @@ cargo test --release --locked "$@" || status=$?
 # #[ignore]d in the parallel run above, where the other tests load the cores too, and run here
 # alone.
 cargo test --release --locked --test suite -- --ignored --test-threads=1 || status=$?
+# The Python package (issue 60): maturin builds the extension crate python/ into the EXR venv with
+# the workspace's release profile and target directory (only pyo3, numpy and the crate compile on
+# top of the build above: no second wgpu or naga), then pytest runs python/tests, which compare
+# it with the binary ($WAVETRACE_BIN).
+venv="$(dirname "$(dirname "$WAVETRACE_EXR_PYTHON")")"
+if VIRTUAL_ENV="$venv" PATH="$venv/bin:$PATH" maturin develop --release --quiet; then
+  "$WAVETRACE_EXR_PYTHON" -m pytest -q python/tests || status=$?
+else
+  echo "the Python package did not build (maturin develop)" >&2
+  status=1
+fi
 if [ -s "$skipped" ]; then
     echo "Checks skipped on this adapter ($(wc -l <"$skipped")):"
     sort -u "$skipped"

@@ -6,6 +6,7 @@
 pub mod arithmetic_range;
 pub mod bvh;
 pub mod camera;
+pub mod cancel;
 pub mod chart;
 pub mod cli;
 pub mod cpu;
@@ -26,6 +27,7 @@ pub mod packed_scene;
 pub mod primitive_area;
 pub mod progress;
 pub mod real;
+pub mod render_job;
 pub mod render_space;
 pub mod replay;
 pub mod report;

@@ -208,18 +208,34 @@ fn relative_path(from: &Path, to: &Path) -> Result<String> {
 
 fn run_config(a: RunArgs) -> Result<()> {
     let config = ExperimentConfig::from_file_with(&a.config, &a.set)?;
-    let out = a.out.unwrap_or_else(|| Path::new("out").join(&config.name));
     if a.list {
         for r in plan::plan(&config).iter().filter(|r| a.shard.is_none_or(|s| s.takes(r))) {
             println!("{:>4} {}", r.index, r.id);
         }
         return Ok(());
     }
-    let cache_dir = a.cache.unwrap_or_else(|| a.config.parent().unwrap_or(Path::new("")).join(".cache"));
-    let resume = if a.resume { Resume::On { allow_other_build: a.allow_other_build } } else { Resume::Off };
-    let opts = RunnerOptions { out_dir: out.clone(), shard: a.shard, cache_dir, resume };
+    let opts = runner_options(&a, &config);
     let report = runner::run(&config, &opts)?;
-    finish(&report, &out)
+    finish(&report, &opts.out_dir)
+}
+
+/// Where `experiment run` writes (`--out`, else out/CONFIG_STEM), where it caches references
+/// (`--cache`, else .cache/ beside the config) and whether it resumes; the Python package's
+/// `wavetrace.run` asks here too.
+pub fn runner_options(a: &RunArgs, config: &ExperimentConfig) -> RunnerOptions {
+    let out = a.out.clone().unwrap_or_else(|| Path::new("out").join(&config.name));
+    let cache_dir =
+        a.cache.clone().unwrap_or_else(|| a.config.parent().unwrap_or(Path::new("")).join(".cache"));
+    let resume = if a.resume { Resume::On { allow_other_build: a.allow_other_build } } else { Resume::Off };
+    RunnerOptions { out_dir: out, shard: a.shard, cache_dir, resume }
+}
+
+/// The error `experiment run` exits with when runs failed (None when none did).
+pub fn failures(report: &ExperimentReport) -> Option<String> {
+    let failed = report.runs.iter().filter(|r| r.status == RunStatus::Failed).count();
+    (failed > 0).then(|| {
+        format!("{failed} of {} runs failed; report.json and report.html say why", report.runs.len())
+    })
 }
 
 /// Says where the report is, and fails when a run failed.
@@ -231,8 +247,8 @@ fn finish(report: &ExperimentReport, out: &Path) -> Result<()> {
         out.join(outputs::HTML_FILE).display(),
         out.join(crate::experiment::report::REPORT_FILE).display()
     );
-    if failed > 0 {
-        bail!("{failed} of {} runs failed; report.json and report.html say why", report.runs.len());
+    match failures(report) {
+        Some(e) => bail!("{e}"),
+        None => Ok(()),
     }
-    Ok(())
 }

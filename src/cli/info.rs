@@ -14,40 +14,58 @@ pub struct InfoArgs {
 }
 
 pub fn run(args: InfoArgs) -> anyhow::Result<()> {
+    print!("{}", text(args.adapter.as_deref())?);
+    Ok(())
+}
+
+/// What `wavetrace info` prints, with `adapter` as its `--adapter` (the Python package's
+/// `wavetrace.info()` returns it).
+pub fn text(adapter: Option<&str>) -> anyhow::Result<String> {
+    use std::fmt::Write as _;
+    let mut out = String::new();
     let (_instance, adapters) = enumerate();
     if adapters.is_empty() {
         anyhow::bail!("{NO_ADAPTER_HELP}");
     }
-    println!("adapters found: {}", adapters.len());
+    writeln!(out, "adapters found: {}", adapters.len())?;
     for (i, a) in adapters.iter().enumerate() {
         let s = AdapterSummary::of(a);
-        println!(
+        writeln!(
+            out,
             "  [{i}] {} ({}, {}), driver {} {}",
             s.name, s.backend, s.device_type, s.driver, s.driver_info
-        );
+        )?;
     }
-    let (chosen, why) = choose(&adapters, args.adapter.as_deref())?;
+    let (chosen, why) = choose(&adapters, adapter)?;
     let s = AdapterSummary::of(&adapters[chosen]);
-    println!("chosen: [{chosen}] {}: {why}", s.name);
+    writeln!(out, "chosen: [{chosen}] {}: {why}", s.name)?;
     if s.is_software() {
-        println!("  note: a software adapter; GPU timings measure the CPU it runs on");
+        writeln!(out, "  note: a software adapter; GPU timings measure the CPU it runs on")?;
     }
     let info = adapters[chosen].get_info();
-    println!("  device type:               {}", s.device_type);
-    println!("  vendor:                    {:#06x} ({})", info.vendor, vendor_name(info.vendor));
-    println!("  backend:                   {}", s.backend);
-    println!("  driver:                    {} {}", s.driver, s.driver_info);
-    println!("  timestamp queries:         {}", if s.timestamps { "yes" } else { "no (wall-clock timing)" });
+    writeln!(out, "  device type:               {}", s.device_type)?;
+    writeln!(out, "  vendor:                    {:#06x} ({})", info.vendor, vendor_name(info.vendor))?;
+    writeln!(out, "  backend:                   {}", s.backend)?;
+    writeln!(out, "  driver:                    {} {}", s.driver, s.driver_info)?;
+    writeln!(
+        out,
+        "  timestamp queries:         {}",
+        if s.timestamps { "yes" } else { "no (wall-clock timing)" }
+    )?;
     if s.subgroups {
-        println!("  subgroups:                 yes, size {}..={}", s.subgroup_min_size, s.subgroup_max_size);
+        writeln!(
+            out,
+            "  subgroups:                 yes, size {}..={}",
+            s.subgroup_min_size, s.subgroup_max_size
+        )?;
     } else {
-        println!("  subgroups:                 no");
+        writeln!(out, "  subgroups:                 no")?;
     }
-    println!("  max storage binding:       {}", human_bytes(s.max_storage_buffer_binding_size));
-    println!("  max buffer size:           {}", human_bytes(s.max_buffer_size));
-    println!("  max workgroups per dim:    {}", s.max_compute_workgroups_per_dimension);
-    println!("  max invocations per group: {}", s.max_compute_invocations_per_workgroup);
-    Ok(())
+    writeln!(out, "  max storage binding:       {}", human_bytes(s.max_storage_buffer_binding_size))?;
+    writeln!(out, "  max buffer size:           {}", human_bytes(s.max_buffer_size))?;
+    writeln!(out, "  max workgroups per dim:    {}", s.max_compute_workgroups_per_dimension)?;
+    writeln!(out, "  max invocations per group: {}", s.max_compute_invocations_per_workgroup)?;
+    Ok(out)
 }
 
 /// The PCI vendor IDs of the GPU vendors a researcher is likely to meet.

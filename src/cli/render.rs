@@ -3,14 +3,11 @@
 use super::job::JobArgs;
 use crate::gpu::buffers::human_bytes;
 use crate::gpu::memory::{GpuMemory, MemoryCategory};
-use crate::gpu::state::GpuMonitor;
 use crate::gpu::timing::{TimeSource, Timings, FRAME_LABEL};
-use crate::gpu::GpuContext;
-use crate::image_io::{self, RgbImage};
-use crate::method;
+use crate::image_io;
 use crate::progress::Progress;
+use crate::render_job::{self, Phase, RenderJob};
 use crate::report::RunReport;
-use crate::warmup::{self, TimedWarmup, WarmupPolicy};
 use anyhow::{Context, Result};
 use std::path::PathBuf;
 
@@ -75,36 +72,31 @@ fn parse_warmup(s: &str) -> Result<WarmupArg, String> {
 
 pub fn run(a: RenderArgs) -> Result<()> {
     let (scene, settings, options) = a.job.build()?;
-    let gpu = if a.job.method.needs_gpu() { Some(GpuContext::new(a.job.adapter.as_deref())?) } else { None };
-
-    let policy = match (a.warmup, a.job.method.needs_gpu()) {
-        (WarmupArg::Frames(n), _) => WarmupPolicy::Frames(n),
-        (WarmupArg::Auto, true) => WarmupPolicy::Timed(TimedWarmup::default()),
-        (WarmupArg::Auto, false) => WarmupPolicy::Frames(0),
-    };
-    let monitor = gpu.as_ref().and_then(|g| GpuMonitor::open(&g.summary));
-    let warm = warmup::warm_up(
-        &policy,
-        0.0,
-        || {
-            let o = method::render(a.job.method, &scene, &settings, &options, gpu.as_ref(), &|_| {})?;
-            Ok((o.seconds(), o.preheat_seconds()))
+    let job = RenderJob {
+        method: a.job.method,
+        settings,
+        options,
+        adapter: a.job.adapter.clone(),
+        warmup: match a.warmup {
+            WarmupArg::Auto => None,
+            WarmupArg::Frames(n) => Some(n),
         },
-        || monitor.as_ref().map(GpuMonitor::sample),
-    )?;
-    if warm.frames > 0 {
-        log::info!("warm-up: {} frames, {:.3} s, settled: {}", warm.frames, warm.seconds, warm.settled);
+    };
+    // The bar starts with the timed render (the warm-up's renders show none).
+    let progress = std::sync::OnceLock::new();
+    let what = format!("{} {}", a.job.method.name(), scene.name);
+    let rendered = render_job::render(&scene, &job, &|phase, d| {
+        if phase == Phase::Render {
+            progress.get_or_init(|| Progress::new(job.settings.sample_count(), &what)).set(d);
+        }
+    })?;
+    if let Some(p) = progress.get() {
+        p.finish();
     }
-
-    let progress = Progress::new(settings.sample_count(), &format!("{} {}", a.job.method.name(), scene.name));
-    let out = method::render(a.job.method, &scene, &settings, &options, gpu.as_ref(), &|d| progress.set(d))?;
-    progress.finish();
-
-    let adapter = gpu.as_ref().map(|g| &g.summary);
-    let options = options.resolve(a.job.method, adapter.map(|a| a.is_software()));
-    let mut report = RunReport::new(&scene, a.job.method, &settings, adapter, &out);
-    report.warmup = Some(warm);
-    let image = RgbImage { width: settings.width, height: settings.height, data: out.film.mean_rgb() };
+    let RenderJob { settings, options, .. } = job;
+    let (image, report, out) = (rendered.image, rendered.report, rendered.output);
+    let adapter = report.adapter.as_ref().map(|a| a.is_software());
+    let options = options.resolve(a.job.method, adapter);
     image_io::write_exr(&a.out, &image, &report.exr_attributes())?;
     if let Some(png) = &a.png {
         image_io::write_png(png, &image)?;

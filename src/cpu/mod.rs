@@ -42,6 +42,9 @@ pub fn render<T: Real>(
     let mut film = Film::new(w, settings.height, settings.spp);
     let failures = std::sync::Mutex::new(Failures::default());
     film.pixels.par_chunks_mut(w as usize).enumerate().for_each(|(y, row)| {
+        // A requested stop (`cancel.rs`: the Python package's Ctrl-C) ends the rows not yet
+        // started at once, not after each has been traced.
+        crate::cancel::checkpoint();
         let mut row_failures = Failures::default();
         for (x, px) in row.iter_mut().enumerate() {
             let mut stats = PixelStats::default();

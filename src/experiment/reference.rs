@@ -156,8 +156,12 @@ impl References {
         eprintln!("rendering reference {key} ({} at {spp} spp)", method.name());
         let ctx = if method.needs_gpu() { Some(gpu.get()?) } else { None };
         let progress = Progress::new(settings.sample_count(), &format!("reference {}", scene.name));
-        let out = method::render(method, scene, settings, options, ctx, &|d| progress.set(d))
-            .with_context(|| format!("rendering the reference for {} at {width}x{height}", scene.name))?;
+        // A checkpoint for the Python package's Ctrl-C (`cancel.rs`): a reference can take minutes.
+        let out = method::render(method, scene, settings, options, ctx, &|d| {
+            crate::cancel::checkpoint();
+            progress.set(d)
+        })
+        .with_context(|| format!("rendering the reference for {} at {width}x{height}", scene.name))?;
         progress.finish();
         let report = RunReport::new(scene, method, settings, ctx.map(|c| &c.summary), &out);
         let image = RgbImage { width, height, data: out.film.mean_rgb() };

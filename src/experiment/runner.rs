@@ -280,6 +280,8 @@ impl<'a> Run<'a> {
         let error = match result {
             Ok(Ok(())) => return,
             Ok(Err(e)) => format!("{e:#}"),
+            // A requested stop is not this run's failure: it ends the whole experiment.
+            Err(panic) if crate::cancel::is_cancelled(panic.as_ref()) => std::panic::resume_unwind(panic),
             Err(panic) => {
                 let msg = panic
                     .downcast_ref::<String>()
@@ -320,6 +322,9 @@ impl<'a> Run<'a> {
         let start = bar.done.get();
         let progress = bar.progress;
         let out = method::render(self.variant.method, self.scene, &self.spec.settings, options, ctx, &|d| {
+            // Where the Python package's Ctrl-C stops the experiment (`cancel.rs`): report.json
+            // holds the groups that finished, and `--resume` renders the rest.
+            crate::cancel::checkpoint();
             if counted {
                 progress.set(start + d)
             }

@@ -56,6 +56,11 @@ const NOT_RUN: &[(&str, &str)] = &[
         "the GPU device run, minutes of rendering; CI runs scripts/device_dry_run.sh",
     ),
     ("scripts/slurm/submit.sh", "needs Slurm's sbatch; tests/suite/slurm.rs runs the job scripts' bodies"),
+    (
+        "pip install .",
+        "builds and installs the Python package; scripts/test.sh builds it with maturin develop",
+    ),
+    ("maturin develop", "what scripts/test.sh runs before the Python package's tests (python/tests)"),
 ];
 
 /// `wavetrace` commands another test runs, with sharper checks than an exit status.

@@ -233,6 +233,11 @@ const ACCEPTED_SOURCES: &[(&str, &str)] = &[
          build against its start, and --refill in-place against the refill pass",
     ),
     (
+        "experiments/results/llvmpipe-2core/python_vs_cli/interleave.txt",
+        "scripts/interleave.py's summary tables (commands and build in the file): the Python \
+         package's render (scripts/python_render.py) against the binary's on the same job",
+    ),
+    (
         "experiments/results/llvmpipe-2core/decomposition_320x180/intersect_cost.txt",
         "`wavetrace intersect-cost`'s printed tables for rtiow-final and mesh-room at 320x180x16 \
          (the JSON files beside it hold the same figures)",
