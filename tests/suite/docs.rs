@@ -38,7 +38,9 @@ fn every_results_page_is_generated_from_its_committed_report() {
         let source = format!("experiments/results/{device}/{name}");
         let mut report = ExperimentReport::read(&root.join(&source)).unwrap();
         markdown::keep_present_charts(&mut report, &root.join(&source));
-        let want = markdown::page(&report, &source, &format!("../../../{source}/"));
+        let charts = format!("../../../{source}/");
+        let want =
+            markdown::page(&report, &source, &markdown::Links { charts: &charts, docs: Some("../../") });
         let page: PathBuf = root.join(format!("docs/results/{device}/{name}.md"));
         match std::fs::read_to_string(&page) {
             Ok(have) if have == want => {}
