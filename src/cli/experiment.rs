@@ -85,7 +85,7 @@ pub struct RunArgs {
     pub shard: Option<Shard>,
     /// Where rendered references are cached [default: $WAVETRACE_CACHE, else .cache/ beside the
     /// config].
-    #[arg(long, env = "WAVETRACE_CACHE")]
+    #[arg(long, env = "WAVETRACE_CACHE", hide_env_values = true)]
     pub cache: Option<PathBuf>,
     /// Print the planned runs (index and id; with --shard, the shard's) and exit.
     #[arg(long)]

@@ -869,3 +869,46 @@ fn the_render_transcript_in_outputs_matches_the_binary() {
         );
     }
 }
+
+/// A generated page links docs/methods.md relative to where it is written, and names it without
+/// a link where no docs/ is above the page (stdout, or a folder outside the repository): never
+/// a link that leads nowhere.
+#[test]
+fn generated_links_to_the_docs_resolve_wherever_the_page_is() {
+    let root = crate::common::root();
+    let source = "experiments/results/llvmpipe-2core/dispatch_counts";
+    let page = |out: Option<&Path>| {
+        let mut c = std::process::Command::new(crate::common::bin());
+        c.current_dir(&root).args(["experiment", "report", source, "--markdown"]);
+        if let Some(out) = out {
+            c.arg("--out").arg(out);
+        }
+        let o = c.output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        match out {
+            Some(out) => std::fs::read_to_string(out).unwrap(),
+            None => String::from_utf8_lossy(&o.stdout).into_owned(),
+        }
+    };
+    let link = |md: &str| {
+        md.split("](")
+            .skip(1)
+            .find(|l| l.contains("methods.md#"))
+            .map(|l| l[..l.find(')').unwrap()].to_string())
+    };
+    assert_eq!(link(&page(None)), None, "stdout has no place to link from");
+    assert!(page(None).contains("docs/methods.md"));
+    let outside = std::env::temp_dir().join(format!("wavetrace-docs-link-{}", std::process::id()));
+    let md = page(Some(&outside.join("page.md")));
+    let _ = std::fs::remove_dir_all(&outside);
+    assert_eq!(link(&md), None, "no docs/ above {}", outside.display());
+    let inside = crate::common::tmp().join("docs-link/deeper/page.md");
+    let md = page(Some(&inside));
+    let target = link(&md).expect("a link from inside the repository");
+    let file = target.split('#').next().unwrap();
+    assert!(
+        inside.parent().unwrap().join(file).is_file(),
+        "{target} does not resolve from {}",
+        inside.display()
+    );
+}
