@@ -27,7 +27,7 @@ Examples:
   wavetrace intersect-cost --json intersect.json      # intersect: traversal or state traffic?
 
 Environment (docs/cli-and-configs.md#environment-variables has the full table):
-  RUST_LOG=info|debug                 logging (adapter choice, dispatch plan, loop-cap estimate)
+  RUST_LOG=info|debug                 logging (info: adapter choice, warm-up, llvmpipe loop cap)
   WGPU_BACKEND=vulkan                 consider only this backend's adapters (vulkan, metal, dx12, gl)
   NODEVICE_SELECT=1                   turn Mesa's Vulkan device-selection layer off (set for you
                                       where XDG_RUNTIME_DIR is unset: headless machines)

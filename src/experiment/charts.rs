@@ -16,6 +16,23 @@ use super::report::{ExperimentReport, RunRecord, RunStatus};
 use super::stability;
 use crate::chart::{Bar, ColourOf, GroupedBarChart, LineChart, Series, StackedBarChart};
 
+/// Every chart kind this module draws (`Chart::kind`, report.json's `charts[].kind`): the
+/// outputs page lists them all (tests/suite/docs.rs), and a test here reads the kinds the code
+/// below writes against this list.
+pub const CHART_KINDS: [&str; 11] = [
+    "error-vs-time",
+    "error-vs-spp",
+    "passes",
+    "queues",
+    "simd",
+    "speed-vs-memory",
+    "warmup",
+    "stability",
+    "time-by-scene",
+    "crossover",
+    "shading-cost",
+];
+
 /// A drawn chart: file stem, kind, title, SVG text, and the group it belongs to.
 pub struct Chart {
     pub stem: String,
@@ -775,7 +792,26 @@ fn simd(runs: &[&RunRecord], group: &str) -> Option<GroupedBarChart> {
 
 #[cfg(test)]
 mod tests {
-    use super::crossover_at;
+    use super::{crossover_at, CHART_KINDS};
+
+    /// The kinds written in this file (`push("kind", …)`, `kind: "kind"`) are [`CHART_KINDS`].
+    #[test]
+    fn every_kind_drawn_is_listed() {
+        let code = include_str!("charts.rs");
+        let code = &code[..code.find("#[cfg(test)]").unwrap()];
+        let mut written: Vec<&str> = Vec::new();
+        for marker in ["push(\"", "kind: \""] {
+            for (i, _) in code.match_indices(marker) {
+                let rest = &code[i + marker.len()..];
+                written.push(&rest[..rest.find('"').unwrap()]);
+            }
+        }
+        written.sort();
+        written.dedup();
+        let mut listed = CHART_KINDS.to_vec();
+        listed.sort();
+        assert_eq!(written, listed);
+    }
 
     #[test]
     fn the_crossover_is_where_the_speed_up_first_rises_through_one() {
