@@ -567,3 +567,31 @@ fn render_short_help_names_every_hidden_group_and_flag() {
     }
     assert!(short.contains("wavetrace render --help` shows them all"), "{short}");
 }
+
+/// Errors that point to the fix: `--set` into a misspelt field suggests the right one; a
+/// missing scene file is named by the path it was resolved to (relative to the config in a
+/// config), and a name that is clearly a path does not list the built-in scenes.
+#[test]
+fn errors_point_to_the_fix() {
+    let dir = scratch("errors-fix");
+    std::fs::create_dir_all(&dir).unwrap();
+    let config = dir.join("c.json");
+    std::fs::copy(crate::common::root().join("experiments/quick.json"), &config).unwrap();
+    let c = config.to_str().unwrap();
+    fails_with(
+        &["experiment", "run", c, "--list", "--set", "method.1.schedule=waves"],
+        &["did you mean \"methods\"?"],
+    );
+    let resolved = std::path::absolute(dir.join("scenes/missing.json")).unwrap();
+    let out = wavetrace(&["experiment", "run", c, "--list", "--set", "scenes=[\"scenes/missing.json\"]"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains(&format!("{} does not exist", resolved.display())),
+        "{stderr}"
+    );
+    assert!(stderr.contains("relative to the config") && !stderr.contains("\"cornell\""), "{stderr}");
+    let out = wavetrace(&["render", "--scene", "nope/missing.json", "--out", "x.exr"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains("no such scene file"), "{stderr}");
+    assert!(!stderr.contains("built-in") && stderr.lines().count() == 1, "short: {stderr}");
+}
