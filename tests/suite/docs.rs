@@ -762,6 +762,11 @@ fn ci_runs_the_readmes_test_command() {
     let readme = read("README.md");
     assert!(readme.contains("./scripts/test.sh     # the test suite"));
     assert!(read(".ci/run").lines().any(|l| l.trim() == "bash scripts/test.sh"));
+    // And checks the main job's report in a browser, after the test command (outside its budget).
+    let ci = read(".ci/run");
+    let line = |l: &str| ci.lines().position(|x| x.trim() == l);
+    assert!(line("bash scripts/report_check.sh") > line("bash scripts/test.sh"), "{ci}");
+    assert!(!read("scripts/test.sh").contains("report_check"), "outside the test command");
 }
 
 /// docs/cli-and-configs.md's table of the configs in `experiments/` gives each one's run count:
