@@ -79,9 +79,17 @@ impl StackedBarChart {
 }
 
 impl GroupedBarChart {
-    /// The chart as a standalone SVG document (see the [module docs](super)).
+    /// The chart as a standalone SVG document (see the [module docs](super)), each series in
+    /// the palette colour of its position.
     pub fn to_svg(&self) -> String {
+        self.to_svg_with(&|_| None)
+    }
+
+    /// [`GroupedBarChart::to_svg`] with each series in the palette colour `colour` gives its
+    /// name (a report's one colour per method), or of its position where it gives none.
+    pub fn to_svg_with(&self, colour: ColourOf) -> String {
         let series = distinct(self.groups.iter().flat_map(|(_, bars)| bars));
+        let colours: Vec<usize> = series.iter().enumerate().map(|(k, n)| colour(n).unwrap_or(k)).collect();
         // Bars fill 80% of the group's slot; a sliver between bars keeps neighbours apart.
         let band = 0.8 / series.len().max(1) as f64;
         let mut rects = Vec::new();
@@ -89,11 +97,11 @@ impl GroupedBarChart {
             for (name, v) in bars.iter().filter(|(_, v)| v.is_finite()) {
                 let k = series.iter().position(|n| n == name).unwrap_or(0);
                 let x0 = g as f64 + 0.1 + band * (k as f64 + 0.06);
-                rects.push(Rect { colour: k, x: (x0, x0 + band * 0.88), y: (0.0, *v) });
+                rects.push(Rect { colour: colours[k], x: (x0, x0 + band * 0.88), y: (0.0, *v) });
             }
         }
         // A lone unnamed series needs no legend.
-        let legend = if series == [""] { Vec::new() } else { series.iter().copied().zip(0..).collect() };
+        let legend = if series == [""] { Vec::new() } else { series.iter().copied().zip(colours).collect() };
         Bars {
             title: &self.title,
             y_label: &self.y_label,
@@ -105,6 +113,37 @@ impl GroupedBarChart {
             omitted: self.groups.iter().flat_map(|(_, bars)| bars).filter(|(_, v)| !v.is_finite()).count(),
         }
         .to_svg()
+    }
+}
+
+/// The category labels cut to `max` pixels, each still telling its category apart: where two
+/// labels would be cut to the same text ("megakernel-regenerat…" for its 4 and 16 spp runs),
+/// they keep their ends instead ("megakern…ate 16spp").
+fn distinct_labels(root: &Area, categories: &[&str], max: f64) -> Vec<String> {
+    let cut_end: Vec<String> = categories.iter().map(|c| cut(root, c, max)).collect();
+    let clashes =
+        |i: usize| (0..cut_end.len()).any(|j| cut_end[j] == cut_end[i] && categories[j] != categories[i]);
+    (0..cut_end.len())
+        .map(|i| if clashes(i) { cut_middle(root, categories[i], max) } else { cut_end[i].clone() })
+        .collect()
+}
+
+/// `s` cut to at most `max` pixels by dropping characters from its middle, so that its end,
+/// where names differ, stays ("megakern…ate 16spp").
+fn cut_middle(root: &Area, s: &str, max: f64) -> String {
+    let chars: Vec<char> = clean(s).chars().collect();
+    if text_width(root, &chars.iter().collect::<String>()) <= max {
+        return chars.into_iter().collect();
+    }
+    let mut keep = chars.len();
+    loop {
+        keep -= 1;
+        let (head, tail) = (keep / 2, keep - keep / 2);
+        let text: String =
+            chars[..head].iter().chain(['…'].iter()).chain(&chars[chars.len() - tail..]).collect();
+        if keep == 0 || text_width(root, &text) <= max {
+            return text;
+        }
     }
 }
 
@@ -158,8 +197,7 @@ impl Bars<'_> {
         // in narrow slots, smaller (down to 7 px) and only then thinned.
         let slot = (WIDTH - MARGIN - Y_AXIS - legend_w) as f64 / n as f64;
         let rotate = self.categories.iter().any(|c| text_width(root, &clean(c)) > slot - 4.0);
-        let labels: Vec<String> =
-            self.categories.iter().map(|c| cut(root, c, if rotate { 150.0 } else { slot })).collect();
+        let labels = distinct_labels(root, &self.categories, if rotate { 150.0 } else { slot });
         let label_height =
             if rotate { labels.iter().map(|l| text_width(root, l)).fold(0.0, f64::max) as u32 } else { LINE };
         // Label every `every`-th slot, in a font (in pixels; plotters' sizes are 1.24 times
@@ -175,8 +213,10 @@ impl Bars<'_> {
         let percent = |v: &f64| format!("{}%", tick(v * 100.0));
         let plain = |v: &f64| tick(*v);
         let format: &dyn Fn(&f64) -> String = if self.percent { &percent } else { &plain };
+        let desc = desc_font(root, chart.plotting_area(), "", &clean(self.y_label));
         chart
             .configure_mesh()
+            .axis_desc_style(desc)
             .disable_x_mesh()
             .light_line_style(TRANSPARENT)
             .x_labels(0)

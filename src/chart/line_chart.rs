@@ -17,6 +17,9 @@ pub struct Series {
     /// Empty, or one (low, high) per point: drawn as a vertical bar through it (the interval of
     /// a ratio of medians, say).
     pub intervals: Vec<(f64, f64)>,
+    /// Empty, or one text per point, written beside its marker (the spp of a point on a
+    /// speed-vs-error line, say).
+    pub labels: Vec<String>,
 }
 
 /// A line chart. Points that cannot be drawn (non-finite, or ≤ 0 on a log axis) are left out,
@@ -54,8 +57,15 @@ impl LineChart {
         has_zero.then(|| decade(min.log10().floor() - 1.0)).flatten().filter(|z| *z > 0.0)
     }
 
-    /// The chart as a standalone SVG document (see the [module docs](super)).
+    /// The chart as a standalone SVG document (see the [module docs](super)), each series in
+    /// the palette colour of its position.
     pub fn to_svg(&self) -> String {
+        self.to_svg_with(&|_| None)
+    }
+
+    /// [`LineChart::to_svg`] with each series in the palette colour `colour` gives its name
+    /// (a report's one colour per method), or of its position where it gives none.
+    pub fn to_svg_with(&self, colour: ColourOf) -> String {
         let zero = self.zero_at();
         if let Some(z) = zero {
             let mut moved = self.clone();
@@ -64,12 +74,12 @@ impl LineChart {
                     p.0 = z;
                 }
             }
-            return moved.svg(zero);
+            return moved.svg(zero, colour);
         }
-        self.svg(None)
+        self.svg(None, colour)
     }
 
-    fn svg(&self, zero: Option<f64>) -> String {
+    fn svg(&self, zero: Option<f64>, colour: ColourOf) -> String {
         let points: Vec<(f64, f64)> =
             self.series.iter().flat_map(|s| &s.points).copied().filter(|&p| self.drawable(p)).collect();
         if points.is_empty() {
@@ -87,21 +97,25 @@ impl LineChart {
         let named: Vec<&str> =
             if has_legend { self.series.iter().map(|s| s.name.as_str()).collect() } else { Vec::new() };
         let legend = Legend::new(&named);
-        render(legend.height_for(X_AXIS), |root| match (self.x_log, self.y_log) {
-            (false, false) => self.draw(root, x, y, omitted, zero, legend),
-            (true, false) => self.draw(root, x.log_scale(), y, omitted, zero, legend),
-            (false, true) => self.draw(root, x, y.log_scale(), omitted, zero, legend),
-            (true, true) => self.draw(root, x.log_scale(), y.log_scale(), omitted, zero, legend),
+        let colours: Vec<usize> =
+            self.series.iter().enumerate().map(|(i, s)| colour(&s.name).unwrap_or(i)).collect();
+        let how = Drawing { omitted, zero, legend, colours };
+        render(how.legend.height_for(X_AXIS), |root| match (self.x_log, self.y_log) {
+            (false, false) => self.draw(root, x, y, how),
+            (true, false) => self.draw(root, x.log_scale(), y, how),
+            (false, true) => self.draw(root, x, y.log_scale(), how),
+            (true, true) => self.draw(root, x.log_scale(), y.log_scale(), how),
         })
     }
 
-    fn draw<X, Y>(&self, root: &Area, x: X, y: Y, omitted: usize, zero: Option<f64>, legend: Legend) -> Drawn
+    fn draw<X, Y>(&self, root: &Area, x: X, y: Y, how: Drawing) -> Drawn
     where
         X: AsRangedCoord<Value = f64>,
         Y: AsRangedCoord<Value = f64>,
         X::CoordDescType: ValueFormatter<f64>,
         Y::CoordDescType: ValueFormatter<f64>,
     {
+        let Drawing { omitted, zero, legend, colours } = how;
         title(root, &self.title)?;
         let mut chart =
             layout(root, legend.width, omitted > 0).x_label_area_size(X_AXIS).build_cartesian_2d(x, y)?;
@@ -115,10 +129,13 @@ impl LineChart {
             Some(z) if *v < z => String::new(),
             _ => tick(*v),
         };
+        let y_title = axis_title(&self.y_label, self.y_log);
+        let desc = desc_font(root, chart.plotting_area(), &x_title, &y_title);
         chart
             .configure_mesh()
             .x_desc(x_title)
-            .y_desc(axis_title(&self.y_label, self.y_log))
+            .y_desc(y_title)
+            .axis_desc_style(desc)
             .x_labels(8)
             .y_labels(8)
             .max_light_lines(5)
@@ -127,7 +144,9 @@ impl LineChart {
             .label_style(font())
             .draw()?;
 
-        for (i, s) in self.series.iter().enumerate() {
+        let text = font().pos(Pos::new(HPos::Left, VPos::Bottom));
+        let mut written: Vec<(String, i32, i32)> = Vec::new();
+        for (s, &i) in self.series.iter().zip(&colours) {
             let line = color(i).stroke_width(2);
             // Break the line where a point was left out, so a gap in the data shows as a gap.
             for run in s.points.split(|&p| !self.drawable(p)).filter(|run| run.len() >= 2) {
@@ -135,6 +154,16 @@ impl LineChart {
             }
             let points = s.points.iter().filter(|&&p| self.drawable(p));
             chart.draw_series(points.map(|&p| EmptyElement::at(p) + marker(i, (0, 0))))?;
+            // A label once where the same text is already written close by (the methods' points
+            // at one spp often sit together).
+            for (&p, l) in s.points.iter().zip(&s.labels).filter(|&(&p, l)| self.drawable(p) && !l.is_empty())
+            {
+                let (x, y) = chart.backend_coord(&p);
+                if !written.iter().any(|(t, wx, wy)| t == l && (wx - x).abs() < 48 && (wy - y).abs() < 14) {
+                    root.draw_text(&clean(l), &text, (x + 5, y - 4))?;
+                    written.push((l.clone(), x, y));
+                }
+            }
             let bars =
                 s.points.iter().zip(&s.intervals).filter(|&(&(x, _), &(lo, hi))| {
                     self.drawable((x, lo)) && self.drawable((x, hi)) && lo < hi
@@ -143,11 +172,21 @@ impl LineChart {
                 bars.map(|(&(x, _), &(lo, hi))| PathElement::new(vec![(x, lo), (x, hi)], color(i))),
             )?;
         }
-        let entries: Vec<_> = legend.names.into_iter().zip(0..).map(|(n, i)| (n, Swatch::Line(i))).collect();
+        let entries: Vec<_> =
+            legend.names.into_iter().zip(colours).map(|(n, i)| (n, Swatch::Line(i))).collect();
         draw_legend(root, chart.plotting_area(), &entries)?;
         let why = if self.x_log || self.y_log { "not finite, or ≤ 0 on a log axis" } else { "not finite" };
         footnote(root, omitted, "point", why)
     }
+}
+
+/// How a line chart is drawn besides its data: points left out, where x = 0 sits, the legend,
+/// and each series' palette index.
+struct Drawing {
+    omitted: usize,
+    zero: Option<f64>,
+    legend: Legend,
+    colours: Vec<usize>,
 }
 
 /// The axis range for the drawable `values`: log axes span whole decades (so that each end has a

@@ -25,7 +25,7 @@
 //!     x_log: true,
 //!     y_log: true,
 //!     x_zero: false,
-//!     series: vec![Series { name: "wavefront".into(), points: vec![(1.0, 0.3), (16.0, 0.02), (256.0, 0.001)], intervals: Vec::new() }],
+//!     series: vec![Series { name: "wavefront".into(), points: vec![(1.0, 0.3), (16.0, 0.02), (256.0, 0.001)], intervals: Vec::new(), labels: Vec::new() }],
 //! };
 //! let svg = chart.to_svg();
 //! assert!(svg.starts_with("<svg ") && svg.contains("relMSE (log scale)"));
@@ -57,6 +57,10 @@ const FONT: f64 = 14.0;
 const TITLE_FONT: f64 = 18.0;
 /// Height of one legend line and of the footnote's band.
 const LINE: u32 = 16;
+
+/// A series' palette index by its name (a report gives each method one colour across its
+/// charts), or None for the palette colour of the series' position.
+pub type ColourOf<'a> = &'a dyn Fn(&str) -> Option<usize>;
 
 type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
 type Drawn = Result<(), Box<dyn std::error::Error>>;
@@ -139,6 +143,27 @@ fn no_data(text: &str) -> String {
 /// Estimated width of `text` in pixels (plotters' estimate for fonts it cannot measure).
 fn text_width(root: &Area, text: &str) -> f64 {
     root.estimate_text_size(text, &font()).map_or(0.0, |(w, _)| w as f64)
+}
+
+/// The axis titles' font: the usual size, or smaller where a title is longer than its axis (a
+/// y title longer than a short plot would otherwise be cut off by the canvas), down to 8 px.
+fn desc_font<X: Ranged, Y: Ranged>(
+    root: &Area,
+    plot: &DrawingArea<SVGBackend, Cartesian2d<X, Y>>,
+    x_title: &str,
+    y_title: &str,
+) -> TextStyle<'static> {
+    let (xs, ys) = plot.get_pixel_range();
+    let fit = |title: &str, length: i32| {
+        let w = text_width(root, title);
+        if w > length as f64 {
+            length as f64 / w
+        } else {
+            1.0
+        }
+    };
+    let scale = fit(x_title, xs.end - xs.start).min(fit(y_title, ys.end - ys.start - 4));
+    ("sans-serif", (FONT * scale).max(8.0 * 1.24)).into_text_style(&(WIDTH, HEIGHT))
 }
 
 /// Runs `f` with an area to measure text on before there is a chart to draw on (the legend

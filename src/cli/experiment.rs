@@ -85,7 +85,7 @@ pub struct RunArgs {
     pub shard: Option<Shard>,
     /// Where rendered references are cached [default: $WAVETRACE_CACHE, else .cache/ beside the
     /// config].
-    #[arg(long, env = "WAVETRACE_CACHE")]
+    #[arg(long, env = "WAVETRACE_CACHE", hide_env_values = true)]
     pub cache: Option<PathBuf>,
     /// Print the planned runs (index and id; with --shard, the shard's) and exit.
     #[arg(long)]
@@ -173,7 +173,8 @@ fn markdown_page(a: &ReportArgs) -> Result<()> {
     let source = a.dir.to_string_lossy().trim_end_matches('/').to_string();
     match &a.out {
         None => {
-            print!("{}", markdown::page(&report, &source, &format!("{source}/")));
+            let charts = format!("{source}/");
+            print!("{}", markdown::page(&report, &source, &markdown::Links { charts: &charts, docs: None }));
             Ok(())
         }
         Some(file) => {
@@ -181,13 +182,22 @@ fn markdown_page(a: &ReportArgs) -> Result<()> {
             std::fs::create_dir_all(from).with_context(|| format!("creating {}", from.display()))?;
             let prefix = relative_path(from, &a.dir)
                 .with_context(|| format!("relating {} to {}", a.dir.display(), file.display()))?;
-            let text = markdown::page(&report, &source, &prefix);
+            let docs = docs_dir(from).and_then(|d| relative_path(from, &d).ok());
+            let links = markdown::Links { charts: &prefix, docs: docs.as_deref() };
+            let text = markdown::page(&report, &source, &links);
             crate::image_io::write_file_atomically(file, text.as_bytes())
                 .with_context(|| format!("writing {}", file.display()))?;
             println!("{}", file.display());
             Ok(())
         }
     }
+}
+
+/// The repository's `docs/` above (or beside) `dir`, where a page written there can link to it:
+/// the nearest ancestor's `docs/` that holds methods.md.
+fn docs_dir(dir: &Path) -> Option<std::path::PathBuf> {
+    let dir = std::fs::canonicalize(dir).ok()?;
+    dir.ancestors().map(|a| a.join("docs")).find(|d| d.join("methods.md").is_file())
 }
 
 /// The path from directory `from` to directory `to`, with a trailing `/` ("" when they are one).

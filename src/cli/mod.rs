@@ -12,7 +12,7 @@ pub mod render;
 pub mod replay;
 pub mod scene;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 const EXAMPLES: &str = "\
 Examples:
@@ -30,7 +30,7 @@ Examples:
   wavetrace intersect-cost --json intersect.json      # intersect: traversal or state traffic?
 
 Environment (docs/cli-and-configs.md#environment-variables has the full table):
-  RUST_LOG=info|debug                 logging (adapter choice, dispatch plan, loop-cap estimate)
+  RUST_LOG=info|debug                 logging (info: adapter choice, warm-up, llvmpipe loop cap)
   WGPU_BACKEND=vulkan                 consider only this backend's adapters (vulkan, metal, dx12, gl)
   NODEVICE_SELECT=1                   turn Mesa's Vulkan device-selection layer off (set for you
                                       where XDG_RUNTIME_DIR is unset: headless machines)
@@ -75,11 +75,55 @@ pub enum Command {
     /// Time a chain of tiny dispatches recorded six ways: what a dispatch costs by itself.
     DispatchCost(dispatch_cost::DispatchCostArgs),
     /// What this GPU's memory delivers to a pass streaming 16-byte elements: GB/s of a compute
-    /// copy, a compute read and a buffer copy (issue 44).
+    /// copy, a compute read and a buffer copy.
     Bandwidth(bandwidth::BandwidthArgs),
     /// Time the wavefront's intersect of a frame's camera rays against a twin that keeps each ray
     /// in registers and writes no path state: traversal apart from state traffic.
     IntersectCost(intersect_cost::IntersectCostArgs),
+}
+
+/// The command line as the binary parses it: clap's definition, with `render -h` naming the
+/// option groups it hides and every flag in each (generated from the definition, so it cannot
+/// fall behind it); `render --help` shows them all.
+pub fn command() -> clap::Command {
+    Cli::command().mut_subcommand("render", |c| {
+        let groups = hidden_groups(&c);
+        c.after_help(format!("{groups}\n{}", render::EXAMPLES)).after_long_help(render::EXAMPLES)
+    })
+}
+
+/// Parses the process's arguments with [`command`] (exits with clap's message on bad ones).
+pub fn parse() -> Cli {
+    Cli::from_arg_matches(&command().get_matches()).unwrap_or_else(|e| e.exit())
+}
+
+/// `More options, by group (wavetrace render --help shows them):` then each group's heading and
+/// its flags, for the flags a short help hides.
+fn hidden_groups(c: &clap::Command) -> String {
+    let mut groups: Vec<(String, Vec<String>)> = Vec::new();
+    for a in c.get_arguments().filter(|a| a.is_hide_short_help_set() && !a.is_hide_set()) {
+        let (Some(heading), Some(long)) = (a.get_help_heading(), a.get_long()) else { continue };
+        match groups.iter_mut().find(|(h, _)| h == heading) {
+            Some((_, flags)) => flags.push(format!("--{long}")),
+            None => groups.push((heading.to_string(), vec![format!("--{long}")])),
+        }
+    }
+    let mut out = format!("More options, by group (`wavetrace {} --help` shows them all):\n", c.get_name());
+    for (heading, flags) in groups {
+        let mut line = format!("  {heading}:");
+        for f in flags {
+            if line.len() + f.len() + 1 > 100 {
+                out.push_str(&line);
+                out.push('\n');
+                line = "     ".to_string();
+            }
+            line.push(' ');
+            line.push_str(&f);
+        }
+        out.push_str(&line);
+        out.push('\n');
+    }
+    out
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {

@@ -11,7 +11,7 @@ use crate::report::RunReport;
 use anyhow::{Context, Result};
 use std::path::PathBuf;
 
-const EXAMPLES: &str = "\
+pub const EXAMPLES: &str = "\
 Examples:
   wavetrace render --scene rtiow-final --method megakernel --width 1200 --height 675 --spp 10 \\
       --out final.exr --png final.png

@@ -286,7 +286,12 @@ pub fn run(a: ReplayArgs) -> Result<()> {
             naive_issued = Some(issued.clone());
         }
         let mut per_width = serde_json::Map::new();
-        let mut line = Series { name: m.label().to_string(), points: Vec::new(), intervals: Vec::new() };
+        let mut line = Series {
+            name: m.label().to_string(),
+            points: Vec::new(),
+            intervals: Vec::new(),
+            labels: Vec::new(),
+        };
         for (i, (w, c)) in counts.iter().enumerate() {
             let e = c.efficiencies()?;
             let frame_eff = e.get(FRAME_KEY).map_or(0.0, |f| f.efficiency);

@@ -61,7 +61,7 @@ pub fn run(cmd: SceneCommand) -> anyhow::Result<()> {
         SceneCommand::Info { scene } => {
             let path = std::path::Path::new(&scene);
             let text = if builtin::by_name(&scene).is_none() && path.exists() && gltf::is_gltf_path(path) {
-                let import = gltf::read(path)?;
+                let import = gltf::read_unlogged(path)?;
                 let mut text = info(&import.scene);
                 let _ = writeln!(text, "mapped from glTF:");
                 for line in &import.mapped {

@@ -10,10 +10,28 @@ use std::collections::{BTreeMap, BTreeSet};
 use serde_json::Value;
 
 use super::baseline;
+use super::method_colours::MethodColours;
 use super::plan::file_safe;
 use super::report::{ExperimentReport, RunRecord, RunStatus};
 use super::stability;
-use crate::chart::{Bar, GroupedBarChart, LineChart, Series, StackedBarChart};
+use crate::chart::{Bar, ColourOf, GroupedBarChart, LineChart, Series, StackedBarChart};
+
+/// Every chart kind this module draws (`Chart::kind`, report.json's `charts[].kind`): the
+/// outputs page lists them all (tests/suite/docs.rs), and a test here reads the kinds the code
+/// below writes against this list.
+pub const CHART_KINDS: [&str; 11] = [
+    "error-vs-time",
+    "error-vs-spp",
+    "passes",
+    "queues",
+    "simd",
+    "speed-vs-memory",
+    "warmup",
+    "stability",
+    "time-by-scene",
+    "crossover",
+    "shading-cost",
+];
 
 /// A drawn chart: file stem, kind, title, SVG text, and the group it belongs to.
 pub struct Chart {
@@ -32,6 +50,8 @@ pub fn charts(report: &ExperimentReport) -> Vec<Chart> {
     for r in report.runs.iter().filter(|r| r.status == RunStatus::Ok) {
         groups.entry((r.scene.clone(), r.width, r.height)).or_default().push(r);
     }
+    let colours = MethodColours::of(report);
+    let colour = |name: &str| colours.get(name);
     let mut out = Vec::new();
     for ((scene, w, h), mut runs) in groups {
         runs.sort_by_key(|r| r.index);
@@ -41,41 +61,41 @@ pub fn charts(report: &ExperimentReport) -> Vec<Chart> {
             out.push(Chart { stem: stem(kind), kind, title, svg, scene: scene.clone(), width: w, height: h });
         };
         if let Some(c) = error_vs_time(&runs, &group) {
-            push("error-vs-time", c.title.clone(), c.to_svg());
+            push("error-vs-time", c.title.clone(), c.to_svg_with(&colour));
         }
         if let Some(c) = error_vs_spp(&runs, &group) {
-            push("error-vs-spp", c.title.clone(), c.to_svg());
+            push("error-vs-spp", c.title.clone(), c.to_svg_with(&colour));
         }
         if let Some(c) = passes(&runs, &group) {
             push("passes", c.title.clone(), c.to_svg());
         }
         if let Some(c) = queues(&runs, &group) {
-            push("queues", c.title.clone(), c.to_svg());
+            push("queues", c.title.clone(), c.to_svg_with(&colour));
         }
         if let Some(c) = simd(&runs, &group) {
-            push("simd", c.title.clone(), c.to_svg());
+            push("simd", c.title.clone(), c.to_svg_with(&colour));
         }
         if let Some(c) = speed_vs_memory(&runs, &group) {
-            push("speed-vs-memory", c.title.clone(), c.to_svg());
+            push("speed-vs-memory", c.title.clone(), c.to_svg_with(&colour));
         }
         if let Some(c) = warmup(&runs, &group) {
-            push("warmup", c.title.clone(), c.to_svg());
+            push("warmup", c.title.clone(), c.to_svg_with(&colour));
         }
         for (what, c) in stability(&runs, &group) {
             out.push(Chart {
                 stem: format!("stability-{what}-{}-{w}x{h}", file_safe(&scene)),
                 kind: "stability",
                 title: c.title.clone(),
-                svg: c.to_svg(),
+                svg: c.to_svg_with(&colour),
                 scene: scene.clone(),
                 width: w,
                 height: h,
             });
         }
     }
-    out.extend(time_by_scene(report));
-    out.extend(crossover(report));
-    out.extend(shading_cost(report));
+    out.extend(time_by_scene(report, &colour));
+    out.extend(crossover(report, &colour));
+    out.extend(shading_cost(report, &colour));
     out
 }
 
@@ -90,7 +110,7 @@ const SHADING_BASELINE: &str = "rtiow-final";
 /// (hits counted by a wavefront run's queues; per ray traced where a scene has no such run);
 /// parity drawn at 1, and the cost at which each variant first crosses it named in the title
 /// (the crossover).
-fn shading_cost(report: &ExperimentReport) -> Vec<Chart> {
+fn shading_cost(report: &ExperimentReport, colour: ColourOf) -> Vec<Chart> {
     let threshold = stability::threshold_of(&report.config);
     let fastest = baseline::fastest_megakernel(report);
     let mut out = Vec::new();
@@ -137,7 +157,12 @@ fn shading_cost(report: &ExperimentReport) -> Vec<Chart> {
             let i = match series.iter().position(|s| s.name == r.label) {
                 Some(i) => i,
                 None => {
-                    series.push(Series { name: r.label.clone(), points: Vec::new(), intervals: Vec::new() });
+                    series.push(Series {
+                        name: r.label.clone(),
+                        points: Vec::new(),
+                        intervals: Vec::new(),
+                        labels: Vec::new(),
+                    });
                     series.len() - 1
                 }
             };
@@ -165,6 +190,7 @@ fn shading_cost(report: &ExperimentReport) -> Vec<Chart> {
             name: "parity (1×)".into(),
             points: vec![(lo, 1.0), (hi, 1.0)],
             intervals: Vec::new(),
+            labels: Vec::new(),
         });
         let title = format!(
             "Speed-up over the fastest megakernel against shading cost: {w}x{h}, {spp} spp, depth {depth}{}. \
@@ -189,7 +215,7 @@ fn shading_cost(report: &ExperimentReport) -> Vec<Chart> {
             stem: format!("shading-cost-{w}x{h}-{spp}spp-d{depth}{}", settings_stem(nee, roulette)),
             kind: "shading-cost",
             title,
-            svg: chart.to_svg(),
+            svg: chart.to_svg_with(colour),
             scene: String::new(),
             width: w,
             height: h,
@@ -216,7 +242,7 @@ fn crossover_at(points: &[(f64, f64)]) -> Option<f64> {
 /// more job sizes with a megakernel run. With several megakernel variants (naive and
 /// regenerating), each gets its line too: the slower one below 1. Each point's bar is the
 /// interval of its ratio (from the intervals of the two medians).
-fn crossover(report: &ExperimentReport) -> Vec<Chart> {
+fn crossover(report: &ExperimentReport, colour: ColourOf) -> Vec<Chart> {
     let threshold = stability::threshold_of(&report.config);
     let ok: Vec<&RunRecord> =
         report.runs.iter().filter(|r| r.status == RunStatus::Ok && r.seconds.is_some()).collect();
@@ -264,7 +290,7 @@ fn crossover(report: &ExperimentReport) -> Vec<Chart> {
             .map(|(name, mut points)| {
                 points.sort_by(|a, b| a.0 .0.total_cmp(&b.0 .0));
                 let (points, intervals) = points.into_iter().unzip();
-                Series { name, points, intervals }
+                Series { name, points, intervals, labels: Vec::new() }
             })
             .collect();
         let nee_note = settings_note(nee, roulette);
@@ -282,7 +308,7 @@ fn crossover(report: &ExperimentReport) -> Vec<Chart> {
             stem: format!("crossover-{}-d{depth}{}", file_safe(&scene), settings_stem(nee, roulette)),
             kind: "crossover",
             title,
-            svg: chart.to_svg(),
+            svg: chart.to_svg_with(colour),
             scene: scene.clone(),
             width: 0,
             height: 0,
@@ -294,7 +320,7 @@ fn crossover(report: &ExperimentReport) -> Vec<Chart> {
 /// Across scenes (a sweep such as rtiow-heavy-1..16 or spheres-1000..1000000): median time per
 /// method variant, one chart per resolution, spp and depth shared by two or more scenes. Scenes
 /// keep their config order.
-fn time_by_scene(report: &ExperimentReport) -> Vec<Chart> {
+fn time_by_scene(report: &ExperimentReport, colour: ColourOf) -> Vec<Chart> {
     let mut scene_order: Vec<&str> = Vec::new();
     for r in &report.runs {
         if !scene_order.contains(&r.scene.as_str()) {
@@ -332,7 +358,7 @@ fn time_by_scene(report: &ExperimentReport) -> Vec<Chart> {
             stem: format!("time-by-scene-{w}x{h}-{spp}spp-d{depth}{}", settings_stem(nee, roulette)),
             kind: "time-by-scene",
             title,
-            svg: chart.to_svg(),
+            svg: chart.to_svg_with(colour),
             scene: String::new(),
             width: w,
             height: h,
@@ -423,7 +449,9 @@ fn speed_vs_memory(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
         let point = (m.peak as f64 / (1u64 << 20) as f64, speed * 1e-6);
         match series.iter_mut().find(|s| s.name == name) {
             Some(s) => s.points.push(point),
-            None => series.push(Series { name, points: vec![point], intervals: Vec::new() }),
+            None => {
+                series.push(Series { name, points: vec![point], intervals: Vec::new(), labels: Vec::new() })
+            }
         }
     }
     if peaks.len() < 2 {
@@ -452,7 +480,12 @@ fn warmup(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
         .filter_map(|r| {
             let log = r.warmup_log.as_ref().filter(|w| w.trace.len() >= WARMUP_TRACE_FRAMES)?;
             let points = log.trace.iter().map(|f| (f.at, 1e3 * f.seconds)).collect();
-            Some(Series { name: format!("{} {}spp", r.label, r.spp), points, intervals: Vec::new() })
+            Some(Series {
+                name: format!("{} {}spp", r.label, r.spp),
+                points,
+                intervals: Vec::new(),
+                labels: Vec::new(),
+            })
         })
         .collect();
     (!series.is_empty()).then(|| LineChart {
@@ -469,23 +502,32 @@ fn warmup(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
 /// Warm-ups this long get a chart.
 pub const WARMUP_TRACE_FRAMES: usize = 10;
 
-/// relMSE against time, log–log, one line per method variant through its spp values.
+/// relMSE against time, log–log, one line per method variant through its spp values, each
+/// point labelled with its spp.
 fn error_vs_time(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
     let varying = Varying::of(runs);
     let mut series: Vec<Series> = Vec::new();
     for r in runs {
         let (Some(m), Some(t)) = (&r.error_metrics, r.seconds) else { continue };
         let name = series_name(r, varying);
-        match series.iter_mut().find(|s| s.name == name) {
-            Some(s) => s.points.push((t, m.relmse)),
-            None => series.push(Series { name, points: vec![(t, m.relmse)], intervals: Vec::new() }),
-        }
+        let i = match series.iter().position(|s| s.name == name) {
+            Some(i) => i,
+            None => {
+                series.push(Series { name, ..Default::default() });
+                series.len() - 1
+            }
+        };
+        series[i].points.push((t, m.relmse));
+        series[i].labels.push(format!("{} spp", r.spp));
     }
     for s in &mut series {
-        s.points.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut order: Vec<usize> = (0..s.points.len()).collect();
+        order.sort_by(|&a, &b| s.points[a].0.total_cmp(&s.points[b].0));
+        s.points = order.iter().map(|&i| s.points[i]).collect();
+        s.labels = order.iter().map(|&i| s.labels[i].clone()).collect();
     }
     (!series.is_empty()).then(|| LineChart {
-        title: format!("Error against time: {group}"),
+        title: format!("Error against time (points: spp): {group}"),
         x_label: "time per render, s (frame time for GPU methods, wall time for CPU ones)".into(),
         y_label: "relMSE".into(),
         x_log: true,
@@ -509,7 +551,9 @@ fn error_vs_spp(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
         let name = series_name(r, varying);
         match series.iter_mut().find(|s| s.name == name) {
             Some(s) => s.points.push(point),
-            None => series.push(Series { name, points: vec![point], intervals: Vec::new() }),
+            None => {
+                series.push(Series { name, points: vec![point], intervals: Vec::new(), labels: Vec::new() })
+            }
         }
     }
     for s in &mut series {
@@ -619,7 +663,12 @@ fn stability_charts(runs: &[&RunRecord], group: &str, drop: &str) -> Vec<(String
                 let name = name(r);
                 match series.iter_mut().find(|s| s.name == name) {
                     Some(s) => s.points.push((x, y)),
-                    None => series.push(Series { name, points: vec![(x, y)], intervals: Vec::new() }),
+                    None => series.push(Series {
+                        name,
+                        points: vec![(x, y)],
+                        intervals: Vec::new(),
+                        labels: Vec::new(),
+                    }),
                 }
             }
             for s in &mut series {
@@ -680,7 +729,7 @@ fn passes(runs: &[&RunRecord], group: &str) -> Option<StackedBarChart> {
         // Per-pass times come from a render of their own with a timestamp around every pass
         // (the timed repetitions run without them), so the bars need not add up to the table's
         // frame time.
-        y_label: "GPU ms per render (median; the profiled render's per-pass timestamps)".into(),
+        y_label: "GPU ms per render (profiled, median)".into(),
         bars,
     })
 }
@@ -703,7 +752,7 @@ fn queues(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
                 .take_while(|(_, &n)| n > 0)
                 .map(|(b, &n)| (b as f64, n as f64 / first))
                 .collect();
-            Some(Series { name: series_name(r, varying), points, intervals: Vec::new() })
+            Some(Series { name: series_name(r, varying), points, intervals: Vec::new(), labels: Vec::new() })
         })
         .collect();
     (!series.is_empty()).then(|| LineChart {
@@ -743,7 +792,26 @@ fn simd(runs: &[&RunRecord], group: &str) -> Option<GroupedBarChart> {
 
 #[cfg(test)]
 mod tests {
-    use super::crossover_at;
+    use super::{crossover_at, CHART_KINDS};
+
+    /// The kinds written in this file (`push("kind", …)`, `kind: "kind"`) are [`CHART_KINDS`].
+    #[test]
+    fn every_kind_drawn_is_listed() {
+        let code = include_str!("charts.rs");
+        let code = &code[..code.find("#[cfg(test)]").unwrap()];
+        let mut written: Vec<&str> = Vec::new();
+        for marker in ["push(\"", "kind: \""] {
+            for (i, _) in code.match_indices(marker) {
+                let rest = &code[i + marker.len()..];
+                written.push(&rest[..rest.find('"').unwrap()]);
+            }
+        }
+        written.sort();
+        written.dedup();
+        let mut listed = CHART_KINDS.to_vec();
+        listed.sort();
+        assert_eq!(written, listed);
+    }
 
     #[test]
     fn the_crossover_is_where_the_speed_up_first_rises_through_one() {

@@ -97,7 +97,7 @@ pub const DEFAULT_UNSTABLE_SPREAD: f64 = 0.05;
 /// The `schema` tag this build reads.
 pub const CONFIG_SCHEMA: &str = "wavetrace-experiment/1";
 
-const TOP_FIELDS: &[&str] = &[
+pub(crate) const TOP_FIELDS: &[&str] = &[
     "schema",
     "question",
     "scenes",
@@ -485,7 +485,9 @@ impl Cx {
                 None => {
                     let file = self.dir.join(&arg);
                     if !file.exists() {
-                        return self.err(&path, crate::scene::builtin::unknown_scene(&arg, &file));
+                        let why = crate::scene::builtin::unknown_scene(&arg, &file);
+                        return self
+                            .err(&path, format!("{why} (scene files are found relative to the config)"));
                     }
                     crate::scene::Scene::from_path(&file)
                         .map_err(|e| self.error(&path, format!("in the scene file: {e}")))?

@@ -10,8 +10,10 @@ use std::path::Path;
 use super::charts::Chart;
 use super::error_map::{self, MAP_DECADES};
 use super::escape::esc;
+use super::method_colours::MethodColours;
 use super::report::{ExperimentReport, ReportStatus, RunRecord, RunStatus};
 use super::stability::FLAG;
+use super::verdict::Verdict;
 use crate::chart::viridis;
 
 /// Width of the image previews embedded in the page.
@@ -21,12 +23,19 @@ const STYLE: &str = "body{font-family:sans-serif;margin:2em;max-width:1500px;col
 table{border-collapse:collapse;font-size:13px;margin:1em 0}\
 th,td{border:1px solid #ccc;padding:3px 6px;text-align:right}th{background:#f3f3f3}\
 td.l,th.l{text-align:left}tr.failed td{background:#fde8e8}tr.flagged td{background:#fff6d6}\
+.scroll{overflow-x:auto;max-width:100%}.scroll table{margin:.5em 0}\
 .charts{display:flex;flex-wrap:wrap;gap:1em}.charts svg{max-width:100%;height:auto}\
 figure{display:inline-block;margin:0 1em 1em 0;vertical-align:top}figcaption{font-size:12px;max-width:320px}\
-.run{border-top:1px solid #ddd;padding-top:.5em}.q{font-size:1.2em;font-style:italic}\
+.run{border-top:1px solid #ddd;padding-top:.5em}.q{font-style:italic;color:#444}\
+#verdict{background:#f4f8fb;border:1px solid #c9dbe8;padding:.2em 1em;margin:1em 0}\
+#verdict li{margin:.3em 0}.caveat{font-weight:bold;color:#8a4b00}\
+.legend span{display:inline-block;margin-right:1.2em;font-size:14px}\
+.legend i{display:inline-block;width:14px;height:14px;margin-right:.4em;vertical-align:middle}\
 .scale{display:inline-block;width:200px;height:12px;vertical-align:middle}code,pre{font-size:12px}";
 
-/// The whole page. `dir` holds the report's images (missing ones are said to be missing).
+/// The whole page: the verdict first, then the charts, then the tables in boxes of their own
+/// that scroll sideways rather than overflow the page. `dir` holds the report's images
+/// (missing ones are said to be missing).
 pub fn page(report: &ExperimentReport, charts: &[Chart], dir: &Path) -> String {
     let mut h = String::new();
     let name = esc(&report.name);
@@ -36,6 +45,24 @@ pub fn page(report: &ExperimentReport, charts: &[Chart], dir: &Path) -> String {
          <style>{STYLE}</style></head><body>\n<h1>wavetrace experiment: {name}</h1>\n<p class=\"q\">{}</p>\n",
         esc(&report.question)
     );
+    status(&mut h, report);
+    verdict(&mut h, report);
+    charts_section(&mut h, report, charts);
+    runs_table(&mut h, report);
+    super::simd_html::simd_table(&mut h, report);
+    memory_table(&mut h, report);
+    environments(&mut h, report);
+    images(&mut h, report, dir);
+    let _ = writeln!(
+        h,
+        "<h2>Config</h2><details><summary>as run</summary><pre>{}</pre></details>",
+        esc(&serde_json::to_string_pretty(&report.config).unwrap_or_default())
+    );
+    h.push_str("<p>Written by <code>wavetrace experiment</code>; the numbers are in report.json beside this file.</p>\n</body></html>\n");
+    h
+}
+
+fn status(h: &mut String, report: &ExperimentReport) {
     let ok = report.runs.iter().filter(|r| r.status == RunStatus::Ok).count();
     let status = match report.status {
         ReportStatus::Running => "running or interrupted: the runs below are those that finished",
@@ -54,14 +81,44 @@ pub fn page(report: &ExperimentReport, charts: &[Chart], dir: &Path) -> String {
     if !report.missing_runs.is_empty() {
         let _ = writeln!(h, "<p>Missing runs (by index): {:?}</p>", report.missing_runs);
     }
-    environments(&mut h, report);
-    runs_table(&mut h, report);
-    super::simd_html::simd_table(&mut h, report);
-    memory_table(&mut h, report);
+}
+
+/// The verdict ([`Verdict`]): the software-driver caveat, then one item per job.
+fn verdict(h: &mut String, report: &ExperimentReport) {
+    let v = Verdict::of(report);
+    h.push_str("<section id=\"verdict\"><h2>Verdict</h2>\n");
+    if let Some(c) = &v.caveat {
+        let _ = writeln!(h, "<p class=\"caveat\">{}</p>", esc(c));
+    }
+    if v.jobs.is_empty() {
+        h.push_str("<p>No run finished with a time.</p>\n");
+    } else {
+        let _ = writeln!(
+            h,
+            "<p>Per job: the fastest method, and each other's speed as a multiple of its speed (below 1: \
+             slower); relMSE against the reference. {FLAG}: not a steady figure (see the runs table).</p><ul>"
+        );
+        for j in &v.jobs {
+            let _ = writeln!(h, "<li><b>{}</b>: {}</li>", esc(&j.job), esc(&j.sentences.join(" ")));
+        }
+        h.push_str("</ul>\n");
+    }
+    h.push_str("</section>\n");
+}
+
+/// The charts, grouped by scene and size, under one legend: each method variant has one colour
+/// in every chart ([`MethodColours`]).
+fn charts_section(h: &mut String, report: &ExperimentReport, charts: &[Chart]) {
     h.push_str("<h2>Charts</h2>\n");
     if charts.is_empty() {
         h.push_str("<p>No chart: no run succeeded with data to chart.</p>\n");
+        return;
     }
+    h.push_str("<p class=\"legend\">One colour per method variant in every chart: ");
+    for (label, colour) in MethodColours::of(report).legend() {
+        let _ = write!(h, "<span><i style=\"background:{colour}\"></i>{}</span>", esc(&label));
+    }
+    h.push_str("</p>\n");
     let mut last_group = None;
     for c in charts {
         let group = (c.scene.as_str(), c.width, c.height);
@@ -82,22 +139,12 @@ pub fn page(report: &ExperimentReport, charts: &[Chart], dir: &Path) -> String {
         h.push_str(strip_prolog(&c.svg));
         h.push('\n');
     }
-    if last_group.is_some() {
-        h.push_str("</div>\n");
-    }
-    images(&mut h, report, dir);
-    let _ = writeln!(
-        h,
-        "<h2>Config</h2><details><summary>as run</summary><pre>{}</pre></details>",
-        esc(&serde_json::to_string_pretty(&report.config).unwrap_or_default())
-    );
-    h.push_str("<p>Written by <code>wavetrace experiment</code>; the numbers are in report.json beside this file.</p>\n</body></html>\n");
-    h
+    h.push_str("</div>\n");
 }
 
 fn environments(h: &mut String, report: &ExperimentReport) {
     h.push_str(
-        "<h2>Where it ran</h2><table><tr><th>#</th><th class=\"l\">shard</th><th class=\"l\">host</th>\
+        "<h2>Where it ran</h2><div class=\"scroll\"><table><tr><th>#</th><th class=\"l\">shard</th><th class=\"l\">host</th>\
          <th class=\"l\">CPU</th><th>cores</th><th class=\"l\">adapter</th><th class=\"l\">backend</th>\
          <th class=\"l\">driver</th><th class=\"l\">commit</th><th class=\"l\">started</th><th class=\"l\">finished</th></tr>\n",
     );
@@ -122,7 +169,7 @@ fn environments(h: &mut String, report: &ExperimentReport) {
             esc(e.finished.as_deref().unwrap_or("-")),
         );
     }
-    h.push_str("</table>\n");
+    h.push_str("</table></div>\n");
 }
 
 fn runs_table(h: &mut String, report: &ExperimentReport) {
@@ -130,7 +177,7 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
         "<h2>Runs</h2><p>Time: median over repetitions [min–max]: frame time for GPU methods (first \
          submission to last completion, host round trips included), wall time for CPU methods. \
          Spread: (max − min) ÷ median of the repetitions; warm-up: the untimed renders before them. \
-         × megakernel: the fastest megakernel variant's time for the same job over this run's (above 1 \
+         × fastest megakernel: the fastest megakernel variant's time for the same job over this run's (above 1 \
          is faster), with the interval its medians' intervals allow. ⚠: not a steady figure — \
          repetitions spread beyond the config's threshold (unstable) or a GPU run without warm-up \
          (cold); its row is shaded. relMSE uses ε = 0.01 (pbrt-v4); efficiency = 1/(relMSE·time). \
@@ -139,8 +186,8 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
          per render: NaN/Inf samples dropped; self-hits, secondary rays whose closest hit was the \
          primitive they left; shadow self-hits, shadow rays likewise; depth-cut, paths still going \
          at the max depth (cut, their light lost).</p>\
-         <table><tr><th>#</th><th class=\"l\">scene</th><th>size</th><th>spp</th><th>depth</th><th class=\"l\">method</th>\
-         <th>time s</th><th>[min–max]</th><th>spread</th><th class=\"l\">warm-up</th><th>× megakernel</th><th>Msamples/s</th><th>Mrays/s</th><th>NaN/Inf</th><th>self-hits</th><th>shadow self-hits</th>\
+         <div class=\"scroll\"><table><tr><th>#</th><th class=\"l\">scene</th><th>size</th><th>spp</th><th>depth</th><th class=\"l\">method</th>\
+         <th>time s</th><th>[min–max]</th><th>spread</th><th class=\"l\">warm-up</th><th>× fastest megakernel</th><th>Msamples/s</th><th>Mrays/s</th><th>NaN/Inf</th><th>self-hits</th><th>shadow self-hits</th>\
          <th>depth-cut</th><th>MSE</th>\
          <th>relMSE</th><th>SMAPE</th><th>FLIP</th><th>efficiency</th><th>dispatches (empty)</th>\
          <th>occupancy</th><th class=\"l\">note</th></tr>\n",
@@ -228,7 +275,7 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
             r.intersect_occupancy.map_or("–".into(), |o| format!("{:.1}%", o * 100.0)),
         );
     }
-    h.push_str("</table>\n");
+    h.push_str("</table></div>\n");
 }
 
 /// GPU memory per GPU run, by category: what each method pays in memory for its speed.
@@ -244,7 +291,7 @@ fn memory_table(h: &mut String, report: &ExperimentReport) {
     h.push_str(
         "<h2>GPU memory</h2><p>Bytes each GPU run asked wgpu for, by category (the driver may reserve \
          more); peak: everything held at once, the film's read-back copy included. Per path: the \
-         method's per-path buffers over the paths in flight.</p><table><tr><th>#</th>\
+         method's per-path buffers over the paths in flight.</p><div class=\"scroll\"><table><tr><th>#</th>\
          <th class=\"l\">scene</th><th>size</th><th>spp</th><th class=\"l\">method</th>",
     );
     for c in &used {
@@ -274,7 +321,7 @@ fn memory_table(h: &mut String, report: &ExperimentReport) {
             human_bytes(m.peak)
         );
     }
-    h.push_str("</table>\n");
+    h.push_str("</table></div>\n");
 }
 
 fn images(h: &mut String, report: &ExperimentReport, dir: &Path) {

@@ -16,10 +16,43 @@ use serde_json::Value;
 use super::baseline;
 use super::report::{ExperimentReport, RunRecord, RunStatus};
 use super::stability::{self, FLAG};
+use super::verdict::Verdict;
+
+/// Where a page's links lead: to the report's directory (its charts), and to the repository's
+/// `docs/` where the page is written inside the repository (None: on stdout, or elsewhere; the
+/// page then names the document without a link).
+pub struct Links<'a> {
+    pub charts: &'a str,
+    pub docs: Option<&'a str>,
+}
 
 /// The page for `report`; `source` is the report's directory as the reader should find it (the
-/// command's argument), `charts_prefix` the path from the page to that directory.
-pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> String {
+/// command's argument). The verdict comes first, then the tables.
+pub fn page(report: &ExperimentReport, source: &str, links: &Links) -> String {
+    let threshold = stability::threshold_of(&report.config);
+    [
+        header(report, source),
+        verdict_section(report),
+        steadiness_line(report),
+        build_and_device(report),
+        time_and_error(report, threshold),
+        path_length_table(report, threshold),
+        gpu_work(&report.runs),
+        wavefront_time(&report.runs, threshold),
+        state_traffic(&report.runs, threshold, links.docs),
+        per_bounce(&report.runs, threshold),
+        simd_section(&report.runs),
+        gpu_state_table(&report.runs),
+        warmup_table(&report.runs),
+        coherence_table(&report.runs),
+        numerical_failures(&report.runs),
+        references(report),
+        chart_links(report, links.charts),
+    ]
+    .concat()
+}
+
+fn header(report: &ExperimentReport, source: &str) -> String {
     let mut md = String::new();
     let ok = report.runs.iter().filter(|r| r.status == RunStatus::Ok).count();
     let _ = writeln!(
@@ -43,7 +76,31 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
         }
     );
 
-    md.push_str(&steadiness_line(report));
+    md
+}
+
+/// The verdict ([`Verdict`]) under its heading: the software-driver caveat, then a line per job.
+fn verdict_section(report: &ExperimentReport) -> String {
+    let v = Verdict::of(report);
+    if v.jobs.is_empty() {
+        return String::new();
+    }
+    let mut md = format!(
+        "## Verdict\n\nPer job: the fastest method, and each other's speed as a multiple of its speed \
+         (below 1: slower); relMSE against the reference. {FLAG}: not a steady figure.\n\n"
+    );
+    if let Some(c) = &v.caveat {
+        let _ = writeln!(md, "**{c}**\n");
+    }
+    for j in &v.jobs {
+        let _ = writeln!(md, "- **{}**: {}", cell(&j.job), one_line(&j.sentences.join(" ")));
+    }
+    md.push('\n');
+    md
+}
+
+fn build_and_device(report: &ExperimentReport) -> String {
+    let mut md = String::new();
     md.push_str("## Build and device\n\n");
     md.push_str(
         "| environment | build | device | driver | subgroups | timestamps | machine | started | finished |\n",
@@ -74,14 +131,17 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
     }
     md.push('\n');
 
-    md.push_str("## Time and error\n\n");
-    let threshold = stability::threshold_of(&report.config);
+    md
+}
+
+fn time_and_error(report: &ExperimentReport, threshold: f64) -> String {
+    let mut md = String::from("## Time and error\n\n");
     let _ = write!(
         md,
         "Seconds: median [min–max] over the timed repetitions (GPU methods: frame time, or the sum of \
          pass times in reports written before frame times existed; CPU methods: wall time). Spread: \
          (max − min) ÷ median of the repetitions. Warm-up: the untimed renders before them and their \
-         seconds. × megakernel: the fastest megakernel variant's seconds for the same job (scene, \
+         seconds. × fastest megakernel: the fastest megakernel variant's seconds for the same job (scene, \
          size, spp, depth, NEE, roulette, numerical knobs and stress transform) over this run's, so above 1 is faster, with the \
          interval its medians' intervals allow (order statistics: min–max below six repetitions). \
          {FLAG}: not a steady figure — the run's repetitions spread by more than {:.0}% (unstable), \
@@ -90,7 +150,7 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
         100.0 * threshold
     );
     md.push_str(
-        "| # | scene | job | variant | seconds | spread | warm-up | × megakernel | M samples/s | relMSE | status |\n",
+        "| # | scene | job | variant | seconds | spread | warm-up | × fastest megakernel | M samples/s | relMSE | status |\n",
     );
     md.push_str("| ---: | --- | --- | --- | --- | ---: | --- | ---: | ---: | ---: | --- |\n");
     let fastest = baseline::fastest_megakernel(report);
@@ -130,229 +190,261 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
         );
     }
     md.push('\n');
-    md.push_str(&path_length_table(report, threshold));
+    md
+}
 
+fn gpu_work(runs: &[RunRecord]) -> String {
+    let mut md = String::new();
     let gpu: Vec<&RunRecord> =
-        report.runs.iter().filter(|r| r.memory.is_some() || r.dispatches.unwrap_or(0) > 0).collect();
-    if !gpu.is_empty() {
-        md.push_str("## GPU work and memory\n\n");
-        md.push_str(
-            "Waits: the times the host waited for the GPU in a frame; all but the last are blocking \
-             waits inside it. Reports from before waits were counted leave them blank; there every \
-             submission was waited for. Scene preparation: host seconds to prepare the scene for a \
-             render (the BVH build above all), outside the frame.\n\n",
-        );
-        md.push_str("| # | variant | dispatches (empty) | compute passes | submissions | waits | intersect occupancy | bytes per path | paths in flight | peak GPU memory | scene preparation |\n");
-        md.push_str("| ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
-        for r in gpu {
-            let dispatches = match (r.dispatches, r.empty_dispatches) {
-                (Some(d), Some(e)) => format!("{d} ({e})"),
-                (Some(d), None) => d.to_string(),
-                _ => "–".into(),
-            };
-            let _ = writeln!(
-                md,
-                "| {} | {} | {dispatches} | {} | {} | {} | {} | {} | {} | {} | {} |",
-                r.index,
-                cell(&r.label),
-                opt(r.compute_passes),
-                opt(r.submissions),
-                opt(r.waits),
-                r.intersect_occupancy.map_or("–".into(), |o| format!("{:.1}%", 100.0 * o)),
-                opt(r.bytes_per_path),
-                opt(r.pool_size),
-                r.memory.as_ref().map_or("–".into(), |m| mib(m.peak)),
-                r.scene_prepare_seconds.map_or("–".into(), |s| format!("{} s", sig(s)))
-            );
-        }
-        md.push('\n');
+        runs.iter().filter(|r| r.memory.is_some() || r.dispatches.unwrap_or(0) > 0).collect();
+    if gpu.is_empty() {
+        return md;
     }
-
-    let profiled: Vec<&RunRecord> = report
-        .runs
-        .iter()
-        .filter(|r| r.method == "wavefront" && r.passes.contains_key("intersect"))
-        .collect();
-    if !profiled.is_empty() {
-        md.push_str("## Where the wavefront's time goes\n\n");
-        md.push_str(
-            "GPU seconds by pass group in the profiled render (per-pass timestamps, the median \
-             repetition where every repetition was profiled), and intersect time per sample: the \
-             variants of one job trace the same paths, so it compares what their intersect passes \
-             pay for the same rays. Compaction includes the ray sort (`ray_sort_*`; `sort_rays_*` in \
-             reports written before it took one name) and slot order's sweep (`slot_sweep`).\n\n",
+    md.push_str("## GPU work and memory\n\n");
+    md.push_str(
+        "Waits: the times the host waited for the GPU in a frame; all but the last are blocking \
+         waits inside it. Reports from before waits were counted leave them blank; there every \
+         submission was waited for. Scene preparation: host seconds to prepare the scene for a \
+         render (the BVH build above all), outside the frame.\n\n",
+    );
+    md.push_str("| # | variant | dispatches (empty) | compute passes | submissions | waits | intersect occupancy | bytes per path | paths in flight | peak GPU memory | scene preparation |\n");
+    md.push_str("| ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    for r in gpu {
+        let dispatches = match (r.dispatches, r.empty_dispatches) {
+            (Some(d), Some(e)) => format!("{d} ({e})"),
+            (Some(d), None) => d.to_string(),
+            _ => "–".into(),
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {} | {dispatches} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            r.index,
+            cell(&r.label),
+            opt(r.compute_passes),
+            opt(r.submissions),
+            opt(r.waits),
+            r.intersect_occupancy.map_or("–".into(), |o| format!("{:.1}%", 100.0 * o)),
+            opt(r.bytes_per_path),
+            opt(r.pool_size),
+            r.memory.as_ref().map_or("–".into(), |m| mib(m.peak)),
+            r.scene_prepare_seconds.map_or("–".into(), |s| format!("{} s", sig(s)))
         );
-        md.push_str("| # | scene | job | variant | intersect | shade | shadow | compaction | (re)generate | tail | other | sum | intersect ns per sample |\n");
-        md.push_str(
-            "| ---: | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
-        );
-        for r in profiled {
-            let flag = stability::flag(stability::of_run(r, threshold).flagged());
-            let g = pass_groups(r);
-            let sum: f64 = g.iter().sum();
-            let cells: Vec<String> = g.iter().map(|&t| format!("{}{flag}", sig(t))).collect();
-            let per_sample = if r.samples > 0 {
-                format!("{}{flag}", nanoseconds(1e9 * g[0] / r.samples as f64))
-            } else {
-                "–".into()
-            };
-            let _ = writeln!(
-                md,
-                "| {} | {} | {} | {} | {} | {}{flag} | {per_sample} |",
-                r.index,
-                r.scene,
-                job_text(r),
-                cell(&r.label),
-                cells.join(" | "),
-                sig(sum)
-            );
-        }
-        md.push('\n');
     }
+    md.push('\n');
+    md
+}
 
-    let traffic: Vec<&RunRecord> = report.runs.iter().filter(|r| r.state_traffic.is_some()).collect();
-    if !traffic.is_empty() {
-        md.push_str(
-            "## Path-state traffic
-
-",
-        );
-        md.push_str(
-            "Bytes of path state the wavefront's passes read and wrote per sample, modelled from the \
-             render's queue counts (`state_traffic`; [path-state traffic](../../methods.md#path-state-traffic)), \
-             and per pass, with per-pass timestamps, its bytes over its GPU time: the achieved \
-             bandwidth, a lower bound, to read against `wavetrace bandwidth` on the same device.\n\n",
-        );
-        md.push_str("| # | scene | job | variant | bytes per sample | per pass: bytes per sample (GB/s) |\n");
-        md.push_str("| ---: | --- | --- | --- | ---: | --- |\n");
-        for r in traffic {
-            let flag = stability::flag(stability::of_run(r, threshold).flagged());
-            let t = r.state_traffic.as_ref().expect("filtered");
-            let per_sample = |bytes: u64| bytes as f64 / r.samples.max(1) as f64;
-            let passes: Vec<String> = t
-                .passes
-                .iter()
-                .map(|p| {
-                    let rate =
-                        p.bytes_per_second.map_or(String::new(), |b| format!(" ({:.2}{flag})", b / 1e9));
-                    format!("{} {:.1}{rate}", p.label, per_sample(p.bytes_read + p.bytes_written))
-                })
-                .collect();
-            let _ = writeln!(
-                md,
-                "| {} | {} | {} | {} | {:.1} | {} |",
-                r.index,
-                r.scene,
-                job_text(r),
-                cell(&r.label),
-                t.bytes_per_sample,
-                passes.join(", ")
-            );
-        }
-        md.push('\n');
+fn wavefront_time(runs: &[RunRecord], threshold: f64) -> String {
+    let mut md = String::new();
+    let profiled: Vec<&RunRecord> =
+        runs.iter().filter(|r| r.method == "wavefront" && r.passes.contains_key("intersect")).collect();
+    if profiled.is_empty() {
+        return md;
     }
+    md.push_str("## Where the wavefront's time goes\n\n");
+    md.push_str(
+        "GPU seconds by pass group in the profiled render (per-pass timestamps, the median \
+         repetition where every repetition was profiled), and intersect time per sample: the \
+         variants of one job trace the same paths, so it compares what their intersect passes \
+         pay for the same rays. Compaction includes the ray sort (`ray_sort_*`; `sort_rays_*` in \
+         reports written before it took one name) and slot order's sweep (`slot_sweep`).\n\n",
+    );
+    md.push_str("| # | scene | job | variant | intersect | shade | shadow | compaction | (re)generate | tail | other | sum | intersect ns per sample |\n");
+    md.push_str(
+        "| ---: | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
+    );
+    for r in profiled {
+        let flag = stability::flag(stability::of_run(r, threshold).flagged());
+        let g = pass_groups(r);
+        let sum: f64 = g.iter().sum();
+        let cells: Vec<String> = g.iter().map(|&t| format!("{}{flag}", sig(t))).collect();
+        let per_sample = if r.samples > 0 {
+            format!("{}{flag}", nanoseconds(1e9 * g[0] / r.samples as f64))
+        } else {
+            "–".into()
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {}{flag} | {per_sample} |",
+            r.index,
+            r.scene,
+            job_text(r),
+            cell(&r.label),
+            cells.join(" | "),
+            sig(sum)
+        );
+    }
+    md.push('\n');
+    md
+}
 
-    let per_bounce: Vec<(&RunRecord, Vec<String>)> = report
-        .runs
+fn state_traffic(runs: &[RunRecord], threshold: f64, docs: Option<&str>) -> String {
+    let mut md = String::new();
+    let traffic: Vec<&RunRecord> = runs.iter().filter(|r| r.state_traffic.is_some()).collect();
+    if traffic.is_empty() {
+        return md;
+    }
+    let methods = match docs {
+        Some(prefix) => format!("[path-state traffic]({prefix}methods.md#path-state-traffic)"),
+        None => "path-state traffic in the repository's docs/methods.md".to_string(),
+    };
+    let _ = write!(
+        md,
+        "## Path-state traffic\n\nBytes of path state the wavefront's passes read and wrote per sample, \
+         modelled from the render's queue counts (`state_traffic`; {methods}), and per pass, with \
+         per-pass timestamps, its bytes over its GPU time: the achieved bandwidth, a lower bound, to \
+         read against `wavetrace bandwidth` on the same device.\n\n",
+    );
+    md.push_str("| # | scene | job | variant | bytes per sample | per pass: bytes per sample (GB/s) |\n");
+    md.push_str("| ---: | --- | --- | --- | ---: | --- |\n");
+    for r in traffic {
+        let flag = stability::flag(stability::of_run(r, threshold).flagged());
+        let t = r.state_traffic.as_ref().expect("filtered");
+        let per_sample = |bytes: u64| bytes as f64 / r.samples.max(1) as f64;
+        let passes: Vec<String> = t
+            .passes
+            .iter()
+            .map(|p| {
+                let rate = p.bytes_per_second.map_or(String::new(), |b| format!(" ({:.2}{flag})", b / 1e9));
+                format!("{} {:.1}{rate}", p.label, per_sample(p.bytes_read + p.bytes_written))
+            })
+            .collect();
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {:.1} | {} |",
+            r.index,
+            r.scene,
+            job_text(r),
+            cell(&r.label),
+            t.bytes_per_sample,
+            passes.join(", ")
+        );
+    }
+    md.push('\n');
+    md
+}
+
+fn per_bounce(runs: &[RunRecord], threshold: f64) -> String {
+    let mut md = String::new();
+    let per_bounce: Vec<(&RunRecord, Vec<String>)> = runs
         .iter()
         .filter_map(|r| Some((r, intersect_ns_per_ray(r, stability::of_run(r, threshold).flagged())?)))
         .collect();
-    if !per_bounce.is_empty() {
-        md.push_str("## Intersect time per ray by bounce\n\n");
-        md.push_str(
-            "Waves only, where bounce k is one queue: the intersect passes' GPU time at bounce k over \
-             the rays in that queue (ns; thousands of rays in brackets).\n\n",
-        );
+    if per_bounce.is_empty() {
+        return md;
+    }
+    md.push_str("## Intersect time per ray by bounce\n\n");
+    md.push_str(
+        "Waves only, where bounce k is one queue: the intersect passes' GPU time at bounce k over \
+         the rays in that queue (ns; thousands of rays in brackets).\n\n",
+    );
+    let _ = writeln!(
+        md,
+        "| # | scene | job | variant | {} |",
+        BOUNCE_COLUMNS.iter().map(|b| format!("bounce {b}")).collect::<Vec<_>>().join(" | ")
+    );
+    let _ = writeln!(md, "| ---: | --- | --- | --- |{}", " ---: |".repeat(BOUNCE_COLUMNS.len()));
+    for (r, cells) in per_bounce {
         let _ = writeln!(
             md,
-            "| # | scene | job | variant | {} |",
-            BOUNCE_COLUMNS.iter().map(|b| format!("bounce {b}")).collect::<Vec<_>>().join(" | ")
+            "| {} | {} | {} | {} | {} |",
+            r.index,
+            r.scene,
+            job_text(r),
+            cell(&r.label),
+            cells.join(" | ")
         );
-        let _ = writeln!(md, "| ---: | --- | --- | --- |{}", " ---: |".repeat(BOUNCE_COLUMNS.len()));
-        for (r, cells) in per_bounce {
-            let _ = writeln!(
-                md,
-                "| {} | {} | {} | {} | {} |",
-                r.index,
-                r.scene,
-                job_text(r),
-                cell(&r.label),
-                cells.join(" | ")
-            );
-        }
-        md.push('\n');
     }
+    md.push('\n');
+    md
+}
 
+fn simd_section(runs: &[RunRecord]) -> String {
+    let mut md = String::new();
     let simd: Vec<&RunRecord> =
-        report.runs.iter().filter(|r| r.simd.as_ref().is_some_and(|s| !s.is_empty())).collect();
-    if !simd.is_empty() {
-        md.push_str("## SIMD efficiency\n\nActive lanes ÷ available lanes at each pass or point (instrumented render).\n\n");
-        md.push_str("| # | variant | efficiency by pass or point |\n| ---: | --- | --- |\n");
-        for r in simd {
-            let points: Vec<String> = r
-                .simd
-                .iter()
-                .flatten()
-                .map(|(label, e)| format!("{label} {:.1}%", 100.0 * e.efficiency))
-                .collect();
-            let _ = writeln!(md, "| {} | {} | {} |", r.index, cell(&r.label), points.join(", "));
-        }
-        md.push('\n');
+        runs.iter().filter(|r| r.simd.as_ref().is_some_and(|s| !s.is_empty())).collect();
+    if simd.is_empty() {
+        return md;
     }
+    md.push_str("## SIMD efficiency\n\nActive lanes ÷ available lanes at each pass or point (instrumented render).\n\n");
+    md.push_str("| # | variant | efficiency by pass or point |\n| ---: | --- | --- |\n");
+    for r in simd {
+        let points: Vec<String> = r
+            .simd
+            .iter()
+            .flatten()
+            .map(|(label, e)| format!("{label} {:.1}%", 100.0 * e.efficiency))
+            .collect();
+        let _ = writeln!(md, "| {} | {} | {} |", r.index, cell(&r.label), points.join(", "));
+    }
+    md.push('\n');
+    md
+}
 
-    md.push_str(&gpu_state_table(&report.runs));
-    md.push_str(&warmup_table(&report.runs));
-    md.push_str(&coherence_table(&report.runs));
-
+fn numerical_failures(runs: &[RunRecord]) -> String {
+    let mut md = String::new();
     let counted = |r: &&RunRecord| {
         [r.invalid_samples, r.self_hits, r.shadow_self_hits].iter().any(|c| c.unwrap_or(0) > 0)
     };
-    let failures: Vec<&RunRecord> = report.runs.iter().filter(counted).collect();
-    if !failures.is_empty() {
-        md.push_str("## Numerical failures\n\nRuns with a NaN/Inf sample or a self-hit (of the median repetition).\n\n");
-        md.push_str(
-            "| # | variant | NaN/Inf samples | self-hits | shadow self-hits | paths cut at max depth |\n",
+    let failures: Vec<&RunRecord> = runs.iter().filter(counted).collect();
+    if failures.is_empty() {
+        return md;
+    }
+    md.push_str(
+        "## Numerical failures\n\nRuns with a NaN/Inf sample or a self-hit (of the median repetition).\n\n",
+    );
+    md.push_str(
+        "| # | variant | NaN/Inf samples | self-hits | shadow self-hits | paths cut at max depth |\n",
+    );
+    md.push_str("| ---: | --- | ---: | ---: | ---: | ---: |\n");
+    for r in failures {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} |",
+            r.index,
+            cell(&r.label),
+            opt(r.invalid_samples),
+            opt(r.self_hits),
+            opt(r.shadow_self_hits),
+            opt(r.depth_cut)
         );
-        md.push_str("| ---: | --- | ---: | ---: | ---: | ---: |\n");
-        for r in failures {
-            let _ = writeln!(
-                md,
-                "| {} | {} | {} | {} | {} | {} |",
-                r.index,
-                cell(&r.label),
-                opt(r.invalid_samples),
-                opt(r.self_hits),
-                opt(r.shadow_self_hits),
-                opt(r.depth_cut)
-            );
-        }
-        md.push('\n');
     }
+    md.push('\n');
+    md
+}
 
-    if !report.references.is_empty() {
-        md.push_str("## References\n\n| key | kind | method | spp | seed | rendered by commit |\n| --- | --- | --- | ---: | ---: | --- |\n");
-        for x in &report.references {
-            let _ = writeln!(
-                md,
-                "| {} | {} | {} | {} | {} | {} |",
-                x.key,
-                x.kind,
-                x.method.as_deref().unwrap_or("–"),
-                opt(x.spp),
-                opt(x.seed),
-                x.git_commit.as_deref().map_or("–".into(), short_commit)
-            );
-        }
-        md.push('\n');
+fn references(report: &ExperimentReport) -> String {
+    let mut md = String::new();
+    if report.references.is_empty() {
+        return md;
     }
+    md.push_str("## References\n\n| key | kind | method | spp | seed | rendered by commit |\n| --- | --- | --- | ---: | ---: | --- |\n");
+    for x in &report.references {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} |",
+            x.key,
+            x.kind,
+            x.method.as_deref().unwrap_or("–"),
+            opt(x.spp),
+            opt(x.seed),
+            x.git_commit.as_deref().map_or("–".into(), short_commit)
+        );
+    }
+    md.push('\n');
+    md
+}
 
-    if !report.charts.is_empty() {
-        md.push_str("## Charts\n\n");
-        for c in &report.charts {
-            let _ = writeln!(md, "- [{}]({charts_prefix}{})", cell(&c.title), c.file);
-        }
-        md.push('\n');
+fn chart_links(report: &ExperimentReport, charts_prefix: &str) -> String {
+    let mut md = String::new();
+    if report.charts.is_empty() {
+        return md;
     }
+    md.push_str("## Charts\n\n");
+    for c in &report.charts {
+        let _ = writeln!(md, "- [{}]({charts_prefix}{})", cell(&c.title), c.file);
+    }
+    md.push('\n');
     md
 }
 
@@ -859,7 +951,7 @@ mod tests {
             run(0, "megakernel", &[1.0, 1.02, 0.98], 1),
             run(1, "wavefront", &[2.0, 2.05, 1.95], 1)
         ]));
-        let md = page(&steady, "d", "");
+        let md = page(&steady, "d", &Links { charts: "", docs: None });
         assert!(md.lines().filter(|l| l.starts_with("| ")).all(|l| !l.contains(FLAG)), "{md}");
         assert!(md.contains("| 0.50× [0.48–0.52] |"), "{md}");
         assert!(md.contains("Timings: 2 of 2 ok runs steady; 0 flagged"), "{md}");
@@ -868,14 +960,14 @@ mod tests {
             run(0, "megakernel", &[1.0, 1.02, 0.98], 1),
             run(1, "wavefront", &[2.0, 3.0, 1.9], 1)
         ]));
-        let md = page(&noisy, "d", "");
+        let md = page(&noisy, "d", &Links { charts: "", docs: None });
         assert!(md.contains("| 2.000⚠ [1.900–3.000] | 55.0% ⚠ unstable |"), "{md}");
         assert!(md.contains("0.50×⚠"), "the ratio carries its run's flag: {md}");
         assert!(md.contains("| 1.000 [0.9800–1.020] | 4.0% |"), "the steady run stays unmarked: {md}");
 
         // No warm-up on a GPU run: cold, whatever the spread.
         let cold = report(serde_json::json!([run(0, "megakernel", &[1.0, 1.0, 1.0], 0)]));
-        let md = page(&cold, "d", "");
+        let md = page(&cold, "d", &Links { charts: "", docs: None });
         assert!(md.contains("none ⚠ cold") && md.contains("1 cold"), "{md}");
     }
 
@@ -896,7 +988,7 @@ mod tests {
         r["warmup"] = serde_json::json!(12);
         r["warmup_log"] = serde_json::json!({"policy": "timed", "frames": 12, "seconds": 0.27,
             "shared_seconds": 0.0, "settled": false, "trace": trace});
-        let md = page(&report(serde_json::json!([r])), "d", "");
+        let md = page(&report(serde_json::json!([r])), "d", &Links { charts: "", docs: None });
         assert!(
             md.contains("| 0 | megakernel | 1980 → 1755 | 2619 → 2619 | 41 → 63 | 312 → 312 | none → none |"),
             "{md}"
@@ -913,9 +1005,9 @@ mod tests {
         let mut on = run(1, "megakernel", &[1.0, 1.0], 1);
         on["rays"] = serde_json::json!(10);
         on["roulette"] = serde_json::json!(true);
-        let without = page(&report(serde_json::json!([off.clone()])), "d", "");
+        let without = page(&report(serde_json::json!([off.clone()])), "d", &Links { charts: "", docs: None });
         assert!(!without.contains("## Path length"), "{without}");
-        let md = page(&report(serde_json::json!([off, on])), "d", "");
+        let md = page(&report(serde_json::json!([off, on])), "d", &Links { charts: "", docs: None });
         assert!(md.contains("| 0 | s | 2×2×1, depth 5 | megakernel | 10.000 | – | – | – |"), "{md}");
         assert!(
             md.contains("| 1 | s | 2×2×1, depth 5, roulette | megakernel | 2.500 | – | 0.250× | 2.00× |"),

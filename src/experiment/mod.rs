@@ -26,6 +26,7 @@ pub mod gpu_slot;
 pub mod html;
 pub mod markdown;
 pub mod merge;
+pub mod method_colours;
 pub mod outputs;
 pub mod overrides;
 pub mod plan;
@@ -36,6 +37,7 @@ pub mod runner;
 pub mod simd_html;
 pub mod stability;
 pub mod tidy;
+pub mod verdict;
 
 pub use crate::input_error::InputError;
 pub use config::{ExperimentConfig, CONFIG_SCHEMA};

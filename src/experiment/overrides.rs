@@ -95,11 +95,19 @@ fn index(key: &str, len: usize, path: &str) -> Result<usize, String> {
 }
 
 fn step<'v>(at: &'v mut Value, key: &str, path: &str) -> Result<&'v mut Value, String> {
+    if let Value::Object(map) = &*at {
+        if !map.contains_key(key) {
+            // The config's own fields, and at the top the fields it may have but leaves out.
+            let mut fields: Vec<&str> = map.keys().map(String::as_str).collect();
+            if path.is_empty() {
+                fields.extend(super::config::TOP_FIELDS);
+            }
+            let hint = crate::strict_json::did_you_mean(key, &fields);
+            return Err(format!("{} has no field {key:?} to step into{hint}", where_(path)));
+        }
+    }
     match at {
-        Value::Object(map) => match map.get_mut(key) {
-            Some(v) => Ok(v),
-            None => Err(format!("{} has no field {key:?} to step into", where_(path))),
-        },
+        Value::Object(map) => Ok(map.get_mut(key).expect("checked above")),
         Value::Array(items) => {
             let i = index(key, items.len(), path)?;
             Ok(&mut items[i])

@@ -31,7 +31,7 @@ pub fn simd_table(h: &mut String, report: &ExperimentReport) {
          active when a subgroup reaches the pass's body (the top of a bounce in a megakernel), \
          the narrower figure earlier reports gave. In the wavefront, <code>megakernel</code> is its \
          tail. Subgroup width: the device's.</p>\
-         <table><tr><th>#</th><th class=\"l\">scene</th><th class=\"l\">method</th>\
+         <div class=\"scroll\"><table><tr><th>#</th><th class=\"l\">scene</th><th class=\"l\">method</th>\
          <th>warp execution efficiency</th><th class=\"l\">per pass: work-weighted (entry)</th></tr>\n",
     );
     for (r, simd) in runs {
@@ -51,5 +51,5 @@ pub fn simd_table(h: &mut String, report: &ExperimentReport) {
             passes.join("; ")
         );
     }
-    h.push_str("</table>\n");
+    h.push_str("</table></div>\n");
 }

@@ -8,9 +8,8 @@ pub enum Schedule {
     /// What measured faster on the adapter's kind: for the wavefront, `regenerate` with the
     /// megakernel tail on a GPU (it beat waves on the H200) and `waves` on a software adapter
     /// (llvmpipe, where waves lead); for the megakernel, `waves`, the seeds' one path per thread,
-    /// kept as the baseline (the regenerating megakernel measured faster on every H200 job of
-    /// megakernel_threads.json: ask for it by name to compare against the strongest
-    /// megakernel). Resolved before a render starts; reports record what ran. The command
+    /// kept as the baseline (the regenerating megakernel measured faster on every H200 job
+    /// timed: ask for it by name to compare against the strongest megakernel). Resolved before a render starts; reports record what ran. The command
     /// line's and experiment configs' default.
     Auto,
     /// Paths start together and a thread or slot whose path ends idles until the wave or

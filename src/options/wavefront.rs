@@ -105,9 +105,9 @@ pub enum RaySort {
 #[serde(rename_all = "kebab-case")]
 pub enum QueueOrder {
     /// Slot order when regenerating with queues a job of at least four pools,
-    /// arrival order otherwise: what measured faster (experiments/queue_order.json): the
-    /// pool-wide scan pays where many refills scatter the pool, and only costs where waves empty
-    /// it or a job barely refills it.
+    /// arrival order otherwise: what measured faster (docs/methods.md): the pool-wide scan pays
+    /// where many refills scatter the pool, and only costs where waves empty it or a job barely
+    /// refills it.
     #[default]
     Auto,
     /// As the producing pass met the paths (the scan keeps the previous queue's order).

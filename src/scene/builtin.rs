@@ -184,16 +184,28 @@ pub fn spheres_count(name: &str) -> Option<u32> {
 /// Why `arg` names no scene, when it is not a built-in and `file` (where `arg` leads as a path)
 /// does not exist: the family rule it breaks, or the built-in names with the closest one.
 /// Shared by `--scene` and experiment configs, so both say the same.
+/// The file is named by the path it was resolved to (absolute), and a name that is clearly a
+/// path (a folder in it, or a scene file's extension) is told so without the built-in names.
 pub fn unknown_scene(arg: &str, file: &std::path::Path) -> String {
+    let resolved = std::path::absolute(file).unwrap_or_else(|_| file.to_path_buf());
+    if looks_like_a_path(arg) {
+        return format!("no such scene file: {} does not exist", resolved.display());
+    }
     family_hint(arg).unwrap_or_else(|| {
         format!(
             "{arg:?} is neither a built-in scene{} nor a file ({} does not exist); built-in scenes: {} \
              (`wavetrace scene list` describes them)",
             crate::strict_json::did_you_mean(arg, NAMES),
-            file.display(),
+            resolved.display(),
             crate::strict_json::quoted_list(NAMES)
         )
     })
+}
+
+/// A folder in it or a scene file's extension: no built-in name looks like this.
+fn looks_like_a_path(arg: &str) -> bool {
+    let lower = arg.to_ascii_lowercase();
+    arg.contains(['/', '\\']) || [".json", ".gltf", ".glb", ".obj"].iter().any(|e| lower.ends_with(e))
 }
 
 /// Why `name`, which looks like a member of a built-in family but is not one, names no scene; for

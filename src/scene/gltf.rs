@@ -69,17 +69,23 @@ pub fn is_gltf_path(path: &Path) -> bool {
 /// Reads a glTF file; the scene is named after the file's stem, external buffers and images
 /// are found relative to its folder. Warnings are logged as well as returned.
 pub fn read(path: &Path) -> Res<Import> {
+    let import = read_unlogged(path)?;
+    for w in &import.warnings {
+        log::warn!("{}: {w}", path.display());
+    }
+    Ok(import)
+}
+
+/// [`read`] without logging the warnings: for a caller that prints them itself (`scene info`),
+/// so that each is shown once.
+pub fn read_unlogged(path: &Path) -> Res<Import> {
     let file = path.display().to_string();
     let bytes =
         std::fs::read(path).map_err(|e| InputError::new(&file, "", format!("cannot read the file: {e}")))?;
     let name = path.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
     let dir = path.parent().unwrap_or(Path::new("."));
     let source = std::path::absolute(path).unwrap_or_else(|_| path.to_owned());
-    let import = from_slice(&bytes, &file, &name, dir, &source)?;
-    for w in &import.warnings {
-        log::warn!("{file}: {w}");
-    }
-    Ok(import)
+    from_slice(&bytes, &file, &name, dir, &source)
 }
 
 /// Reads glTF or GLB bytes. `file` labels errors; `dir` is where relative URIs are found;
@@ -90,6 +96,18 @@ pub fn from_slice(bytes: &[u8], file: &str, name: &str, dir: &Path, source: &Pat
     // The crate's validation indexes `accessors` with each POSITION unchecked (a panic on a bad
     // index), so those indices are checked first.
     let root = document.into_json();
+    // glTF 1.0 is another format (techniques, shaders, objects keyed by id) that the crate
+    // reads past with warnings: refused, so nothing half-read is rendered.
+    if !root.asset.version.starts_with("2.") {
+        return Err(InputError::new(
+            file,
+            "asset.version",
+            format!(
+                "{:?}: only glTF 2.x is read (a glTF 1.0 asset is a different format; convert it to 2.0 first)",
+                root.asset.version
+            ),
+        ));
+    }
     for (m, mesh) in root.meshes.iter().enumerate() {
         for (p, prim) in mesh.primitives.iter().enumerate() {
             let position = prim.attributes.get(&g::json::validation::Checked::Valid(g::Semantic::Positions));

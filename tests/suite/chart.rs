@@ -179,7 +179,7 @@ fn line_chart(series: Vec<Series>) -> LineChart {
 }
 
 fn series(name: &str, points: &[(f64, f64)]) -> Series {
-    Series { name: name.into(), points: points.to_vec(), intervals: Vec::new() }
+    Series { name: name.into(), points: points.to_vec(), intervals: Vec::new(), labels: Vec::new() }
 }
 
 #[test]
@@ -516,19 +516,18 @@ fn long_category_labels_are_rotated_cut_shrunk_and_thinned() {
     for w in xs.windows(2) {
         assert!(w[0].0 + w[0].1 <= w[1].0, "{w:?}");
     }
-    let labels: Vec<Node> = text_nodes(&doc)
-        .into_iter()
-        .filter(|(t, _)| t.starts_with("configuration"))
-        .map(|(_, n)| n)
-        .collect();
+    let labels: Vec<Node> =
+        text_nodes(&doc).into_iter().filter(|(t, _)| t.starts_with("config")).map(|(_, n)| n).collect();
     assert_eq!(labels.len(), 60, "slots of about 10 px still take a (smaller) label each");
+    // Cut at their end they would all read the same: they keep their numbers instead.
+    assert!(labels.iter().all(|l| l.text().unwrap().trim().contains('#')), "labels tell their bars apart");
     let mut xs: Vec<f64> = Vec::new();
     for l in &labels {
         assert!(
             l.attribute("transform").is_some_and(|t| t.starts_with("rotate(270")),
             "long labels are rotated"
         );
-        assert!(l.text().unwrap().trim().ends_with('…'), "long labels are cut");
+        assert!(l.text().unwrap().trim().contains('…'), "long labels are cut");
         xs.push(num(*l, "x"));
     }
     // Rotated labels are at least a line of their font apart, and that font is readable.
@@ -628,4 +627,66 @@ fn negative_values_hang_below_zero() {
     // The negative bar starts where the positive one ends: at zero.
     assert_eq!(neg.1, pos.1 + pos.3, "{bars:?}");
     assert!((neg.3 / pos.3 - 2.0 / 3.0).abs() < 0.02, "{bars:?}");
+}
+
+/// Rotated category labels that would be cut into the same text ("megakernel-regenerat…" for
+/// the 4 and 16 spp runs) keep their ends instead, so every label still names its bar.
+#[test]
+fn cut_labels_never_become_duplicates() {
+    let names = [
+        "megakernel-regenerate-with-persistent-threads 4spp",
+        "megakernel-regenerate-with-persistent-threads 16spp",
+        "megakernel_traverse_bounding_volume_hierarchy_inner",
+        "megakernel_traverse_bounding_volume_hierarchy_leaf",
+    ];
+    let bars: Vec<Bar> =
+        names.iter().map(|l| Bar { label: l.to_string(), segments: vec![("t".into(), 1.0)] }).collect();
+    let doc_text = StackedBarChart { title: "t".into(), y_label: "ms".into(), bars }.to_svg();
+    let doc = check_svg(&doc_text);
+    let labels: Vec<String> = texts(&doc).into_iter().filter(|t| t.starts_with("megak")).collect();
+    assert_eq!(labels.len(), 4, "{labels:?}");
+    let distinct: std::collections::BTreeSet<&String> = labels.iter().collect();
+    assert_eq!(distinct.len(), 4, "cut labels clash: {labels:?}");
+    assert!(labels.iter().all(|l| l.contains('…')), "{labels:?}");
+    assert!(labels[1].ends_with("16spp") && labels[3].ends_with("leaf"), "{labels:?}");
+}
+
+/// A report gives each method one colour in every chart: `to_svg_with` colours a series (line
+/// or bar) by its name, wherever it sits in the chart.
+#[test]
+fn series_take_the_colour_their_name_is_given() {
+    let colour = |name: &str| match name {
+        "wavefront" => Some(3),
+        "megakernel" => Some(1),
+        _ => None,
+    };
+    let chart =
+        line_chart(vec![series("wavefront", &[(1.0, 1.0), (2.0, 2.0)]), series("cpu", &[(1.0, 3.0)])]);
+    let doc_text = chart.to_svg_with(&colour);
+    let doc = check_svg(&doc_text);
+    assert_eq!(lines(&doc, 3), 2, "the wavefront's line and its legend swatch in colour 3");
+    assert_eq!(lines(&doc, 0), 0, "no series at its position's colour 0");
+    assert_eq!(
+        markers(&doc, 1).len(),
+        2,
+        "cpu, unnamed by the colours, keeps its position's colour 1 (point and legend)"
+    );
+    let doc_text = efficiency().to_svg_with(&colour);
+    let doc = check_svg(&doc_text);
+    let left = legend_left(&doc, &["megakernel", "wavefront"]);
+    assert_eq!((rects(&doc, 1, left).len(), rects(&doc, 3, left).len()), (2, 2));
+}
+
+/// Points carry their labels (the spp of a speed-vs-error point), written once where the same
+/// text already sits close by.
+#[test]
+fn point_labels_are_written_beside_their_points() {
+    let mut a = series("a", &[(1.0, 1.0), (100.0, 0.01)]);
+    a.labels = vec!["4 spp".into(), "16 spp".into()];
+    let mut b = series("b", &[(1.0001, 1.0), (50.0, 0.02)]);
+    b.labels = vec!["4 spp".into(), "16 spp".into()];
+    let doc_text = line_chart(vec![a, b]).to_svg();
+    let doc = check_svg(&doc_text);
+    let count = |t: &str| texts(&doc).iter().filter(|x| *x == t).count();
+    assert_eq!((count("4 spp"), count("16 spp")), (1, 2), "{:?}", texts(&doc));
 }

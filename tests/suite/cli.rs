@@ -221,7 +221,8 @@ fn help_shows_examples() {
 fn render_help_is_short_and_grouped() {
     let short = String::from_utf8_lossy(&wavetrace(&["render", "-h"]).stdout).into_owned();
     assert!(short.lines().count() < 60, "{} lines:\n{short}", short.lines().count());
-    assert!(short.contains("--spp") && short.contains("--out") && !short.contains("--pool-size"), "{short}");
+    let option_line = |o: &str| short.lines().any(|l| l.trim_start().starts_with(o));
+    assert!(option_line("--spp") && option_line("--out") && !option_line("--pool-size"), "{short}");
     assert!(short.contains("--help"), "says where the rest is: {short}");
     let long = String::from_utf8_lossy(&wavetrace(&["render", "--help"]).stdout).into_owned();
     let heading = |h: &str| long.lines().position(|l| l == h).unwrap_or_else(|| panic!("no {h:?}"));
@@ -500,4 +501,97 @@ fn wavefront_on_an_opengl_adapter_says_why_it_cannot_run() {
     }
     assert!(stderr.contains("mesa-vulkan-drivers"), "{stderr}");
     assert!(stderr.contains("does not fit"), "{stderr}");
+}
+
+/// Every option text, every subcommand's description and every value's help is written for
+/// users: no issue numbers and no experiment config file names (those belong in the docs), and
+/// no environment variable shown with an empty value.
+#[test]
+fn help_texts_name_no_issues_or_config_files() {
+    fn walk(c: &clap::Command, path: String, texts: &mut Vec<(String, String)>) {
+        let mut push = |what: String, t: Option<&clap::builder::StyledStr>| {
+            if let Some(t) = t {
+                texts.push((what, t.to_string()));
+            }
+        };
+        push(format!("{path} about"), c.get_about());
+        push(format!("{path} long about"), c.get_long_about());
+        for a in c.get_arguments() {
+            let name = format!("{path} --{}", a.get_long().unwrap_or(a.get_id().as_str()));
+            push(name.clone(), a.get_help());
+            push(name.clone(), a.get_long_help());
+            for v in a.get_possible_values() {
+                push(format!("{name} {}", v.get_name()), v.get_help());
+            }
+        }
+        for s in c.get_subcommands() {
+            walk(s, format!("{path} {}", s.get_name()), texts);
+        }
+    }
+    let mut texts = Vec::new();
+    walk(&wavetrace::cli::command(), "wavetrace".into(), &mut texts);
+    let experiments = crate::common::root().join("experiments");
+    let mut leaks = Vec::new();
+    for (what, text) in &texts {
+        let words: Vec<&str> = text.split(|c: char| c.is_whitespace() || "(),;:`".contains(c)).collect();
+        for (i, w) in words.iter().enumerate() {
+            let issue =
+                w.eq_ignore_ascii_case("issue") && words.get(i + 1).is_some_and(|n| n.parse::<u32>().is_ok());
+            let stem = w.trim_end_matches('.').rsplit('/').next().unwrap_or("");
+            let config = stem.ends_with(".json") && experiments.join(stem).is_file();
+            if issue || config || w.starts_with("experiments/") {
+                leaks.push(format!("{what}: {w:?} in {text:?}"));
+            }
+        }
+    }
+    assert!(texts.len() > 100, "the walk found the options: {}", texts.len());
+    assert!(leaks.is_empty(), "{}", leaks.join("\n"));
+    let run = String::from_utf8_lossy(&wavetrace(&["experiment", "run", "--help"]).stdout).into_owned();
+    assert!(run.contains("[env: WAVETRACE_CACHE]") && !run.contains("WAVETRACE_CACHE=]"), "{run}");
+}
+
+/// `render -h` names every group of options it hides, with every flag in it, and says how to
+/// see them; so every flag its examples use is named on it.
+#[test]
+fn render_short_help_names_every_hidden_group_and_flag() {
+    let short = String::from_utf8_lossy(&wavetrace(&["render", "-h"]).stdout).into_owned();
+    let cmd = wavetrace::cli::command();
+    let render = cmd.find_subcommand("render").unwrap();
+    for a in render.get_arguments().filter(|a| a.get_long().is_some() && !a.is_hide_set()) {
+        let flag = format!("--{}", a.get_long().unwrap());
+        let named = short.split(|c: char| c.is_whitespace() || c == ',').any(|w| w == flag);
+        assert!(named, "{flag} is not on render -h:\n{short}");
+        if let Some(h) = a.get_help_heading() {
+            assert!(short.contains(&format!("  {h}:")), "group {h:?} is not named:\n{short}");
+        }
+    }
+    assert!(short.contains("wavetrace render --help` shows them all"), "{short}");
+}
+
+/// Errors that point to the fix: `--set` into a misspelt field suggests the right one; a
+/// missing scene file is named by the path it was resolved to (relative to the config in a
+/// config), and a name that is clearly a path does not list the built-in scenes.
+#[test]
+fn errors_point_to_the_fix() {
+    let dir = scratch("errors-fix");
+    std::fs::create_dir_all(&dir).unwrap();
+    let config = dir.join("c.json");
+    std::fs::copy(crate::common::root().join("experiments/quick.json"), &config).unwrap();
+    let c = config.to_str().unwrap();
+    fails_with(
+        &["experiment", "run", c, "--list", "--set", "method.1.schedule=waves"],
+        &["did you mean \"methods\"?"],
+    );
+    let resolved = std::path::absolute(dir.join("scenes/missing.json")).unwrap();
+    let out = wavetrace(&["experiment", "run", c, "--list", "--set", "scenes=[\"scenes/missing.json\"]"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains(&format!("{} does not exist", resolved.display())),
+        "{stderr}"
+    );
+    assert!(stderr.contains("relative to the config") && !stderr.contains("\"cornell\""), "{stderr}");
+    let out = wavetrace(&["render", "--scene", "nope/missing.json", "--out", "x.exr"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains("no such scene file"), "{stderr}");
+    assert!(!stderr.contains("built-in") && stderr.lines().count() == 1, "short: {stderr}");
 }

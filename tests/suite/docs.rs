@@ -38,7 +38,9 @@ fn every_results_page_is_generated_from_its_committed_report() {
         let source = format!("experiments/results/{device}/{name}");
         let mut report = ExperimentReport::read(&root.join(&source)).unwrap();
         markdown::keep_present_charts(&mut report, &root.join(&source));
-        let want = markdown::page(&report, &source, &format!("../../../{source}/"));
+        let charts = format!("../../../{source}/");
+        let want =
+            markdown::page(&report, &source, &markdown::Links { charts: &charts, docs: Some("../../") });
         let page: PathBuf = root.join(format!("docs/results/{device}/{name}.md"));
         match std::fs::read_to_string(&page) {
             Ok(have) if have == want => {}
@@ -765,6 +767,11 @@ fn ci_runs_the_readmes_test_command() {
     let readme = read("README.md");
     assert!(readme.contains("./scripts/test.sh     # the test suite"));
     assert!(read(".ci/run").lines().any(|l| l.trim() == "bash scripts/test.sh"));
+    // And checks the main job's report in a browser, after the test command (outside its budget).
+    let ci = read(".ci/run");
+    let line = |l: &str| ci.lines().position(|x| x.trim() == l);
+    assert!(line("bash scripts/report_check.sh") > line("bash scripts/test.sh"), "{ci}");
+    assert!(!read("scripts/test.sh").contains("report_check"), "outside the test command");
 }
 
 /// docs/cli-and-configs.md's table of the configs in `experiments/` gives each one's run count:
@@ -870,5 +877,288 @@ fn the_render_transcript_in_outputs_matches_the_binary() {
             "docs/outputs.md shows a line the binary no longer prints:\n  {line}\nshape {:?}; printed:\n{printed}",
             line_shape(line)
         );
+    }
+}
+
+/// A generated page links docs/methods.md relative to where it is written, and names it without
+/// a link where no docs/ is above the page (stdout, or a folder outside the repository): never
+/// a link that leads nowhere.
+#[test]
+fn generated_links_to_the_docs_resolve_wherever_the_page_is() {
+    let root = crate::common::root();
+    let source = "experiments/results/llvmpipe-2core/dispatch_counts";
+    let page = |out: Option<&Path>| {
+        let mut c = std::process::Command::new(crate::common::bin());
+        c.current_dir(&root).args(["experiment", "report", source, "--markdown"]);
+        if let Some(out) = out {
+            c.arg("--out").arg(out);
+        }
+        let o = c.output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        match out {
+            Some(out) => std::fs::read_to_string(out).unwrap(),
+            None => String::from_utf8_lossy(&o.stdout).into_owned(),
+        }
+    };
+    let link = |md: &str| {
+        md.split("](")
+            .skip(1)
+            .find(|l| l.contains("methods.md#"))
+            .map(|l| l[..l.find(')').unwrap()].to_string())
+    };
+    assert_eq!(link(&page(None)), None, "stdout has no place to link from");
+    assert!(page(None).contains("docs/methods.md"));
+    let outside = std::env::temp_dir().join(format!("wavetrace-docs-link-{}", std::process::id()));
+    let md = page(Some(&outside.join("page.md")));
+    let _ = std::fs::remove_dir_all(&outside);
+    assert_eq!(link(&md), None, "no docs/ above {}", outside.display());
+    let inside = crate::common::tmp().join("docs-link/deeper/page.md");
+    let md = page(Some(&inside));
+    let target = link(&md).expect("a link from inside the repository");
+    let file = target.split('#').next().unwrap();
+    assert!(
+        inside.parent().unwrap().join(file).is_file(),
+        "{target} does not resolve from {}",
+        inside.display()
+    );
+}
+
+/// The runs.csv paragraph of docs/outputs.md names the columns in the writer's order (the first
+/// mention of each; `x_median|min|max` and `x_before|after` stand for their columns in order).
+#[test]
+fn runs_csv_columns_are_documented_in_the_writers_order() {
+    let report =
+        ExperimentReport::read(&crate::common::root().join("experiments/results/llvmpipe-2core/quick"))
+            .unwrap();
+    let csv = wavetrace::experiment::tidy::runs_csv(&report);
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let doc = read("docs/outputs.md");
+    let start = doc.find("`runs.csv`, one row per run").expect("the runs.csv paragraph");
+    let paragraph = &doc[start..start + doc[start..].find("`passes.csv`, one row").unwrap()];
+    let mut named: Vec<String> = Vec::new();
+    for (i, span) in paragraph.split('`').enumerate().filter(|(i, _)| i % 2 == 1) {
+        let _ = i;
+        let expanded: Vec<String> = match span.split_once('_').map(|_| span) {
+            Some(s) if s.ends_with("_median|min|max") => {
+                let stem = s.trim_end_matches("_median|min|max");
+                ["median", "min", "max"].iter().map(|x| format!("{stem}_{x}")).collect()
+            }
+            Some(s) if s.ends_with("_before|after") => {
+                let stem = s.trim_end_matches("_before|after");
+                ["before", "after"].iter().map(|x| format!("{stem}_{x}")).collect()
+            }
+            _ => vec![span.to_string()],
+        };
+        for c in expanded {
+            if header.contains(&c.as_str()) && !named.contains(&c) {
+                named.push(c);
+            }
+        }
+    }
+    let header: Vec<String> = header.iter().map(|s| s.to_string()).collect();
+    let first_wrong = named.iter().zip(&header).position(|(a, b)| a != b);
+    assert!(
+        named == header,
+        "docs/outputs.md's runs.csv columns are not the writer's, from column {first_wrong:?}:\n doc: {:?}\n csv: {:?}",
+        first_wrong.map(|i| &named[i..(i + 5).min(named.len())]),
+        first_wrong.map(|i| &header[i..(i + 5).min(header.len())])
+    );
+}
+
+/// docs/outputs.md lists every chart kind the code draws, in report.json's `charts[].kind` and
+/// in the output directory's charts/*.svg.
+#[test]
+fn every_chart_kind_is_documented() {
+    let doc = read("docs/outputs.md");
+    let kinds_row = doc.lines().find(|l| l.starts_with("| `charts[]`")).expect("the charts[] row");
+    let block = &doc[doc.find("charts/*.svg       ").unwrap()..doc.find("images/RUN.exr").unwrap()];
+    for kind in wavetrace::experiment::charts::CHART_KINDS {
+        assert!(kinds_row.contains(&format!("`{kind}`")), "charts[].kind does not list {kind}");
+        assert!(block.contains(kind), "charts/*.svg does not name {kind}");
+    }
+}
+
+/// Wherever an options table lists an option's values (`--queue-order
+/// auto|arrival|slot|slot-depth`), they are all the values the binary takes, no more, no fewer.
+#[test]
+fn listed_option_values_are_the_binarys() {
+    let cmd = wavetrace::cli::command();
+    let mut values: std::collections::BTreeMap<String, Vec<String>> = Default::default();
+    fn walk(c: &clap::Command, values: &mut std::collections::BTreeMap<String, Vec<String>>) {
+        for a in c.get_arguments() {
+            let v: Vec<String> = a.get_possible_values().iter().map(|v| v.get_name().to_string()).collect();
+            if let (Some(long), false) = (a.get_long(), v.is_empty()) {
+                values.insert(format!("--{long}"), v);
+            }
+        }
+        c.get_subcommands().for_each(|s| walk(s, values));
+    }
+    walk(&cmd, &mut values);
+    let mut checked = 0;
+    let mut wrong = Vec::new();
+    for file in [
+        "README.md",
+        "docs/methods.md",
+        "docs/cli-and-configs.md",
+        "docs/numerics.md",
+        "docs/outputs.md",
+        "docs/run-on-a-gpu.md",
+    ] {
+        // The options tables' first cells, where a list of values means all of them (prose may
+        // name a few: `--method megakernel|wavefront`).
+        let text = read(file).replace("\\|", "\u{1}");
+        let cells = text
+            .lines()
+            .filter_map(|l| l.strip_prefix("| `")?.split('`').next())
+            .map(|c| c.replace('\u{1}', "|"));
+        for span in cells {
+            let span = span.as_str();
+            let Some((flag, list)) = span.split_once(' ') else { continue };
+            let Some(all) = values.get(flag) else { continue };
+            if !list.contains('|') || list.contains(' ') {
+                continue;
+            }
+            checked += 1;
+            let mut listed: Vec<&str> = list.split('|').collect();
+            let mut want: Vec<&str> = all.iter().map(String::as_str).collect();
+            listed.sort();
+            want.sort();
+            if listed != want {
+                wrong.push(format!("{file}: `{span}`: the binary takes {}", all.join("|")));
+            }
+        }
+    }
+    assert!(checked >= 20, "only {checked} value lists found");
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
+/// Every field report.json's schema (validated against real reports) defines is named in the
+/// report.json section of docs/outputs.md.
+#[test]
+fn every_report_json_field_is_documented() {
+    let schema: serde_json::Value = serde_json::from_str(&read("experiments/report.schema.json")).unwrap();
+    let doc = read("docs/outputs.md");
+    let section = &doc[doc.find("## report.json").unwrap()..doc.find("## runs.csv and passes.csv").unwrap()];
+    let named: std::collections::BTreeSet<&str> = section
+        .split('`')
+        .skip(1)
+        .step_by(2)
+        .flat_map(|s| s.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_')))
+        .collect();
+    let mut missing = Vec::new();
+    let mut objects = vec![("report".to_string(), &schema)];
+    for (name, def) in schema["$defs"].as_object().unwrap() {
+        objects.push((name.clone(), def));
+    }
+    for (object, def) in objects {
+        for field in def["properties"].as_object().into_iter().flat_map(|p| p.keys()) {
+            if !named.contains(field.as_str()) {
+                missing.push(format!("{object}.{field}"));
+            }
+        }
+    }
+    assert!(missing.is_empty(), "report.json fields docs/outputs.md does not name: {missing:?}");
+}
+
+/// Every results page is in docs/SUMMARY.md (the mdBook's table of contents).
+#[test]
+fn every_results_page_is_in_the_summary() {
+    let root = crate::common::root();
+    let summary = read("docs/SUMMARY.md");
+    let mut missing = Vec::new();
+    for device in
+        std::fs::read_dir(root.join("docs/results")).unwrap().flatten().filter(|d| d.path().is_dir())
+    {
+        for page in std::fs::read_dir(device.path()).unwrap().flatten() {
+            let link = format!(
+                "(results/{}/{})",
+                device.file_name().to_string_lossy(),
+                page.file_name().to_string_lossy()
+            );
+            if link.ends_with(".md)") && !summary.contains(&link) {
+                missing.push(link);
+            }
+        }
+    }
+    assert!(missing.is_empty(), "results pages not in docs/SUMMARY.md: {missing:?}");
+}
+
+/// What `RUST_LOG=info` is documented to show (docs/cli-and-configs.md and `wavetrace --help`)
+/// is what a level of info prints: each item has its line in a small render's log (the loop cap
+/// on llvmpipe only) or an experiment's (a reference from the cache), and the docs name no item
+/// without one.
+#[test]
+fn the_documented_info_log_lines_are_printed() {
+    // Each item the docs may name, and the start of the line that shows it.
+    let lines = [
+        ("adapter choice", "adapter: "),
+        ("warm-up", "warm-up: "),
+        ("llvmpipe loop cap", "llvmpipe loop cap: "),
+        ("references taken from the cache", ": from the cache "),
+    ];
+    let doc = read("docs/cli-and-configs.md");
+    let row = doc.lines().find(|l| l.starts_with("| `RUST_LOG`")).unwrap();
+    let items = |text: &str, from: &str, to: char| -> Vec<String> {
+        let i = text.find(from).unwrap_or_else(|| panic!("{from:?} not in {text:?}")) + from.len();
+        text[i..i + text[i..].find(to).unwrap()].split(", ").map(str::to_string).collect()
+    };
+    let help = String::from_utf8_lossy(
+        &std::process::Command::new(crate::common::bin()).arg("--help").output().unwrap().stdout,
+    )
+    .into_owned();
+    let help_line = help.lines().find(|l| l.trim_start().starts_with("RUST_LOG=")).unwrap().to_string();
+    let documented = [items(row, "(`info`: ", ';'), items(&help_line, "(info: ", ')')].concat();
+    for item in &documented {
+        assert!(lines.iter().any(|(i, _)| i == item), "the docs name {item:?}, which no info line shows");
+    }
+    let dir = crate::common::tmp().join("docs-info-log");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let o = std::process::Command::new(crate::common::bin())
+        .env("RUST_LOG", "info")
+        .args([
+            "render",
+            "--scene",
+            "three-spheres",
+            "--method",
+            "megakernel",
+            "--schedule",
+            "regenerate",
+            "--width",
+            "16",
+            "--height",
+            "8",
+        ])
+        .args(["--spp", "1", "--out"])
+        .arg(dir.join("x.exr"))
+        .output()
+        .unwrap();
+    let mut log = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert!(o.status.success(), "{log}");
+    let config = serde_json::json!({"schema": "wavetrace-experiment/1", "question": "log", "scenes": ["three-spheres"],
+        "resolutions": ["8x4"], "spp": [1], "max_depth": [4], "repetitions": 1, "methods": [{"method": "cpu"}],
+        "reference": {"method": "cpu", "spp": 2}});
+    let config = crate::experiment::write_config(&dir, "log", &config);
+    for _ in 0..2 {
+        let o = std::process::Command::new(crate::common::bin())
+            .env("RUST_LOG", "info")
+            .args(["experiment", "run"])
+            .arg(&config)
+            .arg("--out")
+            .arg(dir.join("out"))
+            .arg("--cache")
+            .arg(dir.join("cache"))
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        log.push_str(&String::from_utf8_lossy(&o.stderr));
+    }
+    let llvmpipe = log.lines().any(|l| l.contains("adapter: llvmpipe"));
+    for item in documented {
+        let (_, start) = lines.iter().find(|(i, _)| *i == item).unwrap();
+        if item.contains("llvmpipe") && !llvmpipe {
+            continue;
+        }
+        assert!(log.contains(start), "RUST_LOG=info shows no {item:?} line ({start:?}):\n{log}");
     }
 }

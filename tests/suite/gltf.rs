@@ -949,3 +949,24 @@ fn wgsl_image_lookup_matches_the_cpu() {
         }
     }
 }
+
+/// An asset that is not glTF 2.x (1.0 is another format) is refused, naming `asset.version`;
+/// and `scene info` shows each warning once (on stdout, not logged to stderr as well).
+#[test]
+fn gltf_other_than_2_is_refused_and_warnings_show_once() {
+    let err =
+        import_edited("version-1", |root| root["asset"]["version"] = json!("1.0")).err().expect("refused");
+    let text = err.to_string();
+    assert!(text.contains("asset.version") && text.contains("only glTF 2.x"), "{text}");
+    assert!(import_edited("version-2-1", |root| root["asset"]["version"] = json!("2.1")).is_ok());
+
+    let dir = scratch("warn-once");
+    let (mut root, bin) = test_document();
+    root["extensionsUsed"].as_array_mut().unwrap().push(json!("EXT_not_mapped_anywhere"));
+    let path = dir.join("warned.gltf");
+    write_embedded(&path, &(root, bin));
+    let out = Command::new(common::bin()).args(["scene", "info"]).arg(&path).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let all = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert_eq!(all.matches("EXT_not_mapped_anywhere is not mapped").count(), 1, "{all}");
+}

@@ -13,7 +13,7 @@ const ADAPTER: &str = "<img src=x onerror=alert(3)>";
 const QUESTION: &str = "Is <iframe src=javascript:alert(4)> & \"co\" safe?";
 
 /// Every element the page may hold: its own and the inline charts' (SVG).
-const TAGS: [&str; 40] = [
+const TAGS: [&str; 44] = [
     "!DOCTYPE",
     "html",
     "head",
@@ -54,6 +54,10 @@ const TAGS: [&str; 40] = [
     "defs",
     "clipPath",
     "tspan",
+    "section",
+    "ul",
+    "li",
+    "i",
 ];
 
 /// The element names of every tag in `html` (`<name` and `</name`).

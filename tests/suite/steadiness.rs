@@ -124,7 +124,11 @@ fn without_interleave_each_run_goes_alone_and_without_warm_up_it_is_cold() {
         assert!(r.stability.as_ref().unwrap().cold && r.stability.as_ref().unwrap().flagged());
     }
     // Every page says so: the markdown page marks each time, the HTML shades the row.
-    let md = wavetrace::experiment::markdown::page(&report, "out", "");
+    let md = wavetrace::experiment::markdown::page(
+        &report,
+        "out",
+        &wavetrace::experiment::markdown::Links { charts: "", docs: None },
+    );
     assert!(md.contains("none ⚠ cold") && md.contains("0 of 2 ok runs steady"), "{md}");
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.contains("class=\"flagged\"") && html.contains("⚠ cold"));
