@@ -109,7 +109,15 @@ pub fn prepare(
     let space = if method == Method::CpuF64 { RenderSpace::Camera } else { options.numerics.render_space };
     let transform = space.transform(options.stress, &scene.camera);
     let scene = &transform.apply(scene).map_err(anyhow::Error::msg)?;
+    if settings.accel == crate::settings::Accel::None && options.bvh != crate::bvh::BvhLayout::Binary {
+        anyhow::bail!(
+            "--accel none (one leaf: the linear loop) takes --bvh binary only, not --bvh {}",
+            options.bvh.name()
+        );
+    }
     let packed = PackedScene::new(scene, settings.accel)
+        .with_bvh(options.bvh)
+        .map_err(|e| anyhow!("scene {}: {e}", scene.name))?
         .with_light_options(options.lights)
         .with_numerics(options.numerics)
         .with_stress(transform);

@@ -1,5 +1,6 @@
 //! `wavetrace render`: one scene, one method, to EXR (+ PNG preview, + JSON report).
 
+use crate::bvh::BvhLayout;
 use crate::gpu::buffers::human_bytes;
 use crate::gpu::memory::{GpuMemory, MemoryCategory};
 use crate::gpu::timing::{TimeSource, Timing, Timings, FRAME_LABEL};
@@ -28,6 +29,8 @@ Examples:
       --out final.exr --png final.png
   wavetrace render --scene three-spheres --method cpu-f64 --spp 256 --out truth.exr
   wavetrace render --scene furnace --method megakernel --accel none --out f.exr --report f.json
+  wavetrace render --scene experiments/scenes/mesh-room.json --method wavefront --bvh wide \
+      --instrument --out w.exr --report w.json   # 8-wide compressed BVH: nodes, bytes per ray
   wavetrace render --scene cornell --method wavefront --nee on --width 300 --height 300 --spp 64 \
       --out cornell.exr --png cornell.png
   wavetrace render --scene two-lights --method cpu --nee on --light-select uniform --out before.exr
@@ -70,6 +73,11 @@ pub struct RenderArgs {
     /// `none` tests every primitive for every ray, as the seeds did.
     #[arg(long, value_enum, default_value_t = Accel::Bvh, help_heading = "Numerics and stress", hide_short_help = true)]
     pub accel: Accel,
+    /// Every method: the BVH's node layout (`binary`: 32-byte nodes each with its own box;
+    /// `aila-laine`: both child boxes in the parent, 64-byte nodes; `wide`: 8-wide compressed,
+    /// CWBVH-style, 80-byte nodes). The films are the same; the cost differs.
+    #[arg(long, value_enum, default_value_t = BvhLayout::Binary, help_heading = "Numerics and stress", hide_short_help = true)]
+    pub bvh: BvhLayout,
     /// Next-event estimation: at each diffuse hit, a shadow ray to a point sampled on an
     /// emitter (`off`: lights are found only by bounced rays, as in the book). Both converge
     /// to the same image.
@@ -266,6 +274,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         timing: a.timing,
         shader_checks: a.shader_checks,
         specialize: a.specialize,
+        bvh: a.bvh,
         preheat_seconds: a.preheat,
     };
     let gpu = if a.method.needs_gpu() { Some(GpuContext::new(a.adapter.as_deref())?) } else { None };

@@ -4,6 +4,8 @@
 
 pub mod background;
 pub mod bvh;
+pub mod bvh_aila_laine;
+pub mod bvh_wide;
 pub mod camera;
 pub mod image_texture;
 pub mod integrator;
