@@ -8,7 +8,7 @@ pub mod scene_bvh;
 pub mod wide;
 
 pub use layout::BvhLayout;
-pub use scene_bvh::{BvhRef, SceneBvh};
+pub use scene_bvh::{BvhRef, BvhSummary, SceneBvh};
 
 use crate::layout::BvhNode;
 use glam::Vec3;

@@ -1,5 +1,6 @@
 //! The rendering methods and the one entry point that runs any of them.
 
+use crate::bvh::BvhSummary;
 use crate::camera::CameraFrame;
 use crate::cpu;
 use crate::film::Film;
@@ -57,6 +58,11 @@ pub struct RenderOutput {
     /// Host seconds to prepare the scene for the render: the move into render space and the
     /// packing, the acceleration structure (BVH) build above all; before the render's clock.
     pub scene_seconds: f64,
+    /// The BVH the render traversed: layout, nodes, bytes, depth.
+    pub bvh: BvhSummary,
+    /// Host seconds of its build (binary SAH, then the layout's conversion): part of
+    /// `scene_seconds`.
+    pub bvh_seconds: f64,
 }
 
 impl RenderOutput {
@@ -71,7 +77,7 @@ impl RenderOutput {
         self.timings.as_ref().map_or(0.0, |t| t.preheat_seconds)
     }
 
-    fn from_gpu(r: GpuRender, resolved: MethodOptions, scene_seconds: f64) -> Self {
+    fn from_gpu(r: GpuRender, resolved: MethodOptions, scene_seconds: f64, bvh: (BvhSummary, f64)) -> Self {
         Self {
             film: r.film,
             wall_seconds: r.wall_seconds,
@@ -89,6 +95,8 @@ impl RenderOutput {
             failures: r.failures,
             resolved,
             scene_seconds,
+            bvh: bvh.0,
+            bvh_seconds: bvh.1,
         }
     }
 }
@@ -138,6 +146,7 @@ pub fn render(
     let built = Instant::now();
     let (packed, camera) = prepare(method, scene, settings, options)?;
     let scene_seconds = built.elapsed().as_secs_f64();
+    let bvh = (packed.bvh.summary(&packed.nodes), packed.bvh.build_seconds);
     // A scene whose f32 arithmetic would overflow renders silently wrong: refuse it instead.
     if method != Method::CpuF64 {
         crate::arithmetic_range::check_f32(&packed, &camera)
@@ -174,6 +183,8 @@ pub fn render(
                 failures,
                 resolved: options.clone(),
                 scene_seconds,
+                bvh: bvh.0,
+                bvh_seconds: bvh.1,
             })
         }
         Method::Megakernel => {
@@ -194,7 +205,7 @@ pub fn render(
                 on_progress,
             )?;
             let megakernel = MegakernelOptions { threads: r.threads, ..options.megakernel.resolve() };
-            Ok(RenderOutput::from_gpu(r, MethodOptions { megakernel, ..options.clone() }, scene_seconds))
+            Ok(RenderOutput::from_gpu(r, MethodOptions { megakernel, ..options.clone() }, scene_seconds, bvh))
         }
         Method::Wavefront => {
             let ctx = gpu.ok_or_else(|| anyhow!("--method wavefront needs a GPU adapter"))?;
@@ -222,6 +233,7 @@ pub fn render(
                     r.render,
                     MethodOptions { wavefront: r.resolved, ..options.clone() },
                     scene_seconds,
+                    bvh,
                 )
             })
         }

@@ -63,6 +63,10 @@ pub struct SceneSummary {
     pub materials: usize,
     /// Host seconds to prepare the scene for this render, the BVH build above all.
     pub prepare_seconds: f64,
+    /// The BVH traversed (`--bvh`): layout, nodes, bytes, depth.
+    pub bvh: crate::bvh::BvhSummary,
+    /// Host seconds of the BVH's build (part of `prepare_seconds`).
+    pub bvh_build_seconds: f64,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -170,6 +174,8 @@ impl RunReport {
                 primitives: scene.primitive_count(),
                 materials: scene.materials.len(),
                 prepare_seconds: out.scene_seconds,
+                bvh: out.bvh.clone(),
+                bvh_build_seconds: out.bvh_seconds,
             },
             method,
             settings: settings.clone(),

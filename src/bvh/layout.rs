@@ -3,7 +3,9 @@
 //! the same closest hits whichever it traverses (DESIGN.md §12).
 
 /// A BVH node layout.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize, serde::Deserialize,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum BvhLayout {
     /// Binary, each 32-byte node holding its own box: a step fetches a node to learn whether

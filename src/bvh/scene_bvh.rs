@@ -19,6 +19,19 @@ pub struct SceneBvh {
     pub depth: u32,
 }
 
+/// What a report records of the BVH a render traversed (its build time apart, as a timing).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct BvhSummary {
+    pub layout: BvhLayout,
+    /// Nodes of the layout.
+    pub nodes: u64,
+    /// Bytes of those nodes: what the traversals read from (the GPU binding adds a 32-byte
+    /// header to the layouts other than binary).
+    pub bytes: u64,
+    /// Levels from the root to the deepest leaf, in the layout's nodes.
+    pub depth: u32,
+}
+
 /// A layout's nodes, for the traversal that reads them.
 #[derive(Clone, Copy, Debug)]
 pub enum BvhRef<'a> {
@@ -55,11 +68,23 @@ impl SceneBvh {
 
     /// Bytes the layout's nodes occupy (what traversals read; the header aside).
     pub fn bytes(&self, binary: &[BvhNode]) -> u64 {
-        let nodes = match self.layout {
+        self.node_count(binary) * self.layout.node_bytes()
+    }
+
+    fn node_count(&self, binary: &[BvhNode]) -> u64 {
+        (match self.layout {
             BvhLayout::Binary => binary.len(),
             BvhLayout::AilaLaine => self.aila_laine.len(),
             BvhLayout::Wide => self.wide.len(),
-        };
-        nodes as u64 * self.layout.node_bytes()
+        }) as u64
+    }
+
+    pub fn summary(&self, binary: &[BvhNode]) -> BvhSummary {
+        BvhSummary {
+            layout: self.layout,
+            nodes: self.node_count(binary),
+            bytes: self.bytes(binary),
+            depth: self.depth,
+        }
     }
 }

@@ -270,6 +270,13 @@ pub struct RunRecord {
     /// reports from before it was recorded.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub scene_prepare_seconds: Option<f64>,
+    /// The BVH traversed: layout, nodes, bytes, depth (absent in reports from before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bvh: Option<crate::bvh::BvhSummary>,
+    /// Host seconds of the BVH's build, median over the timed repetitions (part of
+    /// `scene_prepare_seconds`; absent in reports from before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bvh_build_seconds: Option<f64>,
     /// Times the host waited for the GPU per frame (of the median repetition): all but the last
     /// are blocking waits inside the frame (GPU methods; absent in reports from before).
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -528,6 +528,9 @@ impl<'a> Run<'a> {
         rec.waits = median_rep.waits;
         let prepare: Vec<f64> = reports.iter().map(|r| r.scene.prepare_seconds).collect();
         rec.scene_prepare_seconds = Stat::of(&prepare).map(|s| s.median);
+        let bvh_build: Vec<f64> = reports.iter().map(|r| r.scene.bvh_build_seconds).collect();
+        rec.bvh_build_seconds = Stat::of(&bvh_build).map(|s| s.median);
+        rec.bvh = Some(median_rep.scene.bvh.clone());
         rec.preheat_seconds = median_rep.preheat_seconds;
         if let Some(s) = &median_rep.schedule {
             rec.iterations = Some(s.iterations);
@@ -623,6 +626,8 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         blocking_reads: None,
         speculative_iterations: None,
         scene_prepare_seconds: None,
+        bvh: None,
+        bvh_build_seconds: None,
         preheat_seconds: None,
         between_passes_seconds: None,
         profiled_frame_seconds: None,

@@ -227,6 +227,10 @@ fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
         rcol("speculative_iterations", |r| r.speculative_iterations.and_then(int)),
         rcol("preheat_seconds", |r| r.preheat_seconds.map(float)),
         rcol("scene_prepare_seconds", |r| r.scene_prepare_seconds.map(float)),
+        rcol("bvh_nodes", |r| r.bvh.as_ref().and_then(|b| int(b.nodes))),
+        rcol("bvh_bytes", |r| r.bvh.as_ref().and_then(|b| int(b.bytes))),
+        rcol("bvh_depth", |r| r.bvh.as_ref().and_then(|b| int(b.depth as u64))),
+        rcol("bvh_build_seconds", |r| r.bvh_build_seconds.map(float)),
         rcol("interleaved_with", |r| {
             Some(r.interleaved_with.iter().map(usize::to_string).collect::<Vec<_>>().join(" "))
         }),
