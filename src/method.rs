@@ -3,6 +3,7 @@
 use crate::bvh::BvhSummary;
 use crate::camera::CameraFrame;
 use crate::cpu;
+use crate::cpu::traversal_counts::TraversalCounts;
 use crate::film::Film;
 use crate::gpu::instrument::{Coherence, SimdEfficiency};
 use crate::gpu::megakernel::{self, MegakernelOptions};
@@ -63,6 +64,8 @@ pub struct RenderOutput {
     /// Host seconds of its build (binary SAH, then the layout's conversion): part of
     /// `scene_seconds`.
     pub bvh_seconds: f64,
+    /// Traversal counts per ray on the CPU twin's paths (`--instrument`, every method).
+    pub traversal: Option<TraversalCounts>,
 }
 
 impl RenderOutput {
@@ -97,6 +100,7 @@ impl RenderOutput {
             scene_seconds,
             bvh: bvh.0,
             bvh_seconds: bvh.1,
+            traversal: None,
         }
     }
 }
@@ -147,6 +151,7 @@ pub fn render(
     let (packed, camera) = prepare(method, scene, settings, options)?;
     let scene_seconds = built.elapsed().as_secs_f64();
     let bvh = (packed.bvh.summary(&packed.nodes), packed.bvh.build_seconds);
+    let traversal = options.instrument.then(|| cpu::traversal_counts::count(&packed, &camera, settings));
     // A scene whose f32 arithmetic would overflow renders silently wrong: refuse it instead.
     if method != Method::CpuF64 {
         crate::arithmetic_range::check_f32(&packed, &camera)
@@ -185,6 +190,7 @@ pub fn render(
                 scene_seconds,
                 bvh: bvh.0,
                 bvh_seconds: bvh.1,
+                traversal,
             })
         }
         Method::Megakernel => {
@@ -205,7 +211,8 @@ pub fn render(
                 on_progress,
             )?;
             let megakernel = MegakernelOptions { threads: r.threads, ..options.megakernel.resolve() };
-            Ok(RenderOutput::from_gpu(r, MethodOptions { megakernel, ..options.clone() }, scene_seconds, bvh))
+            let resolved = MethodOptions { megakernel, ..options.clone() };
+            Ok(RenderOutput { traversal, ..RenderOutput::from_gpu(r, resolved, scene_seconds, bvh) })
         }
         Method::Wavefront => {
             let ctx = gpu.ok_or_else(|| anyhow!("--method wavefront needs a GPU adapter"))?;
@@ -229,6 +236,7 @@ pub fn render(
                 histogram: r.histogram,
                 coherence: r.coherence,
                 schedule: Some(r.schedule),
+                traversal,
                 ..RenderOutput::from_gpu(
                     r.render,
                     MethodOptions { wavefront: r.resolved, ..options.clone() },

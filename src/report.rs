@@ -139,6 +139,9 @@ pub struct RunReport {
     pub queue_histogram: Option<QueueHistogram>,
     /// SIMD efficiency (active / available subgroup lanes) per pass or point (`--instrument`).
     pub simd: Option<BTreeMap<String, SimdEfficiency>>,
+    /// Traversal counts per ray on the CPU twin's paths (`--instrument`; issue 59).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub traversal: Option<crate::cpu::traversal_counts::TraversalCounts>,
     /// The intersect pass's coherence per iteration bucket (wavefront, `--instrument`; issue 26).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub coherence: Option<Vec<Coherence>>,
@@ -212,6 +215,7 @@ impl RunReport {
             passes_per_bounce: out.timings.as_ref().map(|t| t.per_bounce.clone()).unwrap_or_default(),
             queue_histogram: out.histogram.clone(),
             simd: out.simd.clone(),
+            traversal: out.traversal,
             coherence: out.coherence.clone(),
             indirect_validation: adapter.map(|a| a.indirect_validation),
             warmup: None,

@@ -209,6 +209,7 @@ fn traverse_binary<T: Real>(
                     let (near, far) = if ta <= tb { (a, b) } else { (b, a) };
                     stack[top] = far;
                     top += 1;
+                    observer.stack(top);
                     current = near;
                     continue;
                 }

@@ -56,6 +56,7 @@ pub fn traverse<T: Real>(
                     let (near, far) = if ta <= tb { (a, b) } else { (b, a) };
                     stack[top] = far;
                     top += 1;
+                    observer.stack(top);
                     current = near;
                     continue;
                 }

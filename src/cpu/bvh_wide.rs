@@ -44,6 +44,7 @@ pub fn traverse<T: Real>(
             if group.1 > 0x00ff_ffff {
                 stack[top] = group;
                 top += 1;
+                observer.stack(top);
             }
             let slot = (bit - 24) ^ octinv;
             let n = &nodes[(base + (imask & ((1 << slot) - 1)).count_ones()) as usize];

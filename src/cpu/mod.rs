@@ -19,6 +19,7 @@ pub mod ray;
 pub mod sampling;
 pub mod sphere;
 pub mod texture;
+pub mod traversal_counts;
 
 // The arithmetic the reference is generic over lives below it, where packed_scene uses it too.
 pub use crate::{real, vec3};

@@ -366,6 +366,10 @@ pub struct RunRecord {
     /// instrumented render (issue 26; absent from reports made before them).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub coherence: Option<Vec<crate::gpu::instrument::Coherence>>,
+    /// Traversal counts per ray on the CPU twin's paths (`instrument`, every method; issue 59;
+    /// absent from reports made before them).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub traversal: Option<crate::cpu::traversal_counts::TraversalCounts>,
     /// Key of the reference in `references`.
     pub reference: Option<String>,
     pub error_metrics: Option<ErrorMetrics>,

@@ -558,6 +558,17 @@ impl<'a> Run<'a> {
         rec.pool_size = median_rep.pool_size;
         rec.indirect_validation = median_rep.indirect_validation;
 
+        rec.traversal = match &instrumented {
+            Some(i) => i.traversal,
+            // CPU methods and adapters without subgroups: counted without a render.
+            None if config.instrument => {
+                let options = &self.variant.options;
+                let (packed, camera) =
+                    crate::method::prepare(self.variant.method, self.scene, settings, options)?;
+                Some(crate::cpu::traversal_counts::count(&packed, &camera, settings))
+            }
+            None => None,
+        };
         if let Some(instrumented) = instrumented {
             rec.simd = instrumented.simd;
             rec.coherence = instrumented.coherence;
@@ -659,6 +670,7 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         indirect_validation: None,
         simd: None,
         coherence: None,
+        traversal: None,
         reference: None,
         error_metrics: None,
         efficiency: None,
