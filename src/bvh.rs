@@ -2,6 +2,14 @@
 //! [`BvhNode`]s that the CPU reference (`cpu/bvh.rs`) and the GPU (`shaders/shared/bvh.wgsl`)
 //! traverse with the same stack-based loop.
 
+pub mod aila_laine;
+pub mod layout;
+pub mod scene_bvh;
+pub mod wide;
+
+pub use layout::BvhLayout;
+pub use scene_bvh::{BvhRef, BvhSummary, SceneBvh};
+
 use crate::layout::BvhNode;
 use glam::Vec3;
 

@@ -1,7 +1,9 @@
 //! The rendering methods and the one entry point that runs any of them.
 
+use crate::bvh::BvhSummary;
 use crate::camera::CameraFrame;
 use crate::cpu;
+use crate::cpu::traversal_counts::TraversalCounts;
 use crate::film::Film;
 use crate::gpu::instrument::{Coherence, SimdEfficiency};
 use crate::gpu::megakernel::{self, MegakernelOptions};
@@ -57,6 +59,13 @@ pub struct RenderOutput {
     /// Host seconds to prepare the scene for the render: the move into render space and the
     /// packing, the acceleration structure (BVH) build above all; before the render's clock.
     pub scene_seconds: f64,
+    /// The BVH the render traversed: layout, nodes, bytes, depth.
+    pub bvh: BvhSummary,
+    /// Host seconds of its build (binary SAH, then the layout's conversion): part of
+    /// `scene_seconds`.
+    pub bvh_seconds: f64,
+    /// Traversal counts per ray on the CPU twin's paths (`--instrument`, every method).
+    pub traversal: Option<TraversalCounts>,
 }
 
 impl RenderOutput {
@@ -71,7 +80,7 @@ impl RenderOutput {
         self.timings.as_ref().map_or(0.0, |t| t.preheat_seconds)
     }
 
-    fn from_gpu(r: GpuRender, resolved: MethodOptions, scene_seconds: f64) -> Self {
+    fn from_gpu(r: GpuRender, resolved: MethodOptions, scene_seconds: f64, bvh: (BvhSummary, f64)) -> Self {
         Self {
             film: r.film,
             wall_seconds: r.wall_seconds,
@@ -89,6 +98,9 @@ impl RenderOutput {
             failures: r.failures,
             resolved,
             scene_seconds,
+            bvh: bvh.0,
+            bvh_seconds: bvh.1,
+            traversal: None,
         }
     }
 }
@@ -109,7 +121,15 @@ pub fn prepare(
     let space = if method == Method::CpuF64 { RenderSpace::Camera } else { options.numerics.render_space };
     let transform = space.transform(options.stress, &scene.camera);
     let scene = &transform.apply(scene).map_err(anyhow::Error::msg)?;
+    if settings.accel == crate::settings::Accel::None && options.bvh != crate::bvh::BvhLayout::Binary {
+        anyhow::bail!(
+            "--accel none (one leaf: the linear loop) takes --bvh binary only, not --bvh {}",
+            options.bvh.name()
+        );
+    }
     let packed = PackedScene::new(scene, settings.accel)
+        .with_bvh(options.bvh)
+        .map_err(|e| anyhow!("scene {}: {e}", scene.name))?
         .with_light_options(options.lights)
         .with_numerics(options.numerics)
         .with_stress(transform);
@@ -130,6 +150,8 @@ pub fn render(
     let built = Instant::now();
     let (packed, camera) = prepare(method, scene, settings, options)?;
     let scene_seconds = built.elapsed().as_secs_f64();
+    let bvh = (packed.bvh.summary(&packed.nodes), packed.bvh.build_seconds);
+    let traversal = options.instrument.then(|| cpu::traversal_counts::count(&packed, &camera, settings));
     // A scene whose f32 arithmetic would overflow renders silently wrong: refuse it instead.
     if method != Method::CpuF64 {
         crate::arithmetic_range::check_f32(&packed, &camera)
@@ -166,6 +188,9 @@ pub fn render(
                 failures,
                 resolved: options.clone(),
                 scene_seconds,
+                bvh: bvh.0,
+                bvh_seconds: bvh.1,
+                traversal,
             })
         }
         Method::Megakernel => {
@@ -186,7 +211,8 @@ pub fn render(
                 on_progress,
             )?;
             let megakernel = MegakernelOptions { threads: r.threads, ..options.megakernel.resolve() };
-            Ok(RenderOutput::from_gpu(r, MethodOptions { megakernel, ..options.clone() }, scene_seconds))
+            let resolved = MethodOptions { megakernel, ..options.clone() };
+            Ok(RenderOutput { traversal, ..RenderOutput::from_gpu(r, resolved, scene_seconds, bvh) })
         }
         Method::Wavefront => {
             let ctx = gpu.ok_or_else(|| anyhow!("--method wavefront needs a GPU adapter"))?;
@@ -210,10 +236,12 @@ pub fn render(
                 histogram: r.histogram,
                 coherence: r.coherence,
                 schedule: Some(r.schedule),
+                traversal,
                 ..RenderOutput::from_gpu(
                     r.render,
                     MethodOptions { wavefront: r.resolved, ..options.clone() },
                     scene_seconds,
+                    bvh,
                 )
             })
         }

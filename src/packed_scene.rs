@@ -3,7 +3,7 @@
 //! renders from one `PackedScene`, so they traverse identical data, and samples its lights the
 //! same way (`light_options`, the alias table `light_table`).
 
-use crate::bvh::{Aabb, Bvh};
+use crate::bvh::{aila_laine, wide, Aabb, Bvh, BvhLayout, BvhRef, SceneBvh};
 use crate::camera::CameraFrame;
 use crate::layout::{
     background_kind, image_word, material_kind, primitive_kind, texture_kind, BvhNode, FrameUniform,
@@ -32,9 +32,14 @@ pub struct PackedScene {
     /// Every shape, in BVH leaf order.
     pub primitives: Vec<PrimitiveRecord>,
     pub materials: Vec<MaterialRecord>,
+    /// The binary build's nodes (`--bvh binary`'s; the others are made from them). With
+    /// `--bvh wide`, whose leaves store the primitives in another order, only their boxes hold.
     pub nodes: Vec<BvhNode>,
-    /// Slots in `primitives` of the emitters with non-zero radiance, ascending: what next-event
-    /// estimation picks from.
+    /// The BVH in the layout the traversals read, and what building it cost.
+    pub bvh: SceneBvh,
+    /// Slots in `primitives` of the emitters with non-zero radiance, ascending in the binary
+    /// build's order (`with_bvh` renames them, keeping that order): what next-event estimation
+    /// picks from.
     pub lights: Vec<u32>,
     /// The alias table over `lights` (same order) for power-proportional choice, or the uniform
     /// table where the lights' power does not add up to a positive finite f32 (then the choice
@@ -65,10 +70,12 @@ impl PackedScene {
     pub fn new(scene: &Scene, accel: Accel) -> Self {
         let (records, uv_records) = records(scene);
         let boxes: Vec<Aabb> = records.iter().map(primitive_box).collect();
+        let built = std::time::Instant::now();
         let bvh = match accel {
             Accel::Bvh => Bvh::build(&boxes),
             Accel::None => Bvh::single_leaf(&boxes),
         };
+        let build_seconds = built.elapsed().as_secs_f64();
         let primitives: Vec<PrimitiveRecord> = bvh.order.iter().map(|&i| records[i as usize]).collect();
         let textured = scene.materials.iter().any(|m| {
             matches!(
@@ -94,6 +101,7 @@ impl PackedScene {
         PackedScene {
             primitives,
             materials,
+            bvh: SceneBvh { build_seconds, depth: depth(&bvh), ..SceneBvh::default() },
             nodes: bvh.nodes,
             lights,
             light_table,
@@ -106,6 +114,55 @@ impl PackedScene {
             texels,
             image_sources,
         }
+    }
+
+    /// The scene with its BVH in `layout` (`--bvh`), made from the binary build. The wide
+    /// layout stores the primitives in its leaves' order: the lights keep their order (each
+    /// names its primitive's new slot), so every method samples the same lights with the same
+    /// random numbers whatever the layout. Errors where the layout cannot hold the scene.
+    pub fn with_bvh(mut self, layout: BvhLayout) -> Result<Self, String> {
+        let start = std::time::Instant::now();
+        match layout {
+            BvhLayout::Binary => {}
+            BvhLayout::AilaLaine => {
+                self.bvh.aila_laine = aila_laine::from_binary(&self.nodes);
+                self.bvh.depth = self.bvh.depth.saturating_sub(1).max(1);
+            }
+            BvhLayout::Wide => {
+                let boxes: Vec<Aabb> = self.primitives.iter().map(primitive_box).collect();
+                let built = wide::build(&self.nodes, &boxes)?;
+                self.reorder(&built.order);
+                self.bvh.wide = built.nodes;
+                self.bvh.depth = built.depth;
+            }
+        }
+        self.bvh.layout = layout;
+        self.bvh.build_seconds += start.elapsed().as_secs_f64();
+        Ok(self)
+    }
+
+    /// Stores the primitive in slot `order[i]` at slot `i`, and renames every slot the scene
+    /// holds (lights, the alias table) to match.
+    fn reorder(&mut self, order: &[u32]) {
+        let mut new_slot = vec![0u32; order.len()];
+        for (i, &old) in order.iter().enumerate() {
+            new_slot[old as usize] = i as u32;
+        }
+        self.primitives = order.iter().map(|&o| self.primitives[o as usize]).collect();
+        if !self.uvs.is_empty() {
+            self.uvs = order.iter().map(|&o| self.uvs[o as usize]).collect();
+        }
+        for l in &mut self.lights {
+            *l = new_slot[*l as usize];
+        }
+        for e in &mut self.light_table {
+            e.slot = new_slot[e.slot as usize];
+        }
+    }
+
+    /// The nodes the traversals read, in the scene's layout.
+    pub fn bvh_nodes(&self) -> BvhRef<'_> {
+        self.bvh.nodes(&self.nodes)
     }
 
     /// The scene with next-event estimation sampling its lights as `options` says.
@@ -211,13 +268,13 @@ impl PackedScene {
     /// `--specialize scene`, every kind with `none`); `NEE` (next-event estimation on, in a scene
     /// with lights), and how NEE samples: `LIGHT_SOLID_ANGLE` (spheres by the cone they subtend)
     /// and `LIGHT_POWER` (choice by power); `RAY_ROBUST`, `SPHERE_BOOK` and `FRESNEL_EXACT`
-    /// (`numerics`); `ROULETTE` (`--roulette on`). As constants rather than uniforms so that the
+    /// (`numerics`); `ROULETTE` (`--roulette on`); `BVH_LAYOUT` (`--bvh`). As constants rather than uniforms so that the
     /// compiler drops the code a render does not use.
     pub fn pipeline_constants(
         &self,
         settings: &RenderSettings,
         specialize: Specialize,
-    ) -> [(&'static str, f64); 10] {
+    ) -> [(&'static str, f64); 11] {
         let (prims, materials, textures) = match specialize {
             // An empty scene still needs a valid primitive mask; any kind will do.
             Specialize::Scene => (self.primitive_kinds().max(1), self.material_kinds(), self.texture_kinds()),
@@ -237,6 +294,7 @@ impl PackedScene {
             ("SPHERE_BOOK", (self.numerics.sphere_hit == SphereHit::Book) as u32 as f64),
             ("FRESNEL_EXACT", (self.numerics.fresnel == Fresnel::Exact) as u32 as f64),
             ("ROULETTE", settings.roulette as u32 as f64),
+            ("BVH_LAYOUT", self.bvh.layout.constant() as f64),
         ]
     }
 
@@ -292,6 +350,15 @@ impl PackedScene {
             texture_origin: glam::DVec3::from(self.stress.translate).as_vec3().to_array(),
             texture_inv_scale: (1.0 / self.stress.scale) as f32,
         }
+    }
+}
+
+/// Levels of the binary build from the root to its deepest leaf.
+fn depth(bvh: &Bvh) -> u32 {
+    if bvh.nodes.is_empty() {
+        0
+    } else {
+        bvh.depth() as u32
     }
 }
 

@@ -63,6 +63,10 @@ pub struct SceneSummary {
     pub materials: usize,
     /// Host seconds to prepare the scene for this render, the BVH build above all.
     pub prepare_seconds: f64,
+    /// The BVH traversed (`--bvh`): layout, nodes, bytes, depth.
+    pub bvh: crate::bvh::BvhSummary,
+    /// Host seconds of the BVH's build (part of `prepare_seconds`).
+    pub bvh_build_seconds: f64,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -135,6 +139,9 @@ pub struct RunReport {
     pub queue_histogram: Option<QueueHistogram>,
     /// SIMD efficiency (active / available subgroup lanes) per pass or point (`--instrument`).
     pub simd: Option<BTreeMap<String, SimdEfficiency>>,
+    /// Traversal counts per ray on the CPU twin's paths (`--instrument`; issue 59).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub traversal: Option<crate::cpu::traversal_counts::TraversalCounts>,
     /// The intersect pass's coherence per iteration bucket (wavefront, `--instrument`; issue 26).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub coherence: Option<Vec<Coherence>>,
@@ -170,6 +177,8 @@ impl RunReport {
                 primitives: scene.primitive_count(),
                 materials: scene.materials.len(),
                 prepare_seconds: out.scene_seconds,
+                bvh: out.bvh.clone(),
+                bvh_build_seconds: out.bvh_seconds,
             },
             method,
             settings: settings.clone(),
@@ -206,6 +215,7 @@ impl RunReport {
             passes_per_bounce: out.timings.as_ref().map(|t| t.per_bounce.clone()).unwrap_or_default(),
             queue_histogram: out.histogram.clone(),
             simd: out.simd.clone(),
+            traversal: out.traversal,
             coherence: out.coherence.clone(),
             indirect_validation: adapter.map(|a| a.indirect_validation),
             warmup: None,

@@ -1,9 +1,18 @@
 // Closest-hit and any-hit BVH traversal; twin of src/cpu/bvh.rs (same stack, same child order).
 // Needs `nodes` and `primitives` bound (shared/scene.wgsl), and instrument.wgsl included by the
 // entry (its step counters; the caller names the traversal with instrument_traversal).
+// `nodes` is the layout's words in 16-byte units (bvh::SceneBvh::gpu_words): the binary layout
+// here, the others in bvh_aila_laine.wgsl and bvh_wide.wgsl, chosen by BVH_LAYOUT.
 
-// Matches bvh::MAX_DEPTH: the builder never makes a deeper tree.
+#include "shared/bvh_aila_laine.wgsl"
+#include "shared/bvh_wide.wgsl"
+
+// Matches bvh::MAX_DEPTH and bvh::wide::MAX_DEPTH: the builders never make a deeper tree.
 const BVH_STACK: u32 = 64u;
+
+// `--bvh` (bvh::BvhLayout::constant): 0 binary, 1 aila-laine, 2 wide. A pipeline constant, so
+// the driver compiles only the layout's loop.
+override BVH_LAYOUT: u32 = 0u;
 
 struct BvhNode {
     min: vec3<f32>,
@@ -26,10 +35,32 @@ fn safe_inverse(d: vec3<f32>) -> vec3<f32> {
     return 1.0 / select(d, s, abs(d) < vec3<f32>(tiny));
 }
 
+// Binary node i: two units, (min, left_or_first) and (max, count).
+fn bvh_node(i: u32) -> BvhNode {
+    let a = nodes[2u * i];
+    let b = nodes[2u * i + 1u];
+    return BvhNode(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w);
+}
+
+// The scene's box: the binary root's, or the other layouts' header in the same two units.
+fn bvh_root_min() -> vec3<f32> {
+    return bitcast<vec3<f32>>(nodes[0].xyz);
+}
+
+fn bvh_root_max() -> vec3<f32> {
+    return bitcast<vec3<f32>>(nodes[1].xyz);
+}
+
 // Entry distance into the box if the ray enters before t_max, else -1.
 fn hit_box(n: BvhNode, o: vec3<f32>, inv: vec3<f32>, t_min: f32, t_max: f32) -> f32 {
-    let t1 = (n.min - o) * inv;
-    let t2 = (n.max - o) * inv;
+    return hit_bounds(n.min, n.max, o, inv, t_min, t_max);
+}
+
+// Entry distance into the box (lo, hi) if the ray enters before t_max, else -1: every layout's
+// slab test, so a box containing another is entered by every ray that enters that one.
+fn hit_bounds(lo_corner: vec3<f32>, hi_corner: vec3<f32>, o: vec3<f32>, inv: vec3<f32>, t_min: f32, t_max: f32) -> f32 {
+    let t1 = (lo_corner - o) * inv;
+    let t2 = (hi_corner - o) * inv;
     let lo = min(t1, t2);
     let hi = max(t1, t2);
     let near = max(max(max(lo.x, lo.y), lo.z), t_min);
@@ -57,21 +88,31 @@ fn occluder(ray: Ray, t_min: f32, t_max: f32, skip: u32) -> Hit {
     return traverse(ray, t_min, t_max, true, skip);
 }
 
-// The one traversal loop: nearer child first, the farther on the stack. `any_hit` returns the
-// first hit found in (t_min, t_max) instead of the nearest; the primitive in slot `skip` is not
-// tested.
+// The query on the layout's loop. `any_hit` returns the first hit found in (t_min, t_max)
+// instead of the nearest; the primitive in slot `skip` is not tested.
 fn traverse(ray: Ray, t_min: f32, t_max: f32, any_hit: bool, skip: u32) -> Hit {
+    if BVH_LAYOUT == 2u {
+        return traverse_wide(ray, t_min, t_max, any_hit, skip);
+    }
+    if BVH_LAYOUT == 1u {
+        return traverse_aila_laine(ray, t_min, t_max, any_hit, skip);
+    }
+    return traverse_binary(ray, t_min, t_max, any_hit, skip);
+}
+
+// The binary layout's loop: nearer child first, the farther on the stack.
+fn traverse_binary(ray: Ray, t_min: f32, t_max: f32, any_hit: bool, skip: u32) -> Hit {
     let inv = safe_inverse(ray.dir);
     var closest = t_max;
     var hit = Hit(0.0, NO_HIT);
     var stack: array<u32, BVH_STACK>;
     var top = 0u;
     var current = 0u;
-    if hit_box(nodes[0], ray.origin, inv, t_min, closest) < 0.0 {
+    if hit_box(bvh_node(0u), ray.origin, inv, t_min, closest) < 0.0 {
         return hit;
     }
     loop {
-        let n = nodes[current];
+        let n = bvh_node(current);
         if n.count > 0u {
             instrument_step(TRAVERSE_LEAF);
             for (var slot = n.left_or_first; slot < n.left_or_first + n.count; slot++) {
@@ -92,8 +133,8 @@ fn traverse(ray: Ray, t_min: f32, t_max: f32, any_hit: bool, skip: u32) -> Hit {
             instrument_step(TRAVERSE_INNER);
             let a = current + 1u;
             let b = n.left_or_first;
-            let ta = hit_box(nodes[a], ray.origin, inv, t_min, closest);
-            let tb = hit_box(nodes[b], ray.origin, inv, t_min, closest);
+            let ta = hit_box(bvh_node(a), ray.origin, inv, t_min, closest);
+            let tb = hit_box(bvh_node(b), ray.origin, inv, t_min, closest);
             if ta >= 0.0 && tb >= 0.0 {
                 // Nearer child first; the farther waits on the stack.
                 if ta <= tb {

@@ -9,7 +9,8 @@
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> primitives: array<Primitive>;
 @group(0) @binding(2) var<storage, read> materials: array<Material>;
-@group(0) @binding(3) var<storage, read> nodes: array<BvhNode>;
+// The BVH in its layout's 16-byte units (shared/bvh.wgsl).
+@group(0) @binding(3) var<storage, read> nodes: array<vec4<u32>>;
 // The alias table of the emitting primitives (one unused entry when there are none:
 // frame.light_count); shared/light.wgsl.
 @group(0) @binding(4) var<storage, read> lights: array<LightEntry>;

@@ -66,8 +66,8 @@ fn ray_key(slot: u32) -> u32 {
         return octant;
     }
     // The root node's box bounds every primitive (one node without a BVH too).
-    let lo = nodes[0].min;
-    let extent = max(nodes[0].max - lo, vec3<f32>(1e-30));
+    let lo = bvh_root_min();
+    let extent = max(bvh_root_max() - lo, vec3<f32>(1e-30));
     let cells = f32(1u << CELL_BITS);
     let c = vec3<u32>(clamp((path_origin[slot].xyz - lo) / extent * cells, vec3<f32>(0.0), vec3<f32>(cells - 1.0)));
     let morton = spread_bits(c.x) | spread_bits(c.y) << 1u | spread_bits(c.z) << 2u;

@@ -2,6 +2,7 @@
 //! declared once for every command that renders or plans one (`render`, `plan`), and built into
 //! the library's settings and options in one place.
 
+use crate::bvh::BvhLayout;
 use crate::light_options::{LightOptions, LightSampling, LightSelect};
 use crate::numerics::{Fresnel, NumericOptions, RayOffset, SphereHit};
 use crate::options::{
@@ -41,6 +42,11 @@ pub struct JobArgs {
     /// `none` tests every primitive for every ray, as the seeds did.
     #[arg(long, value_enum, default_value_t = Accel::Bvh, help_heading = "Numerics and stress", hide_short_help = true)]
     pub accel: Accel,
+    /// Every method: the BVH's node layout (`binary`: 32-byte nodes each with its own box;
+    /// `aila-laine`: both child boxes in the parent, 64-byte nodes; `wide`: 8-wide compressed,
+    /// CWBVH-style, 80-byte nodes). The films are the same; the cost differs.
+    #[arg(long, value_enum, default_value_t = BvhLayout::Binary, help_heading = "Numerics and stress", hide_short_help = true)]
+    pub bvh: BvhLayout,
     /// Next-event estimation: at each diffuse hit, a shadow ray to a point sampled on an
     /// emitter (`off`: lights are found only by bounced rays, as in the book). Both converge
     /// to the same image.
@@ -210,6 +216,7 @@ impl JobArgs {
             timing: a.timing,
             shader_checks: a.shader_checks,
             specialize: a.specialize,
+            bvh: a.bvh,
             preheat_seconds: a.preheat,
         };
         Ok((scene, settings, options))

@@ -17,6 +17,8 @@ Examples:
       --out final.exr --png final.png
   wavetrace render --scene three-spheres --method cpu-f64 --spp 256 --out truth.exr
   wavetrace render --scene furnace --method megakernel --accel none --out f.exr --report f.json
+  wavetrace render --scene experiments/scenes/mesh-room.json --method wavefront --bvh wide \
+      --instrument --out w.exr --report w.json   # 8-wide compressed BVH: nodes, bytes per ray
   wavetrace render --scene cornell --method wavefront --nee on --width 300 --height 300 --spp 64 \
       --out cornell.exr --png cornell.png
   wavetrace render --scene two-lights --method cpu --nee on --light-select uniform --out before.exr

@@ -1,9 +1,10 @@
 //! Closest-hit and any-hit BVH traversal; twin of `shaders/shared/bvh.wgsl` (same stack, same
-//! child order).
+//! child order). The binary layout's loop is here; the others' in `bvh_aila_laine.rs` and
+//! `bvh_wide.rs`, each the twin of its WGSL file.
 
 use super::observe::PathObserver;
 use super::{primitive::hit as hit_primitive, ray::Ray, real::Real, vec3::V3};
-use crate::bvh::MAX_DEPTH;
+use crate::bvh::{BvhRef, MAX_DEPTH};
 use crate::layout::{BvhNode, PrimitiveRecord};
 use crate::numerics::SphereHit;
 
@@ -36,29 +37,63 @@ pub fn safe_inverse<T: Real>(d: V3<T>) -> V3<T> {
 /// Entry distance of the ray into the node's box if it enters before `t_max`.
 #[inline(always)]
 fn hit_box<T: Real>(n: &BvhNode, o: V3<T>, inv: V3<T>, t_min: T, t_max: T) -> Option<T> {
-    let t1 = (V3::of(n.min) - o).mul_elem(inv);
-    let t2 = (V3::of(n.max) - o).mul_elem(inv);
+    hit_bounds(n.min, n.max, o, inv, t_min, t_max)
+}
+
+/// Entry distance of the ray into the box (min, max) if it enters before `t_max`: the one slab
+/// test of every layout, so a box that contains another is entered by every ray entering it.
+#[inline(always)]
+pub fn hit_bounds<T: Real>(
+    min: [f32; 3],
+    max: [f32; 3],
+    o: V3<T>,
+    inv: V3<T>,
+    t_min: T,
+    t_max: T,
+) -> Option<T> {
+    let t1 = (V3::of(min) - o).mul_elem(inv);
+    let t2 = (V3::of(max) - o).mul_elem(inv);
     let near = t1.x.min(t2.x).max(t1.y.min(t2.y)).max(t1.z.min(t2.z)).max(t_min);
     let far = t1.x.max(t2.x).min(t1.y.max(t2.y)).min(t1.z.max(t2.z)).min(t_max);
     (near <= far).then_some(near)
 }
 
+/// One traversal's question: the ray, its interval, whether any hit will do (a shadow ray),
+/// the primitive slot not to test (`NO_SKIP` for none) and the sphere formula.
+pub struct Query<'a, T> {
+    pub prims: &'a [PrimitiveRecord],
+    pub ray: &'a Ray<T>,
+    pub t_min: T,
+    pub t_max: T,
+    pub any_hit: bool,
+    pub skip: u32,
+    pub sphere: SphereHit,
+}
+
+impl<T: Real> Query<'_, T> {
+    /// The primitive in `slot` hit in (t_min, t_max), `t_max` being the closest hit so far.
+    #[inline(always)]
+    pub fn hit(&self, slot: u32, t_max: T) -> Option<T> {
+        hit_primitive(&self.prims[slot as usize], self.ray, self.t_min, t_max, self.sphere)
+    }
+}
+
 /// The nearest hit in (t_min, ∞), spheres met by the `sphere` formula.
 #[inline(always)]
 pub fn closest_hit<T: Real>(
-    nodes: &[BvhNode],
+    bvh: BvhRef,
     prims: &[PrimitiveRecord],
     ray: &Ray<T>,
     t_min: T,
     sphere: SphereHit,
 ) -> Option<Hit<T>> {
-    traverse(nodes, prims, ray, t_min, T::infinity(), false, NO_SKIP, sphere, &mut ())
+    closest_hit_observed(bvh, prims, ray, t_min, sphere, &mut ())
 }
 
 /// [`closest_hit`], reporting its steps to `observer`.
 #[inline(always)]
 pub fn closest_hit_observed<T: Real>(
-    nodes: &[BvhNode],
+    bvh: BvhRef,
     prims: &[PrimitiveRecord],
     ray: &Ray<T>,
     t_min: T,
@@ -66,30 +101,32 @@ pub fn closest_hit_observed<T: Real>(
     observer: &mut impl PathObserver,
 ) -> Option<Hit<T>> {
     observer.traversal(false);
-    traverse(nodes, prims, ray, t_min, T::infinity(), false, NO_SKIP, sphere, observer)
+    let q = Query { prims, ray, t_min, t_max: T::infinity(), any_hit: false, skip: NO_SKIP, sphere };
+    traverse(bvh, &q, observer)
 }
 
-/// No primitive skipped (`traverse`'s `skip`).
-const NO_SKIP: u32 = u32::MAX;
+/// No primitive skipped (`Query::skip`).
+pub const NO_SKIP: u32 = u32::MAX;
 
 /// A primitive but the one in slot `skip` (the light a shadow ray aims at) on the ray in
 /// (t_min, t_max), the first the traversal finds, if any: the shadow-ray query.
 #[inline(always)]
 pub fn occluder<T: Real>(
-    nodes: &[BvhNode],
+    bvh: BvhRef,
     prims: &[PrimitiveRecord],
     ray: &Ray<T>,
     (t_min, t_max): (T, T),
     skip: u32,
     sphere: SphereHit,
 ) -> Option<Hit<T>> {
-    traverse(nodes, prims, ray, t_min, t_max, true, skip, sphere, &mut ())
+    let q = Query { prims, ray, t_min, t_max, any_hit: true, skip, sphere };
+    traverse(bvh, &q, &mut ())
 }
 
 /// [`occluder`], reporting its steps to `observer`.
 #[inline(always)]
 pub fn occluder_observed<T: Real>(
-    nodes: &[BvhNode],
+    bvh: BvhRef,
     prims: &[PrimitiveRecord],
     ray: &Ray<T>,
     (t_min, t_max): (T, T),
@@ -98,58 +135,63 @@ pub fn occluder_observed<T: Real>(
     observer: &mut impl PathObserver,
 ) -> Option<Hit<T>> {
     observer.traversal(true);
-    traverse(nodes, prims, ray, t_min, t_max, true, skip, sphere, observer)
+    let q = Query { prims, ray, t_min, t_max, any_hit: true, skip, sphere };
+    traverse(bvh, &q, observer)
 }
 
 /// Whether [`occluder`] finds anything, spheres met by the stable formula.
 #[inline(always)]
 pub fn occluded<T: Real>(
-    nodes: &[BvhNode],
+    bvh: BvhRef,
     prims: &[PrimitiveRecord],
     ray: &Ray<T>,
     t_min: T,
     t_max: T,
     skip: u32,
 ) -> bool {
-    occluder(nodes, prims, ray, (t_min, t_max), skip, SphereHit::Stable).is_some()
+    occluder(bvh, prims, ray, (t_min, t_max), skip, SphereHit::Stable).is_some()
 }
 
-/// The one traversal loop: nearer child first, the farther on the stack. `any_hit` returns the
-/// first hit found in (t_min, t_max) instead of the nearest; the primitive in slot `skip` is not
-/// tested.
+/// The query on the layout's own traversal loop.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
-fn traverse<T: Real>(
+fn traverse<T: Real>(bvh: BvhRef, q: &Query<T>, observer: &mut impl PathObserver) -> Option<Hit<T>> {
+    match bvh {
+        BvhRef::Binary(nodes) => traverse_binary(nodes, q, observer),
+        BvhRef::AilaLaine(nodes) => super::bvh_aila_laine::traverse(nodes, q, observer),
+        BvhRef::Wide(nodes) => super::bvh_wide::traverse(nodes, q, observer),
+    }
+}
+
+/// The binary layout's loop: nearer child first, the farther on the stack. `any_hit` returns
+/// the first hit found in (t_min, t_max) instead of the nearest; the primitive in slot `skip` is
+/// not tested.
+#[inline(always)]
+fn traverse_binary<T: Real>(
     nodes: &[BvhNode],
-    prims: &[PrimitiveRecord],
-    ray: &Ray<T>,
-    t_min: T,
-    t_max: T,
-    any_hit: bool,
-    skip: u32,
-    sphere: SphereHit,
+    q: &Query<T>,
     observer: &mut impl PathObserver,
 ) -> Option<Hit<T>> {
+    let ray = q.ray;
     let inv = safe_inverse(ray.dir);
-    let mut closest = t_max;
+    let mut closest = q.t_max;
     let mut hit = None;
     let mut stack = [0u32; MAX_DEPTH];
     let mut top = 0usize;
     let mut current = 0u32;
-    hit_box(&nodes[0], ray.origin, inv, t_min, closest)?;
+    hit_box(&nodes[0], ray.origin, inv, q.t_min, closest)?;
     loop {
         let n = &nodes[current as usize];
         if n.count > 0 {
             let mut tested = 0u32;
             for slot in n.left_or_first..n.left_or_first + n.count {
-                if slot == skip {
+                if slot == q.skip {
                     continue;
                 }
                 tested |= 1 << (slot - n.left_or_first);
-                if let Some(t) = hit_primitive(&prims[slot as usize], ray, t_min, closest, sphere) {
+                if let Some(t) = q.hit(slot, closest) {
                     closest = t;
                     hit = Some(Hit { t, prim: slot });
-                    if any_hit {
+                    if q.any_hit {
                         observer.leaf(tested);
                         return hit;
                     }
@@ -159,14 +201,15 @@ fn traverse<T: Real>(
         } else {
             observer.inner();
             let (a, b) = (current + 1, n.left_or_first);
-            let ta = hit_box(&nodes[a as usize], ray.origin, inv, t_min, closest);
-            let tb = hit_box(&nodes[b as usize], ray.origin, inv, t_min, closest);
+            let ta = hit_box(&nodes[a as usize], ray.origin, inv, q.t_min, closest);
+            let tb = hit_box(&nodes[b as usize], ray.origin, inv, q.t_min, closest);
             match (ta, tb) {
                 (Some(ta), Some(tb)) => {
                     // Visit the nearer child first; the farther waits on the stack.
                     let (near, far) = if ta <= tb { (a, b) } else { (b, a) };
                     stack[top] = far;
                     top += 1;
+                    observer.stack(top);
                     current = near;
                     continue;
                 }
@@ -192,11 +235,12 @@ fn traverse<T: Real>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bvh::BvhLayout;
     use crate::packed_scene::PackedScene;
     use crate::scene::builtin;
     use crate::settings::Accel;
 
-    /// The BVH and the linear loop (single leaf) find the same closest primitive at the same
+    /// The BVH in every layout and the linear loop (single leaf) find the same closest primitive at the same
     /// distance for random rays through a scene, from outside and inside spheres; any-hit
     /// queries agree with closest hits.
     #[test]
@@ -210,8 +254,14 @@ mod tests {
     }
 
     fn check_same_hits(name: &str) {
+        for layout in [BvhLayout::Binary, BvhLayout::AilaLaine, BvhLayout::Wide] {
+            check_layout(name, layout);
+        }
+    }
+
+    fn check_layout(name: &str, layout: BvhLayout) {
         let scene = builtin::by_name(name).unwrap();
-        let bvh = PackedScene::new(&scene, Accel::Bvh);
+        let bvh = PackedScene::new(&scene, Accel::Bvh).with_bvh(layout).unwrap();
         let linear = PackedScene::new(&scene, Accel::None);
         assert!(bvh.nodes.len() > 10 && linear.nodes.len() == 1);
         // Rays start in the scene's bounding box.
@@ -229,24 +279,22 @@ mod tests {
             };
             let dir = V3::new(s.range(-1.0, 1.0), s.range(-1.0, 0.5), s.range(-1.0, 1.0)).normalize();
             let ray = Ray { origin, dir };
-            let a = closest_hit(&bvh.nodes, &bvh.primitives, &ray, 1e-3f32, SphereHit::Stable);
-            let b = closest_hit(&linear.nodes, &linear.primitives, &ray, 1e-3f32, SphereHit::Stable);
+            let (nodes, lin) = (bvh.bvh_nodes(), linear.bvh_nodes());
+            let a = closest_hit(nodes, &bvh.primitives, &ray, 1e-3f32, SphereHit::Stable);
+            let b = closest_hit(lin, &linear.primitives, &ray, 1e-3f32, SphereHit::Stable);
             if let Some(a) = a {
                 // Any-hit agrees: something before the closest hit's far side, nothing before it.
-                assert!(occluded(&bvh.nodes, &bvh.primitives, &ray, 1e-3, a.t * 1.001, u32::MAX), "ray {i}");
-                assert!(!occluded(&bvh.nodes, &bvh.primitives, &ray, 1e-3, a.t * 0.999, u32::MAX), "ray {i}");
+                assert!(occluded(nodes, &bvh.primitives, &ray, 1e-3, a.t * 1.001, u32::MAX), "ray {i}");
+                assert!(!occluded(nodes, &bvh.primitives, &ray, 1e-3, a.t * 0.999, u32::MAX), "ray {i}");
                 // Skipping the primitive hit, nothing lies before it.
-                assert!(!occluded(&bvh.nodes, &bvh.primitives, &ray, 1e-3, a.t, a.prim), "ray {i}");
+                assert!(!occluded(nodes, &bvh.primitives, &ray, 1e-3, a.t, a.prim), "ray {i}");
             } else {
-                assert!(
-                    !occluded(&bvh.nodes, &bvh.primitives, &ray, 1e-3, f32::INFINITY, u32::MAX),
-                    "ray {i}"
-                );
+                assert!(!occluded(nodes, &bvh.primitives, &ray, 1e-3, f32::INFINITY, u32::MAX), "ray {i}");
             }
             match (a, b) {
                 (Some(a), Some(b)) => {
                     hits += 1;
-                    assert_eq!(a.t, b.t, "ray {i}");
+                    assert_eq!(a.t, b.t, "{layout:?} ray {i}");
                     // The slot each reports is the primitive hit at that distance. (Not always
                     // the same one: the Cornell box's boxes stand on the floor, so their bottom
                     // quads tie with it and the first found wins.)
@@ -262,7 +310,7 @@ mod tests {
                     }
                 }
                 (None, None) => {}
-                _ => panic!("ray {i}: BVH {a:?} vs linear {b:?}"),
+                _ => panic!("{layout:?} ray {i}: BVH {a:?} vs linear {b:?}"),
             }
         }
         assert!(hits > 10_000, "most rays hit something ({hits})");

@@ -64,7 +64,8 @@ pub fn trace_path_observed<T: Real>(
     let mut from = NO_ORIGIN;
     for bounce in 0..max_depth {
         out.rays += 1;
-        let Some(hit) = closest_hit_observed(&scene.nodes, &scene.primitives, &ray, t_min, sphere, observer)
+        let Some(hit) =
+            closest_hit_observed(scene.bvh_nodes(), &scene.primitives, &ray, t_min, sphere, observer)
         else {
             out.radiance = out.radiance + throughput.mul_elem(background(&scene.background, ray.dir));
             return out;
@@ -110,7 +111,7 @@ pub fn trace_path_observed<T: Real>(
                 out.rays += 1;
                 shadow.ray.origin = origin;
                 let blocker = occluder_observed(
-                    &scene.nodes,
+                    scene.bvh_nodes(),
                     &scene.primitives,
                     &shadow.ray,
                     (t_min, shadow.t_max),

@@ -4,6 +4,8 @@
 
 pub mod background;
 pub mod bvh;
+pub mod bvh_aila_laine;
+pub mod bvh_wide;
 pub mod camera;
 pub mod image_texture;
 pub mod integrator;
@@ -17,6 +19,7 @@ pub mod ray;
 pub mod sampling;
 pub mod sphere;
 pub mod texture;
+pub mod traversal_counts;
 
 // The arithmetic the reference is generic over lives below it, where packed_scene uses it too.
 pub use crate::{real, vec3};

@@ -11,6 +11,8 @@ pub trait PathObserver {
     /// One iteration at a leaf; `tested` has bit p set for each position p of the leaf whose
     /// primitive was tested (the skipped light and those after an any-hit return are not).
     fn leaf(&mut self, _tested: u32) {}
+    /// The traversal's stack holds `entries` after a push (its deepest use is the largest).
+    fn stack(&mut self, _entries: usize) {}
     /// The bounce's ray hit a primitive of this material kind.
     fn hit(&mut self, _material_kind: u32) {}
 }

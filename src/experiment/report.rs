@@ -314,6 +314,13 @@ pub struct RunRecord {
     /// reports from before it was recorded.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub scene_prepare_seconds: Option<f64>,
+    /// The BVH traversed: layout, nodes, bytes, depth (absent in reports from before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bvh: Option<crate::bvh::BvhSummary>,
+    /// Host seconds of the BVH's build, median over the timed repetitions (part of
+    /// `scene_prepare_seconds`; absent in reports from before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bvh_build_seconds: Option<f64>,
     /// Times the host waited for the GPU per frame (of the median repetition): all but the last
     /// are blocking waits inside the frame (GPU methods; absent in reports from before).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -403,6 +410,10 @@ pub struct RunRecord {
     /// instrumented render (issue 26; absent from reports made before them).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub coherence: Option<Vec<crate::gpu::instrument::Coherence>>,
+    /// Traversal counts per ray on the CPU twin's paths (`instrument`, every method; issue 59;
+    /// absent from reports made before them).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub traversal: Option<crate::cpu::traversal_counts::TraversalCounts>,
     /// Key of the reference in `references`.
     pub reference: Option<String>,
     pub error_metrics: Option<ErrorMetrics>,

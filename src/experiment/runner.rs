@@ -533,6 +533,9 @@ impl<'a> Run<'a> {
         rec.waits = median_rep.waits;
         let prepare: Vec<f64> = reports.iter().map(|r| r.scene.prepare_seconds).collect();
         rec.scene_prepare_seconds = Stat::of(&prepare).map(|s| s.median);
+        let bvh_build: Vec<f64> = reports.iter().map(|r| r.scene.bvh_build_seconds).collect();
+        rec.bvh_build_seconds = Stat::of(&bvh_build).map(|s| s.median);
+        rec.bvh = Some(median_rep.scene.bvh.clone());
         rec.preheat_seconds = median_rep.preheat_seconds;
         if let Some(s) = &median_rep.schedule {
             rec.iterations = Some(s.iterations);
@@ -560,6 +563,17 @@ impl<'a> Run<'a> {
         rec.pool_size = median_rep.pool_size;
         rec.indirect_validation = median_rep.indirect_validation;
 
+        rec.traversal = match &instrumented {
+            Some(i) => i.traversal,
+            // CPU methods and adapters without subgroups: counted without a render.
+            None if config.instrument => {
+                let options = &self.variant.options;
+                let (packed, camera) =
+                    crate::method::prepare(self.variant.method, self.scene, settings, options)?;
+                Some(crate::cpu::traversal_counts::count(&packed, &camera, settings))
+            }
+            None => None,
+        };
         if let Some(instrumented) = instrumented {
             rec.simd = instrumented.simd;
             rec.coherence = instrumented.coherence;
@@ -628,6 +642,8 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         blocking_reads: None,
         speculative_iterations: None,
         scene_prepare_seconds: None,
+        bvh: None,
+        bvh_build_seconds: None,
         preheat_seconds: None,
         between_passes_seconds: None,
         profiled_frame_seconds: None,
@@ -659,6 +675,7 @@ fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {
         indirect_validation: None,
         simd: None,
         coherence: None,
+        traversal: None,
         reference: None,
         error_metrics: None,
         efficiency: None,

@@ -227,6 +227,15 @@ fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
         rcol("speculative_iterations", |r| r.speculative_iterations.and_then(int)),
         rcol("preheat_seconds", |r| r.preheat_seconds.map(float)),
         rcol("scene_prepare_seconds", |r| r.scene_prepare_seconds.map(float)),
+        rcol("bvh_nodes", |r| r.bvh.as_ref().and_then(|b| int(b.nodes))),
+        rcol("bvh_bytes", |r| r.bvh.as_ref().and_then(|b| int(b.bytes))),
+        rcol("bvh_depth", |r| r.bvh.as_ref().and_then(|b| int(b.depth as u64))),
+        rcol("bvh_build_seconds", |r| r.bvh_build_seconds.map(float)),
+        rcol("bvh_bytes_per_ray", |r| r.traversal.map(|t| float(t.all.bvh_bytes))),
+        rcol("node_fetches_per_ray", |r| r.traversal.map(|t| float(t.all.node_fetches))),
+        rcol("primitive_tests_per_ray", |r| r.traversal.map(|t| float(t.all.primitive_tests))),
+        rcol("traversal_iterations_per_ray", |r| r.traversal.map(|t| float(t.all.iterations))),
+        rcol("deepest_stack", |r| r.traversal.and_then(|t| int(t.all.deepest_stack))),
         rcol("interleaved_with", |r| {
             Some(r.interleaved_with.iter().map(usize::to_string).collect::<Vec<_>>().join(" "))
         }),

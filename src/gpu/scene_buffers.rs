@@ -7,6 +7,7 @@
 use super::buffers::{human_bytes, read_back, storage_entry, storage_init, storage_zeroed, uniform_entry};
 use super::context::{AdapterSummary, GpuContext};
 use super::memory::{MemoryCategory, MemoryLedger};
+use crate::bvh::BvhLayout;
 use crate::layout::FrameUniform;
 use crate::numerics::Failures;
 use crate::options::Specialize;
@@ -24,7 +25,7 @@ pub struct SceneBuffers {
     /// self-hits, depth-cut paths, each a u64 as two u32 words, low first.
     pub failures: wgpu::Buffer,
     /// Pipeline constants of the scene's shaders (`PackedScene::pipeline_constants`).
-    scene_constants: [(&'static str, f64); 10],
+    scene_constants: [(&'static str, f64); 11],
 }
 
 impl SceneBuffers {
@@ -68,7 +69,7 @@ impl SceneBuffers {
         // read only the slots the BVH and the light count name.
         let primitives = storage_init(ctx, "primitives", &scene.primitives, none)?;
         let materials = storage_init(ctx, "materials", &scene.materials, none)?;
-        let nodes = storage_init(ctx, "BVH nodes", &scene.nodes, none)?;
+        let nodes = storage_init(ctx, "BVH nodes", &scene.bvh.gpu_words(&scene.nodes), none)?;
         let lights = storage_init(ctx, "lights", &scene.light_table, none)?;
         let uvs = storage_init(ctx, "texture coordinates", &scene.uvs, none)?;
         let texels = storage_init(ctx, "texels", &scene.texels, none)?;
@@ -127,7 +128,10 @@ pub fn buffer_sizes(scene: &PackedScene) -> [(&'static str, u64); 6] {
     [
         ("primitives", size_of_val(scene.primitives.as_slice()) as u64),
         ("materials", size_of_val(scene.materials.as_slice()) as u64),
-        ("BVH nodes", size_of_val(scene.nodes.as_slice()) as u64),
+        (
+            "BVH nodes",
+            scene.bvh.bytes(&scene.nodes) + if scene.bvh.layout == BvhLayout::Binary { 0 } else { 32 },
+        ),
         ("lights", size_of_val(scene.light_table.as_slice()) as u64),
         ("texture coordinates", size_of_val(scene.uvs.as_slice()) as u64),
         ("texels", size_of_val(scene.texels.as_slice()) as u64),

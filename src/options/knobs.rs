@@ -9,6 +9,7 @@ use super::{
     QueueOrder, RaySort, Refill, Scan, Schedule, ShadePasses, ShaderChecks, ShadowRays, Specialize, Tail,
     Timing,
 };
+use crate::bvh::BvhLayout;
 use crate::light_options::{LightSampling, LightSelect};
 use crate::numerics::{Fresnel, RayOffset, SphereHit};
 use crate::render_space::RenderSpace;
@@ -109,7 +110,8 @@ enum_values!(
     LightSelect,
     SphereHit,
     Fresnel,
-    RenderSpace
+    RenderSpace,
+    BvhLayout
 );
 
 impl KnobValue for u32 {
@@ -257,6 +259,7 @@ pub static KNOBS: &[Knob] = &[
     knob!("sphere_hit", "sphere-hit", ALL, SphereHit, o => o.numerics.sphere_hit),
     knob!("fresnel", "fresnel", ALL, Fresnel, o => o.numerics.fresnel),
     knob!("render_space", "render-space", ALL, RenderSpace, o => o.numerics.render_space),
+    knob!("bvh", "bvh", ALL, BvhLayout, o => o.bvh),
     // The stress transforms: checked as they are read (a scale or translation f32 cannot hold).
     Knob {
         name: "scale",
@@ -322,6 +325,7 @@ pub const COLUMNS: &[&str] = &[
     "launch",
     "shadow_rays",
     "refill",
+    "bvh",
 ];
 
 /// The knob named `name`.
@@ -424,6 +428,7 @@ mod tests {
         same::<SphereHit>();
         same::<Fresnel>();
         same::<RenderSpace>();
+        same::<BvhLayout>();
         same::<Method>();
     }
 

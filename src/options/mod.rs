@@ -88,6 +88,8 @@ pub struct MethodOptions {
     /// GPU methods: shaders compiled with only the scene's primitive, material and texture
     /// kinds, or with every kind.
     pub specialize: Specialize,
+    /// Every method: the BVH's node layout its traversals read (`--bvh`).
+    pub bvh: crate::bvh::BvhLayout,
     /// GPU methods: seconds of busy GPU work just before the first submission, so the frame
     /// starts at the clocks continuous rendering holds (`gpu::preheat`; 0: none). Set by the
     /// experiment runner and `wavetrace render`, not a knob of the method.

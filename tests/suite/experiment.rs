@@ -355,6 +355,7 @@ fn comparable(report: &ExperimentReport) -> Value {
             "stability",
             "interleaved_with",
             "scene_prepare_seconds",
+            "bvh_build_seconds",
             "preheat_seconds",
         ] {
             o.remove(k);

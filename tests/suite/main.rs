@@ -6,6 +6,7 @@ mod common;
 
 mod agreement;
 mod bandwidth;
+mod bvh_layouts;
 mod chart;
 mod cli;
 mod cli_paths;

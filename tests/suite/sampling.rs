@@ -1846,8 +1846,15 @@ fn shadow_rays_never_reach_a_sphere_lights_far_side() {
                                     DVec3::from_array(s.ray.dir.to_f64()),
                                 ),
                                 s.t_max as f64,
-                                (!occluded(&scene.nodes, &scene.primitives, &s.ray, T_MIN, s.t_max, s.light))
-                                    .then_some(()),
+                                (!occluded(
+                                    scene.bvh_nodes(),
+                                    &scene.primitives,
+                                    &s.ray,
+                                    T_MIN,
+                                    s.t_max,
+                                    s.light,
+                                ))
+                                .then_some(()),
                             ),
                             None => continue,
                         },
@@ -1859,7 +1866,7 @@ fn shadow_rays_never_reach_a_sphere_lights_far_side() {
                                 ),
                                 s.t_max,
                                 (!occluded(
-                                    &scene.nodes,
+                                    scene.bvh_nodes(),
                                     &scene.primitives,
                                     &s.ray,
                                     T_MIN as f64,

@@ -1,0 +1,75 @@
+//! `--bvh` (issue 59): every BVH layout is made from the same binary build and tested with the
+//! same slab test on boxes that only grow, so every method finds the same closest hits and the
+//! films are the same bit for bit whatever the layout, on the CPU and in every way the GPU
+//! traces (both megakernels, the wavefront's waves and regenerate + tail).
+
+use crate::common;
+
+use wavetrace::bvh::BvhLayout;
+use wavetrace::method::{render, Method, MethodOptions, RenderOutput};
+use wavetrace::scene::Scene;
+use wavetrace::settings::{Accel, RenderSettings};
+
+const LAYOUTS: [BvhLayout; 3] = [BvhLayout::Binary, BvhLayout::AilaLaine, BvhLayout::Wide];
+
+fn settings(nee: bool) -> RenderSettings {
+    RenderSettings {
+        width: 24,
+        height: 16,
+        spp: 2,
+        max_depth: 50,
+        seed: 9,
+        accel: Accel::Bvh,
+        nee,
+        roulette: false,
+    }
+}
+
+fn run(method: Method, scene: &Scene, s: &RenderSettings, opts: &MethodOptions) -> RenderOutput {
+    render(method, scene, s, opts, common::gpu(), &|_| {}).unwrap()
+}
+
+/// Each layout's film equals the binary layout's, and the report records the layout.
+fn assert_layouts_agree(method: Method, scene: &Scene, s: &RenderSettings, opts: &MethodOptions) {
+    let binary = run(method, scene, s, opts);
+    for layout in &LAYOUTS[1..] {
+        let out = run(method, scene, s, &MethodOptions { bvh: *layout, ..opts.clone() });
+        assert_eq!(out.resolved.bvh, *layout);
+        assert_eq!(out.film, binary.film, "{}: {method:?} {layout:?} {opts:?}", scene.name);
+    }
+}
+
+/// Spheres (rtiow-final, no NEE); quads and an emitter with NEE (Cornell); every shape and
+/// material (mesh-room, NEE) on both CPU references and every way to trace (the others on the CPU and the megakernel,
+/// which share the traversal code with the rest: the suite's time is tight).
+#[test]
+fn every_layout_gives_the_binary_layouts_film() {
+    let room = concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/scenes/mesh-room.json");
+    for (name, nee) in [("rtiow-final", false), ("cornell", true), (room, true)] {
+        let scene = Scene::resolve(name).unwrap();
+        for method in [Method::Cpu, Method::CpuF64] {
+            assert_layouts_agree(method, &scene, &settings(nee), &MethodOptions::default());
+        }
+        if common::gpu().is_none() {
+            continue;
+        }
+        let mut ways = common::gpu_ways();
+        if name != room {
+            ways.truncate(1);
+        }
+        for (method, opts) in ways {
+            assert_layouts_agree(method, &scene, &settings(nee), &opts);
+        }
+    }
+}
+
+/// The linear loop has one leaf and no layout to choose: `--accel none` with another layout is
+/// refused, naming both flags.
+#[test]
+fn accel_none_takes_the_binary_layout_only() {
+    let scene = Scene::resolve("three-spheres").unwrap();
+    let s = RenderSettings { accel: Accel::None, ..settings(false) };
+    let opts = MethodOptions { bvh: BvhLayout::Wide, ..Default::default() };
+    let err = render(Method::Cpu, &scene, &s, &opts, None, &|_| {}).err().unwrap().to_string();
+    assert!(err.contains("--accel none") && err.contains("--bvh wide"), "{err}");
+}
