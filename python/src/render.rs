@@ -21,6 +21,7 @@ use crate::value::to_json;
 /// (JSON text). `options` maps option names ([`option_names`]) to values.
 #[pyfunction]
 #[pyo3(signature = (scene, method, width, height, spp, options, progress = true))]
+#[allow(clippy::too_many_arguments)] // the Python call's own parameters
 pub fn render<'py>(
     py: Python<'py>,
     scene: &Scene,
