@@ -175,8 +175,8 @@ fn parse_preheat(s: &str) -> Result<f64, String> {
 }
 
 impl JobArgs {
-    /// The scene (resolved and loaded), the settings (validated) and the method options the
-    /// flags state.
+    /// The scene (resolved and loaded), the settings and the method options the flags state
+    /// (the settings are validated where they are rendered or planned, once).
     pub fn build(&self) -> Result<(Scene, RenderSettings, MethodOptions)> {
         let a = self;
         let scene = Scene::resolve(&a.scene)?;
@@ -190,7 +190,6 @@ impl JobArgs {
             nee: a.nee == OnOff::On,
             roulette: a.roulette == OnOff::On,
         };
-        settings.validate().map_err(anyhow::Error::msg)?;
         let compaction = a.compaction_method.with(a.compaction);
         let options = MethodOptions {
             lights: LightOptions { sampling: a.light_sampling, select: a.light_select },

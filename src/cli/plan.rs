@@ -35,6 +35,7 @@ pub fn run(a: PlanArgs) -> Result<()> {
         bail!("wavetrace plan shows the wavefront's pass graph: use --method wavefront");
     }
     let (scene, settings, options) = a.job.build()?;
+    settings.validate().map_err(anyhow::Error::msg)?;
     crate::options::check(Method::Wavefront, &options).map_err(|e| anyhow::anyhow!(e.for_cli()))?;
     let ctx = GpuContext::new(a.job.adapter.as_deref())?;
     let (packed, _) = method::prepare(Method::Wavefront, &scene, &settings, &options)?;

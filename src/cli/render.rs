@@ -36,23 +36,25 @@ Examples:
 #[derive(clap::Args, Debug)]
 #[command(after_help = EXAMPLES)]
 pub struct RenderArgs {
-    /// The scene, the job and the method with its options.
-    #[command(flatten)]
-    pub job: JobArgs,
+    // The outputs first: the flattened job's last group (Wavefront) would otherwise name the
+    // fields after it.
     /// Output EXR (linear RGB, f32).
-    #[arg(long, help_heading = "Output")]
+    #[arg(long)]
     pub out: PathBuf,
     /// Also write an sRGB PNG preview.
-    #[arg(long, help_heading = "Output")]
+    #[arg(long)]
     pub png: Option<PathBuf>,
     /// Also write a JSON record of the run.
-    #[arg(long, help_heading = "Output")]
+    #[arg(long)]
     pub report: Option<PathBuf>,
     /// Untimed renders before the one that is timed and written: `auto` (GPU methods: until the
     /// GPU has worked 0.5 s and two frames agree within 5%, at most 50 frames or 10 s; CPU
     /// methods: none), or a number of frames (0: time a cold first frame).
-    #[arg(long, default_value = "auto", value_parser = parse_warmup, help_heading = "Output")]
+    #[arg(long, default_value = "auto", value_parser = parse_warmup)]
     pub warmup: WarmupArg,
+    /// The scene, the job and the method with its options.
+    #[command(flatten)]
+    pub job: JobArgs,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

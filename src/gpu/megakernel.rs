@@ -86,7 +86,6 @@ pub fn render(
     let instrument = measure.instrument;
     let opts = &opts.resolve();
     crate::options::check_megakernel(opts)?;
-    settings.validate().map_err(anyhow::Error::msg)?;
     let limits = &ctx.summary;
     ctx.check_workgroup_size(opts.workgroup_size)?;
     check_loop_limit(ctx, scene, settings)?;

@@ -21,15 +21,13 @@ pub(super) struct Drive<'a> {
     pub(super) opts: &'a WavefrontOptions,
     pub(super) max_depth: u32,
     pub(super) pool: u32,
-    /// Passes one iteration records (a submission's timestamp capacity).
-    pub(super) per_iteration: usize,
 }
 
 impl Drive<'_> {
     /// Waves: one iteration per bounce, the wave's paths all starting together.
     pub(super) fn waves(&self, wave: &mut WaveRecorder<'_>) -> Result<u32> {
         for bounce in 0..self.max_depth {
-            if wave.timer.remaining() < self.per_iteration + 1 {
+            if wave.timer.remaining() < self.stages.graph.per_iteration() + 1 {
                 wave.submit_and_wait(self.ctx)?;
             }
             self.stages.record(wave, Phase::Iteration, bounce, false, false);
@@ -119,7 +117,7 @@ impl Drive<'_> {
                 continue;
             }
             for _ in 0..sync_every {
-                if wave.timer.remaining() < self.per_iteration + 1 {
+                if wave.timer.remaining() < self.stages.graph.per_iteration() + 1 {
                     wave.submit_and_wait(ctx)?;
                 }
                 // With the tail the GPU may check after any iteration (every one once every

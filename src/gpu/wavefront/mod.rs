@@ -92,10 +92,9 @@ use super::buffers::{read_back, storage_zeroed, Staging};
 use super::context::GpuContext;
 use super::dispatch_plan::DispatchUniforms;
 use super::gpu_render::GpuRender;
-use super::instrument::{Coherence, SimdCounters};
+use super::instrument::Coherence;
 use super::loop_limit::check_loop_limit;
 use super::memory::{MemoryCategory, MemoryLedger};
-use super::scene_buffers::SceneBuffers;
 use super::timing::{GpuTimer, Measure};
 use crate::camera::CameraFrame;
 use crate::film::Film;
@@ -110,7 +109,7 @@ pub use crate::options::{
     MAX_BATCHES_IN_FLIGHT,
 };
 use drive::Drive;
-use path_state::{PathState, QUEUE_COUNT, QUEUE_SHADOW};
+use path_state::{QUEUE_COUNT, QUEUE_SHADOW};
 use plan::Plan;
 pub use plan::STATS_BOUNCES;
 pub use pool::{max_pool, DEFAULT_POOL};
@@ -192,10 +191,8 @@ pub fn render(
     measure: Measure,
     on_progress: &dyn Fn(u64),
 ) -> Result<WavefrontRender> {
-    let instrument = measure.instrument;
     let ResolvedWavefront { options: ref opts, schedule } = opts.resolve(ctx.summary.is_software());
     crate::options::check_wavefront(opts)?;
-    settings.validate().map_err(anyhow::Error::msg)?;
     check_loop_limit(ctx, scene, settings)?;
     let plan = Plan::new(ctx, scene, settings, opts, schedule)?;
     let (pool, regenerate, ring, wg) = (plan.pool, plan.regenerate, plan.ring, opts.workgroup_size);
@@ -204,32 +201,14 @@ pub fn render(
     let mut memory = MemoryLedger::default();
     let params = DispatchUniforms::new(ctx, &plan.shares, &mut memory);
     let frame = scene.frame_uniform(camera, settings);
-    let b = Bindings {
-        scene: SceneBuffers::new(ctx, scene, &frame, settings, measure.specialize, &mut memory)?,
-        state: PathState::new(ctx, pool, plan.wave, &params, plan.stats_bounces, plan.layout, &mut memory)?,
-        simd: instrument.then(|| SimdCounters::new(ctx, &mut memory)).transpose()?,
-        regenerate,
-        subgroup_append: plan.subgroup_append,
-        shader_checks: measure.shader_checks,
-    };
-    let pixels = settings.width * settings.height;
-    let film_bytes = pixels as u64 * std::mem::size_of::<FilmPixel>() as u64;
-    let film = memory
-        .track(MemoryCategory::Film, storage_zeroed(ctx, "film", film_bytes, wgpu::BufferUsages::COPY_SRC)?);
+    let b = Bindings::new(ctx, scene, &frame, settings, &plan, measure, &params, &mut memory)?;
+    let film_bytes = (settings.width * settings.height) as u64 * std::mem::size_of::<FilmPixel>() as u64;
+    let film = storage_zeroed(ctx, "film", film_bytes, wgpu::BufferUsages::COPY_SRC)?;
+    let film = memory.track(MemoryCategory::Film, film);
     let samples = if regenerate { &b.state.samples } else { &b.state.radiance };
     let accumulate = Accumulate::new(ctx, samples, &film, &params, regenerate, measure.shader_checks)?;
-    let stages = Stages::new(ctx, &plan, &b, &accumulate, opts, instrument, &mut memory)?;
-
-    // Regenerating: the ring of staging buffers the batches in flight read the schedule's
-    // counters back through.
-    let staging: Vec<Staging> = (0..if regenerate { opts.batches_in_flight } else { 0 })
-        .map(|_| {
-            let bytes = schedule::ChunkCounters::bytes(&ring);
-            memory.add(MemoryCategory::Counters, bytes);
-            Staging::new(ctx, "schedule counters read-back", bytes)
-        })
-        .collect();
-    let per_iteration = stages.graph.per_iteration();
+    let stages = Stages::new(ctx, &plan, &b, &accumulate, opts, measure.instrument, &mut memory)?;
+    let staging = staging_ring(ctx, &plan, opts, &mut memory);
     let mut timer = GpuTimer::new(ctx, measure.timing, measure.preheat_seconds, &mut memory);
     // Per-pass timestamps need a pass per dispatch.
     let shared_passes = opts.compute_passes == ComputePasses::Shared && !timer.times_passes();
@@ -239,17 +218,14 @@ pub fn render(
     let finished = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
     let mut ledger = (!regenerate).then(|| ShareLedger::new(ctx, &b.state, &mut memory));
     let mut compute_passes = 0u64;
-    let drive =
-        Drive { ctx, stages: &stages, b: &b, opts, max_depth: settings.max_depth, pool, per_iteration };
+    let drive = Drive { ctx, stages: &stages, b: &b, opts, max_depth: settings.max_depth, pool };
     for (w, d) in plan.shares.iter().enumerate() {
         let paths = d.pixel_count * d.sample_count;
         // Regenerating: this share's sample ring (the render's chunk and ring sizes).
         let r = schedule::Ring { paths, ..ring };
         let launch =
             (opts.launch == Launch::Pool).then(|| (if regenerate { pool } else { paths }).div_ceil(wg));
-        let mut wave = WaveRecorder::new(ctx, shared_passes, &mut timer, &b, params.offset(w), paths, launch);
-        wave.pixels = d.pixel_count;
-
+        let mut wave = WaveRecorder::new(ctx, shared_passes, &mut timer, &b, params.offset(w), d, launch);
         stages.record(&mut wave, graph::Phase::Start, 0, false, false);
         let iterations = match schedule {
             RunSchedule::Waves => drive.waves(&mut wave)?,
@@ -267,42 +243,23 @@ pub fn render(
             drive.end_wave(&mut wave, iterations, ledger, last, &mut stats, histogram.as_mut())?;
         }
         compute_passes += wave.compute_passes;
-        let count = finished.clone();
-        ctx.queue.on_submitted_work_done(move || {
-            count.fetch_add(paths as u64, std::sync::atomic::Ordering::Relaxed);
-        });
-        // Runs the callbacks of whatever has finished, without waiting.
-        ctx.device.poll(wgpu::PollType::Poll).map_err(|e| anyhow::anyhow!("polling the GPU failed: {e}"))?;
-        on_progress(finished.load(std::sync::atomic::Ordering::Relaxed));
+        count_when_done(ctx, &finished, paths as u64, on_progress)?;
     }
 
-    if let Some(h) = &mut histogram {
+    if let Some(h) = histogram.as_mut() {
         h.trim();
     }
     if opts.compaction != Compaction::Off {
-        let shape = plan.traffic_shape(opts);
-        let mut items = traffic_items(&stats, settings, pool, plan.shares.len());
-        // The camera rays' bounce apart: in waves' queue histogram; regenerating, counted where
-        // camera rays are made in place (their marks tell them apart).
-        items.first_bounce = match &histogram {
-            Some(h) => {
-                let camera_hits = h.materials.iter().map(|m| m.first().copied().unwrap_or(0)).sum();
-                Some((camera_hits, h.rays.get(1).copied().unwrap_or(0)))
-            }
-            None => (regenerate && plan.camera_in_place).then_some(stats.first_bounce),
-        };
-        stats.state_traffic = Some(traffic::StateTraffic::model(&shape, &items));
+        stats.state_traffic = Some(model_traffic(&plan, opts, settings, &stats, histogram.as_ref()));
     }
     let timings = timer.into_timings();
     if let Some(t) = &mut stats.state_traffic {
         t.add_times(&timings);
     }
     memory.transient(film_bytes);
-    let data: Vec<FilmPixel> = read_back(ctx, &film, film_bytes)?;
-    let film = Film::from_gpu(settings.width, settings.height, settings.spp, &data);
-    let simd = b.simd.as_ref().map(|s| s.read(ctx)).transpose()?;
+    let film =
+        Film::from_gpu(settings.width, settings.height, settings.spp, &read_back(ctx, &film, film_bytes)?);
     let coherence = b.simd.as_ref().map(|s| s.read_coherence(ctx)).transpose()?;
-    let failures = b.scene.read_failures(ctx)?;
     Ok(WavefrontRender {
         render: GpuRender {
             film,
@@ -311,10 +268,10 @@ pub fn render(
             compute_passes,
             empty_dispatches: Some(stats.empty_dispatches),
             wall_seconds: start.elapsed().as_secs_f64(),
-            simd,
+            simd: b.simd.as_ref().map(|s| s.read(ctx)).transpose()?,
             bytes_per_path: plan.layout.bytes_per_path(),
             memory: memory.summary(),
-            failures,
+            failures: b.scene.read_failures(ctx)?,
             threads: None,
         },
         pool,
@@ -323,6 +280,63 @@ pub fn render(
         coherence,
         resolved: plan.resolved(opts, shared_passes),
     })
+}
+
+/// Adds `paths` to `finished` once the GPU has done what is submitted, and reports what has
+/// finished so far (without waiting: waves are submitted ahead).
+fn count_when_done(
+    ctx: &GpuContext,
+    finished: &std::sync::Arc<std::sync::atomic::AtomicU64>,
+    paths: u64,
+    on_progress: &dyn Fn(u64),
+) -> Result<()> {
+    let count = finished.clone();
+    ctx.queue.on_submitted_work_done(move || {
+        count.fetch_add(paths, std::sync::atomic::Ordering::Relaxed);
+    });
+    // Runs the callbacks of whatever has finished, without waiting.
+    ctx.device.poll(wgpu::PollType::Poll).map_err(|e| anyhow::anyhow!("polling the GPU failed: {e}"))?;
+    on_progress(finished.load(std::sync::atomic::Ordering::Relaxed));
+    Ok(())
+}
+
+/// Regenerating: the ring of staging buffers the batches in flight read the schedule's counters
+/// back through (none in waves).
+fn staging_ring(
+    ctx: &GpuContext,
+    plan: &Plan,
+    opts: &WavefrontOptions,
+    memory: &mut MemoryLedger,
+) -> Vec<Staging> {
+    let batches = if plan.regenerate { opts.batches_in_flight } else { 0 };
+    (0..batches)
+        .map(|_| {
+            let bytes = schedule::ChunkCounters::bytes(&plan.ring);
+            memory.add(MemoryCategory::Counters, bytes);
+            Staging::new(ctx, "schedule counters read-back", bytes)
+        })
+        .collect()
+}
+
+/// The render's modelled path-state traffic from its counters: the camera rays' bounce apart
+/// in waves' queue histogram; regenerating, counted where camera rays are made in place (their
+/// marks tell them apart).
+fn model_traffic(
+    plan: &Plan,
+    opts: &WavefrontOptions,
+    settings: &RenderSettings,
+    stats: &ScheduleStats,
+    histogram: Option<&QueueHistogram>,
+) -> traffic::StateTraffic {
+    let mut items = traffic_items(stats, settings, plan.pool, plan.shares.len());
+    items.first_bounce = match histogram {
+        Some(h) => {
+            let camera_hits = h.materials.iter().map(|m| m.first().copied().unwrap_or(0)).sum();
+            Some((camera_hits, h.rays.get(1).copied().unwrap_or(0)))
+        }
+        None => (plan.regenerate && plan.camera_in_place).then_some(stats.first_bounce),
+    };
+    traffic::StateTraffic::model(&plan.traffic_shape(opts), &items)
 }
 
 /// The item counts of [`traffic::StateTraffic::model`] from a render's counters.

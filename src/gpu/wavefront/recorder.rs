@@ -25,6 +25,30 @@ pub struct Bindings {
 }
 
 impl Bindings {
+    /// The scene's buffers (its `frame` uniform), the pool `plan` sizes, and the SIMD counters
+    /// with `--instrument`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        ctx: &GpuContext,
+        scene: &crate::packed_scene::PackedScene,
+        frame: &crate::layout::FrameUniform,
+        settings: &crate::settings::RenderSettings,
+        plan: &super::plan::Plan,
+        measure: super::super::timing::Measure,
+        params: &super::super::dispatch_plan::DispatchUniforms,
+        memory: &mut super::super::memory::MemoryLedger,
+    ) -> Result<Self> {
+        let (pool, layout) = (plan.pool, plan.layout);
+        Ok(Bindings {
+            scene: SceneBuffers::new(ctx, scene, frame, settings, measure.specialize, memory)?,
+            state: PathState::new(ctx, pool, plan.wave, params, plan.stats_bounces, layout, memory)?,
+            simd: measure.instrument.then(|| SimdCounters::new(ctx, memory)).transpose()?,
+            regenerate: plan.regenerate,
+            subgroup_append: plan.subgroup_append,
+            shader_checks: measure.shader_checks,
+        })
+    }
+
     /// The shader variant an appending pass takes: instrumented or not, and its appends.
     pub fn hooks(&self, instrument: bool) -> [(Hook, bool); 2] {
         [(Hook::Instrument, instrument), (Hook::AppendSubgroup, self.subgroup_append)]
@@ -75,7 +99,7 @@ pub struct WaveRecorder<'a> {
 
 impl<'a> WaveRecorder<'a> {
     /// A share's recorder: `shared` compute passes or a pass per dispatch, the share's
-    /// `offset` into the dispatch parameters and its `paths`, and the workgroups of a pool-size
+    /// `offset` into the dispatch parameters and the `share` itself (its paths and pixels), and the workgroups of a pool-size
     /// launch (`--launch pool`). Passes are timed per bounce in waves, per label regenerating
     /// (an iteration holds paths at every bounce).
     pub fn new(
@@ -84,7 +108,7 @@ impl<'a> WaveRecorder<'a> {
         timer: &'a mut GpuTimer,
         b: &'a Bindings,
         offset: u32,
-        paths: u32,
+        share: &crate::layout::DispatchParams,
         pool_launch: Option<u32>,
     ) -> Self {
         WaveRecorder {
@@ -94,8 +118,8 @@ impl<'a> WaveRecorder<'a> {
             timer,
             b,
             offset,
-            paths,
-            pixels: 0,
+            paths: share.pixel_count * share.sample_count,
+            pixels: share.pixel_count,
             per_bounce: !b.regenerate,
             dispatches: 0,
             compute_passes: 0,
