@@ -54,16 +54,7 @@ impl Drive<'_> {
         let (ctx, state) = (self.ctx, &self.b.state);
         let tail = self.stages.graph.phase(Phase::Decided).any(|p| p.label == crate::gpu::label::TAIL);
         let sync_every = self.opts.sync_every;
-        // The decision pass's knobs and the refills' first limit; its own words start at zero
-        // (the buffer's creation, or the clear after the last share).
-        state.write_schedule_word(ctx, word::FILL_LIMIT, r.fill_limit(0));
-        state.write_schedule_word(ctx, word::TAIL_BOUND, 0);
-        state.write_schedule_word(ctx, word::SYNC_EVERY, sync_every);
-        state.write_schedule_word(ctx, word::TAIL_ON, tail as u32);
-        // `Decision::after` compares a path count with threshold × pool: for whole counts, the
-        // same as comparing with its floor.
-        let max_live = (self.opts.tail_threshold * self.pool as f64).floor() as u32;
-        state.write_schedule_word(ctx, word::TAIL_MAX_LIVE, max_live);
+        self.start_share(r, tail);
         let mut stall = schedule::Progress::new(r.paths, self.max_depth, sync_every);
         // Whether the first refill starts every sample (it starts a pool of them, up to the
         // ring's end): then later iterations record no refill passes.
@@ -81,11 +72,10 @@ impl Drive<'_> {
         let mut read = |req: buffers::MapRequest, k: usize| -> Result<Option<u32>> {
             let words: Vec<u32> = staging[k].take(&req)?;
             let (c, back) = schedule::ChunkCounters::parse(&words, r);
+            let (added, chunks) = (back.oldest, r.chunks());
             if back.failed {
                 bail!(
-                    "the regenerating wavefront finished every sample but added {} of {} chunks",
-                    back.oldest,
-                    r.chunks()
+                    "the regenerating wavefront finished every sample but added {added} of {chunks} chunks"
                 );
             }
             progress(c.finished.min(r.paths) as u64);
@@ -150,15 +140,23 @@ impl Drive<'_> {
             staging[k].discard(&req);
         }
         let ran = ran.expect("the loop ends once a read-back says the share is done");
-        if ran == 0 || ran > recorded {
-            bail!("the regenerating wavefront's GPU counted {ran} iterations of the {recorded} recorded");
-        }
-        stats.speculative_iterations += (recorded - ran) as u64;
-        let (own, own_passes) = dispatches_at[ran as usize - 1];
-        stats.speculative_dispatches += wave.dispatches - own;
-        wave.dispatches = own;
-        wave.compute_passes = own_passes;
+        own_counts(wave, stats, ran, &dispatches_at)?;
         Ok(ran)
+    }
+
+    /// (regenerate) The decision pass's knobs and the refills' first limit, written before a
+    /// share; its own words start at zero (the buffer's creation, or the clear after the last
+    /// share).
+    fn start_share(&self, r: &schedule::Ring, tail: bool) {
+        let (ctx, state) = (self.ctx, &self.b.state);
+        state.write_schedule_word(ctx, word::FILL_LIMIT, r.fill_limit(0));
+        state.write_schedule_word(ctx, word::TAIL_BOUND, 0);
+        state.write_schedule_word(ctx, word::SYNC_EVERY, self.opts.sync_every);
+        state.write_schedule_word(ctx, word::TAIL_ON, tail as u32);
+        // `Decision::after` compares a path count with threshold × pool: for whole counts, the
+        // same as comparing with its floor.
+        let max_live = (self.opts.tail_threshold * self.pool as f64).floor() as u32;
+        state.write_schedule_word(ctx, word::TAIL_MAX_LIVE, max_live);
     }
 
     /// (waves) A wave's end: its radiance into the film, its counters copied into the share
@@ -186,4 +184,25 @@ impl Drive<'_> {
         }
         Ok(())
     }
+}
+
+/// (regenerate) The share's own counts once the GPU says it ran `ran` of the iterations
+/// recorded (`at`: the dispatches and compute passes recorded up to each one's end): those
+/// recorded past it are counted as speculative.
+fn own_counts(
+    wave: &mut WaveRecorder<'_>,
+    stats: &mut ScheduleStats,
+    ran: u32,
+    at: &[(u64, u64)],
+) -> Result<()> {
+    let recorded = at.len() as u32;
+    if ran == 0 || ran > recorded {
+        bail!("the regenerating wavefront's GPU counted {ran} iterations of the {recorded} recorded");
+    }
+    stats.speculative_iterations += (recorded - ran) as u64;
+    let (own, own_passes) = at[ran as usize - 1];
+    stats.speculative_dispatches += wave.dispatches - own;
+    wave.dispatches = own;
+    wave.compute_passes = own_passes;
+    Ok(())
 }
