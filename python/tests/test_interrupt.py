@@ -12,6 +12,9 @@ import wavetrace as wt
 PRELUDE = """
 import json, os, signal, sys, threading, time
 import wavetrace as wt
+# Python leaves SIGINT ignored when it starts with it ignored (a background job of a
+# non-interactive shell, as CI may run this): install the handler an interactive session has.
+signal.signal(signal.SIGINT, signal.default_int_handler)
 sent = []
 def interrupt_when(ready):
     def watch():

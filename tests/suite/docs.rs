@@ -240,6 +240,11 @@ const ACCEPTED_SOURCES: &[(&str, &str)] = &[
          package's render (scripts/python_render.py) against the binary's on the same job",
     ),
     (
+        "experiments/results/llvmpipe-2core/python_vs_cli/test_cost.txt",
+        "what the Python package adds to scripts/test.sh, timed: the venv's packages, the \
+         extension's build after the main build, the Python tests (commands, build, load in the file)",
+    ),
+    (
         "experiments/results/llvmpipe-2core/decomposition_320x180/intersect_cost.txt",
         "`wavetrace intersect-cost`'s printed tables for rtiow-final and mesh-room at 320x180x16 \
          (the JSON files beside it hold the same figures)",
