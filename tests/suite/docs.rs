@@ -1156,3 +1156,16 @@ fn the_documented_info_log_lines_are_printed() {
         assert!(log.contains(start), "RUST_LOG=info shows no {item:?} line ({start:?}):\n{log}");
     }
 }
+
+/// The README reads as a first hour: under 200 lines, what it is before the two commands, the
+/// two commands before the own-scene comparison, and that before the findings.
+#[test]
+fn the_readme_puts_the_first_hour_first() {
+    let readme = read("README.md");
+    assert!(readme.lines().count() < 200, "README.md has {} lines", readme.lines().count());
+    let at = |h: &str| readme.find(h).unwrap_or_else(|| panic!("no {h:?}"));
+    assert!(at("## Two commands") < at("## Compare the methods on your own scene"));
+    assert!(at("## Compare the methods on your own scene") < at("## What it has found so far"));
+    assert!(at("`wavetrace` is `target/release/wavetrace`") < at("## Compare the methods on your own scene"));
+    assert!(readme.contains("](docs/images/report-first-screen.png)"), "the report's screenshot");
+}
