@@ -157,12 +157,7 @@ fn shading_cost(report: &ExperimentReport, colour: ColourOf) -> Vec<Chart> {
             let i = match series.iter().position(|s| s.name == r.label) {
                 Some(i) => i,
                 None => {
-                    series.push(Series {
-                        name: r.label.clone(),
-                        points: Vec::new(),
-                        intervals: Vec::new(),
-                        labels: Vec::new(),
-                    });
+                    series.push(Series { name: r.label.clone(), ..Default::default() });
                     series.len() - 1
                 }
             };
@@ -189,8 +184,7 @@ fn shading_cost(report: &ExperimentReport, colour: ColourOf) -> Vec<Chart> {
         series.push(Series {
             name: "parity (1×)".into(),
             points: vec![(lo, 1.0), (hi, 1.0)],
-            intervals: Vec::new(),
-            labels: Vec::new(),
+            ..Default::default()
         });
         let title = format!(
             "Speed-up over the fastest megakernel against shading cost: {w}x{h}, {spp} spp, depth {depth}{}. \
@@ -449,9 +443,7 @@ fn speed_vs_memory(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
         let point = (m.peak as f64 / (1u64 << 20) as f64, speed * 1e-6);
         match series.iter_mut().find(|s| s.name == name) {
             Some(s) => s.points.push(point),
-            None => {
-                series.push(Series { name, points: vec![point], intervals: Vec::new(), labels: Vec::new() })
-            }
+            None => series.push(Series { name, points: vec![point], ..Default::default() }),
         }
     }
     if peaks.len() < 2 {
@@ -551,9 +543,7 @@ fn error_vs_spp(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
         let name = series_name(r, varying);
         match series.iter_mut().find(|s| s.name == name) {
             Some(s) => s.points.push(point),
-            None => {
-                series.push(Series { name, points: vec![point], intervals: Vec::new(), labels: Vec::new() })
-            }
+            None => series.push(Series { name, points: vec![point], ..Default::default() }),
         }
     }
     for s in &mut series {
@@ -752,7 +742,7 @@ fn queues(runs: &[&RunRecord], group: &str) -> Option<LineChart> {
                 .take_while(|(_, &n)| n > 0)
                 .map(|(b, &n)| (b as f64, n as f64 / first))
                 .collect();
-            Some(Series { name: series_name(r, varying), points, intervals: Vec::new(), labels: Vec::new() })
+            Some(Series { name: series_name(r, varying), points, ..Default::default() })
         })
         .collect();
     (!series.is_empty()).then(|| LineChart {

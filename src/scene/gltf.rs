@@ -88,6 +88,19 @@ pub fn read_unlogged(path: &Path) -> Res<Import> {
     from_slice(&bytes, &file, &name, dir, &source)
 }
 
+/// glTF 1.0 is another format (techniques, shaders, objects keyed by id) that the crate reads
+/// past with warnings: refused, so nothing half-read is rendered.
+fn require_version_2(file: &str, version: &str) -> Res<()> {
+    if version.starts_with("2.") {
+        return Ok(());
+    }
+    Err(InputError::new(
+        file,
+        "asset.version",
+        format!("{version:?}: only glTF 2.x is read (a glTF 1.0 asset is a different format; convert it to 2.0 first)"),
+    ))
+}
+
 /// Reads glTF or GLB bytes. `file` labels errors; `dir` is where relative URIs are found;
 /// `source` is recorded in each mesh's [`MeshSource::Gltf`].
 pub fn from_slice(bytes: &[u8], file: &str, name: &str, dir: &Path, source: &Path) -> Res<Import> {
@@ -96,18 +109,7 @@ pub fn from_slice(bytes: &[u8], file: &str, name: &str, dir: &Path, source: &Pat
     // The crate's validation indexes `accessors` with each POSITION unchecked (a panic on a bad
     // index), so those indices are checked first.
     let root = document.into_json();
-    // glTF 1.0 is another format (techniques, shaders, objects keyed by id) that the crate
-    // reads past with warnings: refused, so nothing half-read is rendered.
-    if !root.asset.version.starts_with("2.") {
-        return Err(InputError::new(
-            file,
-            "asset.version",
-            format!(
-                "{:?}: only glTF 2.x is read (a glTF 1.0 asset is a different format; convert it to 2.0 first)",
-                root.asset.version
-            ),
-        ));
-    }
+    require_version_2(file, &root.asset.version)?;
     for (m, mesh) in root.meshes.iter().enumerate() {
         for (p, prim) in mesh.primitives.iter().enumerate() {
             let position = prim.attributes.get(&g::json::validation::Checked::Valid(g::Semantic::Positions));
