@@ -67,6 +67,10 @@
 #                       1920x1080x16, the regenerating megakernel against waves and regenerate +
 #                       tail, with each render's BVH build (issue 46; device/scene_size.json;
 #                       about 5 s of host BVH build per render of the largest) 1.6e9  ~3 min
+#   bvh-layouts         the BVH layouts (--bvh binary|aila-laine|wide), both megakernels, waves
+#                       and regenerate + tail, rtiow-final, mesh-room and triangles-1000000 at
+#                       1920x1080x16 NEE (issue 59; device/bvh_layouts.json; about 1 s of
+#                       host BVH build per render of the terrain)            9.9e9  ~3 min
 #   simd                SIMD efficiency at the device's width, 4 scenes, every GPU method
 #                       (device/simd.json, instrumented)                     0.15e9 <1 min
 #   simd-replay         every GPU method's device counters (--instrument) beside the CPU
@@ -133,6 +137,7 @@ decomposition device/decomposition.json
 intersect-cost
 pool-size device/pool_size.json
 scene-size device/scene_size.json
+bvh-layouts device/bvh_layouts.json
 simd device/simd.json
 simd-replay
 regeneration-recheck device/regeneration_recheck.json

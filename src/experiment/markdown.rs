@@ -302,6 +302,7 @@ pub fn page(report: &ExperimentReport, source: &str, charts_prefix: &str) -> Str
 
     md.push_str(&gpu_state_table(&report.runs));
     md.push_str(&warmup_table(&report.runs));
+    md.push_str(&super::bvh_table::table(&report.runs));
     md.push_str(&coherence_table(&report.runs));
 
     let counted = |r: &&RunRecord| {
