@@ -67,6 +67,10 @@
 #                       1920x1080x16, the regenerating megakernel against waves and regenerate +
 #                       tail, with each render's BVH build (issue 46; device/scene_size.json;
 #                       about 5 s of host BVH build per render of the largest) 1.6e9  ~3 min
+#   bvh-layouts         the BVH layouts (--bvh binary|aila-laine|wide), both megakernels, waves
+#                       and regenerate + tail, rtiow-final, mesh-room and triangles-1000000 at
+#                       1920x1080x16 NEE (issue 59; device/bvh_layouts.json; about 1 s of
+#                       host BVH build per render of the terrain)            9.9e9  ~3 min
 #   simd                SIMD efficiency at the device's width, 4 scenes, every GPU method
 #                       (device/simd.json, instrumented)                     0.15e9 <1 min
 #   simd-replay         every GPU method's device counters (--instrument) beside the CPU
@@ -95,7 +99,8 @@
 #   megakernel-vs-wavefront  megakernel_vs_wavefront.json (4096-spp megakernel references)
 #                                                                            56e9   ~9 min+
 # On the software driver at --scale tiny (every size 32x18 at 1-2 spp, the 10^7-triangle terrain
-# at 2x10^5, over llvmpipe's 128 MiB bindings, as the dry run runs them)
+# at 2x10^5, over llvmpipe's 128 MiB bindings, and the 10^6 one at 2x10^4, whose BVH build would
+# dominate, as the dry run runs them)
 # each step takes seconds; the dry run prints the times (scripts/device_dry_run.sh).
 #
 # With the device tool (docs/device-tool.md): prepare here, then one call per group of
@@ -133,6 +138,7 @@ decomposition device/decomposition.json
 intersect-cost
 pool-size device/pool_size.json
 scene-size device/scene_size.json
+bvh-layouts device/bvh_layouts.json
 simd device/simd.json
 simd-replay
 regeneration-recheck device/regeneration_recheck.json
@@ -233,7 +239,7 @@ for src in experiments/*.json experiments/device/*.json; do
       -e 's/"spp": \[[^]]*\]/"spp": [1, 2]/' \
       -e 's/"warmup": [0-9]+,?//' -e 's/"warmup": \{[^}]*\},?//' \
       -e 's/"repetitions": [0-9]+/"repetitions": 1, "warmup": {"max_frames": 2}/' \
-      -e 's/"triangles-10000000"/"triangles-200000"/' \
+      -e 's/"triangles-10000000"/"triangles-200000"/' -e 's/"triangles-1000000"/"triangles-20000"/' \
       -e 's/("reference": \{[^}]*"spp": )[0-9]+/\116/' "$src" > "$configs/$rel"
   else
     cp "$src" "$configs/$rel"

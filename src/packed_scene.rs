@@ -355,8 +355,9 @@ impl PackedScene {
 
 /// Levels of the binary build from the root to its deepest leaf.
 fn depth(bvh: &Bvh) -> u32 {
-    if bvh.nodes.is_empty() {
-        0
+    if bvh.nodes.len() <= 1 {
+        // One leaf (an empty scene's has no primitive, and count 0 like an inner node).
+        bvh.nodes.len() as u32
     } else {
         bvh.depth() as u32
     }

@@ -62,7 +62,7 @@ pub fn from_binary(nodes: &[BvhNode]) -> Vec<AilaLaineNode> {
         let (first, count) = if n.count > 0 { (n.left_or_first, LEAF | n.count) } else { (index[i], 0) };
         Child { min: n.min, first, max: n.max, count }
     };
-    if nodes[0].count > 0 {
+    if nodes[0].count > 0 || nodes.len() == 1 {
         let leaf = child(0);
         return vec![AilaLaineNode { left: leaf, right: Child { first: 0, count: LEAF, ..leaf } }];
     }

@@ -95,7 +95,9 @@ struct Builder<'a> {
 impl Builder<'_> {
     fn sub(&self, i: u32) -> Sub {
         let n = &self.binary[i as usize];
-        let part = if n.count > 0 { Part::Range(n.left_or_first, n.count) } else { Part::Node(i) };
+        // A lone root is a leaf even with no primitive (an empty scene).
+        let leaf = n.count > 0 || self.binary.len() == 1;
+        let part = if leaf { Part::Range(n.left_or_first, n.count) } else { Part::Node(i) };
         Sub { part, bounds: Aabb { min: Vec3::from(n.min), max: Vec3::from(n.max) } }
     }
 

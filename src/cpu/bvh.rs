@@ -253,6 +253,24 @@ mod tests {
         check_same_hits("cornell");
     }
 
+    /// Degenerate scenes: no primitive (every layout finds nothing) and one (the root a leaf:
+    /// aila-laine's empty second child, the wide root's one leaf child) agree with binary.
+    #[test]
+    fn empty_and_single_primitive_scenes_in_every_layout() {
+        let one = builtin::by_name("furnace").unwrap();
+        let empty = crate::scene::Scene { spheres: Vec::new(), ..one.clone() };
+        let ray = Ray { origin: V3::new(0.0f32, 0.0, 5.0), dir: V3::new(0.0, 0.0, -1.0) };
+        for layout in [BvhLayout::Binary, BvhLayout::AilaLaine, BvhLayout::Wide] {
+            let e = PackedScene::new(&empty, Accel::Bvh).with_bvh(layout).unwrap();
+            assert_eq!(closest_hit(e.bvh_nodes(), &e.primitives, &ray, 1e-3, SphereHit::Stable), None);
+            let s = PackedScene::new(&one, Accel::Bvh).with_bvh(layout).unwrap();
+            let hit = closest_hit(s.bvh_nodes(), &s.primitives, &ray, 1e-3, SphereHit::Stable);
+            let want = super::hit_primitive(&s.primitives[0], &ray, 1e-3, f32::INFINITY, SphereHit::Stable);
+            assert_eq!(hit.map(|h| (h.t, h.prim)), want.map(|t| (t, 0)), "{layout:?}");
+            assert!(want.is_some());
+        }
+    }
+
     fn check_same_hits(name: &str) {
         for layout in [BvhLayout::Binary, BvhLayout::AilaLaine, BvhLayout::Wide] {
             check_layout(name, layout);

@@ -44,6 +44,7 @@ pub fn page(report: &ExperimentReport, source: &str, links: &Links) -> String {
         simd_section(&report.runs),
         gpu_state_table(&report.runs),
         warmup_table(&report.runs),
+        super::bvh_table::table(&report.runs),
         coherence_table(&report.runs),
         numerical_failures(&report.runs),
         references(report),

@@ -17,6 +17,7 @@
 //! ```
 
 pub mod baseline;
+pub mod bvh_table;
 pub mod cache_lock;
 pub mod charts;
 pub mod config;

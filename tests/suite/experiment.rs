@@ -708,10 +708,12 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
         names,
         [
             "baselines.json",
+            "bvh_layouts.json",
             "coherence.json",
             "compute_passes.json",
             "cpu_vs_gpu.json",
             "decomposition.json",
+            "device/bvh_layouts.json",
             "device/compute_passes.json",
             "device/decomposition.json",
             "device/fixed_costs.json",
