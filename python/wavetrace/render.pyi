@@ -73,6 +73,7 @@ def render(
     sphere_hit: Literal["book", "stable"] = ...,
     fresnel: Literal["schlick", "exact"] = ...,
     render_space: Literal["world", "camera"] = ...,
+    bvh: Literal["binary", "aila-laine", "wide"] = ...,
     scale: float = ...,
     translate: Any = ...,
 ) -> RenderResult: ...
