@@ -102,6 +102,9 @@ fn verdict(h: &mut String, report: &ExperimentReport) {
             let _ = writeln!(h, "<li><b>{}</b>: {}</li>", esc(&j.job), esc(&j.sentences.join(" ")));
         }
         h.push_str("</ul>\n");
+        if let Some(more) = v.omitted_line() {
+            let _ = writeln!(h, "<p>{}</p>", esc(&more));
+        }
     }
     h.push_str("</section>\n");
 }

@@ -96,6 +96,9 @@ fn verdict_section(report: &ExperimentReport) -> String {
     for j in &v.jobs {
         let _ = writeln!(md, "- **{}**: {}", cell(&j.job), one_line(&j.sentences.join(" ")));
     }
+    if let Some(more) = v.omitted_line() {
+        let _ = writeln!(md, "\n{more}");
+    }
     md.push('\n');
     md
 }

@@ -15,9 +15,16 @@ use super::stability::{self, FLAG};
 pub struct Verdict {
     /// The software-driver caveat, when a GPU run's adapter is one.
     pub caveat: Option<String>,
-    /// One sentence group per job, in the order the report first ran each job.
+    /// One sentence group per job, in the order the report first ran each job: the first
+    /// [`MAX_JOBS`] of them.
     pub jobs: Vec<JobVerdict>,
+    /// Jobs left out beyond [`MAX_JOBS`] (a sweep of hundreds of jobs has no one-screen verdict;
+    /// its tables hold every run).
+    pub omitted: usize,
 }
+
+/// The most jobs a verdict names.
+pub const MAX_JOBS: usize = 12;
 
 /// One job's finding: its name and its sentences.
 pub struct JobVerdict {
@@ -40,18 +47,27 @@ impl Verdict {
                 None => jobs.push((key, vec![r])),
             }
         }
-        let jobs = jobs
+        let mut jobs: Vec<JobVerdict> = jobs
             .into_iter()
             .filter_map(|(key, runs)| job_verdict(&runs, fastest_mk.get(&key), threshold))
             .collect();
-        Verdict { caveat: software_caveat(report), jobs }
+        let omitted = jobs.len().saturating_sub(MAX_JOBS);
+        jobs.truncate(MAX_JOBS);
+        Verdict { caveat: software_caveat(report), jobs, omitted }
     }
 
     /// The verdict as lines of text: the caveat, then `job: sentences` per job.
     pub fn lines(&self) -> Vec<String> {
         let mut out: Vec<String> = self.caveat.iter().cloned().collect();
         out.extend(self.jobs.iter().map(|j| format!("{}: {}", j.job, j.sentences.join(" "))));
+        out.extend(self.omitted_line());
         out
+    }
+
+    /// `…and 7 more jobs: …`, where jobs were left out.
+    pub fn omitted_line(&self) -> Option<String> {
+        (self.omitted > 0)
+            .then(|| format!("…and {} more jobs: the tables below have every run.", self.omitted))
     }
 }
 
@@ -266,6 +282,12 @@ mod tests {
              relMSE 5.000e-1 for all 4."
         );
         assert!(Verdict::of(&report(serde_json::json!([]), "DiscreteGpu")).lines().is_empty());
+        // A sweep of many jobs: the first MAX_JOBS, and how many more.
+        let many: Vec<serde_json::Value> =
+            (0..MAX_JOBS + 3).map(|i| run(i, &format!("s{i}"), "cpu", "cpu", &[1.0], 0.5)).collect();
+        let v = Verdict::of(&report(serde_json::json!(many), "DiscreteGpu"));
+        assert_eq!((v.jobs.len(), v.omitted), (MAX_JOBS, 3));
+        assert_eq!(v.lines().last().unwrap(), "…and 3 more jobs: the tables below have every run.");
     }
 
     /// A real GPU gets no caveat; an unsteady time carries the flag into every ratio built on
