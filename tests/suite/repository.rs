@@ -1,12 +1,13 @@
 //! The repository itself: small enough to travel to a GPU machine. The device tool sends the
 //! whole working tree (tracked files and carried binaries, 64 MiB at most); the tracked part is
-//! kept under 20 MiB so that the binaries, the Vulkan loader and new results fit beside it
-//! (scripts/device_dry_run.sh checks the whole of what travels).
+//! kept under 24 MiB so that the binaries (the release wavetrace is about 18 MB), the Vulkan
+//! loader and new results fit beside it (scripts/device_dry_run.sh checks the whole of what
+//! travels against the 64 MiB).
 
 use std::process::Command;
 
 /// Most bytes the tracked tree may hold.
-const TRACKED_LIMIT: u64 = 20 * 1024 * 1024;
+const TRACKED_LIMIT: u64 = 24 * 1024 * 1024;
 
 #[test]
 fn tracked_tree_fits_the_device_run() {
