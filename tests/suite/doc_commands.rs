@@ -27,7 +27,11 @@
 //!   repetition, no warm-up, a reference of 4 spp), and `sweep.json`, which the examples name
 //!   without shipping it, is a tiny CPU-only config of four runs;
 //! - the environment: `WAVETRACE_CACHE` in the scratch directory (references rendered once),
-//!   and the Slurm array variables of task 3 of 4 (the `$SLURM_ARRAY_TASK_ID` example).
+//!   and the Slurm array variables of task 3 of 4 (the `$SLURM_ARRAY_TASK_ID` example);
+//! - `bandwidth` and `dispatch-cost`: `--mib 4`, `--dispatches 50`, `--repetitions 2`.
+//!
+//! A command shown in several places runs once when the commands before it in its group are
+//! the same too (so it meets the same files): the output is checked against each place.
 //!
 //! Fixtures: `test.exr`, `truth.exr`, `reference.exr`, `gpu.exr` (24×16 CPU renders),
 //! `my_scene.json`, `experiments/scenes/`, shards 0–3 of `sweep.json` in `shards/`, and the
@@ -285,6 +289,19 @@ fn flag<'a>(words: &[&'a str], name: &str) -> Option<&'a str> {
     words.iter().position(|w| *w == name).and_then(|i| words.get(i + 1).copied())
 }
 
+/// `--name value` in `words`: the value replaced, or the flag added before any redirection
+/// (`> file`), which ends the arguments.
+fn set_flag(words: &mut Vec<String>, name: &str, value: &str) {
+    match words.iter().position(|x| x == name) {
+        Some(i) => words[i + 1] = value.to_string(),
+        None => {
+            let end = words.iter().position(|x| x.starts_with('>')).unwrap_or(words.len());
+            words.insert(end, value.to_string());
+            words.insert(end, name.to_string());
+        }
+    }
+}
+
 /// The command as it runs here (see the module comment for the rewrites).
 fn rewrite(line: &str, adapter: &str) -> String {
     let line = line.replacen("target/release/wavetrace", "wavetrace", 1);
@@ -306,17 +323,19 @@ fn rewrite(line: &str, adapter: &str) -> String {
         let cpu = sub == "render" && flag(&w, "--method").unwrap_or(method).starts_with("cpu");
         if !(cpu && samples <= 64 * 36 * 16) {
             for (name, value) in [("--width", "24"), ("--height", "16"), ("--spp", "2")] {
-                match words.iter().position(|x| x == name) {
-                    Some(i) => words[i + 1] = value.to_string(),
-                    None => {
-                        // Before any redirection (`> file`), which ends the arguments.
-                        let end = words.iter().position(|x| x.starts_with('>')).unwrap_or(words.len());
-                        words.insert(end, value.to_string());
-                        words.insert(end, name.to_string());
-                    }
-                }
+                set_flag(&mut words, name, value);
             }
         }
+    }
+    // The measuring commands time many repetitions of big transfers or long chains: a few small
+    // ones show that the command runs.
+    let shrink: &[(&str, &str)] = match sub.as_str() {
+        "bandwidth" => &[("--mib", "4"), ("--repetitions", "2")],
+        "dispatch-cost" => &[("--dispatches", "50"), ("--repetitions", "2")],
+        _ => &[],
+    };
+    for (name, value) in shrink {
+        set_flag(&mut words, name, value);
     }
     words.join(" ")
 }
@@ -472,6 +491,11 @@ fn every_command_shown_runs() {
     let mut groups = Vec::new();
     let mut ran = 0;
     let mut failures = Vec::new();
+    // The same command after the same commands of its group meets the same files (every group
+    // starts from a fresh copy of the fixtures): it runs once, and its output is checked
+    // against each place that shows it. The key is the group's commands so far.
+    let mut outputs: std::collections::HashMap<Vec<String>, Result<String, String>> = Default::default();
+    let mut history: Vec<String> = Vec::new();
     for c in shown_commands() {
         match plan(&c) {
             Ok(Plan::Run) => {}
@@ -485,21 +509,35 @@ fn every_command_shown_runs() {
         // that block or that help text would have.
         if groups.last() != Some(&c.group) {
             groups.push(c.group.clone());
+            history.clear();
         }
         let dir = scratch.join(format!("group-{}", groups.len()));
-        if !dir.exists() {
-            copy_dir(&fixtures, &dir);
-        }
         let line = rewrite(&substitute(&c.line, &c.assignments), &adapter);
-        ran += 1;
-        let o = bash(&scratch, &dir, &line);
-        let output = format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
-        let checked = if !o.status.success() {
-            Err(format!("exit status {}:\n{output}", o.status))
-        } else if c.check_comment {
-            states(&c.comment, &output).and_then(|_| same_shape(&c.transcript, &output))
-        } else {
-            Ok(())
+        history.push(line.clone());
+        let result = outputs.entry(history.clone()).or_insert_with(|| {
+            if !dir.exists() {
+                copy_dir(&fixtures, &dir);
+            }
+            ran += 1;
+            let started = std::time::Instant::now();
+            let o = bash(&scratch, &dir, &line);
+            // Each command's cost, for whoever keeps the suite within its time budget (cargo
+            // shows it with --nocapture).
+            eprintln!("{:7.2} s  {}: `{line}`", started.elapsed().as_secs_f64(), c.source);
+            let output =
+                format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+            if o.status.success() {
+                Ok(output)
+            } else {
+                Err(format!("exit status {}:\n{output}", o.status))
+            }
+        });
+        let checked = match result {
+            Ok(output) if c.check_comment => {
+                states(&c.comment, output).and_then(|_| same_shape(&c.transcript, output))
+            }
+            Ok(_) => Ok(()),
+            Err(e) => Err(e.clone()),
         };
         if let Err(e) = checked {
             failures.push(format!("{}: `{}`\nran as `{line}`: {e}", c.source, c.line));
@@ -537,6 +575,11 @@ fn commands_are_shrunk_as_the_module_says() {
         substitute("wavetrace render $S --out a.exr", &["S=\"--scene x --spp 4\"".to_string()]),
         "wavetrace render --scene x --spp 4 --out a.exr"
     );
+    assert_eq!(
+        r("wavetrace bandwidth --adapter nvidia --repetitions 21"),
+        "wavetrace bandwidth --adapter llvmpipe --repetitions 2 --mib 4"
+    );
+    assert_eq!(r("wavetrace dispatch-cost"), "wavetrace dispatch-cost --dispatches 50 --repetitions 2");
     assert_eq!(split_comment("wavetrace info   # adapters"), ("wavetrace info".into(), "adapters".into()));
     assert!(states("relMSE 2.762e-2", "relMSE       2.762051e-2\n").is_ok());
     assert!(states("relMSE 2.762e-2", "relMSE       2.763051e-2\n").is_err());
