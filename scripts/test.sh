@@ -7,8 +7,20 @@ cd "$(dirname "$0")/.."
 source scripts/setup.sh
 export WAVETRACE_REQUIRE_GPU=1
 # A third-party EXR reader (the OpenEXR project's Python bindings, in a venv under target/) for
-# tests/suite/exr_third_party.rs: our EXRs must read the same in it.
-WAVETRACE_EXR_PYTHON=$(bash scripts/exr_reader.sh)
+# tests/suite/exr_third_party.rs: our EXRs must read the same in it. On a fresh machine making the
+# venv is mostly downloads (about 40 s), so it runs while the test binaries compile, which is the
+# cores' work.
+venv_out="${CARGO_TARGET_DIR:-target}/tmp/exr-venv.out"
+mkdir -p "$(dirname "$venv_out")"
+bash scripts/exr_reader.sh >"$venv_out" 2>"$venv_out.log" &
+venv_pid=$!
+cargo test --release --locked --no-run
+if ! wait "$venv_pid"; then
+  cat "$venv_out.log" >&2
+  echo "test.sh: making the Python venv failed (scripts/exr_reader.sh)" >&2
+  exit 1
+fi
+WAVETRACE_EXR_PYTHON=$(cat "$venv_out")
 export WAVETRACE_EXR_PYTHON
 # In-process GPU tests open Vulkan without the binary's main(), which is what turns Mesa's
 # device-selection layer off on headless machines (src/gpu/headless.rs): do it for them.

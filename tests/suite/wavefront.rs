@@ -16,7 +16,7 @@ fn settings(spp: u32) -> RenderSettings {
         width: 40,
         height: 24,
         spp,
-        max_depth: 50,
+        max_depth: 12,
         seed: 3,
         accel: Accel::Bvh,
         nee: false,
@@ -122,7 +122,7 @@ fn per_texture_shade_passes_trace_the_megakernels_paths() {
     let waves = s.sample_count().div_ceil(2000);
     let passes = wavetrace::gpu::label::SHADE_BY_PATTERN.iter().chain(&["shade_lambertian", "shade_metal"]);
     for pass in passes {
-        assert_eq!(t.passes[*pass].passes, 50 * waves, "{pass} once per bounce and wave");
+        assert_eq!(t.passes[*pass].passes, u64::from(s.max_depth) * waves, "{pass} once per bounce and wave");
     }
     use wavetrace::gpu::wavefront::QueueOrder;
     for (order, tail) in [(QueueOrder::Arrival, Tail::Off), (QueueOrder::Slot, Tail::Megakernel)] {
@@ -179,8 +179,8 @@ fn measurements_are_reported() {
         assert!(t.passes.contains_key(label), "pass {label} timed");
     }
     for kind in ["shade_lambertian", "shade_metal", "shade_dielectric"] {
-        assert_eq!(t.passes[kind].passes, 50, "{kind} once per bounce");
-        assert_eq!(t.per_bounce[kind].len(), 50);
+        assert_eq!(t.passes[kind].passes, u64::from(s.max_depth), "{kind} once per bounce");
+        assert_eq!(t.per_bounce[kind].len(), s.max_depth as usize);
     }
     assert!(!t.passes.contains_key("shade_emissive"), "only kinds the scene uses are dispatched");
     // Bounce 0 intersects one ray per sample; later bounces no more than that.
@@ -275,19 +275,20 @@ fn regenerate_gives_the_waved_film_bit_for_bit() {
         ("rtiow-final", settings(16)),
         ("cornell", RenderSettings { nee: true, max_depth: 12, ..settings(8) }),
     ];
-    for (scene, s) in cases {
-        for knobs in all_knobs() {
-            // A pool of 700 makes chunks of 8 pools: many chunks, many refills per chunk.
-            let waves = WavefrontOptions { pool_size: Some(PoolSize::Paths(700)), ..knobs };
-            let w = run_wavefront(scene, &s, waves);
-            let regen = WavefrontOptions { sync_every: 3, ..regenerating(waves) };
-            let r = run_wavefront(scene, &s, regen);
-            assert_eq!(w.film, r.film, "{scene} {regen:?}");
-            let stats = r.schedule.as_ref().unwrap();
-            assert_eq!(stats.schedule, Schedule::Regenerate);
-            assert!(stats.shares > 1, "{scene}: several chunks");
-            assert!(r.histogram.is_none(), "queues mix bounces when regenerating");
-        }
+    // Each knob set on one of the scenes, taking turns: every knob meets both scenes' paths
+    // (NEE's shadow rays on cornell) across the sets, at half the renders of every pairing.
+    for (i, knobs) in all_knobs().into_iter().enumerate() {
+        let (scene, s) = &cases[i % cases.len()];
+        // A pool of 700 makes chunks of 8 pools: many chunks, many refills per chunk.
+        let waves = WavefrontOptions { pool_size: Some(PoolSize::Paths(700)), ..knobs };
+        let w = run_wavefront(scene, s, waves);
+        let regen = WavefrontOptions { sync_every: 3, ..regenerating(waves) };
+        let r = run_wavefront(scene, s, regen);
+        assert_eq!(w.film, r.film, "{scene} {regen:?}");
+        let stats = r.schedule.as_ref().unwrap();
+        assert_eq!(stats.schedule, Schedule::Regenerate);
+        assert!(stats.shares > 1, "{scene}: several chunks");
+        assert!(r.histogram.is_none(), "queues mix bounces when regenerating");
     }
 }
 
@@ -335,7 +336,9 @@ fn regenerate_keeps_the_pool_full() {
         return;
     }
     use wavetrace::gpu::wavefront::QueueOrder;
-    let s = settings(16); // 15 360 samples: 7.5 pools of 2048
+    // 15 360 samples: 7.5 pools of 2048; paths up to 50 bounces, so that waves wait on their
+    // longest paths as the renders do.
+    let s = RenderSettings { max_depth: 50, ..settings(16) };
     let base = WavefrontOptions {
         pool_size: Some(PoolSize::Paths(2048)),
         schedule: Schedule::Waves,
@@ -492,28 +495,31 @@ fn the_megakernel_tail_agrees_with_the_megakernel() {
         ("rtiow-final", settings(16)),
         ("cornell", RenderSettings { nee: true, max_depth: 12, ..settings(8) }),
     ];
-    for (scene, s) in cases {
-        let reference = run(Method::Megakernel, scene, &s, &MethodOptions::default()).film;
-        for knobs in all_knobs() {
-            for threshold in [0.05, 1.0] {
-                let wf = WavefrontOptions {
-                    pool_size: Some(PoolSize::Paths(2000)),
-                    tail: Tail::Megakernel,
-                    tail_threshold: threshold,
-                    sync_every: 2,
-                    ..regenerating(knobs)
-                };
-                let out = run_wavefront(scene, &s, wf);
-                let what = format!("{scene} {wf:?}");
-                assert_match(&what, &out.film, &reference);
-                assert_rays_match(&what, &out.film, &reference);
-                let stats = out.schedule.unwrap();
-                assert!(stats.tail_passes <= stats.shares, "{what}: at most one tail per chunk");
-                if threshold == 1.0 {
-                    // Due as soon as a chunk's samples have all started.
-                    assert!(stats.tail_passes >= 1 && stats.tail_paths > 0, "{what}: {stats:?}");
-                    assert!(out.timings.unwrap().passes.contains_key("tail"));
-                }
+    let references: Vec<Film> = cases
+        .iter()
+        .map(|(scene, s)| run(Method::Megakernel, scene, s, &MethodOptions::default()).film)
+        .collect();
+    // Each knob set on one of the scenes, taking turns (as in the regeneration test above).
+    for (i, knobs) in all_knobs().into_iter().enumerate() {
+        let ((scene, s), reference) = (&cases[i % cases.len()], &references[i % cases.len()]);
+        for threshold in [0.05, 1.0] {
+            let wf = WavefrontOptions {
+                pool_size: Some(PoolSize::Paths(2000)),
+                tail: Tail::Megakernel,
+                tail_threshold: threshold,
+                sync_every: 2,
+                ..regenerating(knobs)
+            };
+            let out = run_wavefront(scene, s, wf);
+            let what = format!("{scene} {wf:?}");
+            assert_match(&what, &out.film, reference);
+            assert_rays_match(&what, &out.film, reference);
+            let stats = out.schedule.unwrap();
+            assert!(stats.tail_passes <= stats.shares, "{what}: at most one tail per chunk");
+            if threshold == 1.0 {
+                // Due as soon as a chunk's samples have all started.
+                assert!(stats.tail_passes >= 1 && stats.tail_paths > 0, "{what}: {stats:?}");
+                assert!(out.timings.unwrap().passes.contains_key("tail"));
             }
         }
     }
