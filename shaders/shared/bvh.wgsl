@@ -37,18 +37,18 @@ fn safe_inverse(d: vec3<f32>) -> vec3<f32> {
 
 // Binary node i: two units, (min, left_or_first) and (max, count).
 fn bvh_node(i: u32) -> BvhNode {
-    let a = nodes[2u * i];
-    let b = nodes[2u * i + 1u];
+    let a = node_unit(2u * i);
+    let b = node_unit(2u * i + 1u);
     return BvhNode(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w);
 }
 
 // The scene's box: the binary root's, or the other layouts' header in the same two units.
 fn bvh_root_min() -> vec3<f32> {
-    return bitcast<vec3<f32>>(nodes[0].xyz);
+    return bitcast<vec3<f32>>(node_unit(0u).xyz);
 }
 
 fn bvh_root_max() -> vec3<f32> {
-    return bitcast<vec3<f32>>(nodes[1].xyz);
+    return bitcast<vec3<f32>>(node_unit(1u).xyz);
 }
 
 // Entry distance into the box if the ray enters before t_max, else -1.

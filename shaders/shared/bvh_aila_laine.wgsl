@@ -36,10 +36,10 @@ fn traverse_aila_laine(ray: Ray, t_min: f32, t_max: f32, any_hit: bool, skip: u3
         } else {
             instrument_step(TRAVERSE_INNER);
             let u = 2u + 4u * first;
-            let l0 = nodes[u];
-            let l1 = nodes[u + 1u];
-            let r0 = nodes[u + 2u];
-            let r1 = nodes[u + 3u];
+            let l0 = node_unit(u);
+            let l1 = node_unit(u + 1u);
+            let r0 = node_unit(u + 2u);
+            let r1 = node_unit(u + 3u);
             let ta = hit_bounds(bitcast<vec3<f32>>(l0.xyz), bitcast<vec3<f32>>(l1.xyz), ray.origin, inv, t_min, closest);
             let tb = hit_bounds(bitcast<vec3<f32>>(r0.xyz), bitcast<vec3<f32>>(r1.xyz), ray.origin, inv, t_min, closest);
             if ta >= 0.0 && tb >= 0.0 {

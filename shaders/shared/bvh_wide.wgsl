@@ -60,9 +60,9 @@ fn traverse_wide(ray: Ray, t_min: f32, t_max: f32, any_hit: bool, skip: u32) -> 
             let child_slot = (bit - 24u) ^ octinv;
             let u = 2u + 5u * (base + countOneBits(imask & ((1u << child_slot) - 1u)));
             instrument_step(TRAVERSE_INNER);
-            let n0 = nodes[u];
-            let n1 = nodes[u + 1u];
-            let hits = wide_hit_children(n0, n1, nodes[u + 2u], nodes[u + 3u], nodes[u + 4u], ray.origin, inv, t_min, closest, octinv);
+            let n0 = node_unit(u);
+            let n1 = node_unit(u + 1u);
+            let hits = wide_hit_children(n0, n1, node_unit(u + 2u), node_unit(u + 3u), node_unit(u + 4u), ray.origin, inv, t_min, closest, octinv);
             group_base = n1.x;
             group_hits = (hits & 0xff000000u) | (n0.w >> 24u);
             var prims = hits & 0x00ffffffu;

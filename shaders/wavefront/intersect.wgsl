@@ -73,7 +73,7 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_par
     }
     var q = QUEUE_MATERIAL_0;
     if SHADE_PASSES != SHADE_SINGLE {
-        let m = materials[primitives[hit.prim].material];
+        let m = materials[primitive(hit.prim).material];
         q += m.kind;
         // --shade per-texture: a costly pattern's hits go to that pattern's queue (only lambertian
         // and metal records carry one).

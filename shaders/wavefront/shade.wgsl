@@ -57,7 +57,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     if prim_slot == DEAD {
         return; // only without compaction
     }
-    let prim = primitives[prim_slot];
+    let prim = primitive(prim_slot);
     let material = materials[prim.material];
     if kind < PATTERN_KIND && material.kind != kind {
         return; // only without compaction

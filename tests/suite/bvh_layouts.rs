@@ -73,3 +73,33 @@ fn accel_none_takes_the_binary_layout_only() {
     let err = render(Method::Cpu, &scene, &s, &opts, None, &|_| {}).err().unwrap().to_string();
     assert!(err.contains("--accel none") && err.contains("--bvh wide"), "{err}");
 }
+
+/// Primitives and BVH nodes split over several storage bindings, as 10⁷ triangles need on
+/// lavapipe's 128 MiB (`gpu/scene_split.rs`), give the one-binding film bit for bit: a device
+/// posing as one whose bindings hold 64 KiB splits mesh-room's 216 KiB of primitives over four
+/// and its nodes over two (wide) or three (binary, aila-laine), every shape and NEE included.
+/// Each layout on the megakernel; the wavefront's waves and regenerate + tail on the binary one.
+#[test]
+fn scenes_split_over_bindings_give_the_one_binding_film() {
+    let Some(shared) = common::gpu() else { return };
+    let mut posing = wavetrace::gpu::context::GpuContext::new(Some(&shared.summary.name)).unwrap();
+    posing.summary.max_storage_buffer_binding_size = 64 << 10;
+    let room =
+        Scene::resolve(concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/scenes/mesh-room.json")).unwrap();
+    let s = settings(true);
+    let ways = common::gpu_ways();
+    let mut cases: Vec<_> =
+        LAYOUTS.iter().map(|&bvh| (ways[0].0, MethodOptions { bvh, ..ways[0].1.clone() })).collect();
+    cases.extend(ways.into_iter().filter(|(m, _)| *m == Method::Wavefront));
+    for (method, opts) in cases {
+        let split = render(method, &room, &s, &opts, Some(&posing), &|_| {}).unwrap();
+        assert_eq!(split.film, run(method, &room, &s, &opts).film, "{method:?} {opts:?}");
+    }
+    // Past four bindings the scene is refused with the sizes, before any upload.
+    posing.summary.max_storage_buffer_binding_size = 4 << 10;
+    let err = render(Method::Megakernel, &room, &s, &MethodOptions::default(), Some(&posing), &|_| {})
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(err.contains("primitives") && err.contains("at most 4"), "{err}");
+}
