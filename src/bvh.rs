@@ -3,6 +3,7 @@
 //! traverse with the same stack-based loop.
 
 pub mod aila_laine;
+pub mod collapse;
 pub mod layout;
 pub mod scene_bvh;
 pub mod wide;

@@ -127,8 +127,9 @@ pub fn prepare(
             options.bvh.name()
         );
     }
+    crate::options::check_bvh(options).map_err(|e| anyhow!(e.for_cli()))?;
     let packed = PackedScene::new(scene, settings.accel)
-        .with_bvh(options.bvh)
+        .with_bvh(options.bvh, options.collapse)
         .map_err(|e| anyhow!("scene {}: {e}", scene.name))?
         .with_light_options(options.lights)
         .with_numerics(options.numerics)

@@ -3,6 +3,7 @@
 //! renders from one `PackedScene`, so they traverse identical data, and samples its lights the
 //! same way (`light_options`, the alias table `light_table`).
 
+use crate::bvh::collapse::Collapse;
 use crate::bvh::{aila_laine, wide, Aabb, Bvh, BvhLayout, BvhRef, SceneBvh};
 use crate::camera::CameraFrame;
 use crate::layout::{
@@ -116,11 +117,12 @@ impl PackedScene {
         }
     }
 
-    /// The scene with its BVH in `layout` (`--bvh`), made from the binary build. The wide
+    /// The scene with its BVH in `layout` (`--bvh`; the wide one collapsed by `collapse`), made
+    /// from the binary build. The wide
     /// layout stores the primitives in its leaves' order: the lights keep their order (each
     /// names its primitive's new slot), so every method samples the same lights with the same
     /// random numbers whatever the layout. Errors where the layout cannot hold the scene.
-    pub fn with_bvh(mut self, layout: BvhLayout) -> Result<Self, String> {
+    pub fn with_bvh(mut self, layout: BvhLayout, collapse: Collapse) -> Result<Self, String> {
         let start = std::time::Instant::now();
         match layout {
             BvhLayout::Binary => {}
@@ -130,7 +132,7 @@ impl PackedScene {
             }
             BvhLayout::Wide => {
                 let boxes: Vec<Aabb> = self.primitives.iter().map(primitive_box).collect();
-                let built = wide::build(&self.nodes, &boxes)?;
+                let built = wide::build(&self.nodes, &boxes, collapse)?;
                 self.reorder(&built.order);
                 self.bvh.wide = built.nodes;
                 self.bvh.depth = built.depth;

@@ -74,6 +74,7 @@ def render(
     fresnel: Literal["schlick", "exact"] = ...,
     render_space: Literal["world", "camera"] = ...,
     bvh: Literal["binary", "aila-laine", "wide"] = ...,
+    collapse: Literal["greedy", "sah"] = ...,
     scale: float = ...,
     translate: Any = ...,
 ) -> RenderResult: ...

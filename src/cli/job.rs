@@ -2,6 +2,7 @@
 //! declared once for every command that renders or plans one (`render`, `plan`), and built into
 //! the library's settings and options in one place.
 
+use crate::bvh::collapse::Collapse;
 use crate::bvh::BvhLayout;
 use crate::light_options::{LightOptions, LightSampling, LightSelect};
 use crate::numerics::{Fresnel, NumericOptions, RayOffset, SphereHit};
@@ -47,6 +48,11 @@ pub struct JobArgs {
     /// CWBVH-style, 80-byte nodes). The films are the same; the cost differs.
     #[arg(long, value_enum, default_value_t = BvhLayout::Binary, help_heading = "Numerics and stress", hide_short_help = true)]
     pub bvh: BvhLayout,
+    /// With `--bvh wide`: how the binary build is collapsed into 8-wide nodes (`greedy`:
+    /// tinybvh's rule, a node adopts its largest child's children while they fit; `sah`:
+    /// SAH-optimal by dynamic programming, Ylitie et al. 2017). The films are the same.
+    #[arg(long, value_enum, default_value_t = Collapse::default(), help_heading = "Numerics and stress", hide_short_help = true)]
+    pub collapse: Collapse,
     /// Next-event estimation: at each diffuse hit, a shadow ray to a point sampled on an
     /// emitter (`off`: lights are found only by bounced rays, as in the book). Both converge
     /// to the same image.
@@ -216,6 +222,7 @@ impl JobArgs {
             shader_checks: a.shader_checks,
             specialize: a.specialize,
             bvh: a.bvh,
+            collapse: a.collapse,
             preheat_seconds: a.preheat,
         };
         Ok((scene, settings, options))

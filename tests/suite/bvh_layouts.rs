@@ -1,10 +1,12 @@
 //! `--bvh` (issue 59): every BVH layout is made from the same binary build and tested with the
 //! same slab test on boxes that only grow, so every method finds the same closest hits and the
 //! films are the same bit for bit whatever the layout, on the CPU and in every way the GPU
-//! traces (both megakernels, the wavefront's waves and regenerate + tail).
+//! traces (both megakernels, the wavefront's waves and regenerate + tail), and the wide layout
+//! by either collapse (`--collapse greedy|sah`).
 
 use crate::common;
 
+use wavetrace::bvh::collapse::Collapse;
 use wavetrace::bvh::BvhLayout;
 use wavetrace::method::{render, Method, MethodOptions, RenderOutput};
 use wavetrace::scene::Scene;
@@ -37,6 +39,10 @@ fn assert_layouts_agree(method: Method, scene: &Scene, s: &RenderSettings, opts:
         assert_eq!(out.resolved.bvh, *layout);
         assert_eq!(out.film, binary.film, "{}: {method:?} {layout:?} {opts:?}", scene.name);
     }
+    // The wide layout by the other collapse: the same leaves, found in another tree.
+    let collapse = if Collapse::default() == Collapse::Sah { Collapse::Greedy } else { Collapse::Sah };
+    let o = MethodOptions { bvh: BvhLayout::Wide, collapse, ..opts.clone() };
+    assert_eq!(run(method, scene, s, &o).film, binary.film, "{}: {method:?} {collapse:?}", scene.name);
 }
 
 /// Spheres (rtiow-final, no NEE); quads and an emitter with NEE (Cornell); every shape and
