@@ -20,9 +20,11 @@ use glam::Vec3;
 pub enum Collapse {
     /// tinybvh's rule: a node adopts the children of its largest (by area) child while fewer
     /// than 8.
-    #[default]
     Greedy,
     /// SAH-optimal (Ylitie et al. 2017): the forests of least SAH cost, by dynamic programming.
+    /// The default by measurement on the software driver: half the greedy tree's nodes and
+    /// 4–6% fewer BVH bytes per ray on the 10⁶-triangle terrain and mesh-room.
+    #[default]
     Sah,
 }
 

@@ -48,9 +48,9 @@ pub struct JobArgs {
     /// CWBVH-style, 80-byte nodes). The films are the same; the cost differs.
     #[arg(long, value_enum, default_value_t = BvhLayout::Binary, help_heading = "Numerics and stress", hide_short_help = true)]
     pub bvh: BvhLayout,
-    /// With `--bvh wide`: how the binary build is collapsed into 8-wide nodes (`greedy`:
-    /// tinybvh's rule, a node adopts its largest child's children while they fit; `sah`:
-    /// SAH-optimal by dynamic programming, Ylitie et al. 2017). The films are the same.
+    /// With `--bvh wide`: how the binary build is collapsed into 8-wide nodes (`sah`:
+    /// SAH-optimal by dynamic programming, Ylitie et al. 2017; `greedy`: tinybvh's rule, a node
+    /// adopts its largest child's children while they fit). The films are the same.
     #[arg(long, value_enum, default_value_t = Collapse::default(), help_heading = "Numerics and stress", hide_short_help = true)]
     pub collapse: Collapse,
     /// Next-event estimation: at each diffuse hit, a shadow ray to a point sampled on an
