@@ -6,6 +6,7 @@ pub mod aila_laine;
 pub mod collapse;
 pub mod layout;
 pub mod scene_bvh;
+pub mod stack;
 pub mod wide;
 
 pub use layout::BvhLayout;

@@ -131,6 +131,7 @@ pub fn prepare(
     let packed = PackedScene::new(scene, settings.accel)
         .with_bvh(options.bvh, options.collapse)
         .map_err(|e| anyhow!("scene {}: {e}", scene.name))?
+        .with_stack(options.stack)
         .with_light_options(options.lights)
         .with_numerics(options.numerics)
         .with_stress(transform);

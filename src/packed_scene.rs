@@ -143,6 +143,12 @@ impl PackedScene {
         Ok(self)
     }
 
+    /// The scene with the GPU's traversal stack where `stack` says (`--stack`).
+    pub fn with_stack(mut self, stack: crate::bvh::stack::BvhStack) -> Self {
+        self.bvh.stack = stack;
+        self
+    }
+
     /// Stores the primitive in slot `order[i]` at slot `i`, and renames every slot the scene
     /// holds (lights, the alias table) to match.
     fn reorder(&mut self, order: &[u32]) {
@@ -276,7 +282,7 @@ impl PackedScene {
         &self,
         settings: &RenderSettings,
         specialize: Specialize,
-    ) -> [(&'static str, f64); 11] {
+    ) -> [(&'static str, f64); 12] {
         let (prims, materials, textures) = match specialize {
             // An empty scene still needs a valid primitive mask; any kind will do.
             Specialize::Scene => (self.primitive_kinds().max(1), self.material_kinds(), self.texture_kinds()),
@@ -297,6 +303,7 @@ impl PackedScene {
             ("FRESNEL_EXACT", (self.numerics.fresnel == Fresnel::Exact) as u32 as f64),
             ("ROULETTE", settings.roulette as u32 as f64),
             ("BVH_LAYOUT", self.bvh.layout.constant() as f64),
+            ("BVH_STACK_WORKGROUP", self.bvh.stack.constant() as f64),
         ]
     }
 

@@ -75,6 +75,7 @@ def render(
     render_space: Literal["world", "camera"] = ...,
     bvh: Literal["binary", "aila-laine", "wide"] = ...,
     collapse: Literal["greedy", "sah"] = ...,
+    stack: Literal["function", "workgroup"] = ...,
     scale: float = ...,
     translate: Any = ...,
 ) -> RenderResult: ...

@@ -4,6 +4,7 @@
 // `nodes` is the layout's words in 16-byte units (bvh::SceneBvh::gpu_words): the binary layout
 // here, the others in bvh_aila_laine.wgsl and bvh_wide.wgsl, chosen by BVH_LAYOUT.
 
+#include "shared/bvh_stack.wgsl"
 #include "shared/bvh_aila_laine.wgsl"
 #include "shared/bvh_wide.wgsl"
 
@@ -138,10 +139,10 @@ fn traverse_binary(ray: Ray, t_min: f32, t_max: f32, any_hit: bool, skip: u32) -
             if ta >= 0.0 && tb >= 0.0 {
                 // Nearer child first; the farther waits on the stack.
                 if ta <= tb {
-                    stack[top] = b;
+                    stack_push1(&stack, top, b);
                     current = a;
                 } else {
-                    stack[top] = a;
+                    stack_push1(&stack, top, a);
                     current = b;
                 }
                 top++;
@@ -160,7 +161,7 @@ fn traverse_binary(ray: Ray, t_min: f32, t_max: f32, any_hit: bool, skip: u32) -
             break;
         }
         top--;
-        current = stack[top];
+        current = stack_pop1(&stack, top);
     }
     return hit;
 }

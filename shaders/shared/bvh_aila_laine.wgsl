@@ -45,13 +45,11 @@ fn traverse_aila_laine(ray: Ray, t_min: f32, t_max: f32, any_hit: bool, skip: u3
             if ta >= 0.0 && tb >= 0.0 {
                 // Nearer child first; the farther waits on the stack.
                 if ta <= tb {
-                    stack_first[top] = r0.w;
-                    stack_count[top] = r1.w;
+                    stack_push2(&stack_first, &stack_count, top, r0.w, r1.w);
                     first = l0.w;
                     count = l1.w;
                 } else {
-                    stack_first[top] = l0.w;
-                    stack_count[top] = l1.w;
+                    stack_push2(&stack_first, &stack_count, top, l0.w, l1.w);
                     first = r0.w;
                     count = r1.w;
                 }
@@ -73,8 +71,9 @@ fn traverse_aila_laine(ray: Ray, t_min: f32, t_max: f32, any_hit: bool, skip: u3
             break;
         }
         top--;
-        first = stack_first[top];
-        count = stack_count[top];
+        let entry = stack_pop2(&stack_first, &stack_count, top);
+        first = entry.x;
+        count = entry.y;
     }
     return hit;
 }

@@ -53,8 +53,7 @@ fn traverse_wide(ray: Ray, t_min: f32, t_max: f32, any_hit: bool, skip: u32) -> 
             let base = group_base;
             group_hits &= ~(1u << bit);
             if group_hits > 0x00ffffffu {
-                stack_base[top] = base;
-                stack_hits[top] = group_hits;
+                stack_push2(&stack_base, &stack_hits, top, base, group_hits);
                 top++;
             }
             let child_slot = (bit - 24u) ^ octinv;
@@ -91,8 +90,9 @@ fn traverse_wide(ray: Ray, t_min: f32, t_max: f32, any_hit: bool, skip: u32) -> 
                 break;
             }
             top--;
-            group_base = stack_base[top];
-            group_hits = stack_hits[top];
+            let entry = stack_pop2(&stack_base, &stack_hits, top);
+            group_base = entry.x;
+            group_hits = entry.y;
         }
     }
     return hit;

@@ -3,6 +3,7 @@
 //! the library's settings and options in one place.
 
 use crate::bvh::collapse::Collapse;
+use crate::bvh::stack::BvhStack;
 use crate::bvh::BvhLayout;
 use crate::light_options::{LightOptions, LightSampling, LightSelect};
 use crate::numerics::{Fresnel, NumericOptions, RayOffset, SphereHit};
@@ -53,6 +54,11 @@ pub struct JobArgs {
     /// adopts its largest child's children while they fit). The films are the same.
     #[arg(long, value_enum, default_value_t = Collapse::default(), help_heading = "Numerics and stress", hide_short_help = true)]
     pub collapse: Collapse,
+    /// GPU methods: where the BVH traversal keeps its stack (`function`: 64 entries a thread
+    /// in function memory; `workgroup`: 8 entries a thread in workgroup memory, deeper ones
+    /// spilled to function memory). The films are the same; the cost differs by device.
+    #[arg(long, value_enum, default_value_t = BvhStack::default(), help_heading = "Numerics and stress", hide_short_help = true)]
+    pub stack: BvhStack,
     /// Next-event estimation: at each diffuse hit, a shadow ray to a point sampled on an
     /// emitter (`off`: lights are found only by bounced rays, as in the book). Both converge
     /// to the same image.
@@ -223,6 +229,7 @@ impl JobArgs {
             specialize: a.specialize,
             bvh: a.bvh,
             collapse: a.collapse,
+            stack: a.stack,
             preheat_seconds: a.preheat,
         };
         Ok((scene, settings, options))

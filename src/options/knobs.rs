@@ -10,6 +10,7 @@ use super::{
     Timing,
 };
 use crate::bvh::collapse::Collapse;
+use crate::bvh::stack::BvhStack;
 use crate::bvh::BvhLayout;
 use crate::light_options::{LightSampling, LightSelect};
 use crate::numerics::{Fresnel, RayOffset, SphereHit};
@@ -113,7 +114,8 @@ enum_values!(
     Fresnel,
     RenderSpace,
     BvhLayout,
-    Collapse
+    Collapse,
+    BvhStack
 );
 
 impl KnobValue for u32 {
@@ -263,6 +265,7 @@ pub static KNOBS: &[Knob] = &[
     knob!("render_space", "render-space", ALL, RenderSpace, o => o.numerics.render_space),
     knob!("bvh", "bvh", ALL, BvhLayout, o => o.bvh),
     knob!("collapse", "collapse", ALL, Collapse, o => o.collapse),
+    knob!("stack", "stack", GPU, BvhStack, o => o.stack),
     // The stress transforms: checked as they are read (a scale or translation f32 cannot hold).
     Knob {
         name: "scale",
@@ -330,6 +333,7 @@ pub const COLUMNS: &[&str] = &[
     "refill",
     "bvh",
     "collapse",
+    "stack",
 ];
 
 /// The knob named `name`.
@@ -434,6 +438,7 @@ mod tests {
         same::<RenderSpace>();
         same::<BvhLayout>();
         same::<Collapse>();
+        same::<BvhStack>();
         same::<Method>();
     }
 

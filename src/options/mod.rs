@@ -93,6 +93,8 @@ pub struct MethodOptions {
     /// Every method with `--bvh wide`: how the binary build is collapsed into 8-wide nodes
     /// (`--collapse`).
     pub collapse: crate::bvh::collapse::Collapse,
+    /// GPU methods: where the BVH traversal keeps its stack (`--stack`).
+    pub stack: crate::bvh::stack::BvhStack,
     /// GPU methods: seconds of busy GPU work just before the first submission, so the frame
     /// starts at the clocks continuous rendering holds (`gpu::preheat`; 0: none). Set by the
     /// experiment runner and `wavetrace render`, not a knob of the method.

@@ -109,3 +109,68 @@ fn scenes_split_over_bindings_give_the_one_binding_film() {
         .to_string();
     assert!(err.contains("primitives") && err.contains("at most 4"), "{err}");
 }
+
+/// A row of 4096 spheres along the view axis: a camera ray enters both children at every level
+/// of the binary BVH and pushes the farther one, 10 entries deep, past the short stack's 8.
+fn sphere_row() -> Scene {
+    let spheres: Vec<String> = (0..4096)
+        .map(|i| {
+            format!(
+                r#"{{"type": "sphere", "center": [0, 0, {}], "radius": 0.5, "material": "m"}}"#,
+                -0.01 * i as f32
+            )
+        })
+        .collect();
+    let text = format!(
+        r#"{{"format": "wavetrace-scene/1",
+            "camera": {{"lookfrom": [0, 0, 5], "lookat": [0, 0, 0], "vup": [0, 1, 0], "vfov": 20,
+                        "defocus_angle": 0, "focus_dist": 5}},
+            "background": {{"type": "constant", "color": [0.5, 0.6, 0.8]}},
+            "materials": {{"m": {{"type": "lambertian", "albedo": [0.5, 0.5, 0.5]}}}},
+            "objects": [{}]}}"#,
+        spheres.join(",")
+    );
+    wavetrace::scene::load::from_str(&text, "row.json", "sphere-row").unwrap()
+}
+
+/// `--stack workgroup` (8 entries a thread in workgroup memory, deeper ones spilled to function
+/// memory) gives the function stack's film bit for bit: every layout on the megakernel and the
+/// binary one on waves, on the sphere row (whose binary and Aila–Laine stacks spill: the CPU
+/// twin's deepest stack is over 8); mesh-room (NEE's shadow rays) on the megakernel and
+/// regenerate + tail.
+#[test]
+fn the_workgroup_stack_gives_the_function_stacks_film() {
+    use wavetrace::bvh::stack::BvhStack;
+    let row = sphere_row();
+    let s = settings(false);
+    for layout in [BvhLayout::Binary, BvhLayout::AilaLaine] {
+        let opts = MethodOptions { bvh: layout, instrument: true, ..Default::default() };
+        let deepest = run(Method::Cpu, &row, &s, &opts).traversal.unwrap().closest_hit.deepest_stack;
+        assert!(deepest > 8, "{layout:?}: deepest stack {deepest}: the short stack would not spill");
+    }
+    if common::gpu().is_none() {
+        return;
+    }
+    let room =
+        Scene::resolve(concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/scenes/mesh-room.json")).unwrap();
+    let ways = common::gpu_ways();
+    // The row on the megakernel in every layout and on waves; mesh-room (NEE's shadow rays) on
+    // the megakernel and regenerate + tail.
+    let mut cases: Vec<_> = LAYOUTS
+        .iter()
+        .map(|&bvh| (&row, false, ways[0].0, MethodOptions { bvh, ..ways[0].1.clone() }))
+        .collect();
+    cases.push((&row, false, ways[2].0, ways[2].1.clone()));
+    cases.push((&room, true, ways[0].0, ways[0].1.clone()));
+    cases.push((&room, true, ways[3].0, ways[3].1.clone()));
+    for (scene, nee, method, opts) in cases {
+        let function = run(method, scene, &settings(nee), &opts);
+        let workgroup = MethodOptions { stack: BvhStack::Workgroup, ..opts.clone() };
+        assert_eq!(
+            run(method, scene, &settings(nee), &workgroup).film,
+            function.film,
+            "{}: {method:?} {opts:?}",
+            scene.name
+        );
+    }
+}
