@@ -174,3 +174,39 @@ fn the_workgroup_stack_gives_the_function_stacks_film() {
         );
     }
 }
+
+/// `wavetrace replay --bvh` replays the layout's traversal loop: on mesh-room the wide layout
+/// issues fewer lockstep steps than the binary one (its nodes test 8 children a step), and the
+/// JSON names the layout.
+#[test]
+fn replay_takes_the_layout() {
+    let dir = crate::experiment::scratch("replay-bvh");
+    let room = concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/scenes/mesh-room.json");
+    let issued = |layout: &str| {
+        let json = dir.join(format!("{layout}.json"));
+        let args =
+            ["replay", "--scene", room, "--bvh", layout, "--width", "32", "--height", "18", "--spp", "1"];
+        let o = crate::experiment::wavetrace(
+            &[
+                &args[..],
+                &[
+                    "--nee",
+                    "on",
+                    "--methods",
+                    "megakernel",
+                    "--simd-width",
+                    "8",
+                    "--json",
+                    json.to_str().unwrap(),
+                ],
+            ]
+            .concat(),
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        assert_eq!(v["bvh"], layout);
+        v["methods"]["megakernel"]["widths"]["8"]["issued"].as_u64().unwrap()
+    };
+    let (binary, wide) = (issued("binary"), issued("wide"));
+    assert!(wide < binary, "wide {wide} vs binary {binary} steps issued");
+}
