@@ -34,7 +34,7 @@ travels=$(du -sb "$tree" | cut -f1)
 echo "device dry run: tracked tree $(mib "$tracked"); travels $(mib "$travels") (binaries $(mib "$(du -sb .device | cut -f1)"))"
 
 # The calls a session makes, in priority order (scripts/device_figures.sh --list).
-calls=("tests dispatch-cost compute-passes warmup headline roulette" "megakernel-threads shading-cost material-kinds shader-checks simd simd-replay" "specialize intersect-cost decomposition pool-size scene-size regeneration" "regeneration-1080p queue-order" "refill regeneration-recheck" "bvh-layouts" "baselines seeds fixed-costs pool material workgroup" "megakernel-vs-wavefront")
+calls=("tests dispatch-cost compute-passes warmup headline roulette" "megakernel-threads shading-cost material-kinds shader-checks simd simd-replay" "specialize intersect-cost decomposition pool-size scene-size regeneration" "regeneration-1080p queue-order" "refill regeneration-recheck" "bvh-layouts bvh-stack" "baselines seeds fixed-costs pool material workgroup" "megakernel-vs-wavefront")
 export WAVETRACE_DEVICE_ALLOW_SOFTWARE=1 WAVETRACE_DEVICE_WORK="$stage/work"
 n=0
 for call in "${calls[@]}"; do

@@ -71,6 +71,10 @@
 #                       and regenerate + tail, rtiow-final, mesh-room and triangles-1000000 at
 #                       1920x1080x16 NEE (issue 59; device/bvh_layouts.json; about 1 s of
 #                       host BVH build per render of the terrain)            9.9e9  ~3 min
+#   bvh-stack           the traversal stack (--stack function|workgroup) with the binary and
+#                       wide layouts, both megakernels, waves and regenerate + tail, mesh-room
+#                       and triangles-1000000 at 1920x1080x16 NEE (issue 59; device/bvh_stack.json:
+#                       the faster sets --stack's default on GPUs)           8.8e9  ~3 min
 #   simd                SIMD efficiency at the device's width, 4 scenes, every GPU method
 #                       (device/simd.json, instrumented)                     0.15e9 <1 min
 #   simd-replay         every GPU method's device counters (--instrument) beside the CPU
@@ -139,6 +143,7 @@ intersect-cost
 pool-size device/pool_size.json
 scene-size device/scene_size.json
 bvh-layouts device/bvh_layouts.json
+bvh-stack device/bvh_stack.json
 simd device/simd.json
 simd-replay
 regeneration-recheck device/regeneration_recheck.json

@@ -28,6 +28,7 @@ fn trace_path(x: u32, y: u32, sample: u32) -> vec4<f32> {
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn megakernel(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
     instrument_begin(/*@subgroup_size_arg*/);
+    bvh_stack_lane(gid.x);
     let i = gid.x;
     if i >= dispatch.pixel_count * dispatch.sample_count {
         return;

@@ -36,8 +36,9 @@ const NO_SAMPLE: u32 = 0xffffffffu;
 override WORKGROUP_SIZE: u32 = 64u;
 
 @compute @workgroup_size(WORKGROUP_SIZE)
-fn megakernel_regenerate(/*@subgroup_size_param*/) {
+fn megakernel_regenerate(@builtin(local_invocation_index) lane: u32, /*@subgroup_size_param*/) {
     instrument_begin(/*@subgroup_size_arg*/);
+    bvh_stack_lane(lane);
     let n = dispatch.pixel_count * dispatch.sample_count;
     let paths_per_thread = atomicLoad(&work[WORK_PATHS_PER_THREAD]);
     var path = TracedPath(Ray(vec3<f32>(0.0), vec3<f32>(0.0)), vec3<f32>(0.0), vec3<f32>(0.0), 0u, 0.0, NO_ORIGIN);

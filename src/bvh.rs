@@ -3,8 +3,10 @@
 //! traverse with the same stack-based loop.
 
 pub mod aila_laine;
+pub mod collapse;
 pub mod layout;
 pub mod scene_bvh;
+pub mod stack;
 pub mod wide;
 
 pub use layout::BvhLayout;

@@ -127,9 +127,11 @@ pub fn prepare(
             options.bvh.name()
         );
     }
+    crate::options::check_bvh(options).map_err(|e| anyhow!(e.for_cli()))?;
     let packed = PackedScene::new(scene, settings.accel)
-        .with_bvh(options.bvh)
+        .with_bvh(options.bvh, options.collapse)
         .map_err(|e| anyhow!("scene {}: {e}", scene.name))?
+        .with_stack(options.stack)
         .with_light_options(options.lights)
         .with_numerics(options.numerics)
         .with_stress(transform);

@@ -3,6 +3,7 @@
 //! renders from one `PackedScene`, so they traverse identical data, and samples its lights the
 //! same way (`light_options`, the alias table `light_table`).
 
+use crate::bvh::collapse::Collapse;
 use crate::bvh::{aila_laine, wide, Aabb, Bvh, BvhLayout, BvhRef, SceneBvh};
 use crate::camera::CameraFrame;
 use crate::layout::{
@@ -116,11 +117,12 @@ impl PackedScene {
         }
     }
 
-    /// The scene with its BVH in `layout` (`--bvh`), made from the binary build. The wide
+    /// The scene with its BVH in `layout` (`--bvh`; the wide one collapsed by `collapse`), made
+    /// from the binary build. The wide
     /// layout stores the primitives in its leaves' order: the lights keep their order (each
     /// names its primitive's new slot), so every method samples the same lights with the same
     /// random numbers whatever the layout. Errors where the layout cannot hold the scene.
-    pub fn with_bvh(mut self, layout: BvhLayout) -> Result<Self, String> {
+    pub fn with_bvh(mut self, layout: BvhLayout, collapse: Collapse) -> Result<Self, String> {
         let start = std::time::Instant::now();
         match layout {
             BvhLayout::Binary => {}
@@ -130,7 +132,7 @@ impl PackedScene {
             }
             BvhLayout::Wide => {
                 let boxes: Vec<Aabb> = self.primitives.iter().map(primitive_box).collect();
-                let built = wide::build(&self.nodes, &boxes)?;
+                let built = wide::build(&self.nodes, &boxes, collapse)?;
                 self.reorder(&built.order);
                 self.bvh.wide = built.nodes;
                 self.bvh.depth = built.depth;
@@ -139,6 +141,12 @@ impl PackedScene {
         self.bvh.layout = layout;
         self.bvh.build_seconds += start.elapsed().as_secs_f64();
         Ok(self)
+    }
+
+    /// The scene with the GPU's traversal stack where `stack` says (`--stack`).
+    pub fn with_stack(mut self, stack: crate::bvh::stack::BvhStack) -> Self {
+        self.bvh.stack = stack;
+        self
     }
 
     /// Stores the primitive in slot `order[i]` at slot `i`, and renames every slot the scene
@@ -274,7 +282,7 @@ impl PackedScene {
         &self,
         settings: &RenderSettings,
         specialize: Specialize,
-    ) -> [(&'static str, f64); 11] {
+    ) -> [(&'static str, f64); 12] {
         let (prims, materials, textures) = match specialize {
             // An empty scene still needs a valid primitive mask; any kind will do.
             Specialize::Scene => (self.primitive_kinds().max(1), self.material_kinds(), self.texture_kinds()),
@@ -295,6 +303,7 @@ impl PackedScene {
             ("FRESNEL_EXACT", (self.numerics.fresnel == Fresnel::Exact) as u32 as f64),
             ("ROULETTE", settings.roulette as u32 as f64),
             ("BVH_LAYOUT", self.bvh.layout.constant() as f64),
+            ("BVH_STACK_WORKGROUP", self.bvh.stack.constant() as f64),
         ]
     }
 

@@ -74,6 +74,8 @@ def render(
     fresnel: Literal["schlick", "exact"] = ...,
     render_space: Literal["world", "camera"] = ...,
     bvh: Literal["binary", "aila-laine", "wide"] = ...,
+    collapse: Literal["greedy", "sah"] = ...,
+    stack: Literal["function", "workgroup"] = ...,
     scale: float = ...,
     translate: Any = ...,
 ) -> RenderResult: ...

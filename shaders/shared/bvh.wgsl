@@ -4,6 +4,7 @@
 // `nodes` is the layout's words in 16-byte units (bvh::SceneBvh::gpu_words): the binary layout
 // here, the others in bvh_aila_laine.wgsl and bvh_wide.wgsl, chosen by BVH_LAYOUT.
 
+#include "shared/bvh_stack.wgsl"
 #include "shared/bvh_aila_laine.wgsl"
 #include "shared/bvh_wide.wgsl"
 
@@ -37,18 +38,18 @@ fn safe_inverse(d: vec3<f32>) -> vec3<f32> {
 
 // Binary node i: two units, (min, left_or_first) and (max, count).
 fn bvh_node(i: u32) -> BvhNode {
-    let a = nodes[2u * i];
-    let b = nodes[2u * i + 1u];
+    let a = node_unit(2u * i);
+    let b = node_unit(2u * i + 1u);
     return BvhNode(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w);
 }
 
 // The scene's box: the binary root's, or the other layouts' header in the same two units.
 fn bvh_root_min() -> vec3<f32> {
-    return bitcast<vec3<f32>>(nodes[0].xyz);
+    return bitcast<vec3<f32>>(node_unit(0u).xyz);
 }
 
 fn bvh_root_max() -> vec3<f32> {
-    return bitcast<vec3<f32>>(nodes[1].xyz);
+    return bitcast<vec3<f32>>(node_unit(1u).xyz);
 }
 
 // Entry distance into the box if the ray enters before t_max, else -1.
@@ -138,10 +139,10 @@ fn traverse_binary(ray: Ray, t_min: f32, t_max: f32, any_hit: bool, skip: u32) -
             if ta >= 0.0 && tb >= 0.0 {
                 // Nearer child first; the farther waits on the stack.
                 if ta <= tb {
-                    stack[top] = b;
+                    stack_push1(&stack, top, b);
                     current = a;
                 } else {
-                    stack[top] = a;
+                    stack_push1(&stack, top, a);
                     current = b;
                 }
                 top++;
@@ -160,7 +161,7 @@ fn traverse_binary(ray: Ray, t_min: f32, t_max: f32, any_hit: bool, skip: u32) -
             break;
         }
         top--;
-        current = stack[top];
+        current = stack_pop1(&stack, top);
     }
     return hit;
 }

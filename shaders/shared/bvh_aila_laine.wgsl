@@ -36,22 +36,20 @@ fn traverse_aila_laine(ray: Ray, t_min: f32, t_max: f32, any_hit: bool, skip: u3
         } else {
             instrument_step(TRAVERSE_INNER);
             let u = 2u + 4u * first;
-            let l0 = nodes[u];
-            let l1 = nodes[u + 1u];
-            let r0 = nodes[u + 2u];
-            let r1 = nodes[u + 3u];
+            let l0 = node_unit(u);
+            let l1 = node_unit(u + 1u);
+            let r0 = node_unit(u + 2u);
+            let r1 = node_unit(u + 3u);
             let ta = hit_bounds(bitcast<vec3<f32>>(l0.xyz), bitcast<vec3<f32>>(l1.xyz), ray.origin, inv, t_min, closest);
             let tb = hit_bounds(bitcast<vec3<f32>>(r0.xyz), bitcast<vec3<f32>>(r1.xyz), ray.origin, inv, t_min, closest);
             if ta >= 0.0 && tb >= 0.0 {
                 // Nearer child first; the farther waits on the stack.
                 if ta <= tb {
-                    stack_first[top] = r0.w;
-                    stack_count[top] = r1.w;
+                    stack_push2(&stack_first, &stack_count, top, r0.w, r1.w);
                     first = l0.w;
                     count = l1.w;
                 } else {
-                    stack_first[top] = l0.w;
-                    stack_count[top] = l1.w;
+                    stack_push2(&stack_first, &stack_count, top, l0.w, l1.w);
                     first = r0.w;
                     count = r1.w;
                 }
@@ -73,8 +71,9 @@ fn traverse_aila_laine(ray: Ray, t_min: f32, t_max: f32, any_hit: bool, skip: u3
             break;
         }
         top--;
-        first = stack_first[top];
-        count = stack_count[top];
+        let entry = stack_pop2(&stack_first, &stack_count, top);
+        first = entry.x;
+        count = entry.y;
     }
     return hit;
 }

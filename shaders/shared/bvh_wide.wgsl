@@ -53,16 +53,15 @@ fn traverse_wide(ray: Ray, t_min: f32, t_max: f32, any_hit: bool, skip: u32) -> 
             let base = group_base;
             group_hits &= ~(1u << bit);
             if group_hits > 0x00ffffffu {
-                stack_base[top] = base;
-                stack_hits[top] = group_hits;
+                stack_push2(&stack_base, &stack_hits, top, base, group_hits);
                 top++;
             }
             let child_slot = (bit - 24u) ^ octinv;
             let u = 2u + 5u * (base + countOneBits(imask & ((1u << child_slot) - 1u)));
             instrument_step(TRAVERSE_INNER);
-            let n0 = nodes[u];
-            let n1 = nodes[u + 1u];
-            let hits = wide_hit_children(n0, n1, nodes[u + 2u], nodes[u + 3u], nodes[u + 4u], ray.origin, inv, t_min, closest, octinv);
+            let n0 = node_unit(u);
+            let n1 = node_unit(u + 1u);
+            let hits = wide_hit_children(n0, n1, node_unit(u + 2u), node_unit(u + 3u), node_unit(u + 4u), ray.origin, inv, t_min, closest, octinv);
             group_base = n1.x;
             group_hits = (hits & 0xff000000u) | (n0.w >> 24u);
             var prims = hits & 0x00ffffffu;
@@ -91,8 +90,9 @@ fn traverse_wide(ray: Ray, t_min: f32, t_max: f32, any_hit: bool, skip: u32) -> 
                 break;
             }
             top--;
-            group_base = stack_base[top];
-            group_hits = stack_hits[top];
+            let entry = stack_pop2(&stack_base, &stack_hits, top);
+            group_base = entry.x;
+            group_hits = entry.y;
         }
     }
     return hit;

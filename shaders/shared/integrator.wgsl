@@ -35,7 +35,7 @@ fn trace_bounce(path: ptr<function, TracedPath>, pixel: u32, sample: u32, bounce
     if is_self_hit((*path).left, hit.prim, ray, hit.t) {
         count_failure(FAILURE_SELF_HIT);
     }
-    let prim = primitives[hit.prim];
+    let prim = primitive(hit.prim);
     let material = materials[prim.material];
     instrument(PASS_MEGAKERNEL_MATERIAL);
     // Lanes active inside each material's branch: the divergence the wavefront removes.

@@ -80,7 +80,7 @@ fn light_pdf(light: Primitive, x: vec3<f32>, point: vec3<f32>, dir: vec3<f32>, d
 // A light (u.x, u.w) and a point on it (u.y, u.z) for the shading point `x`; needs lights.
 fn sample_light(x: vec3<f32>, u: vec4<f32>) -> LightSample {
     let slot = choose_light(u.x, u.w);
-    let light = primitives[slot];
+    let light = primitive(slot);
     if LIGHT_SOLID_ANGLE && is_sphere(light) {
         let c = sphere_cone(light, x);
         if c.ok {
@@ -113,7 +113,7 @@ fn diffuse_pdf(cos: f32) -> f32 {
 // MIS weight of emission from the light in `slot`, found from `origin` at distance `dist` along
 // unit `dir` (at `point`) by a diffuse bounce whose density for `dir` was `bsdf_pdf`.
 fn emission_weight(slot: u32, origin: vec3<f32>, point: vec3<f32>, dir: vec3<f32>, dist: f32, bsdf_pdf: f32) -> f32 {
-    return power_heuristic(bsdf_pdf, light_pdf(primitives[slot], origin, point, dir, dist * dist));
+    return power_heuristic(bsdf_pdf, light_pdf(primitive(slot), origin, point, dir, dist * dist));
 }
 
 fn next_event(p: vec3<f32>, normal: vec3<f32>, u: vec4<f32>) -> ShadowRay {
@@ -136,7 +136,7 @@ fn next_event(p: vec3<f32>, normal: vec3<f32>, u: vec4<f32>) -> ShadowRay {
     }
     // The light's own surface, decided as closest_hit decides it: from outside a sphere the ray
     // meets the near side first, so a point facing away is hidden by the sphere.
-    let light = primitives[l.slot];
+    let light = primitive(l.slot);
     if is_sphere(light) && facing > 0.0 && sphere_cone(light, p).ok {
         return none;
     }

@@ -89,7 +89,7 @@ fn is_self_hit(left: u32, hit: u32, ray: Ray, t: f32) -> bool {
     if left != hit {
         return false;
     }
-    let p = primitives[hit];
+    let p = primitive(hit);
     if !prim_is(p.kind, PRIM_SPHERE) {
         return true;
     }

@@ -31,8 +31,16 @@ fn prim_is(kind: u32, k: u32) -> bool {
 #include "shared/planar.wgsl"
 
 // Distance to the nearest hit on primitive `slot` in (t_min, t_max), or -1 for none. Reads only
-// the fields the shape needs (a sphere, 20 of the record's 48 bytes).
+// the fields the shape needs (a sphere, 20 of the record's 48 bytes) where the primitives take
+// one binding; split over several (shared/scene_split.wgsl), it loads the record.
 fn hit_primitive(slot: u32, ray: Ray, t_min: f32, t_max: f32) -> f32 {
+    if PRIM_BINDINGS != 1u {
+        let p = primitive(slot);
+        if prim_is(p.kind, PRIM_SPHERE) {
+            return hit_sphere_by(p.a, p.radius, ray, t_min, t_max);
+        }
+        return hit_planar(p.kind, p.a, p.b, p.c, ray, t_min, t_max);
+    }
     if PRIM_KINDS == (1u << PRIM_SPHERE) {
         return hit_sphere_by(primitives[slot].a, primitives[slot].radius, ray, t_min, t_max);
     }

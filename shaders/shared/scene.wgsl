@@ -20,6 +20,8 @@
 // texel buffer; one unused element each in a scene without image textures.
 @group(0) @binding(6) var<storage, read> uvs: array<UvRecord>;
 @group(0) @binding(7) var<storage, read> texels: array<u32>;
+// Bindings 8..=13: the further bindings of the primitives and the nodes, and their loads.
+#include "shared/scene_split.wgsl"
 
 #include "shared/image_texture.wgsl"
 

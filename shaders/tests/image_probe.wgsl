@@ -10,6 +10,9 @@
 @group(1) @binding(0) var<storage, read> probe_in: array<vec4<f32>>;
 @group(1) @binding(1) var<storage, read_write> probe_out: array<vec4<f32>>;
 
+// Sizes the traversal's short stack (shared/bvh_stack.wgsl), which this kernel never uses.
+override WORKGROUP_SIZE: u32 = 64u;
+
 @compute @workgroup_size(64)
 fn image_probe(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;

@@ -13,6 +13,7 @@ override WORKGROUP_SIZE: u32 = 64u;
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn intersect(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
     instrument_begin(/*@subgroup_size_arg*/);
+    bvh_stack_lane(gid.x);
     let entry = ray_queue_entry(gid.x);
     if entry == DEAD || launched_past_done() {
         return;
@@ -73,7 +74,7 @@ fn intersect(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_par
     }
     var q = QUEUE_MATERIAL_0;
     if SHADE_PASSES != SHADE_SINGLE {
-        let m = materials[primitives[hit.prim].material];
+        let m = materials[primitive(hit.prim).material];
         q += m.kind;
         // --shade per-texture: a costly pattern's hits go to that pattern's queue (only lambertian
         // and metal records carry one).

@@ -39,6 +39,7 @@ fn intersect_registers(
     @builtin(num_workgroups) groups: vec3<u32>,
 ) {
     let i = (wid.y * groups.x + wid.x) * WORKGROUP_SIZE + lane;
+    bvh_stack_lane(lane);
     if i < camera_rays.count {
         // generate's start_path for sample i of a share of every pixel from sample 0.
         let pixel = i % camera_rays.pixel_count;

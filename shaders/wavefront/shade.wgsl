@@ -24,6 +24,7 @@ const NO_KIND: u32 = 0xffffffffu;
 const PATTERN_KIND: u32 = 0x100u;
 
 fn shade_path(i: u32, kind: u32, pass_id: u32) {
+    bvh_stack_lane(i);
     var q = QUEUE_MATERIAL_0;
     if kind >= PATTERN_KIND && kind != NO_KIND {
         q = QUEUE_PATTERN_0 + kind - PATTERN_KIND;
@@ -57,7 +58,7 @@ fn shade_path(i: u32, kind: u32, pass_id: u32) {
     if prim_slot == DEAD {
         return; // only without compaction
     }
-    let prim = primitives[prim_slot];
+    let prim = primitive(prim_slot);
     let material = materials[prim.material];
     if kind < PATTERN_KIND && material.kind != kind {
         return; // only without compaction

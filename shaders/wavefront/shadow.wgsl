@@ -13,6 +13,7 @@ override WORKGROUP_SIZE: u32 = 64u;
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn shadow(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
     instrument_begin(/*@subgroup_size_arg*/);
+    bvh_stack_lane(gid.x);
     // (No launched_past_done here: queue_setup_shadow_decide may set DONE just before this pass,
     // whose shadow rays are the share's own; past the end, shade queues none.)
     let slot = queued_slot(QUEUE_SHADOW, gid.x);

@@ -18,6 +18,7 @@ override WORKGROUP_SIZE: u32 = 64u;
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn tail(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
     instrument_begin(/*@subgroup_size_arg*/);
+    bvh_stack_lane(gid.x);
     let q = next_ray_queue();
     let entry = queued_entry(q, gid.x);
     if entry == DEAD {

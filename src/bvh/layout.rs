@@ -17,7 +17,7 @@ pub enum BvhLayout {
     AilaLaine,
     /// 8-wide compressed (Ylitie, Karras & Laine 2017, CWBVH, 80-byte nodes): child boxes
     /// quantized to 8 bits against a per-node frame, children stored contiguously, leaves of at
-    /// most 3 primitives, octant-ordered children, greedy collapse of the binary build.
+    /// most 3 primitives, octant-ordered children, collapsed from the binary build (`--collapse`).
     Wide,
 }
 

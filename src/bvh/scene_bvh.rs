@@ -17,6 +17,8 @@ pub struct SceneBvh {
     pub build_seconds: f64,
     /// Levels of the layout's nodes from the root to the deepest leaf.
     pub depth: u32,
+    /// Where the GPU's traversals keep their stack (`--stack`).
+    pub stack: super::stack::BvhStack,
 }
 
 /// What a report records of the BVH a render traversed (its build time apart, as a timing).

@@ -1,6 +1,5 @@
 //! The compressed 8-wide layout (Ylitie, Karras & Laine 2017, "CWBVH"): the binary build
-//! collapsed greedily into nodes of up to 8 children (tinybvh's rule: a node adopts the
-//! children of its largest child while they fit), each child's box quantized to 8 bits per
+//! collapsed into nodes of up to 8 children (`collapse.rs`: greedily, or SAH-optimal), each child's box quantized to 8 bits per
 //! bound against the node's frame (origin `p`, power-of-two scales `2^e`), inner children stored
 //! contiguously (child i at `child_base` + the inner children in slots below i), leaves of at
 //! most 3 primitives stored contiguously from `prim_base`, children placed in slots by octant so
@@ -8,6 +7,7 @@
 //! traversal dequantizes (`plane`, in f32) never excludes any part of the child's box. Traversed
 //! by `cpu/bvh_wide.rs` and `shaders/shared/bvh_wide.wgsl`.
 
+use super::collapse::{Collapse, Part, Sub, Tree};
 use super::Aabb;
 use crate::layout::BvhNode;
 use bytemuck::{Pod, Zeroable};
@@ -73,80 +73,11 @@ pub struct WideBvh {
     pub depth: u32,
 }
 
-/// A subtree of the binary build: an inner node, or a run of primitive slots.
-#[derive(Clone, Copy, Debug)]
-enum Part {
-    Node(u32),
-    Range(u32, u32),
-}
-
-#[derive(Clone, Copy, Debug)]
-struct Sub {
-    part: Part,
-    bounds: Aabb,
-}
-
-struct Builder<'a> {
-    binary: &'a [BvhNode],
-    /// Each primitive's box, by slot in the binary order.
-    boxes: &'a [Aabb],
-}
-
-impl Builder<'_> {
-    fn sub(&self, i: u32) -> Sub {
-        let n = &self.binary[i as usize];
-        // A lone root is a leaf even with no primitive (an empty scene).
-        let leaf = n.count > 0 || self.binary.len() == 1;
-        let part = if leaf { Part::Range(n.left_or_first, n.count) } else { Part::Node(i) };
-        Sub { part, bounds: Aabb { min: Vec3::from(n.min), max: Vec3::from(n.max) } }
-    }
-
-    fn range(&self, first: u32, count: u32) -> Sub {
-        let bounds =
-            self.boxes[first as usize..(first + count) as usize].iter().fold(Aabb::EMPTY, |a, b| a.union(*b));
-        Sub { part: Part::Range(first, count), bounds }
-    }
-
-    /// The two halves of a subtree that cannot be one child: an inner node's children, or a
-    /// run of more than `MAX_LEAF` primitives cut in two (the binary build's big leaves: those
-    /// of identical boxes, or at its depth limit).
-    fn split(&self, s: &Sub) -> Option<[Sub; 2]> {
-        match s.part {
-            Part::Node(i) => Some([self.sub(i + 1), self.sub(self.binary[i as usize].left_or_first)]),
-            Part::Range(first, count) if count > MAX_LEAF => {
-                let half = count / 2;
-                Some([self.range(first, half), self.range(first + half, count - half)])
-            }
-            Part::Range(..) => None,
-        }
-    }
-
-    /// The children of the wide node over `s`: its halves, then, while fewer than 8, the
-    /// largest child that splits replaced by its halves.
-    fn collapse(&self, s: &Sub) -> Vec<Sub> {
-        let Some(halves) = self.split(s) else {
-            // The root a single small leaf (or none: an empty scene).
-            return if matches!(s.part, Part::Range(_, 0)) { Vec::new() } else { vec![*s] };
-        };
-        let mut kids = halves.to_vec();
-        while kids.len() < 8 {
-            let largest = (0..kids.len())
-                .filter(|&k| self.split(&kids[k]).is_some())
-                .max_by(|&a, &b| kids[a].bounds.area().total_cmp(&kids[b].bounds.area()));
-            let Some(k) = largest else { break };
-            let [a, b] = self.split(&kids[k]).unwrap();
-            kids[k] = a;
-            kids.push(b);
-        }
-        kids
-    }
-}
-
 /// The wide BVH over the binary build `binary` (`bvh::Bvh`'s nodes) whose primitives, in its
-/// order, have boxes `boxes`. Errors for a tree deeper than the traversal's stack and for a box
-/// that no f32 frame can quantize (an infinite extent).
-pub fn build(binary: &[BvhNode], boxes: &[Aabb]) -> Result<WideBvh, String> {
-    let b = Builder { binary, boxes };
+/// order, have boxes `boxes`, collapsed by `collapse`. Errors for a tree deeper than the
+/// traversal's stack and for a box that no f32 frame can quantize (an infinite extent).
+pub fn build(binary: &[BvhNode], boxes: &[Aabb], collapse: Collapse) -> Result<WideBvh, String> {
+    let b = Tree::new(binary, boxes, collapse);
     let mut out =
         WideBvh { nodes: vec![WideNode::default()], order: Vec::with_capacity(boxes.len()), depth: 1 };
     if binary.is_empty() {
@@ -284,12 +215,18 @@ mod tests {
     /// wide node's child on its way from the root, and each primitive is in one leaf.
     #[test]
     fn quantized_child_boxes_never_shrink() {
-        for (n, seed) in [(2000, 1), (7, 2), (1, 3)] {
+        for (n, seed, collapse) in [
+            (2000, 1, Collapse::Greedy),
+            (2000, 1, Collapse::Sah),
+            (7, 2, Collapse::Greedy),
+            (7, 2, Collapse::Sah),
+            (1, 3, Collapse::Sah),
+        ] {
             let unordered = boxes(n, seed);
             let bvh = Bvh::build(&unordered);
             // In the binary build's order, as `PackedScene` stores the primitives.
             let b: Vec<Aabb> = bvh.order.iter().map(|&i| unordered[i as usize]).collect();
-            let wide = build(&bvh.nodes, &b).unwrap();
+            let wide = build(&bvh.nodes, &b, collapse).unwrap();
             let mut sorted = wide.order.clone();
             sorted.sort_unstable();
             assert_eq!(sorted, (0..n as u32).collect::<Vec<_>>(), "a permutation");
@@ -362,13 +299,13 @@ mod tests {
         let b = vec![Aabb { min: Vec3::ZERO, max: Vec3::ONE }; 50];
         let bvh = Bvh::build(&b);
         assert_eq!(bvh.nodes.len(), 1);
-        let wide = build(&bvh.nodes, &b).unwrap();
+        let wide = build(&bvh.nodes, &b, Collapse::Greedy).unwrap();
         assert!(wide.nodes.len() > 1 && wide.order.len() == 50);
         let huge = vec![
             Aabb { min: Vec3::splat(-3e38), max: Vec3::splat(3e38) },
             Aabb { min: Vec3::ZERO, max: Vec3::ONE },
         ];
-        let err = build(&Bvh::build(&huge).nodes, &huge).unwrap_err();
+        let err = build(&Bvh::build(&huge).nodes, &huge, Collapse::Greedy).unwrap_err();
         assert!(err.contains("--bvh binary"), "{err}");
     }
 }

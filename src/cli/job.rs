@@ -2,6 +2,8 @@
 //! declared once for every command that renders or plans one (`render`, `plan`), and built into
 //! the library's settings and options in one place.
 
+use crate::bvh::collapse::Collapse;
+use crate::bvh::stack::BvhStack;
 use crate::bvh::BvhLayout;
 use crate::light_options::{LightOptions, LightSampling, LightSelect};
 use crate::numerics::{Fresnel, NumericOptions, RayOffset, SphereHit};
@@ -47,6 +49,16 @@ pub struct JobArgs {
     /// CWBVH-style, 80-byte nodes). The films are the same; the cost differs.
     #[arg(long, value_enum, default_value_t = BvhLayout::Binary, help_heading = "Numerics and stress", hide_short_help = true)]
     pub bvh: BvhLayout,
+    /// With `--bvh wide`: how the binary build is collapsed into 8-wide nodes (`sah`:
+    /// SAH-optimal by dynamic programming, Ylitie et al. 2017; `greedy`: tinybvh's rule, a node
+    /// adopts its largest child's children while they fit). The films are the same.
+    #[arg(long, value_enum, default_value_t = Collapse::default(), help_heading = "Numerics and stress", hide_short_help = true)]
+    pub collapse: Collapse,
+    /// GPU methods: where the BVH traversal keeps its stack (`function`: 64 entries a thread
+    /// in function memory; `workgroup`: 8 entries a thread in workgroup memory, deeper ones
+    /// spilled to function memory). The films are the same; the cost differs by device.
+    #[arg(long, value_enum, default_value_t = BvhStack::default(), help_heading = "Numerics and stress", hide_short_help = true)]
+    pub stack: BvhStack,
     /// Next-event estimation: at each diffuse hit, a shadow ray to a point sampled on an
     /// emitter (`off`: lights are found only by bounced rays, as in the book). Both converge
     /// to the same image.
@@ -216,6 +228,8 @@ impl JobArgs {
             shader_checks: a.shader_checks,
             specialize: a.specialize,
             bvh: a.bvh,
+            collapse: a.collapse,
+            stack: a.stack,
             preheat_seconds: a.preheat,
         };
         Ok((scene, settings, options))

@@ -78,6 +78,13 @@ pub struct ReplayArgs {
     /// `none`: every primitive tested in one loop, as the seeds' CUDA ports did (at most 24).
     #[arg(long, value_enum, default_value_t = Accel::Bvh)]
     pub accel: Accel,
+    /// The BVH layout the paths traverse, as `wavetrace render --bvh`: the traversal loop's
+    /// steps, hence its lockstep efficiency, are the layout's.
+    #[arg(long, value_enum, default_value_t = crate::bvh::BvhLayout::Binary)]
+    pub bvh: crate::bvh::BvhLayout,
+    /// With `--bvh wide`: the collapse, as `wavetrace render --collapse`.
+    #[arg(long, value_enum, default_value_t = crate::bvh::collapse::Collapse::default())]
+    pub collapse: crate::bvh::collapse::Collapse,
     /// Subgroup widths to replay: powers of two from 1 to 128, comma-separated.
     #[arg(long, default_value = "8,16,32,64")]
     pub simd_width: String,
@@ -134,6 +141,13 @@ pub struct ReplayArgs {
     pub chart: Option<std::path::PathBuf>,
 }
 
+impl ReplayArgs {
+    /// The options the paths are prepared with: the defaults but the BVH's layout and collapse.
+    fn bvh_options(&self) -> crate::options::MethodOptions {
+        crate::options::MethodOptions { bvh: self.bvh, collapse: self.collapse, ..Default::default() }
+    }
+}
+
 pub fn run(a: ReplayArgs) -> Result<()> {
     let widths = width::parse_list(&a.simd_width)?;
     let scene = Scene::resolve(&a.scene)?;
@@ -181,9 +195,9 @@ pub fn run(a: ReplayArgs) -> Result<()> {
             bail!("replay: --pool-size device needs the device's multiprocessors; give the pool as a number")
         }
     };
-    // The paths the GPU methods trace: the scene in their render space, default options.
+    // The paths the GPU methods trace: the scene in their render space, the layout asked for.
     let (packed, frame) =
-        crate::method::prepare(crate::method::Method::Megakernel, &scene, &settings, &Default::default())?;
+        crate::method::prepare(crate::method::Method::Megakernel, &scene, &settings, &a.bvh_options())?;
     // The recorder keeps a leaf's tested positions in 24 bits.
     if let Some(n) = packed.nodes.iter().map(|n| n.count).max().filter(|&n| n > 24) {
         bail!("replay: a leaf of {n} primitives (at most 24; --accel none needs a scene of 24 or fewer)");
@@ -323,7 +337,7 @@ pub fn run(a: ReplayArgs) -> Result<()> {
     if let Some(path) = &a.json {
         let doc = serde_json::json!({
             "commit": env!("WAVETRACE_GIT_COMMIT"), "scene": a.scene, "width": a.width, "height": a.height, "spp": a.spp,
-            "max_depth": a.max_depth, "nee": settings.nee, "roulette": settings.roulette, "accel": format!("{:?}", a.accel), "methods": methods,
+            "max_depth": a.max_depth, "nee": settings.nee, "roulette": settings.roulette, "accel": format!("{:?}", a.accel), "bvh": a.bvh, "collapse": a.collapse, "methods": methods,
         });
         std::fs::write(path, serde_json::to_string_pretty(&doc)?)?;
     }

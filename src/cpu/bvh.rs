@@ -261,9 +261,9 @@ mod tests {
         let empty = crate::scene::Scene { spheres: Vec::new(), ..one.clone() };
         let ray = Ray { origin: V3::new(0.0f32, 0.0, 5.0), dir: V3::new(0.0, 0.0, -1.0) };
         for layout in [BvhLayout::Binary, BvhLayout::AilaLaine, BvhLayout::Wide] {
-            let e = PackedScene::new(&empty, Accel::Bvh).with_bvh(layout).unwrap();
+            let e = PackedScene::new(&empty, Accel::Bvh).with_bvh(layout, Default::default()).unwrap();
             assert_eq!(closest_hit(e.bvh_nodes(), &e.primitives, &ray, 1e-3, SphereHit::Stable), None);
-            let s = PackedScene::new(&one, Accel::Bvh).with_bvh(layout).unwrap();
+            let s = PackedScene::new(&one, Accel::Bvh).with_bvh(layout, Default::default()).unwrap();
             let hit = closest_hit(s.bvh_nodes(), &s.primitives, &ray, 1e-3, SphereHit::Stable);
             let want = super::hit_primitive(&s.primitives[0], &ray, 1e-3, f32::INFINITY, SphereHit::Stable);
             assert_eq!(hit.map(|h| (h.t, h.prim)), want.map(|t| (t, 0)), "{layout:?}");
@@ -279,7 +279,7 @@ mod tests {
 
     fn check_layout(name: &str, layout: BvhLayout) {
         let scene = builtin::by_name(name).unwrap();
-        let bvh = PackedScene::new(&scene, Accel::Bvh).with_bvh(layout).unwrap();
+        let bvh = PackedScene::new(&scene, Accel::Bvh).with_bvh(layout, Default::default()).unwrap();
         let linear = PackedScene::new(&scene, Accel::None);
         assert!(bvh.nodes.len() > 10 && linear.nodes.len() == 1);
         // Rays start in the scene's bounding box.

@@ -6,11 +6,11 @@
 //! in slot order. A child's box is dequantized to f32 planes (`wide::plane`) and met with the
 //! binary layout's slab test, so a ray entering a binary node's box enters the larger wide one.
 
-use super::bvh::{hit_bounds, safe_inverse, Hit, Query};
+use super::bvh::{safe_inverse, Hit, Query};
 use super::observe::PathObserver;
 use super::real::Real;
 use super::vec3::V3;
-use crate::bvh::wide::{plane, WideNode, MAX_DEPTH};
+use crate::bvh::wide::{WideNode, MAX_DEPTH};
 
 /// The ray's octant (bit 2: x < 0, bit 1: y < 0, bit 0: z < 0) flipped: the slot order
 /// `slot ^ octant_inverse` visits first the slot the builder gave the child nearest that way.
@@ -85,19 +85,30 @@ pub fn traverse<T: Real>(
 }
 
 /// The node's children the ray enters in (t_min, t_max): an inner child as bit
-/// 24 + (slot ^ octinv), a leaf as one bit per primitive from its offset.
+/// 24 + (slot ^ octinv), a leaf as one bit per primitive from its offset. The eight slots side
+/// by side, so the compiler can test them together: each slot's box and slab test are
+/// `wide::plane` and `hit_bounds` operation for operation (the same roundings, the same order of
+/// min and max), with the scales computed once per node.
 #[inline(always)]
 fn hit_children<T: Real>(n: &WideNode, o: V3<T>, inv: V3<T>, (t_min, t_max): (T, T), octinv: u32) -> u32 {
-    let mut hits = 0u32;
-    let e = n.e_imask;
-    for slot in 0..8 {
-        let meta = n.meta[slot] as u32;
-        if meta == 0 {
-            continue;
+    let (o, inv) = ([o.x, o.y, o.z], [inv.x, inv.y, inv.z]);
+    let mut enter = [[T::zero(); 8]; 3];
+    let mut leave = [[T::zero(); 8]; 3];
+    for a in 0..3 {
+        let (p, scale) = (n.p[a], f32::from_bits((n.e_imask[a] as u32) << 23));
+        for slot in 0..8 {
+            let t1 = (T::of(p + n.qlo[a][slot] as f32 * scale) - o[a]) * inv[a];
+            let t2 = (T::of(p + n.qhi[a][slot] as f32 * scale) - o[a]) * inv[a];
+            enter[a][slot] = t1.min(t2);
+            leave[a][slot] = t1.max(t2);
         }
-        let lo = [0, 1, 2].map(|a| plane(n.p[a], n.qlo[a][slot], e[a]));
-        let hi = [0, 1, 2].map(|a| plane(n.p[a], n.qhi[a][slot], e[a]));
-        if hit_bounds(lo, hi, o, inv, t_min, t_max).is_some() {
+    }
+    let mut hits = 0u32;
+    for slot in 0..8 {
+        let near = enter[0][slot].max(enter[1][slot]).max(enter[2][slot]).max(t_min);
+        let far = leave[0][slot].min(leave[1][slot]).min(leave[2][slot]).min(t_max);
+        let meta = n.meta[slot] as u32;
+        if meta != 0 && near <= far {
             let shift = if n.imask() >> slot & 1 == 1 { 24 + (slot as u32 ^ octinv) } else { meta & 31 };
             hits |= (meta >> 5) << shift;
         }

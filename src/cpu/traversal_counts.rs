@@ -149,7 +149,7 @@ mod tests {
         let settings = RenderSettings { width: 16, height: 12, spp: 2, nee: true, ..Default::default() };
         let frame = CameraFrame::new(&scene.camera, settings.width, settings.height);
         let counts = |layout| {
-            let packed = PackedScene::new(&scene, Accel::Bvh).with_bvh(layout).unwrap();
+            let packed = PackedScene::new(&scene, Accel::Bvh).with_bvh(layout, Default::default()).unwrap();
             count(&packed, &frame, &settings)
         };
         let (b, a, w) = (counts(BvhLayout::Binary), counts(BvhLayout::AilaLaine), counts(BvhLayout::Wide));

@@ -13,6 +13,7 @@ pub mod megakernel;
 pub mod memory;
 pub mod preheat;
 pub mod scene_buffers;
+pub mod scene_split;
 pub mod shader_checks;
 pub mod shader_variants;
 pub mod shaders;

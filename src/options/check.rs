@@ -109,11 +109,24 @@ impl std::error::Error for OptionError {}
 /// knobs. `schedule: auto` counts as not regenerating (a config cannot know what it resolves
 /// to); the renderers check after resolving it.
 pub fn check(method: Method, o: &MethodOptions) -> Result<(), OptionError> {
+    check_bvh(o)?;
     match method {
         Method::Cpu | Method::CpuF64 => Ok(()),
         Method::Megakernel => check_megakernel(&o.megakernel),
         Method::Wavefront => check_wavefront(&o.wavefront),
     }
+}
+
+/// Every method's BVH knobs: `collapse` acts only on the wide layout.
+pub fn check_bvh(o: &MethodOptions) -> Result<(), OptionError> {
+    use crate::bvh::{collapse::Collapse, BvhLayout};
+    if o.collapse != Collapse::default() && o.bvh != BvhLayout::Wide {
+        let value = o.collapse.name();
+        let why = "collapses the binary build into 8-wide nodes";
+        let problem = Problem::Needs { value, text: true, why, other: "bvh", values: &["wide"] };
+        return Err(OptionError { knob: "collapse", problem });
+    }
+    Ok(())
 }
 
 /// The megakernel's options, checked (as [`check`]).
@@ -363,6 +376,21 @@ mod tests {
         let mut o = MethodOptions::default();
         f(&mut o.wavefront);
         o
+    }
+
+    /// `collapse` acts on the wide layout only, for every method.
+    #[test]
+    fn collapse_needs_the_wide_layout() {
+        use crate::bvh::{collapse::Collapse, BvhLayout};
+        let other = if Collapse::default() == Collapse::Sah { Collapse::Greedy } else { Collapse::Sah };
+        let o = MethodOptions { collapse: other, ..Default::default() };
+        for method in [Method::Cpu, Method::Megakernel] {
+            let e = check(method, &o).unwrap_err();
+            assert_eq!(e.knob, "collapse");
+            assert!(e.for_cli().contains("it needs --bvh wide"), "{}", e.for_cli());
+            assert!(e.for_config().contains(r#"it needs "bvh": "wide""#), "{}", e.for_config());
+        }
+        check(Method::Cpu, &MethodOptions { bvh: BvhLayout::Wide, ..o }).unwrap();
     }
 
     #[test]

@@ -9,6 +9,8 @@ use super::{
     QueueOrder, RaySort, Refill, Scan, Schedule, ShadePasses, ShaderChecks, ShadowRays, Specialize, Tail,
     Timing,
 };
+use crate::bvh::collapse::Collapse;
+use crate::bvh::stack::BvhStack;
 use crate::bvh::BvhLayout;
 use crate::light_options::{LightSampling, LightSelect};
 use crate::numerics::{Fresnel, RayOffset, SphereHit};
@@ -111,7 +113,9 @@ enum_values!(
     SphereHit,
     Fresnel,
     RenderSpace,
-    BvhLayout
+    BvhLayout,
+    Collapse,
+    BvhStack
 );
 
 impl KnobValue for u32 {
@@ -260,6 +264,8 @@ pub static KNOBS: &[Knob] = &[
     knob!("fresnel", "fresnel", ALL, Fresnel, o => o.numerics.fresnel),
     knob!("render_space", "render-space", ALL, RenderSpace, o => o.numerics.render_space),
     knob!("bvh", "bvh", ALL, BvhLayout, o => o.bvh),
+    knob!("collapse", "collapse", ALL, Collapse, o => o.collapse),
+    knob!("stack", "stack", GPU, BvhStack, o => o.stack),
     // The stress transforms: checked as they are read (a scale or translation f32 cannot hold).
     Knob {
         name: "scale",
@@ -326,6 +332,8 @@ pub const COLUMNS: &[&str] = &[
     "shadow_rays",
     "refill",
     "bvh",
+    "collapse",
+    "stack",
 ];
 
 /// The knob named `name`.
@@ -429,6 +437,8 @@ mod tests {
         same::<Fresnel>();
         same::<RenderSpace>();
         same::<BvhLayout>();
+        same::<Collapse>();
+        same::<BvhStack>();
         same::<Method>();
     }
 

@@ -11,7 +11,7 @@ mod pool_size;
 mod schedule;
 mod wavefront;
 
-pub use check::{check, check_megakernel, check_wavefront, OptionError, Problem};
+pub use check::{check, check_bvh, check_megakernel, check_wavefront, OptionError, Problem};
 pub use measure::*;
 pub use megakernel::MegakernelOptions;
 pub use pool_size::PoolSize;
@@ -90,6 +90,11 @@ pub struct MethodOptions {
     pub specialize: Specialize,
     /// Every method: the BVH's node layout its traversals read (`--bvh`).
     pub bvh: crate::bvh::BvhLayout,
+    /// Every method with `--bvh wide`: how the binary build is collapsed into 8-wide nodes
+    /// (`--collapse`).
+    pub collapse: crate::bvh::collapse::Collapse,
+    /// GPU methods: where the BVH traversal keeps its stack (`--stack`).
+    pub stack: crate::bvh::stack::BvhStack,
     /// GPU methods: seconds of busy GPU work just before the first submission, so the frame
     /// starts at the clocks continuous rendering holds (`gpu::preheat`; 0: none). Set by the
     /// experiment runner and `wavetrace render`, not a knob of the method.

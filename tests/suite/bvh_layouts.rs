@@ -1,10 +1,12 @@
 //! `--bvh` (issue 59): every BVH layout is made from the same binary build and tested with the
 //! same slab test on boxes that only grow, so every method finds the same closest hits and the
 //! films are the same bit for bit whatever the layout, on the CPU and in every way the GPU
-//! traces (both megakernels, the wavefront's waves and regenerate + tail).
+//! traces (both megakernels, the wavefront's waves and regenerate + tail), and the wide layout
+//! by either collapse (`--collapse greedy|sah`).
 
 use crate::common;
 
+use wavetrace::bvh::collapse::Collapse;
 use wavetrace::bvh::BvhLayout;
 use wavetrace::method::{render, Method, MethodOptions, RenderOutput};
 use wavetrace::scene::Scene;
@@ -37,6 +39,10 @@ fn assert_layouts_agree(method: Method, scene: &Scene, s: &RenderSettings, opts:
         assert_eq!(out.resolved.bvh, *layout);
         assert_eq!(out.film, binary.film, "{}: {method:?} {layout:?} {opts:?}", scene.name);
     }
+    // The wide layout by the other collapse: the same leaves, found in another tree.
+    let collapse = if Collapse::default() == Collapse::Sah { Collapse::Greedy } else { Collapse::Sah };
+    let o = MethodOptions { bvh: BvhLayout::Wide, collapse, ..opts.clone() };
+    assert_eq!(run(method, scene, s, &o).film, binary.film, "{}: {method:?} {collapse:?}", scene.name);
 }
 
 /// Spheres (rtiow-final, no NEE); quads and an emitter with NEE (Cornell); every shape and
@@ -72,4 +78,135 @@ fn accel_none_takes_the_binary_layout_only() {
     let opts = MethodOptions { bvh: BvhLayout::Wide, ..Default::default() };
     let err = render(Method::Cpu, &scene, &s, &opts, None, &|_| {}).err().unwrap().to_string();
     assert!(err.contains("--accel none") && err.contains("--bvh wide"), "{err}");
+}
+
+/// Primitives and BVH nodes split over several storage bindings, as 10⁷ triangles need on
+/// lavapipe's 128 MiB (`gpu/scene_split.rs`), give the one-binding film bit for bit: a device
+/// posing as one whose bindings hold 64 KiB splits mesh-room's 216 KiB of primitives over four
+/// and its nodes over two (wide) or three (binary, aila-laine), every shape and NEE included.
+/// Each layout on the megakernel; the wavefront's waves and regenerate + tail on the binary one.
+#[test]
+fn scenes_split_over_bindings_give_the_one_binding_film() {
+    let Some(shared) = common::gpu() else { return };
+    let mut posing = wavetrace::gpu::context::GpuContext::new(Some(&shared.summary.name)).unwrap();
+    posing.summary.max_storage_buffer_binding_size = 64 << 10;
+    let room =
+        Scene::resolve(concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/scenes/mesh-room.json")).unwrap();
+    let s = settings(true);
+    let ways = common::gpu_ways();
+    let mut cases: Vec<_> =
+        LAYOUTS.iter().map(|&bvh| (ways[0].0, MethodOptions { bvh, ..ways[0].1.clone() })).collect();
+    cases.extend(ways.into_iter().filter(|(m, _)| *m == Method::Wavefront));
+    for (method, opts) in cases {
+        let split = render(method, &room, &s, &opts, Some(&posing), &|_| {}).unwrap();
+        assert_eq!(split.film, run(method, &room, &s, &opts).film, "{method:?} {opts:?}");
+    }
+    // Past four bindings the scene is refused with the sizes, before any upload.
+    posing.summary.max_storage_buffer_binding_size = 4 << 10;
+    let err = render(Method::Megakernel, &room, &s, &MethodOptions::default(), Some(&posing), &|_| {})
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(err.contains("primitives") && err.contains("at most 4"), "{err}");
+}
+
+/// A row of 4096 spheres along the view axis: a camera ray enters both children at every level
+/// of the binary BVH and pushes the farther one, 10 entries deep, past the short stack's 8.
+fn sphere_row() -> Scene {
+    let spheres: Vec<String> = (0..4096)
+        .map(|i| {
+            format!(
+                r#"{{"type": "sphere", "center": [0, 0, {}], "radius": 0.5, "material": "m"}}"#,
+                -0.01 * i as f32
+            )
+        })
+        .collect();
+    let text = format!(
+        r#"{{"format": "wavetrace-scene/1",
+            "camera": {{"lookfrom": [0, 0, 5], "lookat": [0, 0, 0], "vup": [0, 1, 0], "vfov": 20,
+                        "defocus_angle": 0, "focus_dist": 5}},
+            "background": {{"type": "constant", "color": [0.5, 0.6, 0.8]}},
+            "materials": {{"m": {{"type": "lambertian", "albedo": [0.5, 0.5, 0.5]}}}},
+            "objects": [{}]}}"#,
+        spheres.join(",")
+    );
+    wavetrace::scene::load::from_str(&text, "row.json", "sphere-row").unwrap()
+}
+
+/// `--stack workgroup` (8 entries a thread in workgroup memory, deeper ones spilled to function
+/// memory) gives the function stack's film bit for bit: every layout on the megakernel and the
+/// binary one on waves, on the sphere row (whose binary and Aila–Laine stacks spill: the CPU
+/// twin's deepest stack is over 8); mesh-room (NEE's shadow rays) on the megakernel and
+/// regenerate + tail.
+#[test]
+fn the_workgroup_stack_gives_the_function_stacks_film() {
+    use wavetrace::bvh::stack::BvhStack;
+    let row = sphere_row();
+    let s = settings(false);
+    for layout in [BvhLayout::Binary, BvhLayout::AilaLaine] {
+        let opts = MethodOptions { bvh: layout, instrument: true, ..Default::default() };
+        let deepest = run(Method::Cpu, &row, &s, &opts).traversal.unwrap().closest_hit.deepest_stack;
+        assert!(deepest > 8, "{layout:?}: deepest stack {deepest}: the short stack would not spill");
+    }
+    if common::gpu().is_none() {
+        return;
+    }
+    let room =
+        Scene::resolve(concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/scenes/mesh-room.json")).unwrap();
+    let ways = common::gpu_ways();
+    // The row on the megakernel in every layout and on waves; mesh-room (NEE's shadow rays) on
+    // the megakernel and regenerate + tail.
+    let mut cases: Vec<_> = LAYOUTS
+        .iter()
+        .map(|&bvh| (&row, false, ways[0].0, MethodOptions { bvh, ..ways[0].1.clone() }))
+        .collect();
+    cases.push((&row, false, ways[2].0, ways[2].1.clone()));
+    cases.push((&room, true, ways[0].0, ways[0].1.clone()));
+    cases.push((&room, true, ways[3].0, ways[3].1.clone()));
+    for (scene, nee, method, opts) in cases {
+        let function = run(method, scene, &settings(nee), &opts);
+        let workgroup = MethodOptions { stack: BvhStack::Workgroup, ..opts.clone() };
+        assert_eq!(
+            run(method, scene, &settings(nee), &workgroup).film,
+            function.film,
+            "{}: {method:?} {opts:?}",
+            scene.name
+        );
+    }
+}
+
+/// `wavetrace replay --bvh` replays the layout's traversal loop: on mesh-room the wide layout
+/// issues fewer lockstep steps than the binary one (its nodes test 8 children a step), and the
+/// JSON names the layout.
+#[test]
+fn replay_takes_the_layout() {
+    let dir = crate::experiment::scratch("replay-bvh");
+    let room = concat!(env!("CARGO_MANIFEST_DIR"), "/experiments/scenes/mesh-room.json");
+    let issued = |layout: &str| {
+        let json = dir.join(format!("{layout}.json"));
+        let args =
+            ["replay", "--scene", room, "--bvh", layout, "--width", "32", "--height", "18", "--spp", "1"];
+        let o = crate::experiment::wavetrace(
+            &[
+                &args[..],
+                &[
+                    "--nee",
+                    "on",
+                    "--methods",
+                    "megakernel",
+                    "--simd-width",
+                    "8",
+                    "--json",
+                    json.to_str().unwrap(),
+                ],
+            ]
+            .concat(),
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        assert_eq!(v["bvh"], layout);
+        v["methods"]["megakernel"]["widths"]["8"]["issued"].as_u64().unwrap()
+    };
+    let (binary, wide) = (issued("binary"), issued("wide"));
+    assert!(wide < binary, "wide {wide} vs binary {binary} steps issued");
 }

@@ -709,11 +709,13 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
         [
             "baselines.json",
             "bvh_layouts.json",
+            "bvh_stack.json",
             "coherence.json",
             "compute_passes.json",
             "cpu_vs_gpu.json",
             "decomposition.json",
             "device/bvh_layouts.json",
+            "device/bvh_stack.json",
             "device/compute_passes.json",
             "device/decomposition.json",
             "device/fixed_costs.json",
@@ -759,6 +761,8 @@ fn every_shipped_config_is_valid_and_says_what_it_asks() {
             "stability_distance.json",
             "stability_scale.json",
             "state_traffic.json",
+            "triangles_10m.json",
+            "wide_collapse.json",
             "workgroup_size.json"
         ]
     );

@@ -9,7 +9,7 @@ use std::collections::HashMap;
 use wavetrace::bvh;
 use wavetrace::film::Film;
 use wavetrace::gpu::buffers::human_bytes;
-use wavetrace::gpu::scene_buffers::{buffer_sizes, check_fits, check_fits_limits};
+use wavetrace::gpu::scene_buffers::{binding_needed, buffer_sizes, check_fits, check_fits_limits};
 use wavetrace::method::{render, Method, MethodOptions};
 use wavetrace::packed_scene::PackedScene;
 use wavetrace::scene::{builtin, Scene};
@@ -114,21 +114,22 @@ fn a_million_spheres_fit_lavapipe_and_the_loop_limit() {
 fn scenes_too_big_for_the_adapter_are_refused_naming_the_buffer() {
     let packed = PackedScene::new(&builtin::by_name("spheres-20000").unwrap(), Accel::Bvh);
     let sizes = buffer_sizes(&packed);
-    let (label, biggest) = sizes.iter().copied().max_by_key(|&(_, b)| b).unwrap();
-    // One byte short for the biggest buffer, by either limit.
+    // The per-binding limit each buffer needs (the primitives and nodes split over up to four).
+    let needs: Vec<(&str, u64, u64)> = sizes.iter().map(|&(l, b)| (l, b, binding_needed(l, b))).collect();
+    let (label, size, biggest) = needs.iter().copied().max_by_key(|&(_, _, n)| n).unwrap();
+    // One byte short for the neediest buffer, by either limit.
     for (binding, buffer) in [(biggest - 1, u64::MAX), (u64::MAX, biggest - 1)] {
         let err = check_fits_limits(&packed, "Tiny GPU", binding, buffer).unwrap_err().to_string();
         eprintln!("{err}");
-        for want in [label, "Tiny GPU", &human_bytes(biggest), &human_bytes(biggest - 1), "20001 primitives"]
-        {
+        for want in [label, "Tiny GPU", &human_bytes(size), &human_bytes(biggest - 1), "20001 primitives"] {
             assert!(err.contains(want), "{want:?} missing from: {err}");
         }
     }
     check_fits_limits(&packed, "Tiny GPU", biggest, biggest).unwrap();
     // Each buffer is named when it alone is too big.
-    for (label, size) in sizes {
-        let others = sizes.iter().filter(|&&(l, _)| l != label).map(|&(_, b)| b).max().unwrap();
-        if size > others {
+    for &(label, _, need) in &needs {
+        let others = needs.iter().filter(|&&(l, _, _)| l != label).map(|&(_, _, n)| n).max().unwrap();
+        if need > others {
             let err = check_fits_limits(&packed, "g", others, others).unwrap_err().to_string();
             assert!(err.contains(&format!("its {label} buffer")), "{err}");
         }
