@@ -106,22 +106,9 @@ fn require_version_2(file: &str, version: &str) -> Res<()> {
 pub fn from_slice(bytes: &[u8], file: &str, name: &str, dir: &Path, source: &Path) -> Res<Import> {
     let g::Gltf { document, blob } =
         g::Gltf::from_slice_without_validation(bytes).map_err(|e| crate_error(file, e))?;
-    // The crate's validation indexes `accessors` with each POSITION unchecked (a panic on a bad
-    // index), so those indices are checked first.
     let root = document.into_json();
     require_version_2(file, &root.asset.version)?;
-    for (m, mesh) in root.meshes.iter().enumerate() {
-        for (p, prim) in mesh.primitives.iter().enumerate() {
-            let position = prim.attributes.get(&g::json::validation::Checked::Valid(g::Semantic::Positions));
-            if let Some(a) = position.filter(|a| a.value() >= root.accessors.len()) {
-                return Err(InputError::new(
-                    file,
-                    format!("meshes[{m}].primitives[{p}].attributes.POSITION"),
-                    format!("Index out of range: accessor {} of {}", a.value(), root.accessors.len()),
-                ));
-            }
-        }
-    }
+    check_position_indices(file, &root)?;
     let document = g::Document::from_json(root).map_err(|e| crate_error(file, e))?;
     let mut cx = Cx {
         file,
@@ -140,52 +127,9 @@ pub fn from_slice(bytes: &[u8], file: &str, name: &str, dir: &Path, source: &Pat
     let Some(g_scene) = document.default_scene().or_else(|| document.scenes().next()) else {
         return cx.err("scenes", "the file has no scenes, so nothing to render");
     };
-    if document.scenes().len() > 1 {
-        cx.warn(format!(
-            "scenes: only scenes[{}] is rendered; the file has {} scenes",
-            g_scene.index(),
-            document.scenes().len()
-        ));
-    }
-    if document.animations().len() > 0 {
-        cx.warn(format!(
-            "animations: {} animations ignored; nodes are taken at rest",
-            document.animations().len()
-        ));
-    }
-
-    let (materials, default_material) = cx.materials()?;
-    let mut materials = materials;
-    let mut meshes = Vec::new();
-    let mut camera = None;
-    // Depth first, in file order, with an explicit stack: a deep hierarchy must not overflow
-    // ours, and a node reached twice (a cycle, or two parents, which glTF forbids) is an error.
-    let mut seen = vec![false; document.nodes().len()];
-    let mut stack: Vec<(g::Node, Mat4)> = g_scene.nodes().map(|n| (n, Mat4::IDENTITY)).collect();
-    stack.reverse();
-    while let Some((node, parent)) = stack.pop() {
-        let path = format!("nodes[{}]", node.index());
-        if std::mem::replace(&mut seen[node.index()], true) {
-            return cx.err(&path, "is reached twice from the scene (a cycle, or a node with two parents)");
-        }
-        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
-        if !world.is_finite() {
-            return cx.err(&path, "its world transform is not finite");
-        }
-        if let Some(c) = node.camera() {
-            cx.camera(&c, &path, world, &mut camera)?;
-        }
-        if let Some(mesh) = node.mesh() {
-            let m = cx.mesh(&mesh, &path, world, source, &mut materials, default_material)?;
-            meshes.extend(m);
-        }
-        if node.skin().is_some() {
-            cx.warn(format!("{path}.skin: skinning ignored; the mesh is taken in its bind pose"));
-        }
-        for child in node.children().collect::<Vec<_>>().into_iter().rev() {
-            stack.push((child, world));
-        }
-    }
+    cx.warn_unrendered(&g_scene);
+    let (mut materials, default_material) = cx.materials()?;
+    let (meshes, camera) = cx.nodes(&g_scene, &mut materials, default_material)?;
     if meshes.is_empty() {
         return cx.err(
             &format!("scenes[{}]", g_scene.index()),
@@ -193,19 +137,7 @@ pub fn from_slice(bytes: &[u8], file: &str, name: &str, dir: &Path, source: &Pat
         );
     }
 
-    let camera = match camera {
-        Some(c) => c,
-        None => {
-            let c = framing_camera(&meshes);
-            cx.warn(format!(
-                "cameras: no perspective camera in the scene; using one that frames its bounds: lookfrom {}, \
-                 lookat {}, vfov {DEFAULT_VFOV}",
-                fmt_vec(c.lookfrom),
-                fmt_vec(c.lookat)
-            ));
-            c
-        }
-    };
+    let camera = camera.unwrap_or_else(|| cx.framing_camera(&meshes));
     cx.mapped.push("background → sky (glTF has no background)".into());
     let scene = Scene {
         name: name.to_owned(),
@@ -219,6 +151,24 @@ pub fn from_slice(bytes: &[u8], file: &str, name: &str, dir: &Path, source: &Pat
     };
     super::load::validate(&scene, file)?;
     Ok(Import { scene, mapped: cx.mapped, warnings: cx.warnings })
+}
+
+/// The crate's validation indexes `accessors` with each POSITION unchecked (a panic on a bad
+/// index), so those indices are checked first.
+fn check_position_indices(file: &str, root: &g::json::Root) -> Res<()> {
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            let position = prim.attributes.get(&g::json::validation::Checked::Valid(g::Semantic::Positions));
+            if let Some(a) = position.filter(|a| a.value() >= root.accessors.len()) {
+                return Err(InputError::new(
+                    file,
+                    format!("meshes[{m}].primitives[{p}].attributes.POSITION"),
+                    format!("Index out of range: accessor {} of {}", a.value(), root.accessors.len()),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 struct Cx<'a> {
@@ -390,6 +340,77 @@ impl Cx<'_> {
 
     /// Every glTF material mapped, in file order, and the index glTF's default material will
     /// take if a primitive needs it.
+    /// Warns of what the file holds and is not rendered: other scenes, animations.
+    fn warn_unrendered(&mut self, g_scene: &g::Scene) {
+        let document = self.doc;
+        if document.scenes().len() > 1 {
+            self.warn(format!(
+                "scenes: only scenes[{}] is rendered; the file has {} scenes",
+                g_scene.index(),
+                document.scenes().len()
+            ));
+        }
+        if document.animations().len() > 0 {
+            self.warn(format!(
+                "animations: {} animations ignored; nodes are taken at rest",
+                document.animations().len()
+            ));
+        }
+    }
+
+    /// The scene's meshes in world space and its camera (the first perspective one).
+    fn nodes(
+        &mut self,
+        g_scene: &g::Scene,
+        materials: &mut Vec<NamedMaterial>,
+        default_material: u32,
+    ) -> Res<(Vec<Mesh>, Option<CameraSpec>)> {
+        let mut meshes = Vec::new();
+        let mut camera = None;
+        // Depth first, in file order, with an explicit stack: a deep hierarchy must not overflow
+        // ours, and a node reached twice (a cycle, or two parents, which glTF forbids) is an error.
+        let mut seen = vec![false; self.doc.nodes().len()];
+        let mut stack: Vec<(g::Node, Mat4)> = g_scene.nodes().map(|n| (n, Mat4::IDENTITY)).collect();
+        stack.reverse();
+        while let Some((node, parent)) = stack.pop() {
+            let path = format!("nodes[{}]", node.index());
+            if std::mem::replace(&mut seen[node.index()], true) {
+                return self
+                    .err(&path, "is reached twice from the scene (a cycle, or a node with two parents)");
+            }
+            let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+            if !world.is_finite() {
+                return self.err(&path, "its world transform is not finite");
+            }
+            if let Some(c) = node.camera() {
+                self.camera(&c, &path, world, &mut camera)?;
+            }
+            if let Some(mesh) = node.mesh() {
+                let m = self.mesh(&mesh, &path, world, self.source, materials, default_material)?;
+                meshes.extend(m);
+            }
+            if node.skin().is_some() {
+                self.warn(format!("{path}.skin: skinning ignored; the mesh is taken in its bind pose"));
+            }
+            for child in node.children().collect::<Vec<_>>().into_iter().rev() {
+                stack.push((child, world));
+            }
+        }
+        Ok((meshes, camera))
+    }
+
+    /// Where the file has no perspective camera: one that frames the meshes' bounds.
+    fn framing_camera(&mut self, meshes: &[Mesh]) -> CameraSpec {
+        let c = framing_camera(meshes);
+        self.warn(format!(
+            "cameras: no perspective camera in the scene; using one that frames its bounds: lookfrom {}, \
+             lookat {}, vfov {DEFAULT_VFOV}",
+            fmt_vec(c.lookfrom),
+            fmt_vec(c.lookat)
+        ));
+        c
+    }
+
     fn materials(&mut self) -> Res<(Vec<NamedMaterial>, u32)> {
         let mut out: Vec<NamedMaterial> = Vec::new();
         let mut names = std::collections::HashSet::new();
@@ -427,42 +448,7 @@ impl Cx<'_> {
                 return self.err(&format!("{ppath}.{field}"), format!("must be in [0, 1], got {v}"));
             }
         }
-        // The image albedo, if the base colour has a decodable texture: (image, wraps).
-        let mut image = None;
-        if let Some(info) = pbr.base_color_texture() {
-            let tpath = format!("{ppath}.baseColorTexture");
-            let texture = info.texture();
-            let source = texture.source();
-            match self.image(&source)? {
-                Some(slot) => {
-                    let sampler = texture.sampler();
-                    image = Some((slot, [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())]));
-                    if info.tex_coord() != 0 {
-                        self.warn(format!(
-                            "{tpath}.texCoord: {} not read: the texture is looked up at TEXCOORD_0",
-                            info.tex_coord()
-                        ));
-                    }
-                    if info.extensions().is_some_and(|e| e.contains_key("KHR_texture_transform")) {
-                        self.warn(format!(
-                            "{tpath}.extensions.KHR_texture_transform: ignored; the texture is looked up \
-                             at the untransformed coordinates"
-                        ));
-                    }
-                    if sampler.mag_filter() == Some(g::texture::MagFilter::Nearest) {
-                        self.warn(format!(
-                            "samplers[{}].magFilter: NEAREST ignored; lookups are bilinear",
-                            sampler.index().unwrap_or(0)
-                        ));
-                    }
-                }
-                None => self.warn(format!(
-                    "{tpath}: ignored (images[{}] is a JPEG, which this build does not decode; only PNG); \
-                     albedo is baseColorFactor alone",
-                    source.index()
-                )),
-            }
-        }
+        let image = self.base_color_texture(&pbr, &ppath)?;
         let emissive = Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0);
         if !emissive.is_finite() || emissive.min_element() < 0.0 {
             return self.err(
@@ -509,6 +495,60 @@ impl Cx<'_> {
                 material.kind_name()
             ));
         }
+        self.warn_unmapped(m, &material, path);
+        Ok(material)
+    }
+
+    /// The image albedo, if the base colour has a decodable texture: (image, wraps).
+    fn base_color_texture(
+        &mut self,
+        pbr: &g::material::PbrMetallicRoughness,
+        ppath: &str,
+    ) -> Res<Option<(u32, [Wrap; 2])>> {
+        let Some(info) = pbr.base_color_texture() else {
+            return Ok(None);
+        };
+        let tpath = format!("{ppath}.baseColorTexture");
+        let texture = info.texture();
+        let source = texture.source();
+        let Some(slot) = self.image(&source)? else {
+            self.warn(format!(
+                "{tpath}: ignored (images[{}] is a JPEG, which this build does not decode; only PNG); \
+                 albedo is baseColorFactor alone",
+                source.index()
+            ));
+            return Ok(None);
+        };
+        let sampler = texture.sampler();
+        if info.tex_coord() != 0 {
+            self.warn(format!(
+                "{tpath}.texCoord: {} not read: the texture is looked up at TEXCOORD_0",
+                info.tex_coord()
+            ));
+        }
+        if info.extensions().is_some_and(|e| e.contains_key("KHR_texture_transform")) {
+            self.warn(format!(
+                "{tpath}.extensions.KHR_texture_transform: ignored; the texture is looked up \
+                 at the untransformed coordinates"
+            ));
+        }
+        if sampler.mag_filter() == Some(g::texture::MagFilter::Nearest) {
+            self.warn(format!(
+                "samplers[{}].magFilter: NEAREST ignored; lookups are bilinear",
+                sampler.index().unwrap_or(0)
+            ));
+        }
+        Ok(Some((slot, [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())])))
+    }
+
+    /// Warns of what the material holds that the scene's material does not keep: blends between
+    /// kinds, an unused ior, alpha, textures other than the base colour, other extensions.
+    fn warn_unmapped(&mut self, m: &g::Material, material: &Material, path: &str) {
+        let pbr = m.pbr_metallic_roughness();
+        let ppath = format!("{path}.pbrMetallicRoughness");
+        let [.., alpha] = pbr.base_color_factor();
+        let metallic = pbr.metallic_factor();
+        let transmission = m.transmission().map_or(0.0, |t| t.transmission_factor());
         let dielectric = matches!(material, Material::Dielectric { .. });
         let emits = matches!(material, Material::Emissive { .. });
         if !emits && !dielectric && metallic != 0.0 && metallic != 1.0 {
@@ -552,7 +592,6 @@ impl Cx<'_> {
         for e in others {
             self.warn(format!("{path}.extensions.{e}: not mapped, ignored"));
         }
-        Ok(material)
     }
 
     /// The scene image of glTF image `image`, decoded once however many textures use it; `None`
