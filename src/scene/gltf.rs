@@ -694,7 +694,6 @@ impl Cx<'_> {
         materials: &mut Vec<NamedMaterial>,
         default_material: u32,
     ) -> Res<Vec<Mesh>> {
-        use g::accessor::{DataType, Dimensions};
         let mut out = Vec::new();
         for prim in mesh.primitives() {
             let path = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
@@ -709,100 +708,16 @@ impl Cx<'_> {
                 self.warn(format!("{path}.mode: {mode:?} has no surface to render; skipped"));
                 continue;
             }
-            let pos_path = format!("{path}.attributes.POSITION");
-            let Some(pos) = prim.get(&g::Semantic::Positions) else {
-                return self.err(&pos_path, "missing: a primitive needs vertex positions");
-            };
-            self.check_accessor(&pos, &pos_path, &[DataType::F32], Dimensions::Vec3, false)?;
-            let index_path = format!("{path}.indices");
-            if let Some(ind) = prim.indices() {
-                self.check_accessor(
-                    &ind,
-                    &index_path,
-                    &[DataType::U8, DataType::U16, DataType::U32],
-                    Dimensions::Scalar,
-                    false,
-                )?;
-            }
-            let reader = prim.reader(|b| self.buffers.get(b.index()).map(Vec::as_slice));
-            let Some(positions) = reader.read_positions() else {
-                return self.err(&pos_path, "cannot be read");
-            };
-            let positions: Vec<Vec3> = positions.map(|p| world.transform_point3(Vec3::from(p))).collect();
-            let indices: Vec<u32> = match reader.read_indices() {
-                Some(ind) => ind.into_u32().collect(),
-                None if prim.indices().is_some() => return self.err(&index_path, "cannot be read"),
-                None => (0..positions.len() as u32).collect(),
-            };
-            if let Some((k, &i)) = indices.iter().enumerate().find(|(_, &i)| i as usize >= positions.len()) {
-                return self.err(
-                    &index_path,
-                    format!("index {k} is {i}, but POSITION has {} vertices", positions.len()),
-                );
-            }
-            if positions.iter().any(|p| !p.is_finite()) {
-                return self.err(&pos_path, "a vertex is not finite after the node transform");
-            }
+            let (positions, indices) = self.vertices(&prim, &path, world)?;
             let uvs = self.tex_coords(&prim, &path, positions.len(), materials)?;
-            let corners = corners(mode, indices.len());
-            if mode == g::mesh::Mode::Triangles && !indices.len().is_multiple_of(3) {
-                self.warn(format!(
-                    "{path}: {} indices is not a multiple of 3; the last {} ignored",
-                    indices.len(),
-                    indices.len() % 3
-                ));
-            }
-            let mut triangles = Vec::with_capacity(corners.len());
-            let mut triangle_uvs = Vec::with_capacity(if uvs.is_some() { corners.len() } else { 0 });
-            let mut degenerate = 0;
-            for [a, b, c] in corners {
-                let [a, b, c] = [indices[a] as usize, indices[b] as usize, indices[c] as usize];
-                let t = [positions[a], positions[b], positions[c]];
-                // Zero-area triangles have no surface to hit (as in OBJ meshes).
-                if (t[1] - t[0]).cross(t[2] - t[0]).length_squared() > 0.0 {
-                    triangles.push(t);
-                    if let Some(uv) = &uvs {
-                        triangle_uvs.push([uv[a], uv[b], uv[c]]);
-                    }
-                } else {
-                    degenerate += 1;
-                }
-            }
-            if degenerate > 0 {
-                self.warn(format!(
-                    "{path}: dropped {degenerate} zero-area triangles of {}",
-                    degenerate + triangles.len()
-                ));
-            }
+            let (triangles, triangle_uvs) =
+                self.area_triangles(&path, mode, &indices, &positions, uvs.as_deref());
             if triangles.is_empty() {
                 self.warn(format!("{path}: no triangles with area; skipped"));
                 continue;
             }
-            let material = match prim.material().index() {
-                Some(i) => i as u32,
-                None => {
-                    if materials.len() == default_material as usize {
-                        let material = Material::Metal { albedo: Vec3::ONE.into(), fuzz: 1.0 };
-                        self.mapped.push(format!("glTF's default material → {}", describe(&material)));
-                        materials.push(NamedMaterial { name: "gltf-default".into(), material });
-                    }
-                    self.warn(format!(
-                        "{path}.material: none, so glTF's default material (white, metallic 1, roughness 1): \
-                         a rough white metal"
-                    ));
-                    default_material
-                }
-            };
-            for (field, what) in [("COLOR_0", "vertex colours"), ("NORMAL", "normals")] {
-                if prim.attributes().any(|(s, _)| s.to_string() == field) {
-                    self.warn(format!(
-                        "{path}.attributes.{field}: {what} ignored (shading uses the material and the geometric normal)"
-                    ));
-                }
-            }
-            if prim.morph_targets().len() > 0 {
-                self.warn(format!("{path}.targets: morph targets ignored"));
-            }
+            let material = self.primitive_material(&prim, &path, materials, default_material);
+            self.warn_ignored_attributes(&prim, &path);
             let label = match mesh.name() {
                 Some(n) => format!("{node_path} {path} {n:?}"),
                 None => format!("{node_path} {path}"),
@@ -823,6 +738,125 @@ impl Cx<'_> {
             });
         }
         Ok(out)
+    }
+
+    /// A primitive's positions in world space and its indices (one per position where it has
+    /// none), checked: every index in range, every position finite.
+    fn vertices(&mut self, prim: &g::Primitive, path: &str, world: Mat4) -> Res<(Vec<Vec3>, Vec<u32>)> {
+        use g::accessor::{DataType, Dimensions};
+        let pos_path = format!("{path}.attributes.POSITION");
+        let Some(pos) = prim.get(&g::Semantic::Positions) else {
+            return self.err(&pos_path, "missing: a primitive needs vertex positions");
+        };
+        self.check_accessor(&pos, &pos_path, &[DataType::F32], Dimensions::Vec3, false)?;
+        let index_path = format!("{path}.indices");
+        if let Some(ind) = prim.indices() {
+            self.check_accessor(
+                &ind,
+                &index_path,
+                &[DataType::U8, DataType::U16, DataType::U32],
+                Dimensions::Scalar,
+                false,
+            )?;
+        }
+        let reader = prim.reader(|b| self.buffers.get(b.index()).map(Vec::as_slice));
+        let Some(positions) = reader.read_positions() else {
+            return self.err(&pos_path, "cannot be read");
+        };
+        let positions: Vec<Vec3> = positions.map(|p| world.transform_point3(Vec3::from(p))).collect();
+        let indices: Vec<u32> = match reader.read_indices() {
+            Some(ind) => ind.into_u32().collect(),
+            None if prim.indices().is_some() => return self.err(&index_path, "cannot be read"),
+            None => (0..positions.len() as u32).collect(),
+        };
+        if let Some((k, &i)) = indices.iter().enumerate().find(|(_, &i)| i as usize >= positions.len()) {
+            return self.err(
+                &index_path,
+                format!("index {k} is {i}, but POSITION has {} vertices", positions.len()),
+            );
+        }
+        if positions.iter().any(|p| !p.is_finite()) {
+            return self.err(&pos_path, "a vertex is not finite after the node transform");
+        }
+        Ok((positions, indices))
+    }
+
+    /// The primitive's triangles with area, and their texture coordinates where it has them.
+    /// Zero-area triangles have no surface to hit (as in OBJ meshes): dropped with a warning.
+    fn area_triangles(
+        &mut self,
+        path: &str,
+        mode: g::mesh::Mode,
+        indices: &[u32],
+        positions: &[Vec3],
+        uvs: Option<&[Vec2]>,
+    ) -> (Vec<[Vec3; 3]>, Vec<[Vec2; 3]>) {
+        let corners = corners(mode, indices.len());
+        if mode == g::mesh::Mode::Triangles && !indices.len().is_multiple_of(3) {
+            self.warn(format!(
+                "{path}: {} indices is not a multiple of 3; the last {} ignored",
+                indices.len(),
+                indices.len() % 3
+            ));
+        }
+        let mut triangles = Vec::with_capacity(corners.len());
+        let mut triangle_uvs = Vec::with_capacity(if uvs.is_some() { corners.len() } else { 0 });
+        let mut degenerate = 0;
+        for [a, b, c] in corners {
+            let [a, b, c] = [indices[a] as usize, indices[b] as usize, indices[c] as usize];
+            let t = [positions[a], positions[b], positions[c]];
+            if (t[1] - t[0]).cross(t[2] - t[0]).length_squared() > 0.0 {
+                triangles.push(t);
+                if let Some(uv) = uvs {
+                    triangle_uvs.push([uv[a], uv[b], uv[c]]);
+                }
+            } else {
+                degenerate += 1;
+            }
+        }
+        if degenerate > 0 {
+            self.warn(format!(
+                "{path}: dropped {degenerate} zero-area triangles of {}",
+                degenerate + triangles.len()
+            ));
+        }
+        (triangles, triangle_uvs)
+    }
+
+    /// The primitive's material, or glTF's default material (added once, at `default_material`).
+    fn primitive_material(
+        &mut self,
+        prim: &g::Primitive,
+        path: &str,
+        materials: &mut Vec<NamedMaterial>,
+        default_material: u32,
+    ) -> u32 {
+        if let Some(i) = prim.material().index() {
+            return i as u32;
+        }
+        if materials.len() == default_material as usize {
+            let material = Material::Metal { albedo: Vec3::ONE.into(), fuzz: 1.0 };
+            self.mapped.push(format!("glTF's default material → {}", describe(&material)));
+            materials.push(NamedMaterial { name: "gltf-default".into(), material });
+        }
+        self.warn(format!(
+            "{path}.material: none, so glTF's default material (white, metallic 1, roughness 1): \
+             a rough white metal"
+        ));
+        default_material
+    }
+
+    fn warn_ignored_attributes(&mut self, prim: &g::Primitive, path: &str) {
+        for (field, what) in [("COLOR_0", "vertex colours"), ("NORMAL", "normals")] {
+            if prim.attributes().any(|(s, _)| s.to_string() == field) {
+                self.warn(format!(
+                    "{path}.attributes.{field}: {what} ignored (shading uses the material and the geometric normal)"
+                ));
+            }
+        }
+        if prim.morph_targets().len() > 0 {
+            self.warn(format!("{path}.targets: morph targets ignored"));
+        }
     }
 
     /// A primitive's `TEXCOORD_0`, one per vertex, where its material has an image albedo (other
