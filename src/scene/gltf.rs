@@ -434,7 +434,7 @@ impl Cx<'_> {
     fn material(&mut self, m: &g::Material, path: &str) -> Res<Material> {
         let pbr = m.pbr_metallic_roughness();
         let ppath = format!("{path}.pbrMetallicRoughness");
-        let [r, gr, b, alpha] = pbr.base_color_factor();
+        let [r, gr, b, _] = pbr.base_color_factor();
         let base = Vec3::new(r, gr, b);
         if !base.is_finite() || base.min_element() < 0.0 {
             return self.err(
