@@ -162,17 +162,7 @@ pub fn render(
     let start = Instant::now();
     match method {
         Method::Cpu | Method::CpuF64 => {
-            let done = std::sync::atomic::AtomicU64::new(0);
-            let row_samples = settings.width as u64 * settings.spp as u64;
-            let on_row = || {
-                let d = done.fetch_add(row_samples, std::sync::atomic::Ordering::Relaxed) + row_samples;
-                on_progress(d);
-            };
-            let (film, failures) = if method == Method::Cpu {
-                cpu::render::<f32>(&packed, &camera, settings, &on_row)
-            } else {
-                cpu::render::<f64>(&packed, &camera, settings, &on_row)
-            };
+            let (film, failures) = render_cpu(method, &packed, &camera, settings, on_progress);
             Ok(RenderOutput {
                 film,
                 wall_seconds: start.elapsed().as_secs_f64(),
@@ -203,13 +193,7 @@ pub fn render(
                 &camera,
                 settings,
                 &options.megakernel,
-                Measure {
-                    instrument: options.instrument,
-                    timing: options.timing,
-                    shader_checks: options.shader_checks,
-                    specialize: options.specialize,
-                    preheat_seconds: options.preheat_seconds,
-                },
+                measure(options),
                 on_progress,
             )?;
             let megakernel = MegakernelOptions { threads: r.threads, ..options.megakernel.resolve() };
@@ -224,13 +208,7 @@ pub fn render(
                 &camera,
                 settings,
                 &options.wavefront,
-                Measure {
-                    instrument: options.instrument,
-                    timing: options.timing,
-                    shader_checks: options.shader_checks,
-                    specialize: options.specialize,
-                    preheat_seconds: options.preheat_seconds,
-                },
+                measure(options),
                 on_progress,
             )?;
             Ok(RenderOutput {
@@ -247,5 +225,37 @@ pub fn render(
                 )
             })
         }
+    }
+}
+
+/// The CPU reference's film, in the method's precision, reporting samples done row by row.
+fn render_cpu(
+    method: Method,
+    packed: &PackedScene,
+    camera: &CameraFrame,
+    settings: &RenderSettings,
+    on_progress: &(dyn Fn(u64) + Sync),
+) -> (Film, Failures) {
+    let done = std::sync::atomic::AtomicU64::new(0);
+    let row_samples = settings.width as u64 * settings.spp as u64;
+    let on_row = || {
+        let d = done.fetch_add(row_samples, std::sync::atomic::Ordering::Relaxed) + row_samples;
+        on_progress(d);
+    };
+    if method == Method::Cpu {
+        cpu::render::<f32>(packed, camera, settings, &on_row)
+    } else {
+        cpu::render::<f64>(packed, camera, settings, &on_row)
+    }
+}
+
+/// What a GPU method measures besides the film.
+fn measure(options: &MethodOptions) -> Measure {
+    Measure {
+        instrument: options.instrument,
+        timing: options.timing,
+        shader_checks: options.shader_checks,
+        specialize: options.specialize,
+        preheat_seconds: options.preheat_seconds,
     }
 }

@@ -3,12 +3,14 @@
 //! execution efficiency and the subgroup-iterations an ideal W-lane machine issues.
 
 use super::job::{CompactionMethod, OnOff};
+use crate::camera::CameraFrame;
 use crate::chart::{LineChart, Series};
 use crate::gpu::instrument::FRAME_KEY;
 use crate::gpu::megakernel::{MegakernelOptions, DEFAULT_THREADS_DISCRETE};
 use crate::gpu::wavefront::{Compaction, Tail, WavefrontOptions, DEFAULT_POOL};
 use crate::options::Named;
 use crate::options::{PoolSize, Schedule};
+use crate::packed_scene::PackedScene;
 use crate::replay::lockstep::SlotCounts;
 use crate::replay::{megakernel, regenerate, wavefront, width};
 use crate::scene::Scene;
@@ -151,6 +153,70 @@ impl ReplayArgs {
 pub fn run(a: ReplayArgs) -> Result<()> {
     let widths = width::parse_list(&a.simd_width)?;
     let scene = Scene::resolve(&a.scene)?;
+    let settings = render_settings(&a)?;
+    let wf = wavefront_options(&a)?;
+    let pool = replay_pool(&wf)?;
+    // The paths the GPU methods trace: the scene in their render space, the layout asked for.
+    let (packed, frame) =
+        crate::method::prepare(crate::method::Method::Megakernel, &scene, &settings, &a.bvh_options())?;
+    // The recorder keeps a leaf's tested positions in 24 bits.
+    if let Some(n) = packed.nodes.iter().map(|n| n.count).max().filter(|&n| n > 24) {
+        bail!("replay: a leaf of {n} primitives (at most 24; --accel none needs a scene of 24 or fewer)");
+    }
+    let paths_per_thread = paths_per_thread(&a, &packed, &settings)?;
+    let wavefront =
+        a.methods.iter().any(|m| matches!(m, ReplayMethod::Wavefront | ReplayMethod::WavefrontRegenerate));
+    if wf.compaction == Compaction::Atomic && wavefront {
+        eprintln!(
+            "notice: --compaction atomic leaves queue order to the device's atomics; the replay uses the scan's order"
+        );
+    }
+    println!(
+        "{} {}x{}x{} nee={} roulette={} max_depth={}",
+        a.scene, a.width, a.height, a.spp, settings.nee, settings.roulette, settings.max_depth
+    );
+    let job = Job {
+        a: &a,
+        packed: &packed,
+        frame: &frame,
+        settings: &settings,
+        widths: &widths,
+        wf: &wf,
+        pool,
+        paths_per_thread,
+    };
+    let mut methods = serde_json::Map::new();
+    let mut series = Vec::new();
+    let mut naive_issued: Option<Vec<u64>> = None;
+    for &m in &a.methods {
+        let start = Instant::now();
+        let (counts, mut about) = job.replay(m)?;
+        let seconds = start.elapsed().as_secs_f64();
+        println!("{}: {about}, {seconds:.2} s", m.name());
+        let issued: Vec<u64> = counts.iter().map(|(_, c)| issued(c)).collect();
+        if m == ReplayMethod::Megakernel {
+            naive_issued = Some(issued.clone());
+        }
+        let (line, per_width) = report_widths(m, &counts, &issued, naive_issued.as_deref())?;
+        series.push(line);
+        about["seconds"] = seconds.into();
+        about["widths"] = per_width.into();
+        methods.insert(m.name().to_string(), about);
+    }
+    if let Some(path) = &a.json {
+        let doc = serde_json::json!({
+            "commit": env!("WAVETRACE_GIT_COMMIT"), "scene": a.scene, "width": a.width, "height": a.height, "spp": a.spp,
+            "max_depth": a.max_depth, "nee": settings.nee, "roulette": settings.roulette, "accel": format!("{:?}", a.accel), "bvh": a.bvh, "collapse": a.collapse, "methods": methods,
+        });
+        std::fs::write(path, serde_json::to_string_pretty(&doc)?)?;
+    }
+    if let Some(path) = &a.chart {
+        std::fs::write(path, efficiency_chart(&a, &settings, series).to_svg())?;
+    }
+    Ok(())
+}
+
+fn render_settings(a: &ReplayArgs) -> Result<RenderSettings> {
     let settings = RenderSettings {
         width: a.width,
         height: a.height,
@@ -165,6 +231,11 @@ pub fn run(a: ReplayArgs) -> Result<()> {
     if a.workgroup_size == 0 {
         bail!("--workgroup-size must be at least 1");
     }
+    Ok(settings)
+}
+
+/// The wavefront's options as the replay models them, refusing the flags it does not model.
+fn wavefront_options(a: &ReplayArgs) -> Result<WavefrontOptions> {
     let regenerating_wavefront = a.methods.contains(&ReplayMethod::WavefrontRegenerate);
     let compaction = a.compaction_method.with(a.compaction);
     let schedule = if regenerating_wavefront { Schedule::Regenerate } else { Schedule::Waves };
@@ -188,180 +259,177 @@ pub fn run(a: ReplayArgs) -> Result<()> {
             "replay: --shadow-rays inline is not modelled (the replay traces shadow rays in the shadow pass)"
         );
     }
-    let pool = match wf.pool_size {
+    Ok(wf)
+}
+
+fn replay_pool(wf: &WavefrontOptions) -> Result<u32> {
+    Ok(match wf.pool_size {
         None => DEFAULT_POOL,
         Some(PoolSize::Paths(n)) => n,
         Some(PoolSize::Device) => {
             bail!("replay: --pool-size device needs the device's multiprocessors; give the pool as a number")
         }
-    };
-    // The paths the GPU methods trace: the scene in their render space, the layout asked for.
-    let (packed, frame) =
-        crate::method::prepare(crate::method::Method::Megakernel, &scene, &settings, &a.bvh_options())?;
-    // The recorder keeps a leaf's tested positions in 24 bits.
-    if let Some(n) = packed.nodes.iter().map(|n| n.count).max().filter(|&n| n > 24) {
-        bail!("replay: a leaf of {n} primitives (at most 24; --accel none needs a scene of 24 or fewer)");
-    }
-    let paths_per_thread = match a.paths_per_thread.as_deref() {
+    })
+}
+
+fn paths_per_thread(a: &ReplayArgs, packed: &PackedScene, settings: &RenderSettings) -> Result<Option<u32>> {
+    Ok(match a.paths_per_thread.as_deref() {
         None => None,
-        Some("llvmpipe") => Some(crate::gpu::loop_limit::capped_paths_per_thread(&packed, &settings)),
+        Some("llvmpipe") => Some(crate::gpu::loop_limit::capped_paths_per_thread(packed, settings)),
         Some(s) => match s.parse::<u32>() {
             Ok(n) if n > 0 => Some(n),
             _ => bail!("--paths-per-thread {s:?}: expected a whole number of at least 1, or `llvmpipe`"),
         },
-    };
-    let wavefront =
-        a.methods.iter().any(|m| matches!(m, ReplayMethod::Wavefront | ReplayMethod::WavefrontRegenerate));
-    if compaction == Compaction::Atomic && wavefront {
-        eprintln!(
-            "notice: --compaction atomic leaves queue order to the device's atomics; the replay uses the scan's order"
+    })
+}
+
+/// What every method's replay reads.
+struct Job<'a> {
+    a: &'a ReplayArgs,
+    packed: &'a PackedScene,
+    frame: &'a CameraFrame,
+    settings: &'a RenderSettings,
+    widths: &'a [u32],
+    wf: &'a WavefrontOptions,
+    pool: u32,
+    paths_per_thread: Option<u32>,
+}
+
+type WidthCounts = Vec<(u32, SlotCounts)>;
+
+impl Job<'_> {
+    /// Replays one method: its counts per width and what the report says of its launch.
+    fn replay(&self, m: ReplayMethod) -> Result<(WidthCounts, serde_json::Value)> {
+        match m {
+            ReplayMethod::Megakernel => self.megakernel(),
+            ReplayMethod::Regenerate => self.regenerate(),
+            ReplayMethod::Wavefront => self.wavefront(Schedule::Waves),
+            ReplayMethod::WavefrontRegenerate => self.wavefront(Schedule::Regenerate),
+        }
+    }
+
+    fn megakernel(&self) -> Result<(WidthCounts, serde_json::Value)> {
+        let a = self.a;
+        let launch = megakernel::Launch {
+            samples_per_dispatch: MegakernelOptions::default().samples_per_dispatch,
+            max_threads: 65535u32.saturating_mul(a.workgroup_size),
+            every: a.every,
+        };
+        let r = megakernel::replay(self.packed, self.frame, self.settings, self.widths, launch);
+        let about = serde_json::json!({
+            "dispatches": r.dispatches, "every": a.every, "blocks": r.blocks, "blocks_replayed": r.blocks_replayed,
+        });
+        Ok((r.counts, about))
+    }
+
+    fn regenerate(&self) -> Result<(WidthCounts, serde_json::Value)> {
+        let a = self.a;
+        let launch = regenerate::Launch {
+            samples_per_dispatch: MegakernelOptions::default().samples_per_dispatch,
+            threads: a.threads,
+            workgroup_size: a.workgroup_size,
+            paths_per_thread: self.paths_per_thread,
+            resident: a.resident_subgroups,
+            every: a.every,
+        };
+        let r = regenerate::replay(self.packed, self.frame, self.settings, self.widths, launch)?;
+        let about = serde_json::json!({
+            "dispatches": r.dispatches, "threads": a.threads, "paths_per_thread": self.paths_per_thread,
+            "resident_subgroups": a.resident_subgroups, "every": a.every,
+            "samples_replayed": r.samples_replayed,
+        });
+        Ok((r.counts, about))
+    }
+
+    fn wavefront(&self, schedule: Schedule) -> Result<(WidthCounts, serde_json::Value)> {
+        let (a, wf) = (self.a, self.wf);
+        let regenerate = schedule == Schedule::Regenerate;
+        let launch = wavefront::Launch {
+            pool: self.pool,
+            compaction: wf.compaction,
+            shade: wf.shade,
+            schedule,
+            queue_order: wf.queue_order,
+            sync_every: wf.sync_every,
+            tail: if regenerate { wf.tail } else { Tail::Off },
+            tail_threshold: wf.tail_threshold,
+            chunk_pools: wf.chunk_pools,
+            every: a.every,
+        };
+        let r = wavefront::replay(self.packed, self.frame, self.settings, self.widths, launch)?;
+        let mut about = serde_json::json!({
+            "dispatches": r.dispatches, "shares": r.waves, "shares_replayed": r.waves_replayed,
+            "samples_replayed": r.samples_replayed, "every": a.every, "pool": self.pool,
+            "compaction": wf.compaction, "shade": wf.shade, "schedule": schedule,
+            "queue_order": r.queue_order.name(), "iterations": r.iterations,
+        });
+        if regenerate {
+            about["sync_every"] = wf.sync_every.into();
+            about["chunk_pools"] = wf.chunk_pools.into();
+            about["tail"] = serde_json::to_value(wf.tail)?;
+            if wf.tail == Tail::Megakernel {
+                about["tail_threshold"] = wf.tail_threshold.into();
+                about["tail_passes"] = r.tail_passes.into();
+                about["tail_paths"] = r.tail_paths.into();
+            }
+        }
+        Ok((r.counts, about))
+    }
+}
+
+/// Prints a method's efficiencies per width; returns its chart line and its report per width.
+fn report_widths(
+    m: ReplayMethod,
+    counts: &WidthCounts,
+    issued: &[u64],
+    naive_issued: Option<&[u64]>,
+) -> Result<(Series, serde_json::Map<String, serde_json::Value>)> {
+    let mut per_width = serde_json::Map::new();
+    let mut line =
+        Series { name: m.label().to_string(), points: Vec::new(), intervals: Vec::new(), labels: Vec::new() };
+    for (i, (w, c)) in counts.iter().enumerate() {
+        let e = c.efficiencies()?;
+        let frame_eff = e.get(FRAME_KEY).map_or(0.0, |f| f.efficiency);
+        line.points.push((f64::from(*w), frame_eff * 100.0));
+        // The naive megakernel's issued subgroup-iterations over this method's: the speed-up
+        // an ideal W-lane machine would show, were every block equally costly.
+        let speedup = naive_issued.map(|n| n[i] as f64 / issued[i].max(1) as f64);
+        println!(
+            "  W={w:<4} warp execution efficiency {:>6.2}%  subgroup-iterations issued {}{}",
+            frame_eff * 100.0,
+            issued[i],
+            speedup
+                .map_or(String::new(), |s| format!("  predicted speed-up over the naive megakernel {s:.2}x"))
+        );
+        for (k, v) in &e {
+            println!("      {k:<40} {:>7.2}%  {:>12}", v.efficiency * 100.0, v.subgroups);
+        }
+        per_width.insert(
+            w.to_string(),
+            serde_json::json!({ "issued": issued[i], "predicted_speedup_over_naive": speedup, "simd": e }),
         );
     }
-    let defaults = MegakernelOptions::default();
-    println!(
-        "{} {}x{}x{} nee={} roulette={} max_depth={}",
-        a.scene, a.width, a.height, a.spp, settings.nee, settings.roulette, settings.max_depth
-    );
-    let mut methods = serde_json::Map::new();
-    let mut series = Vec::new();
-    let mut naive_issued: Option<Vec<u64>> = None;
-    for &m in &a.methods {
-        let start = Instant::now();
-        let (counts, mut about) = match m {
-            ReplayMethod::Megakernel => {
-                let launch = megakernel::Launch {
-                    samples_per_dispatch: defaults.samples_per_dispatch,
-                    max_threads: 65535u32.saturating_mul(a.workgroup_size),
-                    every: a.every,
-                };
-                let r = megakernel::replay(&packed, &frame, &settings, &widths, launch);
-                let about = serde_json::json!({
-                    "dispatches": r.dispatches, "every": a.every, "blocks": r.blocks, "blocks_replayed": r.blocks_replayed,
-                });
-                (r.counts, about)
-            }
-            ReplayMethod::Regenerate => {
-                let launch = regenerate::Launch {
-                    samples_per_dispatch: defaults.samples_per_dispatch,
-                    threads: a.threads,
-                    workgroup_size: a.workgroup_size,
-                    paths_per_thread,
-                    resident: a.resident_subgroups,
-                    every: a.every,
-                };
-                let r = regenerate::replay(&packed, &frame, &settings, &widths, launch)?;
-                let about = serde_json::json!({
-                    "dispatches": r.dispatches, "threads": a.threads, "paths_per_thread": paths_per_thread,
-                    "resident_subgroups": a.resident_subgroups, "every": a.every,
-                    "samples_replayed": r.samples_replayed,
-                });
-                (r.counts, about)
-            }
-            ReplayMethod::Wavefront | ReplayMethod::WavefrontRegenerate => {
-                let schedule =
-                    if m == ReplayMethod::Wavefront { Schedule::Waves } else { Schedule::Regenerate };
-                let regenerate = schedule == Schedule::Regenerate;
-                let launch = wavefront::Launch {
-                    pool,
-                    compaction,
-                    shade: wf.shade,
-                    schedule,
-                    queue_order: wf.queue_order,
-                    sync_every: wf.sync_every,
-                    tail: if regenerate { wf.tail } else { Tail::Off },
-                    tail_threshold: wf.tail_threshold,
-                    chunk_pools: wf.chunk_pools,
-                    every: a.every,
-                };
-                let r = wavefront::replay(&packed, &frame, &settings, &widths, launch)?;
-                let mut about = serde_json::json!({
-                    "dispatches": r.dispatches, "shares": r.waves, "shares_replayed": r.waves_replayed,
-                    "samples_replayed": r.samples_replayed, "every": a.every, "pool": pool,
-                    "compaction": compaction, "shade": wf.shade, "schedule": schedule,
-                    "queue_order": r.queue_order.name(), "iterations": r.iterations,
-                });
-                if regenerate {
-                    about["sync_every"] = wf.sync_every.into();
-                    about["chunk_pools"] = wf.chunk_pools.into();
-                    about["tail"] = serde_json::to_value(wf.tail)?;
-                    if wf.tail == Tail::Megakernel {
-                        about["tail_threshold"] = wf.tail_threshold.into();
-                        about["tail_passes"] = r.tail_passes.into();
-                        about["tail_paths"] = r.tail_paths.into();
-                    }
-                }
-                (r.counts, about)
-            }
-        };
-        let seconds = start.elapsed().as_secs_f64();
-        println!("{}: {about}, {seconds:.2} s", m.name());
-        let issued: Vec<u64> = counts.iter().map(|(_, c)| issued(c)).collect();
-        if m == ReplayMethod::Megakernel {
-            naive_issued = Some(issued.clone());
-        }
-        let mut per_width = serde_json::Map::new();
-        let mut line = Series {
-            name: m.label().to_string(),
-            points: Vec::new(),
-            intervals: Vec::new(),
-            labels: Vec::new(),
-        };
-        for (i, (w, c)) in counts.iter().enumerate() {
-            let e = c.efficiencies()?;
-            let frame_eff = e.get(FRAME_KEY).map_or(0.0, |f| f.efficiency);
-            line.points.push((f64::from(*w), frame_eff * 100.0));
-            // The naive megakernel's issued subgroup-iterations over this method's: the speed-up
-            // an ideal W-lane machine would show, were every block equally costly.
-            let speedup = naive_issued.as_ref().map(|n| n[i] as f64 / issued[i].max(1) as f64);
-            println!(
-                "  W={w:<4} warp execution efficiency {:>6.2}%  subgroup-iterations issued {}{}",
-                frame_eff * 100.0,
-                issued[i],
-                speedup.map_or(String::new(), |s| format!(
-                    "  predicted speed-up over the naive megakernel {s:.2}x"
-                ))
-            );
-            for (k, v) in &e {
-                println!("      {k:<40} {:>7.2}%  {:>12}", v.efficiency * 100.0, v.subgroups);
-            }
-            per_width.insert(
-                w.to_string(),
-                serde_json::json!({ "issued": issued[i], "predicted_speedup_over_naive": speedup, "simd": e }),
-            );
-        }
-        series.push(line);
-        about["seconds"] = seconds.into();
-        about["widths"] = per_width.into();
-        methods.insert(m.name().to_string(), about);
+    Ok((line, per_width))
+}
+
+fn efficiency_chart(a: &ReplayArgs, settings: &RenderSettings, series: Vec<Series>) -> LineChart {
+    let nee = match (settings.nee, settings.roulette) {
+        (false, false) => "",
+        (true, false) => ", NEE",
+        (false, true) => ", roulette",
+        (true, true) => ", NEE, roulette",
+    };
+    LineChart {
+        title: format!(
+            "{} {}x{}x{}{nee}: predicted warp execution efficiency (lockstep replay)",
+            a.scene, a.width, a.height, a.spp
+        ),
+        x_label: "SIMD width (lanes)".into(),
+        y_label: "work-weighted SIMD efficiency (%)".into(),
+        x_log: true,
+        series,
+        ..Default::default()
     }
-    if let Some(path) = &a.json {
-        let doc = serde_json::json!({
-            "commit": env!("WAVETRACE_GIT_COMMIT"), "scene": a.scene, "width": a.width, "height": a.height, "spp": a.spp,
-            "max_depth": a.max_depth, "nee": settings.nee, "roulette": settings.roulette, "accel": format!("{:?}", a.accel), "bvh": a.bvh, "collapse": a.collapse, "methods": methods,
-        });
-        std::fs::write(path, serde_json::to_string_pretty(&doc)?)?;
-    }
-    if let Some(path) = &a.chart {
-        let nee = match (settings.nee, settings.roulette) {
-            (false, false) => "",
-            (true, false) => ", NEE",
-            (false, true) => ", roulette",
-            (true, true) => ", NEE, roulette",
-        };
-        let chart = LineChart {
-            title: format!(
-                "{} {}x{}x{}{nee}: predicted warp execution efficiency (lockstep replay)",
-                a.scene, a.width, a.height, a.spp
-            ),
-            x_label: "SIMD width (lanes)".into(),
-            y_label: "work-weighted SIMD efficiency (%)".into(),
-            x_log: true,
-            series,
-            ..Default::default()
-        };
-        std::fs::write(path, chart.to_svg())?;
-    }
-    Ok(())
 }
 
 /// Subgroup-iterations issued over every slot.

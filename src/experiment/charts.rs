@@ -167,18 +167,7 @@ fn shading_cost(report: &ExperimentReport, colour: ColourOf) -> Vec<Chart> {
         if series.is_empty() {
             continue;
         }
-        let mut crossings = Vec::new();
-        for s in &mut series {
-            let mut order: Vec<usize> = (0..s.points.len()).collect();
-            order.sort_by(|&a, &b| s.points[a].0.total_cmp(&s.points[b].0));
-            s.points = order.iter().map(|&i| s.points[i]).collect();
-            s.intervals = order.iter().map(|&i| s.intervals[i]).collect();
-            crossings.push(match crossover_at(&s.points) {
-                Some(x) if x > s.points[0].0 => format!("{} at {x:.1} ns/{unit}", s.name),
-                Some(_) => format!("{} ahead from the start", s.name),
-                None => format!("{} none", s.name),
-            });
-        }
+        let crossings: Vec<String> = series.iter_mut().map(|s| crossing(s, unit)).collect();
         let (lo, hi) =
             cost.values().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &c| (a.min(c), b.max(c)));
         series.push(Series {
@@ -216,6 +205,19 @@ fn shading_cost(report: &ExperimentReport, colour: ColourOf) -> Vec<Chart> {
         });
     }
     out
+}
+
+/// Sorts a variant's points by cost and names where it crosses parity.
+fn crossing(s: &mut Series, unit: &str) -> String {
+    let mut order: Vec<usize> = (0..s.points.len()).collect();
+    order.sort_by(|&a, &b| s.points[a].0.total_cmp(&s.points[b].0));
+    s.points = order.iter().map(|&i| s.points[i]).collect();
+    s.intervals = order.iter().map(|&i| s.intervals[i]).collect();
+    match crossover_at(&s.points) {
+        Some(x) if x > s.points[0].0 => format!("{} at {x:.1} ns/{unit}", s.name),
+        Some(_) => format!("{} ahead from the start", s.name),
+        None => format!("{} none", s.name),
+    }
 }
 
 /// Where a curve of (cost, speed-up) points, in cost order, first rises through 1: linear

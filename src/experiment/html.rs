@@ -216,17 +216,7 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
                 if st.unstable { format!(" {FLAG} unstable") } else { String::new() }
             )
         });
-        let warmup = match &r.warmup_log {
-            Some(w) => format!(
-                "{} ({} frames, {:.3} s{})",
-                w.policy,
-                w.frames,
-                w.seconds,
-                if w.settled { "" } else { ", unsettled" }
-            ),
-            None if r.warmup == 1 => "1 frame".to_string(),
-            None => format!("{} frames", r.warmup),
-        } + &if st.cold { format!(" {FLAG} cold") } else { String::new() };
+        let warmup = warmup_cell(r, st.cold);
         let g = |x: Option<f64>, scale: f64, prec: usize| {
             x.map_or("–".into(), |v| format!("{:.*}", prec, v * scale))
         };
@@ -279,6 +269,22 @@ fn runs_table(h: &mut String, report: &ExperimentReport) {
         );
     }
     h.push_str("</table></div>\n");
+}
+
+/// How a run warmed up, flagged where a GPU run was not warmed (cold).
+fn warmup_cell(r: &RunRecord, cold: bool) -> String {
+    let warmup = match &r.warmup_log {
+        Some(w) => format!(
+            "{} ({} frames, {:.3} s{})",
+            w.policy,
+            w.frames,
+            w.seconds,
+            if w.settled { "" } else { ", unsettled" }
+        ),
+        None if r.warmup == 1 => "1 frame".to_string(),
+        None => format!("{} frames", r.warmup),
+    };
+    warmup + &if cold { format!(" {FLAG} cold") } else { String::new() }
 }
 
 /// GPU memory per GPU run, by category: what each method pays in memory for its speed.

@@ -10,7 +10,9 @@ use anyhow::{bail, Context, Result};
 use serde_json::Value;
 
 use super::plan::{RunSpec, Shard};
-use super::report::{ExperimentReport, ReportStatus, ResumeRecord, RetriedRun, RunStatus, REPORT_FILE};
+use super::report::{
+    Environment, ExperimentReport, ReportStatus, ResumeRecord, RetriedRun, RunStatus, REPORT_FILE,
+};
 
 /// What `run` does with a report already in its output directory.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -71,88 +73,13 @@ fn resume(
     allow_other_build: bool,
 ) -> Result<ExperimentReport> {
     let dir = out.display();
-    let start_over = "run without --resume to start over, or choose another --out";
-    if earlier.config != fresh.config {
-        bail!(
-            "cannot resume {dir}: the config differs from the one its report was made with \
-             (changed: {}); {start_over}",
-            changed_keys(&earlier.config, &fresh.config)
-        );
-    }
-    if earlier.status == ReportStatus::Incomplete {
-        bail!("cannot resume {dir}: it holds a merged report; resume the shards' directories instead");
-    }
-    let show = |s: Option<Shard>| s.map_or("no --shard".to_string(), |s| format!("--shard {s}"));
-    if let Some(e) = earlier.environments.iter().find(|e| e.shard != shard) {
-        bail!(
-            "cannot resume {dir}: it was run with {}, this is {}; {start_over}",
-            show(e.shard),
-            show(shard)
-        );
-    }
-    let mut seen = BTreeSet::new();
-    for r in &earlier.runs {
-        if !seen.insert(r.index) {
-            bail!("cannot resume {dir}: its report holds run {} ({}) twice; {start_over}", r.index, r.id);
-        }
-        let spec = planned.get(r.index);
-        if spec.is_none_or(|p| p.id != r.id || shard.is_some_and(|s| !s.takes(p))) {
-            bail!("cannot resume {dir}: its run {} ({}) is not in this plan; {start_over}", r.index, r.id);
-        }
-    }
-
+    check_same_plan(&earlier, &fresh, planned, shard, &dir)?;
     let now = &fresh.environments[0];
     let (kept, failed): (Vec<_>, Vec<_>) =
         earlier.runs.iter().cloned().partition(|r| r.status == RunStatus::Ok);
     let sources: BTreeSet<usize> = kept.iter().map(|r| r.environment).collect();
-    let mut other_build = false;
-    for &e in &sources {
-        let then = &earlier.environments.get(e).context("a run names an environment the report lacks")?.build;
-        if same_build(then, &now.build) {
-            continue;
-        }
-        if !allow_other_build {
-            let unprovable = [then, &now.build].iter().any(|b| {
-                b.get("git_commit")
-                    .and_then(Value::as_str)
-                    .is_none_or(|c| c == "unknown" || c.ends_with("-dirty"))
-            });
-            bail!(
-                "cannot resume {dir}: its finished runs were made by another build ({}); this is {}.{} \
-                 Resume with the build that made them, pass --allow-other-build to keep those runs anyway (each run's \
-                 environment names its build), or {start_over}",
-                describe(then),
-                describe(&now.build),
-                if unprovable {
-                    " A build from a modified tree (-dirty) counts as the same only when its \
-                     executable is byte-identical."
-                } else {
-                    ""
-                }
-            );
-        }
-        other_build = true;
-        eprintln!(
-            "warning: --allow-other-build: keeping runs made by {}; this is {}",
-            describe(then),
-            describe(&now.build)
-        );
-    }
-    let host = |v: &Value| v.get("hostname").and_then(Value::as_str).unwrap_or("").to_string();
-    for &e in &sources {
-        let then = &earlier.environments[e].machine;
-        if host(then) != host(&now.machine) || then.get("cpu") != now.machine.get("cpu") {
-            eprintln!(
-                "note: kept runs were timed on {} ({}); this process runs on {} ({}): compare times across \
-                 machines with care",
-                host(then),
-                then.get("cpu").and_then(Value::as_str).unwrap_or("?"),
-                host(&now.machine),
-                now.machine.get("cpu").and_then(Value::as_str).unwrap_or("?")
-            );
-        }
-    }
-
+    let other_build = check_builds(&earlier, now, &sources, allow_other_build, &dir)?;
+    note_other_machines(&earlier, now, &sources);
     let left = fresh.runs_selected.saturating_sub(kept.len());
     let retried = if failed.is_empty() {
         String::new()
@@ -186,6 +113,112 @@ fn resume(
         })
         .collect();
     Ok(report)
+}
+
+/// What tells a resume to start over instead.
+const START_OVER: &str = "run without --resume to start over, or choose another --out";
+
+/// The earlier report was made with the same config and shard, and holds runs of this plan only.
+fn check_same_plan(
+    earlier: &ExperimentReport,
+    fresh: &ExperimentReport,
+    planned: &[RunSpec],
+    shard: Option<Shard>,
+    dir: &std::path::Display,
+) -> Result<()> {
+    if earlier.config != fresh.config {
+        bail!(
+            "cannot resume {dir}: the config differs from the one its report was made with \
+             (changed: {}); {START_OVER}",
+            changed_keys(&earlier.config, &fresh.config)
+        );
+    }
+    if earlier.status == ReportStatus::Incomplete {
+        bail!("cannot resume {dir}: it holds a merged report; resume the shards' directories instead");
+    }
+    let show = |s: Option<Shard>| s.map_or("no --shard".to_string(), |s| format!("--shard {s}"));
+    if let Some(e) = earlier.environments.iter().find(|e| e.shard != shard) {
+        bail!(
+            "cannot resume {dir}: it was run with {}, this is {}; {START_OVER}",
+            show(e.shard),
+            show(shard)
+        );
+    }
+    let mut seen = BTreeSet::new();
+    for r in &earlier.runs {
+        if !seen.insert(r.index) {
+            bail!("cannot resume {dir}: its report holds run {} ({}) twice; {START_OVER}", r.index, r.id);
+        }
+        let spec = planned.get(r.index);
+        if spec.is_none_or(|p| p.id != r.id || shard.is_some_and(|s| !s.takes(p))) {
+            bail!("cannot resume {dir}: its run {} ({}) is not in this plan; {START_OVER}", r.index, r.id);
+        }
+    }
+
+    Ok(())
+}
+
+/// The earlier runs were made by this build, or `allow_other_build` keeps them anyway (with a
+/// warning); returns whether some were made by another.
+fn check_builds(
+    earlier: &ExperimentReport,
+    now: &Environment,
+    sources: &BTreeSet<usize>,
+    allow_other_build: bool,
+    dir: &std::path::Display,
+) -> Result<bool> {
+    let mut other_build = false;
+    for &e in sources {
+        let then = &earlier.environments.get(e).context("a run names an environment the report lacks")?.build;
+        if same_build(then, &now.build) {
+            continue;
+        }
+        if !allow_other_build {
+            let unprovable = [then, &now.build].iter().any(|b| {
+                b.get("git_commit")
+                    .and_then(Value::as_str)
+                    .is_none_or(|c| c == "unknown" || c.ends_with("-dirty"))
+            });
+            bail!(
+                "cannot resume {dir}: its finished runs were made by another build ({}); this is {}.{} \
+                 Resume with the build that made them, pass --allow-other-build to keep those runs anyway (each run's \
+                 environment names its build), or {START_OVER}",
+                describe(then),
+                describe(&now.build),
+                if unprovable {
+                    " A build from a modified tree (-dirty) counts as the same only when its \
+                     executable is byte-identical."
+                } else {
+                    ""
+                }
+            );
+        }
+        other_build = true;
+        eprintln!(
+            "warning: --allow-other-build: keeping runs made by {}; this is {}",
+            describe(then),
+            describe(&now.build)
+        );
+    }
+    Ok(other_build)
+}
+
+/// Kept runs timed on another machine are compared with care: a note says so.
+fn note_other_machines(earlier: &ExperimentReport, now: &Environment, sources: &BTreeSet<usize>) {
+    let host = |v: &Value| v.get("hostname").and_then(Value::as_str).unwrap_or("").to_string();
+    for &e in sources {
+        let then = &earlier.environments[e].machine;
+        if host(then) != host(&now.machine) || then.get("cpu") != now.machine.get("cpu") {
+            eprintln!(
+                "note: kept runs were timed on {} ({}); this process runs on {} ({}): compare times across \
+                 machines with care",
+                host(then),
+                then.get("cpu").and_then(Value::as_str).unwrap_or("?"),
+                host(&now.machine),
+                now.machine.get("cpu").and_then(Value::as_str).unwrap_or("?")
+            );
+        }
+    }
 }
 
 /// Whether runs made by build `then` can be trusted to be this build's: byte-identical

@@ -472,96 +472,13 @@ impl<'a> Run<'a> {
         };
         let repeatable = self.repeatable;
         let rec = &mut self.record;
-        // Times: median over the timed repetitions; per-pass times, and the split of the frame they
-        // allow, from the profiled one where there is one, else from the timed repetitions.
-        let wall: Vec<f64> = reports.iter().map(|r| r.wall_seconds).collect();
-        let frame_times: Vec<f64> = reports.iter().filter_map(|r| r.frame_seconds).collect();
-        rec.wall_seconds = Stat::of(&wall);
-        rec.frame_seconds = Stat::of(&frame_times);
-        let gaps: Vec<f64> = reports.iter().filter_map(|r| r.host_gap_seconds).collect();
-        rec.host_gap_seconds = Stat::of(&gaps).map(|s| s.median);
-        let pass_reports = profiled.as_ref().map_or(&reports[..], std::slice::from_ref);
-        let gpu_times: Vec<f64> = pass_reports.iter().filter_map(|r| r.gpu_seconds).collect();
-        rec.gpu_seconds = Stat::of(&gpu_times);
-        rec.profiled_frame_seconds = profiled.as_ref().and_then(|p| p.frame_seconds);
-        rec.between_passes_seconds = match &profiled {
-            Some(p) => p.between_passes_seconds,
-            None => {
-                let timed_per_pass = reports.iter().all(|r| r.between_passes_seconds.is_some());
-                rec.frame_seconds
-                    .as_ref()
-                    .zip(rec.gpu_seconds.as_ref())
-                    .zip(rec.host_gap_seconds)
-                    .filter(|_| timed_per_pass)
-                    .map(|((f, g), h)| f.median - g.median - h)
-            }
-        };
-        // The headline time: the frame's, host round trips included.
-        let seconds = rec
-            .frame_seconds
-            .as_ref()
-            .filter(|g| g.median > 0.0)
-            .map_or(rec.wall_seconds.as_ref().map(|w| w.median), |g| Some(g.median));
-        rec.seconds = seconds;
-        let median_rep = {
-            let key = |r: &RunReport| r.frame_seconds.unwrap_or(r.wall_seconds);
-            let mut order: Vec<usize> = (0..reports.len()).collect();
-            order.sort_by(|&a, &b| key(&reports[a]).total_cmp(&key(&reports[b])));
-            &reports[order[order.len() / 2]]
-        };
+        record_times(rec, &reports, profiled.as_ref());
+        let median_rep = median_report(&reports);
         let pass_rep = profiled.as_ref().unwrap_or(median_rep);
-        let labels: std::collections::BTreeSet<&str> =
-            pass_reports.iter().flat_map(|r| r.passes.keys().copied()).collect();
-        for label in labels {
-            let times: Vec<f64> =
-                pass_reports.iter().map(|r| r.passes.get(label).map_or(0.0, |p| p.seconds)).collect();
-            let passes = pass_rep.passes.get(label).map_or(0, |p| p.passes);
-            rec.passes.insert(
-                label.to_string(),
-                PassStat { seconds: Stat::of(&times).expect("non-empty"), passes },
-            );
-        }
-        rec.passes_per_bounce =
-            pass_rep.passes_per_bounce.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
-        rec.time_source =
-            pass_rep.time_source.and_then(|t| serde_json::to_value(t).ok()?.as_str().map(str::to_owned));
-        rec.queue_histogram = median_rep.queue_histogram.clone();
-        rec.dispatches = Some(median_rep.dispatches);
-        rec.empty_dispatches = median_rep.empty_dispatches;
-        rec.compute_passes = median_rep.compute_passes;
-        rec.submissions = median_rep.submissions;
-        rec.waits = median_rep.waits;
-        let prepare: Vec<f64> = reports.iter().map(|r| r.scene.prepare_seconds).collect();
-        rec.scene_prepare_seconds = Stat::of(&prepare).map(|s| s.median);
-        let bvh_build: Vec<f64> = reports.iter().map(|r| r.scene.bvh_build_seconds).collect();
-        rec.bvh_build_seconds = Stat::of(&bvh_build).map(|s| s.median);
-        rec.bvh = Some(median_rep.scene.bvh.clone());
-        rec.preheat_seconds = median_rep.preheat_seconds;
-        if let Some(s) = &median_rep.schedule {
-            rec.iterations = Some(s.iterations);
-            rec.idle_iterations = Some(s.idle_iterations);
-            rec.blocking_reads = Some(s.blocking_reads);
-            rec.speculative_iterations = Some(s.speculative_iterations);
-            rec.intersect_occupancy = Some(s.intersect_occupancy);
-            // The profiled render's, where there is one: the same counts, with pass times.
-            let profiled = pass_rep.schedule.as_ref().and_then(|p| p.state_traffic.clone());
-            rec.state_traffic = profiled.or_else(|| s.state_traffic.clone());
-        }
-        rec.rays = Some(median_rep.rays);
-        if let Some(s) = seconds.filter(|&s| s > 0.0) {
-            rec.samples_per_second = Some(rec.samples as f64 / s);
-            rec.rays_per_second = Some(median_rep.rays as f64 / s);
-        }
-        rec.invalid_samples = Some(median_rep.invalid_samples);
-        rec.self_hits = Some(median_rep.failures.self_hits);
-        rec.shadow_self_hits = Some(median_rep.failures.shadow_self_hits);
-        rec.depth_cut = Some(median_rep.failures.depth_cut);
-        rec.image_mean = Some(median_rep.image_mean);
+        let pass_reports = profiled.as_ref().map_or(&reports[..], std::slice::from_ref);
+        record_passes(rec, pass_reports, pass_rep);
+        record_counts(rec, &reports, median_rep, pass_rep);
         rec.repeatable = Some(repeatable);
-        rec.bytes_per_path = median_rep.bytes_per_path;
-        rec.memory = median_rep.memory.clone();
-        rec.pool_size = median_rep.pool_size;
-        rec.indirect_validation = median_rep.indirect_validation;
 
         rec.traversal = match &instrumented {
             Some(i) => i.traversal,
@@ -580,26 +497,136 @@ impl<'a> Run<'a> {
         }
         rec.stability = Some(super::stability::of_record(rec, config.unstable_spread));
 
-        // Images and error.
-        let exr = format!("images/{}.exr", spec.id);
-        let png = format!("images/{}.png", spec.id);
-        image_io::write_exr(out.join(&exr), &image, &median_rep.exr_attributes())?;
-        image_io::write_png(out.join(&png), &image)?;
-        let mut error_map = None;
-        if let Some((ref_image, key)) = reference {
-            let opts = CompareOptions { trim: config.metrics.trim, flip: config.metrics.flip };
-            let m = metrics::compare(&image, &ref_image, &opts).map_err(|e| anyhow!("error metrics: {e}"))?;
-            rec.efficiency = seconds.filter(|&s| s > 0.0 && m.relmse > 0.0).map(|s| 1.0 / (m.relmse * s));
-            rec.error_metrics = Some(m);
-            rec.reference = Some(key);
-            let map = format!("images/{}-error.png", spec.id);
-            let rgb = error_map::relative_error_map(&image, &ref_image);
-            image_io::write_png_rgb8(out.join(&map), image.width, image.height, &rgb)?;
-            error_map = Some(map);
-        }
-        rec.images = Some(RunImages { exr, png, error_map });
-        Ok(())
+        write_images(rec, out, config, &spec.id, &image, reference, &median_rep.exr_attributes())
     }
+}
+
+/// Times: median over the timed repetitions; per-pass times, and the split of the frame they
+/// allow, from the profiled one where there is one, else from the timed repetitions; and the
+/// headline time: the frame's, host round trips included.
+fn record_times(rec: &mut RunRecord, reports: &[RunReport], profiled: Option<&RunReport>) {
+    let wall: Vec<f64> = reports.iter().map(|r| r.wall_seconds).collect();
+    let frame_times: Vec<f64> = reports.iter().filter_map(|r| r.frame_seconds).collect();
+    rec.wall_seconds = Stat::of(&wall);
+    rec.frame_seconds = Stat::of(&frame_times);
+    let gaps: Vec<f64> = reports.iter().filter_map(|r| r.host_gap_seconds).collect();
+    rec.host_gap_seconds = Stat::of(&gaps).map(|s| s.median);
+    let pass_reports = profiled.map_or(reports, std::slice::from_ref);
+    let gpu_times: Vec<f64> = pass_reports.iter().filter_map(|r| r.gpu_seconds).collect();
+    rec.gpu_seconds = Stat::of(&gpu_times);
+    rec.profiled_frame_seconds = profiled.and_then(|p| p.frame_seconds);
+    rec.between_passes_seconds = match profiled {
+        Some(p) => p.between_passes_seconds,
+        None => {
+            let timed_per_pass = reports.iter().all(|r| r.between_passes_seconds.is_some());
+            rec.frame_seconds
+                .as_ref()
+                .zip(rec.gpu_seconds.as_ref())
+                .zip(rec.host_gap_seconds)
+                .filter(|_| timed_per_pass)
+                .map(|((f, g), h)| f.median - g.median - h)
+        }
+    };
+    rec.seconds = rec
+        .frame_seconds
+        .as_ref()
+        .filter(|g| g.median > 0.0)
+        .map_or(rec.wall_seconds.as_ref().map(|w| w.median), |g| Some(g.median));
+}
+
+/// The repetition of median time (the frame's where timed, else the wall clock's).
+fn median_report(reports: &[RunReport]) -> &RunReport {
+    let key = |r: &RunReport| r.frame_seconds.unwrap_or(r.wall_seconds);
+    let mut order: Vec<usize> = (0..reports.len()).collect();
+    order.sort_by(|&a, &b| key(&reports[a]).total_cmp(&key(&reports[b])));
+    &reports[order[order.len() / 2]]
+}
+
+/// Per-pass times over `pass_reports`, with the pass counts and split of `pass_rep`.
+fn record_passes(rec: &mut RunRecord, pass_reports: &[RunReport], pass_rep: &RunReport) {
+    let labels: std::collections::BTreeSet<&str> =
+        pass_reports.iter().flat_map(|r| r.passes.keys().copied()).collect();
+    for label in labels {
+        let times: Vec<f64> =
+            pass_reports.iter().map(|r| r.passes.get(label).map_or(0.0, |p| p.seconds)).collect();
+        let passes = pass_rep.passes.get(label).map_or(0, |p| p.passes);
+        rec.passes
+            .insert(label.to_string(), PassStat { seconds: Stat::of(&times).expect("non-empty"), passes });
+    }
+    rec.passes_per_bounce =
+        pass_rep.passes_per_bounce.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
+    rec.time_source =
+        pass_rep.time_source.and_then(|t| serde_json::to_value(t).ok()?.as_str().map(str::to_owned));
+}
+
+/// The counts of the median repetition: dispatches, schedule, rays, failures, memory.
+fn record_counts(rec: &mut RunRecord, reports: &[RunReport], median_rep: &RunReport, pass_rep: &RunReport) {
+    rec.queue_histogram = median_rep.queue_histogram.clone();
+    rec.dispatches = Some(median_rep.dispatches);
+    rec.empty_dispatches = median_rep.empty_dispatches;
+    rec.compute_passes = median_rep.compute_passes;
+    rec.submissions = median_rep.submissions;
+    rec.waits = median_rep.waits;
+    let prepare: Vec<f64> = reports.iter().map(|r| r.scene.prepare_seconds).collect();
+    rec.scene_prepare_seconds = Stat::of(&prepare).map(|s| s.median);
+    let bvh_build: Vec<f64> = reports.iter().map(|r| r.scene.bvh_build_seconds).collect();
+    rec.bvh_build_seconds = Stat::of(&bvh_build).map(|s| s.median);
+    rec.bvh = Some(median_rep.scene.bvh.clone());
+    rec.preheat_seconds = median_rep.preheat_seconds;
+    if let Some(s) = &median_rep.schedule {
+        rec.iterations = Some(s.iterations);
+        rec.idle_iterations = Some(s.idle_iterations);
+        rec.blocking_reads = Some(s.blocking_reads);
+        rec.speculative_iterations = Some(s.speculative_iterations);
+        rec.intersect_occupancy = Some(s.intersect_occupancy);
+        // The profiled render's, where there is one: the same counts, with pass times.
+        let profiled = pass_rep.schedule.as_ref().and_then(|p| p.state_traffic.clone());
+        rec.state_traffic = profiled.or_else(|| s.state_traffic.clone());
+    }
+    rec.rays = Some(median_rep.rays);
+    if let Some(s) = rec.seconds.filter(|&s| s > 0.0) {
+        rec.samples_per_second = Some(rec.samples as f64 / s);
+        rec.rays_per_second = Some(median_rep.rays as f64 / s);
+    }
+    rec.invalid_samples = Some(median_rep.invalid_samples);
+    rec.self_hits = Some(median_rep.failures.self_hits);
+    rec.shadow_self_hits = Some(median_rep.failures.shadow_self_hits);
+    rec.depth_cut = Some(median_rep.failures.depth_cut);
+    rec.image_mean = Some(median_rep.image_mean);
+    rec.bytes_per_path = median_rep.bytes_per_path;
+    rec.memory = median_rep.memory.clone();
+    rec.pool_size = median_rep.pool_size;
+    rec.indirect_validation = median_rep.indirect_validation;
+}
+
+/// Writes the image (EXR and PNG) and, against a reference, its error metrics and map.
+fn write_images(
+    rec: &mut RunRecord,
+    out: &Path,
+    config: &ExperimentConfig,
+    id: &str,
+    image: &RgbImage,
+    reference: Option<(RgbImage, String)>,
+    attributes: &[(String, String)],
+) -> Result<()> {
+    let exr = format!("images/{id}.exr");
+    let png = format!("images/{id}.png");
+    image_io::write_exr(out.join(&exr), image, attributes)?;
+    image_io::write_png(out.join(&png), image)?;
+    let mut error_map = None;
+    if let Some((ref_image, key)) = reference {
+        let opts = CompareOptions { trim: config.metrics.trim, flip: config.metrics.flip };
+        let m = metrics::compare(image, &ref_image, &opts).map_err(|e| anyhow!("error metrics: {e}"))?;
+        rec.efficiency = rec.seconds.filter(|&s| s > 0.0 && m.relmse > 0.0).map(|s| 1.0 / (m.relmse * s));
+        rec.error_metrics = Some(m);
+        rec.reference = Some(key);
+        let map = format!("images/{id}-error.png");
+        let rgb = error_map::relative_error_map(image, &ref_image);
+        image_io::write_png_rgb8(out.join(&map), image.width, image.height, &rgb)?;
+        error_map = Some(map);
+    }
+    rec.images = Some(RunImages { exr, png, error_map });
+    Ok(())
 }
 
 fn planned_record(config: &ExperimentConfig, spec: &RunSpec) -> RunRecord {

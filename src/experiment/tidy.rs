@@ -103,17 +103,20 @@ pub fn passes_csv(report: &ExperimentReport) -> String {
 }
 
 fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
-    let mut knobs: Vec<String> = KNOBS.iter().map(|k| k.to_string()).collect();
-    let extra: BTreeSet<&String> = report
-        .runs
-        .iter()
-        .filter_map(|r| r.options.as_object())
-        .flat_map(|o| o.keys())
-        .filter(|k| !KNOBS.contains(&k.as_str()))
-        .collect();
-    knobs.extend(extra.into_iter().cloned());
+    let mut cols = setting_columns();
+    cols.extend(knob_columns(report));
+    cols.extend(time_and_count_columns());
+    cols.extend(memory_columns());
+    cols.push(rcol("indirect_validation", |r| r.indirect_validation.and_then(flag)));
+    cols.extend(error_and_image_columns());
+    cols.extend(steadiness_and_cost_columns(report));
+    cols.extend(gpu_state_columns());
+    cols
+}
 
-    let mut cols: Vec<Column<RunRecord>> = vec![
+/// The run's render settings and method.
+fn setting_columns() -> Vec<Column<'static, RunRecord>> {
+    vec![
         rcol("index", |r| int(r.index)),
         rcol("id", |r| text(&r.id)),
         rcol("scene", |r| text(&r.scene)),
@@ -127,20 +130,35 @@ fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
         rcol("accel", |r| text(&r.accel)),
         rcol("method", |r| text(&r.method)),
         rcol("label", |r| text(&r.label)),
-    ];
+    ]
+}
+
+/// One column per option knob: the known ones in order, then any other a run's options hold.
+fn knob_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
+    let mut knobs: Vec<String> = KNOBS.iter().map(|k| k.to_string()).collect();
+    let extra: BTreeSet<&String> = report
+        .runs
+        .iter()
+        .filter_map(|r| r.options.as_object())
+        .flat_map(|o| o.keys())
+        .filter(|k| !KNOBS.contains(&k.as_str()))
+        .collect();
+    knobs.extend(extra.into_iter().cloned());
+
+    let mut cols: Vec<Column<'static, RunRecord>> = Vec::new();
     for k in knobs {
         cols.push((k.clone(), Box::new(move |r: &RunRecord| r.options.get(&k).and_then(json))));
     }
+    cols
+}
+
+/// Outcome, times, throughput and counts.
+fn time_and_count_columns() -> Vec<Column<'static, RunRecord>> {
     // The stat `seconds` is the median of (`RunRecord::timed_stat`): frame time where measured
     // (GPU time in reports written before it), else wall time.
     let timed = |r: &RunRecord| r.timed_stat().cloned();
     let stat = |f: fn(&Stat) -> f64, s: Option<Stat>| s.map(|s| float(f(&s)));
-    let metric = |name: &'static str| {
-        move |r: &RunRecord| {
-            r.error_metrics.as_ref().and_then(|m| serde_json::to_value(m).ok()?.get(name).and_then(json))
-        }
-    };
-    cols.extend([
+    vec![
         rcol("status", |r| serde_json::to_value(r.status).ok().as_ref().and_then(json)),
         rcol("error", |r| r.error.clone()),
         rcol("resumed", |r| flag(r.resumed)),
@@ -184,8 +202,12 @@ fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
         rcol("bytes_per_path", |r| r.bytes_per_path.and_then(int)),
         // The record's `pool_size` is the pool used; the knob column `pool_size` is the setting.
         rcol("pool_size_used", |r| r.pool_size.and_then(int)),
-    ]);
-    // GPU memory: one column per category (empty where a method has none), the total and peak.
+    ]
+}
+
+/// GPU memory: one column per category (empty where a method has none), the total and peak.
+fn memory_columns() -> Vec<Column<'static, RunRecord>> {
+    let mut cols: Vec<Column<'static, RunRecord>> = Vec::new();
     for category in MemoryCategory::ALL {
         cols.push(rcol(&format!("memory_{}", category.key()), move |r| {
             r.memory.as_ref().and_then(|m| m.by_category.get(category.key())).and_then(int)
@@ -194,9 +216,18 @@ fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
     cols.extend([
         rcol("memory_total", |r| r.memory.as_ref().and_then(|m| int(m.total))),
         rcol("memory_peak", |r| r.memory.as_ref().and_then(|m| int(m.peak))),
-        rcol("indirect_validation", |r| r.indirect_validation.and_then(flag)),
-        rcol("reference", |r| r.reference.clone()),
     ]);
+    cols
+}
+
+/// The error against the reference and the image files.
+fn error_and_image_columns() -> Vec<Column<'static, RunRecord>> {
+    let mut cols = vec![rcol("reference", |r| r.reference.clone())];
+    let metric = |name: &'static str| {
+        move |r: &RunRecord| {
+            r.error_metrics.as_ref().and_then(|m| serde_json::to_value(m).ok()?.get(name).and_then(json))
+        }
+    };
     for name in METRICS {
         cols.push((name.to_string(), Box::new(metric(name))));
     }
@@ -206,8 +237,13 @@ fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
         rcol("png", |r| r.images.as_ref().map(|i| i.png.clone())),
         rcol("error_map", |r| r.images.as_ref().and_then(|i| i.error_map.clone())),
     ]);
-    // Whether the time is a steady figure (stored, or computed from the repetitions for reports
-    // from before it was), how the run warmed up, and the GPU's state around its timed renders.
+    cols
+}
+
+/// Whether the time is a steady figure (stored, or computed from the repetitions for reports
+/// from before it was), how the run warmed up, and what it cost (passes, scene, BVH, traversal).
+fn steadiness_and_cost_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
+    let mut cols: Vec<Column<'static, RunRecord>> = Vec::new();
     let threshold = super::stability::threshold_of(&report.config);
     let steady = move |r: &RunRecord| super::stability::of_run(r, threshold);
     cols.extend([
@@ -240,6 +276,12 @@ fn run_columns(report: &ExperimentReport) -> Vec<Column<'static, RunRecord>> {
             Some(r.interleaved_with.iter().map(usize::to_string).collect::<Vec<_>>().join(" "))
         }),
     ]);
+    cols
+}
+
+/// The GPU's state (clocks, temperature, power, throttling) before and after the timed renders.
+fn gpu_state_columns() -> Vec<Column<'static, RunRecord>> {
+    let mut cols: Vec<Column<'static, RunRecord>> = Vec::new();
     type Reading = fn(&crate::gpu::state::GpuState) -> Cell;
     let readings: [(&str, Reading); 5] = [
         ("sm_clock_mhz", |g| g.sm_clock_mhz.and_then(int)),

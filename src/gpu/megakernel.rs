@@ -86,7 +86,6 @@ pub fn render(
     let instrument = measure.instrument;
     let opts = &opts.resolve();
     crate::options::check_megakernel(opts)?;
-    let limits = &ctx.summary;
     ctx.check_workgroup_size(opts.workgroup_size)?;
     check_loop_limit(ctx, scene, settings)?;
     let regenerate = opts.schedule == Schedule::Regenerate;
@@ -101,19 +100,7 @@ pub fn render(
     let frame = scene.frame_uniform(camera, settings);
     let scene_buffers = SceneBuffers::new(ctx, scene, &frame, settings, measure.specialize, &mut memory)?;
     let pixels = settings.width * settings.height;
-    let plan = match threads {
-        None => {
-            let max_threads = limits.max_compute_workgroups_per_dimension.saturating_mul(opts.workgroup_size);
-            dispatch_plan::plan(pixels, settings.spp, opts.samples_per_dispatch, max_threads)
-        }
-        Some(threads) => {
-            // Where loops are capped, a thread starts a bounded number of paths per dispatch,
-            // so a dispatch holds no more samples than its threads can take.
-            let per_thread = cap.map_or(u64::MAX, u64::from);
-            let budget = opts.samples_per_dispatch.min((threads as u64).saturating_mul(per_thread));
-            dispatch_plan::plan(pixels, settings.spp, budget, u32::MAX)
-        }
-    };
+    let plan = plan_dispatches(ctx, settings, opts, threads, cap);
     let params = DispatchUniforms::new(ctx, &plan, &mut memory);
     let film_bytes = pixels as u64 * std::mem::size_of::<FilmPixel>() as u64;
     let film = memory
@@ -125,54 +112,19 @@ pub fn render(
     );
     // Regenerating: the dispatch's next sample, the samples finished and the threads cut short
     // over the render.
-    let work = regenerate
-        .then(|| {
-            storage_zeroed(
-                ctx,
-                "work counters",
-                16,
-                wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-            )
-        })
-        .transpose()?
-        .map(|b| memory.track(MemoryCategory::Counters, b));
+    let work = regenerate.then(|| work_counters(ctx, &mut memory)).transpose()?;
     let accumulate = Accumulate::new(ctx, &samples, &film, &params, false, measure.shader_checks)?;
     let simd = instrument.then(|| SimdCounters::new(ctx, &mut memory)).transpose()?;
 
-    let mut entries = vec![storage_entry(0, false), uniform_entry(1, true)];
-    entries.extend(work.as_ref().map(|_| storage_entry(2, false)));
-    let layout = ctx.bind_group_layout(label::MEGAKERNEL, &entries);
-    let mut bind = vec![
-        wgpu::BindGroupEntry { binding: 0, resource: samples.as_entire_binding() },
-        wgpu::BindGroupEntry { binding: 1, resource: params.binding() },
-    ];
-    bind.extend(work.as_ref().map(|w| wgpu::BindGroupEntry { binding: 2, resource: w.as_entire_binding() }));
-    let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some(label::MEGAKERNEL),
-        layout: &layout,
-        entries: &bind,
-    });
+    let (layout, group) = trace_bindings(ctx, &samples, &params, work.as_ref());
     let mut layouts = vec![&scene_buffers.layout, &layout];
     layouts.extend(simd.as_ref().map(|s| &s.layout));
-    let instrumented = (Hook::Instrument, instrument);
-    let (pass_label, source) = match regenerate {
-        false => (label::MEGAKERNEL, shaders::MEGAKERNEL.select(&[instrumented])),
-        // Samples taken per subgroup where the adapter has subgroups.
-        true => (
-            label::MEGAKERNEL_REGENERATE,
-            shaders::MEGAKERNEL_REGENERATE
-                .select(&[instrumented, (Hook::TakeSampleSubgroup, ctx.summary.subgroups)]),
-        ),
-    };
-    let module = ctx.shader(pass_label, source, measure.shader_checks)?;
-    let constants = [("WORKGROUP_SIZE", opts.workgroup_size as f64)];
-    let stage = Stage::new(ctx, pass_label, &module, &layouts, &scene_buffers.constants(&constants))?;
+    let stage = trace_stage(ctx, opts, &measure, &scene_buffers, &layouts)?;
     let trace = Trace { stage, scene: &scene_buffers.bind_group, group: &group, simd: simd.as_ref() };
 
     let mut timer = GpuTimer::new(ctx, measure.timing, measure.preheat_seconds, &mut memory);
     // Checked dispatches count failures per accepted attempt (a retried one would count twice).
-    let mut checked_failures = None;
-    let dispatches = match (threads, &work, cap) {
+    let (dispatches, checked_failures) = match (threads, &work, cap) {
         (Some(threads), Some(work), Some(cap)) => {
             let mut run = Checked {
                 ctx,
@@ -187,8 +139,7 @@ pub fn render(
                 failures_staging: Staging::new(ctx, "failure counters read-back", FAILURE_BYTES),
             };
             let n = run.render(&plan, &params, cap, &mut timer, on_progress)?;
-            checked_failures = Some(run.counted);
-            n
+            (n, Some(run.counted))
         }
         _ => {
             if let Some(work) = &work {
@@ -206,16 +157,13 @@ pub fn render(
             if let Some(work) = &work {
                 check_finished(ctx, work, settings.sample_count())?;
             }
-            n
+            (n, None)
         }
     };
     memory.transient(film_bytes);
     let data: Vec<FilmPixel> = read_back(ctx, &film, film_bytes)?;
     let film = Film::from_gpu(settings.width, settings.height, settings.spp, &data);
-    let failures = match checked_failures {
-        Some(f) => f,
-        None => scene_buffers.read_failures(ctx)?,
-    };
+    let failures = checked_failures.map_or_else(|| scene_buffers.read_failures(ctx), Ok)?;
     let in_flight = threads.map_or(most_samples, |t| (t as u64).min(most_samples)).max(1);
     Ok(GpuRender {
         film,
@@ -233,6 +181,86 @@ pub fn render(
         failures,
         threads,
     })
+}
+
+/// The dispatches a render is cut into: at most `samples_per_dispatch` samples each, and for the
+/// regenerating schedule no more than its persistent `threads` can take.
+fn plan_dispatches(
+    ctx: &GpuContext,
+    settings: &RenderSettings,
+    opts: &MegakernelOptions,
+    threads: Option<u32>,
+    cap: Option<u32>,
+) -> Vec<DispatchParams> {
+    let pixels = settings.width * settings.height;
+    match threads {
+        None => {
+            let max_threads =
+                ctx.summary.max_compute_workgroups_per_dimension.saturating_mul(opts.workgroup_size);
+            dispatch_plan::plan(pixels, settings.spp, opts.samples_per_dispatch, max_threads)
+        }
+        Some(threads) => {
+            // Where loops are capped, a thread starts a bounded number of paths per dispatch,
+            // so a dispatch holds no more samples than its threads can take.
+            let per_thread = cap.map_or(u64::MAX, u64::from);
+            let budget = opts.samples_per_dispatch.min((threads as u64).saturating_mul(per_thread));
+            dispatch_plan::plan(pixels, settings.spp, budget, u32::MAX)
+        }
+    }
+}
+
+/// Regenerating: the dispatch's next sample, the samples finished and the threads cut short
+/// over the render.
+fn work_counters(ctx: &GpuContext, memory: &mut MemoryLedger) -> Result<wgpu::Buffer> {
+    let usage = wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST;
+    Ok(memory.track(MemoryCategory::Counters, storage_zeroed(ctx, "work counters", 16, usage)?))
+}
+
+/// The trace kernel's own bindings: the samples, the dispatch's uniforms and, regenerating, the
+/// work counters.
+fn trace_bindings(
+    ctx: &GpuContext,
+    samples: &wgpu::Buffer,
+    params: &DispatchUniforms,
+    work: Option<&wgpu::Buffer>,
+) -> (wgpu::BindGroupLayout, wgpu::BindGroup) {
+    let mut entries = vec![storage_entry(0, false), uniform_entry(1, true)];
+    entries.extend(work.map(|_| storage_entry(2, false)));
+    let layout = ctx.bind_group_layout(label::MEGAKERNEL, &entries);
+    let mut bind = vec![
+        wgpu::BindGroupEntry { binding: 0, resource: samples.as_entire_binding() },
+        wgpu::BindGroupEntry { binding: 1, resource: params.binding() },
+    ];
+    bind.extend(work.map(|w| wgpu::BindGroupEntry { binding: 2, resource: w.as_entire_binding() }));
+    let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label::MEGAKERNEL),
+        layout: &layout,
+        entries: &bind,
+    });
+    (layout, group)
+}
+
+/// The trace kernel of the schedule, with its hooks selected and its constants set.
+fn trace_stage(
+    ctx: &GpuContext,
+    opts: &MegakernelOptions,
+    measure: &Measure,
+    scene_buffers: &SceneBuffers,
+    layouts: &[&wgpu::BindGroupLayout],
+) -> Result<Stage> {
+    let instrumented = (Hook::Instrument, measure.instrument);
+    let (pass_label, source) = match opts.schedule == Schedule::Regenerate {
+        false => (label::MEGAKERNEL, shaders::MEGAKERNEL.select(&[instrumented])),
+        // Samples taken per subgroup where the adapter has subgroups.
+        true => (
+            label::MEGAKERNEL_REGENERATE,
+            shaders::MEGAKERNEL_REGENERATE
+                .select(&[instrumented, (Hook::TakeSampleSubgroup, ctx.summary.subgroups)]),
+        ),
+    };
+    let module = ctx.shader(pass_label, source, measure.shader_checks)?;
+    let constants = [("WORKGROUP_SIZE", opts.workgroup_size as f64)];
+    Stage::new(ctx, pass_label, &module, layouts, &scene_buffers.constants(&constants))
 }
 
 /// Words of the regenerating megakernel's `work` buffer (`shaders/megakernel_regenerate.wgsl`).

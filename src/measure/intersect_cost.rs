@@ -81,23 +81,7 @@ pub struct IntersectCost {
 /// Times both passes over `scene`'s camera rays; errors when their hits differ (then they did
 /// not trace the same rays) or a repetition's tally differs from the first.
 pub fn measure(ctx: &GpuContext, scene: &Scene, job: &IntersectCost) -> Result<IntersectCostReport> {
-    if job.repetitions == 0 {
-        bail!("--repetitions must be at least 1");
-    }
-    // One bounce: the camera rays are all that intersect traces, once each.
-    let settings = RenderSettings { max_depth: 1, nee: false, roulette: false, ..job.settings.clone() };
-    settings.validate().map_err(anyhow::Error::msg)?;
-    let options = MethodOptions {
-        wavefront: WavefrontOptions {
-            schedule: Schedule::Waves,
-            workgroup_size: job.workgroup_size,
-            pool_size: job.pool_size.map(crate::options::PoolSize::Paths),
-            ..Default::default()
-        },
-        timing: Timing::Passes,
-        preheat_seconds: job.preheat_seconds,
-        ..Default::default()
-    };
+    let (settings, options) = camera_ray_render(job)?;
     let rays = settings.width as u64 * settings.height as u64 * settings.spp as u64;
     let rays32 =
         u32::try_from(rays).map_err(|_| anyhow!("{rays} camera rays: at most {} in one pass", u32::MAX))?;
@@ -121,13 +105,7 @@ pub fn measure(ctx: &GpuContext, scene: &Scene, job: &IntersectCost) -> Result<I
     let mut pool = 0;
     for round in 0..=job.repetitions {
         let out = method::render(Method::Wavefront, scene, &settings, &options, Some(ctx), &|_| {})?;
-        let histogram =
-            out.histogram.as_ref().ok_or_else(|| anyhow!("the waves render kept no queue histogram"))?;
-        if histogram.rays.first().copied() != Some(rays) {
-            bail!("intersect traced {:?} camera rays, not the frame's {rays}", histogram.rays.first());
-        }
-        // Every hit is queued at its material (or the one shade queue) at bounce 0.
-        let hits: u64 = histogram.materials.iter().filter_map(|m| m.first()).sum();
+        let hits = camera_ray_hits(&out, rays)?;
         if intersect_hits.is_some_and(|h| h != hits) {
             bail!("intersect's hits changed between repetitions: {intersect_hits:?}, then {hits}");
         }
@@ -155,16 +133,7 @@ pub fn measure(ctx: &GpuContext, scene: &Scene, job: &IntersectCost) -> Result<I
             tally.hits
         );
     }
-    let cost = |pass, seconds: &[f64]| {
-        let timed = seconds.len() == job.repetitions as usize;
-        PassCost {
-            pass,
-            hits,
-            seconds: timed.then(|| Spread::of(seconds)),
-            ns_per_ray: timed
-                .then(|| Spread::of(&seconds.iter().map(|s| s * 1e9 / rays as f64).collect::<Vec<_>>())),
-        }
-    };
+    let cost = |pass, seconds: &[f64]| pass_cost(pass, hits, seconds, job.repetitions, rays);
     let intersect = cost(label::INTERSECT, &intersect_seconds);
     let registers = cost(label::INTERSECT_REGISTERS, &registers_seconds);
     let ratio = intersect.seconds.zip(registers.seconds).map(|(i, r)| r.median / i.median);
@@ -187,6 +156,51 @@ pub fn measure(ctx: &GpuContext, scene: &Scene, job: &IntersectCost) -> Result<I
         checksum: tally.checksum,
         registers_over_intersect: ratio,
     })
+}
+
+/// The render whose intersect pass is timed: one bounce, so the camera rays are all that
+/// intersect traces, once each; the waves schedule, timed per pass.
+fn camera_ray_render(job: &IntersectCost) -> Result<(RenderSettings, MethodOptions)> {
+    if job.repetitions == 0 {
+        bail!("--repetitions must be at least 1");
+    }
+    let settings = RenderSettings { max_depth: 1, nee: false, roulette: false, ..job.settings.clone() };
+    settings.validate().map_err(anyhow::Error::msg)?;
+    let options = MethodOptions {
+        wavefront: WavefrontOptions {
+            schedule: Schedule::Waves,
+            workgroup_size: job.workgroup_size,
+            pool_size: job.pool_size.map(crate::options::PoolSize::Paths),
+            ..Default::default()
+        },
+        timing: Timing::Passes,
+        preheat_seconds: job.preheat_seconds,
+        ..Default::default()
+    };
+    Ok((settings, options))
+}
+
+/// The hits among the render's `rays` camera rays: every hit is queued at its material (or the
+/// one shade queue) at bounce 0.
+fn camera_ray_hits(out: &crate::method::RenderOutput, rays: u64) -> Result<u64> {
+    let histogram =
+        out.histogram.as_ref().ok_or_else(|| anyhow!("the waves render kept no queue histogram"))?;
+    if histogram.rays.first().copied() != Some(rays) {
+        bail!("intersect traced {:?} camera rays, not the frame's {rays}", histogram.rays.first());
+    }
+    Ok(histogram.materials.iter().filter_map(|m| m.first()).sum())
+}
+
+/// A pass's times, where every repetition timed it.
+fn pass_cost(pass: &'static str, hits: u64, seconds: &[f64], repetitions: u32, rays: u64) -> PassCost {
+    let timed = seconds.len() == repetitions as usize;
+    PassCost {
+        pass,
+        hits,
+        seconds: timed.then(|| Spread::of(seconds)),
+        ns_per_ray: timed
+            .then(|| Spread::of(&seconds.iter().map(|s| s * 1e9 / rays as f64).collect::<Vec<_>>())),
+    }
 }
 
 impl IntersectCostReport {

@@ -106,22 +106,9 @@ fn require_version_2(file: &str, version: &str) -> Res<()> {
 pub fn from_slice(bytes: &[u8], file: &str, name: &str, dir: &Path, source: &Path) -> Res<Import> {
     let g::Gltf { document, blob } =
         g::Gltf::from_slice_without_validation(bytes).map_err(|e| crate_error(file, e))?;
-    // The crate's validation indexes `accessors` with each POSITION unchecked (a panic on a bad
-    // index), so those indices are checked first.
     let root = document.into_json();
     require_version_2(file, &root.asset.version)?;
-    for (m, mesh) in root.meshes.iter().enumerate() {
-        for (p, prim) in mesh.primitives.iter().enumerate() {
-            let position = prim.attributes.get(&g::json::validation::Checked::Valid(g::Semantic::Positions));
-            if let Some(a) = position.filter(|a| a.value() >= root.accessors.len()) {
-                return Err(InputError::new(
-                    file,
-                    format!("meshes[{m}].primitives[{p}].attributes.POSITION"),
-                    format!("Index out of range: accessor {} of {}", a.value(), root.accessors.len()),
-                ));
-            }
-        }
-    }
+    check_position_indices(file, &root)?;
     let document = g::Document::from_json(root).map_err(|e| crate_error(file, e))?;
     let mut cx = Cx {
         file,
@@ -140,52 +127,9 @@ pub fn from_slice(bytes: &[u8], file: &str, name: &str, dir: &Path, source: &Pat
     let Some(g_scene) = document.default_scene().or_else(|| document.scenes().next()) else {
         return cx.err("scenes", "the file has no scenes, so nothing to render");
     };
-    if document.scenes().len() > 1 {
-        cx.warn(format!(
-            "scenes: only scenes[{}] is rendered; the file has {} scenes",
-            g_scene.index(),
-            document.scenes().len()
-        ));
-    }
-    if document.animations().len() > 0 {
-        cx.warn(format!(
-            "animations: {} animations ignored; nodes are taken at rest",
-            document.animations().len()
-        ));
-    }
-
-    let (materials, default_material) = cx.materials()?;
-    let mut materials = materials;
-    let mut meshes = Vec::new();
-    let mut camera = None;
-    // Depth first, in file order, with an explicit stack: a deep hierarchy must not overflow
-    // ours, and a node reached twice (a cycle, or two parents, which glTF forbids) is an error.
-    let mut seen = vec![false; document.nodes().len()];
-    let mut stack: Vec<(g::Node, Mat4)> = g_scene.nodes().map(|n| (n, Mat4::IDENTITY)).collect();
-    stack.reverse();
-    while let Some((node, parent)) = stack.pop() {
-        let path = format!("nodes[{}]", node.index());
-        if std::mem::replace(&mut seen[node.index()], true) {
-            return cx.err(&path, "is reached twice from the scene (a cycle, or a node with two parents)");
-        }
-        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
-        if !world.is_finite() {
-            return cx.err(&path, "its world transform is not finite");
-        }
-        if let Some(c) = node.camera() {
-            cx.camera(&c, &path, world, &mut camera)?;
-        }
-        if let Some(mesh) = node.mesh() {
-            let m = cx.mesh(&mesh, &path, world, source, &mut materials, default_material)?;
-            meshes.extend(m);
-        }
-        if node.skin().is_some() {
-            cx.warn(format!("{path}.skin: skinning ignored; the mesh is taken in its bind pose"));
-        }
-        for child in node.children().collect::<Vec<_>>().into_iter().rev() {
-            stack.push((child, world));
-        }
-    }
+    cx.warn_unrendered(&g_scene);
+    let (mut materials, default_material) = cx.materials()?;
+    let (meshes, camera) = cx.nodes(&g_scene, &mut materials, default_material)?;
     if meshes.is_empty() {
         return cx.err(
             &format!("scenes[{}]", g_scene.index()),
@@ -193,19 +137,7 @@ pub fn from_slice(bytes: &[u8], file: &str, name: &str, dir: &Path, source: &Pat
         );
     }
 
-    let camera = match camera {
-        Some(c) => c,
-        None => {
-            let c = framing_camera(&meshes);
-            cx.warn(format!(
-                "cameras: no perspective camera in the scene; using one that frames its bounds: lookfrom {}, \
-                 lookat {}, vfov {DEFAULT_VFOV}",
-                fmt_vec(c.lookfrom),
-                fmt_vec(c.lookat)
-            ));
-            c
-        }
-    };
+    let camera = camera.unwrap_or_else(|| cx.framing_camera(&meshes));
     cx.mapped.push("background → sky (glTF has no background)".into());
     let scene = Scene {
         name: name.to_owned(),
@@ -219,6 +151,24 @@ pub fn from_slice(bytes: &[u8], file: &str, name: &str, dir: &Path, source: &Pat
     };
     super::load::validate(&scene, file)?;
     Ok(Import { scene, mapped: cx.mapped, warnings: cx.warnings })
+}
+
+/// The crate's validation indexes `accessors` with each POSITION unchecked (a panic on a bad
+/// index), so those indices are checked first.
+fn check_position_indices(file: &str, root: &g::json::Root) -> Res<()> {
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            let position = prim.attributes.get(&g::json::validation::Checked::Valid(g::Semantic::Positions));
+            if let Some(a) = position.filter(|a| a.value() >= root.accessors.len()) {
+                return Err(InputError::new(
+                    file,
+                    format!("meshes[{m}].primitives[{p}].attributes.POSITION"),
+                    format!("Index out of range: accessor {} of {}", a.value(), root.accessors.len()),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 struct Cx<'a> {
@@ -390,6 +340,77 @@ impl Cx<'_> {
 
     /// Every glTF material mapped, in file order, and the index glTF's default material will
     /// take if a primitive needs it.
+    /// Warns of what the file holds and is not rendered: other scenes, animations.
+    fn warn_unrendered(&mut self, g_scene: &g::Scene) {
+        let document = self.doc;
+        if document.scenes().len() > 1 {
+            self.warn(format!(
+                "scenes: only scenes[{}] is rendered; the file has {} scenes",
+                g_scene.index(),
+                document.scenes().len()
+            ));
+        }
+        if document.animations().len() > 0 {
+            self.warn(format!(
+                "animations: {} animations ignored; nodes are taken at rest",
+                document.animations().len()
+            ));
+        }
+    }
+
+    /// The scene's meshes in world space and its camera (the first perspective one).
+    fn nodes(
+        &mut self,
+        g_scene: &g::Scene,
+        materials: &mut Vec<NamedMaterial>,
+        default_material: u32,
+    ) -> Res<(Vec<Mesh>, Option<CameraSpec>)> {
+        let mut meshes = Vec::new();
+        let mut camera = None;
+        // Depth first, in file order, with an explicit stack: a deep hierarchy must not overflow
+        // ours, and a node reached twice (a cycle, or two parents, which glTF forbids) is an error.
+        let mut seen = vec![false; self.doc.nodes().len()];
+        let mut stack: Vec<(g::Node, Mat4)> = g_scene.nodes().map(|n| (n, Mat4::IDENTITY)).collect();
+        stack.reverse();
+        while let Some((node, parent)) = stack.pop() {
+            let path = format!("nodes[{}]", node.index());
+            if std::mem::replace(&mut seen[node.index()], true) {
+                return self
+                    .err(&path, "is reached twice from the scene (a cycle, or a node with two parents)");
+            }
+            let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+            if !world.is_finite() {
+                return self.err(&path, "its world transform is not finite");
+            }
+            if let Some(c) = node.camera() {
+                self.camera(&c, &path, world, &mut camera)?;
+            }
+            if let Some(mesh) = node.mesh() {
+                let m = self.mesh(&mesh, &path, world, self.source, materials, default_material)?;
+                meshes.extend(m);
+            }
+            if node.skin().is_some() {
+                self.warn(format!("{path}.skin: skinning ignored; the mesh is taken in its bind pose"));
+            }
+            for child in node.children().collect::<Vec<_>>().into_iter().rev() {
+                stack.push((child, world));
+            }
+        }
+        Ok((meshes, camera))
+    }
+
+    /// Where the file has no perspective camera: one that frames the meshes' bounds.
+    fn framing_camera(&mut self, meshes: &[Mesh]) -> CameraSpec {
+        let c = framing_camera(meshes);
+        self.warn(format!(
+            "cameras: no perspective camera in the scene; using one that frames its bounds: lookfrom {}, \
+             lookat {}, vfov {DEFAULT_VFOV}",
+            fmt_vec(c.lookfrom),
+            fmt_vec(c.lookat)
+        ));
+        c
+    }
+
     fn materials(&mut self) -> Res<(Vec<NamedMaterial>, u32)> {
         let mut out: Vec<NamedMaterial> = Vec::new();
         let mut names = std::collections::HashSet::new();
@@ -413,7 +434,7 @@ impl Cx<'_> {
     fn material(&mut self, m: &g::Material, path: &str) -> Res<Material> {
         let pbr = m.pbr_metallic_roughness();
         let ppath = format!("{path}.pbrMetallicRoughness");
-        let [r, gr, b, alpha] = pbr.base_color_factor();
+        let [r, gr, b, _] = pbr.base_color_factor();
         let base = Vec3::new(r, gr, b);
         if !base.is_finite() || base.min_element() < 0.0 {
             return self.err(
@@ -427,42 +448,7 @@ impl Cx<'_> {
                 return self.err(&format!("{ppath}.{field}"), format!("must be in [0, 1], got {v}"));
             }
         }
-        // The image albedo, if the base colour has a decodable texture: (image, wraps).
-        let mut image = None;
-        if let Some(info) = pbr.base_color_texture() {
-            let tpath = format!("{ppath}.baseColorTexture");
-            let texture = info.texture();
-            let source = texture.source();
-            match self.image(&source)? {
-                Some(slot) => {
-                    let sampler = texture.sampler();
-                    image = Some((slot, [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())]));
-                    if info.tex_coord() != 0 {
-                        self.warn(format!(
-                            "{tpath}.texCoord: {} not read: the texture is looked up at TEXCOORD_0",
-                            info.tex_coord()
-                        ));
-                    }
-                    if info.extensions().is_some_and(|e| e.contains_key("KHR_texture_transform")) {
-                        self.warn(format!(
-                            "{tpath}.extensions.KHR_texture_transform: ignored; the texture is looked up \
-                             at the untransformed coordinates"
-                        ));
-                    }
-                    if sampler.mag_filter() == Some(g::texture::MagFilter::Nearest) {
-                        self.warn(format!(
-                            "samplers[{}].magFilter: NEAREST ignored; lookups are bilinear",
-                            sampler.index().unwrap_or(0)
-                        ));
-                    }
-                }
-                None => self.warn(format!(
-                    "{tpath}: ignored (images[{}] is a JPEG, which this build does not decode; only PNG); \
-                     albedo is baseColorFactor alone",
-                    source.index()
-                )),
-            }
-        }
+        let image = self.base_color_texture(&pbr, &ppath)?;
         let emissive = Vec3::from(m.emissive_factor()) * m.emissive_strength().unwrap_or(1.0);
         if !emissive.is_finite() || emissive.min_element() < 0.0 {
             return self.err(
@@ -509,6 +495,60 @@ impl Cx<'_> {
                 material.kind_name()
             ));
         }
+        self.warn_unmapped(m, &material, path);
+        Ok(material)
+    }
+
+    /// The image albedo, if the base colour has a decodable texture: (image, wraps).
+    fn base_color_texture(
+        &mut self,
+        pbr: &g::material::PbrMetallicRoughness,
+        ppath: &str,
+    ) -> Res<Option<(u32, [Wrap; 2])>> {
+        let Some(info) = pbr.base_color_texture() else {
+            return Ok(None);
+        };
+        let tpath = format!("{ppath}.baseColorTexture");
+        let texture = info.texture();
+        let source = texture.source();
+        let Some(slot) = self.image(&source)? else {
+            self.warn(format!(
+                "{tpath}: ignored (images[{}] is a JPEG, which this build does not decode; only PNG); \
+                 albedo is baseColorFactor alone",
+                source.index()
+            ));
+            return Ok(None);
+        };
+        let sampler = texture.sampler();
+        if info.tex_coord() != 0 {
+            self.warn(format!(
+                "{tpath}.texCoord: {} not read: the texture is looked up at TEXCOORD_0",
+                info.tex_coord()
+            ));
+        }
+        if info.extensions().is_some_and(|e| e.contains_key("KHR_texture_transform")) {
+            self.warn(format!(
+                "{tpath}.extensions.KHR_texture_transform: ignored; the texture is looked up \
+                 at the untransformed coordinates"
+            ));
+        }
+        if sampler.mag_filter() == Some(g::texture::MagFilter::Nearest) {
+            self.warn(format!(
+                "samplers[{}].magFilter: NEAREST ignored; lookups are bilinear",
+                sampler.index().unwrap_or(0)
+            ));
+        }
+        Ok(Some((slot, [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())])))
+    }
+
+    /// Warns of what the material holds that the scene's material does not keep: blends between
+    /// kinds, an unused ior, alpha, textures other than the base colour, other extensions.
+    fn warn_unmapped(&mut self, m: &g::Material, material: &Material, path: &str) {
+        let pbr = m.pbr_metallic_roughness();
+        let ppath = format!("{path}.pbrMetallicRoughness");
+        let [.., alpha] = pbr.base_color_factor();
+        let metallic = pbr.metallic_factor();
+        let transmission = m.transmission().map_or(0.0, |t| t.transmission_factor());
         let dielectric = matches!(material, Material::Dielectric { .. });
         let emits = matches!(material, Material::Emissive { .. });
         if !emits && !dielectric && metallic != 0.0 && metallic != 1.0 {
@@ -552,7 +592,6 @@ impl Cx<'_> {
         for e in others {
             self.warn(format!("{path}.extensions.{e}: not mapped, ignored"));
         }
-        Ok(material)
     }
 
     /// The scene image of glTF image `image`, decoded once however many textures use it; `None`
@@ -655,7 +694,6 @@ impl Cx<'_> {
         materials: &mut Vec<NamedMaterial>,
         default_material: u32,
     ) -> Res<Vec<Mesh>> {
-        use g::accessor::{DataType, Dimensions};
         let mut out = Vec::new();
         for prim in mesh.primitives() {
             let path = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
@@ -670,100 +708,16 @@ impl Cx<'_> {
                 self.warn(format!("{path}.mode: {mode:?} has no surface to render; skipped"));
                 continue;
             }
-            let pos_path = format!("{path}.attributes.POSITION");
-            let Some(pos) = prim.get(&g::Semantic::Positions) else {
-                return self.err(&pos_path, "missing: a primitive needs vertex positions");
-            };
-            self.check_accessor(&pos, &pos_path, &[DataType::F32], Dimensions::Vec3, false)?;
-            let index_path = format!("{path}.indices");
-            if let Some(ind) = prim.indices() {
-                self.check_accessor(
-                    &ind,
-                    &index_path,
-                    &[DataType::U8, DataType::U16, DataType::U32],
-                    Dimensions::Scalar,
-                    false,
-                )?;
-            }
-            let reader = prim.reader(|b| self.buffers.get(b.index()).map(Vec::as_slice));
-            let Some(positions) = reader.read_positions() else {
-                return self.err(&pos_path, "cannot be read");
-            };
-            let positions: Vec<Vec3> = positions.map(|p| world.transform_point3(Vec3::from(p))).collect();
-            let indices: Vec<u32> = match reader.read_indices() {
-                Some(ind) => ind.into_u32().collect(),
-                None if prim.indices().is_some() => return self.err(&index_path, "cannot be read"),
-                None => (0..positions.len() as u32).collect(),
-            };
-            if let Some((k, &i)) = indices.iter().enumerate().find(|(_, &i)| i as usize >= positions.len()) {
-                return self.err(
-                    &index_path,
-                    format!("index {k} is {i}, but POSITION has {} vertices", positions.len()),
-                );
-            }
-            if positions.iter().any(|p| !p.is_finite()) {
-                return self.err(&pos_path, "a vertex is not finite after the node transform");
-            }
+            let (positions, indices) = self.vertices(&prim, &path, world)?;
             let uvs = self.tex_coords(&prim, &path, positions.len(), materials)?;
-            let corners = corners(mode, indices.len());
-            if mode == g::mesh::Mode::Triangles && !indices.len().is_multiple_of(3) {
-                self.warn(format!(
-                    "{path}: {} indices is not a multiple of 3; the last {} ignored",
-                    indices.len(),
-                    indices.len() % 3
-                ));
-            }
-            let mut triangles = Vec::with_capacity(corners.len());
-            let mut triangle_uvs = Vec::with_capacity(if uvs.is_some() { corners.len() } else { 0 });
-            let mut degenerate = 0;
-            for [a, b, c] in corners {
-                let [a, b, c] = [indices[a] as usize, indices[b] as usize, indices[c] as usize];
-                let t = [positions[a], positions[b], positions[c]];
-                // Zero-area triangles have no surface to hit (as in OBJ meshes).
-                if (t[1] - t[0]).cross(t[2] - t[0]).length_squared() > 0.0 {
-                    triangles.push(t);
-                    if let Some(uv) = &uvs {
-                        triangle_uvs.push([uv[a], uv[b], uv[c]]);
-                    }
-                } else {
-                    degenerate += 1;
-                }
-            }
-            if degenerate > 0 {
-                self.warn(format!(
-                    "{path}: dropped {degenerate} zero-area triangles of {}",
-                    degenerate + triangles.len()
-                ));
-            }
+            let (triangles, triangle_uvs) =
+                self.area_triangles(&path, mode, &indices, &positions, uvs.as_deref());
             if triangles.is_empty() {
                 self.warn(format!("{path}: no triangles with area; skipped"));
                 continue;
             }
-            let material = match prim.material().index() {
-                Some(i) => i as u32,
-                None => {
-                    if materials.len() == default_material as usize {
-                        let material = Material::Metal { albedo: Vec3::ONE.into(), fuzz: 1.0 };
-                        self.mapped.push(format!("glTF's default material → {}", describe(&material)));
-                        materials.push(NamedMaterial { name: "gltf-default".into(), material });
-                    }
-                    self.warn(format!(
-                        "{path}.material: none, so glTF's default material (white, metallic 1, roughness 1): \
-                         a rough white metal"
-                    ));
-                    default_material
-                }
-            };
-            for (field, what) in [("COLOR_0", "vertex colours"), ("NORMAL", "normals")] {
-                if prim.attributes().any(|(s, _)| s.to_string() == field) {
-                    self.warn(format!(
-                        "{path}.attributes.{field}: {what} ignored (shading uses the material and the geometric normal)"
-                    ));
-                }
-            }
-            if prim.morph_targets().len() > 0 {
-                self.warn(format!("{path}.targets: morph targets ignored"));
-            }
+            let material = self.primitive_material(&prim, &path, materials, default_material);
+            self.warn_ignored_attributes(&prim, &path);
             let label = match mesh.name() {
                 Some(n) => format!("{node_path} {path} {n:?}"),
                 None => format!("{node_path} {path}"),
@@ -784,6 +738,125 @@ impl Cx<'_> {
             });
         }
         Ok(out)
+    }
+
+    /// A primitive's positions in world space and its indices (one per position where it has
+    /// none), checked: every index in range, every position finite.
+    fn vertices(&mut self, prim: &g::Primitive, path: &str, world: Mat4) -> Res<(Vec<Vec3>, Vec<u32>)> {
+        use g::accessor::{DataType, Dimensions};
+        let pos_path = format!("{path}.attributes.POSITION");
+        let Some(pos) = prim.get(&g::Semantic::Positions) else {
+            return self.err(&pos_path, "missing: a primitive needs vertex positions");
+        };
+        self.check_accessor(&pos, &pos_path, &[DataType::F32], Dimensions::Vec3, false)?;
+        let index_path = format!("{path}.indices");
+        if let Some(ind) = prim.indices() {
+            self.check_accessor(
+                &ind,
+                &index_path,
+                &[DataType::U8, DataType::U16, DataType::U32],
+                Dimensions::Scalar,
+                false,
+            )?;
+        }
+        let reader = prim.reader(|b| self.buffers.get(b.index()).map(Vec::as_slice));
+        let Some(positions) = reader.read_positions() else {
+            return self.err(&pos_path, "cannot be read");
+        };
+        let positions: Vec<Vec3> = positions.map(|p| world.transform_point3(Vec3::from(p))).collect();
+        let indices: Vec<u32> = match reader.read_indices() {
+            Some(ind) => ind.into_u32().collect(),
+            None if prim.indices().is_some() => return self.err(&index_path, "cannot be read"),
+            None => (0..positions.len() as u32).collect(),
+        };
+        if let Some((k, &i)) = indices.iter().enumerate().find(|(_, &i)| i as usize >= positions.len()) {
+            return self.err(
+                &index_path,
+                format!("index {k} is {i}, but POSITION has {} vertices", positions.len()),
+            );
+        }
+        if positions.iter().any(|p| !p.is_finite()) {
+            return self.err(&pos_path, "a vertex is not finite after the node transform");
+        }
+        Ok((positions, indices))
+    }
+
+    /// The primitive's triangles with area, and their texture coordinates where it has them.
+    /// Zero-area triangles have no surface to hit (as in OBJ meshes): dropped with a warning.
+    fn area_triangles(
+        &mut self,
+        path: &str,
+        mode: g::mesh::Mode,
+        indices: &[u32],
+        positions: &[Vec3],
+        uvs: Option<&[Vec2]>,
+    ) -> (Vec<[Vec3; 3]>, Vec<[Vec2; 3]>) {
+        let corners = corners(mode, indices.len());
+        if mode == g::mesh::Mode::Triangles && !indices.len().is_multiple_of(3) {
+            self.warn(format!(
+                "{path}: {} indices is not a multiple of 3; the last {} ignored",
+                indices.len(),
+                indices.len() % 3
+            ));
+        }
+        let mut triangles = Vec::with_capacity(corners.len());
+        let mut triangle_uvs = Vec::with_capacity(if uvs.is_some() { corners.len() } else { 0 });
+        let mut degenerate = 0;
+        for [a, b, c] in corners {
+            let [a, b, c] = [indices[a] as usize, indices[b] as usize, indices[c] as usize];
+            let t = [positions[a], positions[b], positions[c]];
+            if (t[1] - t[0]).cross(t[2] - t[0]).length_squared() > 0.0 {
+                triangles.push(t);
+                if let Some(uv) = uvs {
+                    triangle_uvs.push([uv[a], uv[b], uv[c]]);
+                }
+            } else {
+                degenerate += 1;
+            }
+        }
+        if degenerate > 0 {
+            self.warn(format!(
+                "{path}: dropped {degenerate} zero-area triangles of {}",
+                degenerate + triangles.len()
+            ));
+        }
+        (triangles, triangle_uvs)
+    }
+
+    /// The primitive's material, or glTF's default material (added once, at `default_material`).
+    fn primitive_material(
+        &mut self,
+        prim: &g::Primitive,
+        path: &str,
+        materials: &mut Vec<NamedMaterial>,
+        default_material: u32,
+    ) -> u32 {
+        if let Some(i) = prim.material().index() {
+            return i as u32;
+        }
+        if materials.len() == default_material as usize {
+            let material = Material::Metal { albedo: Vec3::ONE.into(), fuzz: 1.0 };
+            self.mapped.push(format!("glTF's default material → {}", describe(&material)));
+            materials.push(NamedMaterial { name: "gltf-default".into(), material });
+        }
+        self.warn(format!(
+            "{path}.material: none, so glTF's default material (white, metallic 1, roughness 1): \
+             a rough white metal"
+        ));
+        default_material
+    }
+
+    fn warn_ignored_attributes(&mut self, prim: &g::Primitive, path: &str) {
+        for (field, what) in [("COLOR_0", "vertex colours"), ("NORMAL", "normals")] {
+            if prim.attributes().any(|(s, _)| s.to_string() == field) {
+                self.warn(format!(
+                    "{path}.attributes.{field}: {what} ignored (shading uses the material and the geometric normal)"
+                ));
+            }
+        }
+        if prim.morph_targets().len() > 0 {
+            self.warn(format!("{path}.targets: morph targets ignored"));
+        }
     }
 
     /// A primitive's `TEXCOORD_0`, one per vertex, where its material has an image albedo (other

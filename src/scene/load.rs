@@ -120,18 +120,28 @@ impl Scene {
 /// parallel to the view direction, empty or duplicate material names, material indices out of
 /// range. Paths in the errors are the ones the scene's file would have; `file` labels them.
 pub fn validate(scene: &Scene, file: &str) -> Result<(), InputError> {
-    let err = |path: String, reason: String| Err(InputError::new(file, path, reason));
+    check_camera(&scene.camera)
+        .and_then(|()| check_background(&scene.background))
+        .and_then(|()| check_materials(&scene.materials))
+        .and_then(|()| check_objects(scene))
+        .and_then(|()| check_meshes(scene))
+        .and_then(|()| check_images(scene))
+        .map_err(|(path, reason)| InputError::new(file, path, reason))
+}
 
-    let cam = &scene.camera;
+/// A problem's path in the scene file and its reason.
+type Problem = (String, String);
+
+fn check_camera(cam: &CameraSpec) -> Result<(), Problem> {
     for (field, v) in [("lookfrom", cam.lookfrom), ("lookat", cam.lookat), ("vup", cam.vup)] {
         if let Some((path, reason)) = check_vec3(&format!("camera.{field}"), v, false) {
-            return err(path, reason);
+            return Err((path, reason));
         }
     }
     let scalar = |field: &str, v: f32, ok: fn(f32) -> bool, rule: &str| {
         // `ok` is only consulted once the value is known to be finite.
         match check_finite(v).or_else(|| (!ok(v)).then(|| format!("{rule}, got {v}"))) {
-            Some(reason) => err(format!("camera.{field}"), reason),
+            Some(reason) => Err((format!("camera.{field}"), reason)),
             None => Ok(()),
         }
     };
@@ -144,44 +154,48 @@ pub fn validate(scene: &Scene, file: &str) -> Result<(), InputError> {
     // component of 1, so neither huge nor tiny inputs overflow or underflow the test.
     let dir = cam.lookat.as_dvec3() - cam.lookfrom.as_dvec3();
     if dir == DVec3::ZERO {
-        return err(
+        return Err((
             "camera.lookat".into(),
             "equals camera.lookfrom, so the camera has no view direction".into(),
-        );
+        ));
     }
     if cam.vup == Vec3::ZERO {
-        return err("camera.vup".into(), "must not be the zero vector".into());
+        return Err(("camera.vup".into(), "must not be the zero vector".into()));
     }
     let (d, u) = (dir / dir.abs().max_element(), cam.vup.as_dvec3() / cam.vup.abs().max_element() as f64);
     let sine = d.cross(u).length() / (d.length() * u.length());
     if sine < MIN_VUP_SINE {
-        return err(
+        return Err((
             "camera.vup".into(),
             format!(
                 "is parallel (or nearly) to the view direction lookat - lookfrom = {}; \
                  choose an up vector at an angle to it",
                 fmt_vec(dir.as_vec3())
             ),
-        );
+        ));
     }
+    Ok(())
+}
 
-    if let Background::Constant(color) = scene.background {
-        if let Some((path, reason)) = check_vec3("background.color", color, true) {
-            return err(path, reason);
-        }
+fn check_background(background: &Background) -> Result<(), Problem> {
+    match *background {
+        Background::Constant(color) => check_vec3("background.color", color, true).map_or(Ok(()), Err),
+        _ => Ok(()),
     }
+}
 
-    let mut seen: HashMap<&str, usize> = HashMap::with_capacity(scene.materials.len());
-    for (i, m) in scene.materials.iter().enumerate() {
+fn check_materials(materials: &[NamedMaterial]) -> Result<(), Problem> {
+    let mut seen: HashMap<&str, usize> = HashMap::with_capacity(materials.len());
+    for (i, m) in materials.iter().enumerate() {
         if m.name.is_empty() {
-            return err(format!("materials[{i}]"), "material name must not be empty".into());
+            return Err((format!("materials[{i}]"), "material name must not be empty".into()));
         }
         let path = join("materials", &m.name);
         if let Some(first) = seen.insert(&m.name, i) {
-            return err(
+            return Err((
                 path,
                 format!("duplicate material name (materials {first} and {i}); names must be unique"),
-            );
+            ));
         }
         let problem = match m.material {
             Material::Lambertian { albedo } => check_texture(&format!("{path}.albedo"), &albedo),
@@ -199,11 +213,14 @@ pub fn validate(scene: &Scene, file: &str) -> Result<(), InputError> {
             Material::Emissive { radiance } => check_vec3(&format!("{path}.radiance"), radiance, true),
         };
         if let Some((path, reason)) = problem {
-            return err(path, reason);
+            return Err((path, reason));
         }
     }
+    Ok(())
+}
 
-    // Shapes are numbered as a file written by `export` lists them: spheres, quads, meshes.
+/// Shapes are numbered as a file written by `export` lists them: spheres, quads, meshes.
+fn check_objects(scene: &Scene) -> Result<(), Problem> {
     let n_materials = scene.materials.len();
     let material_ok = |path: &str, m: u32| {
         ((m as usize) >= n_materials).then(|| {
@@ -224,29 +241,38 @@ pub fn validate(scene: &Scene, file: &str) -> Result<(), InputError> {
             (false, None) => None,
         };
         if let Some((path, reason)) = problem.or_else(|| material_ok(&path, material)) {
-            return err(path, reason);
+            return Err((path, reason));
         }
     }
+    Ok(())
+}
+
+fn check_meshes(scene: &Scene) -> Result<(), Problem> {
     for (k, m) in scene.meshes.iter().enumerate() {
         let path = format!("objects[{}]", scene.spheres.len() + scene.quads.len() + k);
         if m.triangles.is_empty() {
-            return err(format!("{path}.file"), "the mesh has no triangles".into());
+            return Err((format!("{path}.file"), "the mesh has no triangles".into()));
         }
         if let Some(t) = m.triangles.iter().flatten().find(|p| !p.is_finite()) {
-            return err(format!("{path}.file"), format!("a vertex is not finite: {}", fmt_vec(*t)));
+            return Err((format!("{path}.file"), format!("a vertex is not finite: {}", fmt_vec(*t))));
         }
         if let Some(uvs) = &m.uvs {
             if uvs.len() != m.triangles.len() {
-                return err(
+                return Err((
                     format!("{path}.file"),
                     format!("{} triangles but texture coordinates for {}", m.triangles.len(), uvs.len()),
-                );
+                ));
             }
             if let Some(uv) = uvs.iter().flatten().find(|uv| !uv.is_finite()) {
-                return err(format!("{path}.file"), format!("a texture coordinate is not finite: {uv}"));
+                return Err((format!("{path}.file"), format!("a texture coordinate is not finite: {uv}")));
             }
         }
     }
+    Ok(())
+}
+
+/// Image textures refer to images that exist, and each image holds its texels.
+fn check_images(scene: &Scene) -> Result<(), Problem> {
     for (i, m) in scene.materials.iter().enumerate() {
         let (Material::Lambertian { albedo: Texture::Image { image, .. } }
         | Material::Metal { albedo: Texture::Image { image, .. }, .. }) = m.material
@@ -254,13 +280,13 @@ pub fn validate(scene: &Scene, file: &str) -> Result<(), InputError> {
             continue;
         };
         if image as usize >= scene.images.len() {
-            return err(
+            return Err((
                 format!("{}.albedo", join("materials", &m.name)),
                 format!(
                     "refers to image {image}, but the scene has {} images (materials[{i}])",
                     scene.images.len()
                 ),
-            );
+            ));
         }
     }
     for im in &scene.images {
@@ -268,10 +294,10 @@ pub fn validate(scene: &Scene, file: &str) -> Result<(), InputError> {
             || im.height == 0
             || im.texels.len() as u64 != u64::from(im.width) * u64::from(im.height)
         {
-            return err(
+            return Err((
                 "images".into(),
                 format!("{}: {}×{} with {} texels", im.source, im.width, im.height, im.texels.len()),
-            );
+            ));
         }
     }
     Ok(())
