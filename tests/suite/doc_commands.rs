@@ -517,6 +517,11 @@ fn every_command_shown_runs() {
         let result = outputs.entry(history.clone()).or_insert_with(|| {
             if !dir.exists() {
                 copy_dir(&fixtures, &dir);
+                // The group's earlier commands were served from another group's runs: they run
+                // here too (checked there), so this one meets the files they leave.
+                for earlier in &history[..history.len() - 1] {
+                    bash(&scratch, &dir, earlier);
+                }
             }
             ran += 1;
             let started = std::time::Instant::now();

@@ -55,6 +55,12 @@ fn all_knobs() -> Vec<WavefrontOptions> {
     v
 }
 
+/// Every knob set of [`all_knobs`], each with one of `cases` in turn: every set runs, and each
+/// case meets several sets, at a fraction of the renders of every pairing.
+fn knobs_in_turn<T>(cases: &[T]) -> impl Iterator<Item = (&T, WavefrontOptions)> {
+    all_knobs().into_iter().enumerate().map(move |(i, knobs)| (&cases[i % cases.len()], knobs))
+}
+
 /// The bar: ≥ 99.5% of pixels within 1e-3 relative (per channel), means within 0.1%.
 fn assert_match(what: &str, a: &Film, b: &Film) {
     let (frac, mean_diff) = common::same_sample_agreement(a, b, 1e-6);
@@ -275,10 +281,8 @@ fn regenerate_gives_the_waved_film_bit_for_bit() {
         ("rtiow-final", settings(16)),
         ("cornell", RenderSettings { nee: true, max_depth: 12, ..settings(8) }),
     ];
-    // Each knob set on one of the scenes, taking turns: every knob meets both scenes' paths
-    // (NEE's shadow rays on cornell) across the sets, at half the renders of every pairing.
-    for (i, knobs) in all_knobs().into_iter().enumerate() {
-        let (scene, s) = &cases[i % cases.len()];
+    // Both scenes' paths (NEE's shadow rays on cornell) across the knob sets.
+    for ((scene, s), knobs) in knobs_in_turn(&cases) {
         // A pool of 700 makes chunks of 8 pools: many chunks, many refills per chunk.
         let waves = WavefrontOptions { pool_size: Some(PoolSize::Paths(700)), ..knobs };
         let w = run_wavefront(scene, s, waves);
@@ -495,13 +499,13 @@ fn the_megakernel_tail_agrees_with_the_megakernel() {
         ("rtiow-final", settings(16)),
         ("cornell", RenderSettings { nee: true, max_depth: 12, ..settings(8) }),
     ];
-    let references: Vec<Film> = cases
-        .iter()
-        .map(|(scene, s)| run(Method::Megakernel, scene, s, &MethodOptions::default()).film)
+    let cases: Vec<(&str, RenderSettings, Film)> = cases
+        .into_iter()
+        .map(|(scene, s)| {
+            (scene, s.clone(), run(Method::Megakernel, scene, &s, &MethodOptions::default()).film)
+        })
         .collect();
-    // Each knob set on one of the scenes, taking turns (as in the regeneration test above).
-    for (i, knobs) in all_knobs().into_iter().enumerate() {
-        let ((scene, s), reference) = (&cases[i % cases.len()], &references[i % cases.len()]);
+    for ((scene, s, reference), knobs) in knobs_in_turn(&cases) {
         for threshold in [0.05, 1.0] {
             let wf = WavefrontOptions {
                 pool_size: Some(PoolSize::Paths(2000)),
