@@ -6,9 +6,15 @@
 //! Reuse is safe because wgpu deduplicates bind-group layouts by their entries (wgpu-core's
 //! layout pool): a pipeline built against an earlier layout accepts bind groups made from an
 //! equal one. Layouts are cached here as well, so equal layouts are the same object.
+//!
+//! A pipeline is keyed by the constants its entry point reaches, not by every constant it is
+//! given: the wavefront gives each pass every knob's constant, and most passes read few of them,
+//! so two renders that differ in one knob share the passes that never read it (on the software
+//! driver, where each pipeline costs about half a second to compile, this is most of the test
+//! suite's GPU time).
 
 use std::collections::hash_map::DefaultHasher;
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap};
 use std::hash::{Hash, Hasher};
 use std::sync::Mutex;
 
@@ -28,6 +34,10 @@ struct Entries {
     /// By label, a hash of the composed source, and the runtime checks it was compiled with.
     modules: HashMap<(&'static str, u64, super::shader_checks::ShaderChecks), wgpu::ShaderModule>,
     pipelines: HashMap<PipelineKey, wgpu::ComputePipeline>,
+    /// Each module's WGSL as naga reads it, to tell which constants an entry point reaches.
+    parsed: HashMap<wgpu::ShaderModule, naga::Module>,
+    /// By module and entry point: the pipeline constants it reaches.
+    reached: HashMap<(wgpu::ShaderModule, &'static str), BTreeSet<String>>,
 }
 
 /// What one device has built, with counts of what was reused (for logs and tests).
@@ -65,7 +75,11 @@ impl StageCache {
             return Ok(m.clone());
         }
         let m = make()?;
-        self.entries.lock().unwrap().modules.insert(key, m.clone());
+        let mut e = self.entries.lock().unwrap();
+        e.modules.insert(key, m.clone());
+        if let Ok(parsed) = naga::front::wgsl::parse_str(source) {
+            e.parsed.insert(m.clone(), parsed);
+        }
         Ok(m)
     }
 
@@ -79,11 +93,16 @@ impl StageCache {
         constants: &[(&str, f64)],
         make: impl FnOnce() -> Result<wgpu::ComputePipeline, E>,
     ) -> Result<wgpu::ComputePipeline, E> {
+        let reached = self.reached(module, label);
         let key = PipelineKey {
             label,
             module: module.clone(),
             layouts: layouts.iter().map(|&l| l.clone()).collect(),
-            constants: constants.iter().map(|&(n, v)| (n.to_string(), v.to_bits())).collect(),
+            constants: constants
+                .iter()
+                .filter(|(n, _)| reached.as_ref().is_none_or(|r| r.contains(*n)))
+                .map(|&(n, v)| (n.to_string(), v.to_bits()))
+                .collect(),
         };
         if let Some(p) = self.entries.lock().unwrap().pipelines.get(&key) {
             *self.hits.lock().unwrap() += 1;
@@ -94,6 +113,19 @@ impl StageCache {
         Ok(p)
     }
 
+    /// The constants entry point `label` of `module` reaches (`None` for a module built
+    /// elsewhere: then every constant keys its pipelines).
+    fn reached(&self, module: &wgpu::ShaderModule, label: &'static str) -> Option<BTreeSet<String>> {
+        let mut e = self.entries.lock().unwrap();
+        let key = (module.clone(), label);
+        if let Some(r) = e.reached.get(&key) {
+            return Some(r.clone());
+        }
+        let r = reached_constants(e.parsed.get(module)?, label)?;
+        e.reached.insert(key, r.clone());
+        Some(r)
+    }
+
     /// Modules and pipelines served from the cache so far.
     pub fn hits(&self) -> u64 {
         *self.hits.lock().unwrap()
@@ -102,5 +134,48 @@ impl StageCache {
     /// Pipelines built so far.
     pub fn pipelines(&self) -> usize {
         self.entries.lock().unwrap().pipelines.len()
+    }
+}
+
+/// The named overrides entry point `entry` of `module` reaches, directly or through the
+/// functions it calls, array sizes, its workgroup size and other overrides' initializers:
+/// naga's compaction of the module cut to that entry point keeps exactly those. `None` when the
+/// module has no such entry point.
+pub fn reached_constants(module: &naga::Module, entry: &str) -> Option<BTreeSet<String>> {
+    let mut m = module.clone();
+    m.entry_points.retain(|e| e.name == entry);
+    if m.entry_points.is_empty() {
+        return None;
+    }
+    naga::compact::compact(&mut m, naga::compact::KeepUnused::No);
+    Some(m.overrides.iter().filter_map(|(_, o)| o.name.clone()).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::reached_constants;
+
+    /// An entry point reaches the overrides its functions read, its workgroup size's, those an
+    /// array size or a reached override's initializer names, and no other.
+    #[test]
+    fn an_entry_point_reaches_only_the_constants_it_reads() {
+        let src = "
+            override A: u32 = 1u;
+            override B: u32 = 2u;
+            override C: u32 = 3u;
+            override D: u32 = A * 2u;
+            override WG: u32 = 64u;
+            override LEN: u32 = 4u;
+            var<workgroup> scratch: array<u32, LEN>;
+            @group(0) @binding(0) var<storage, read_write> out: array<u32>;
+            fn helper() -> u32 { return D; }
+            @compute @workgroup_size(WG) fn first() { out[0] = helper() + scratch[0]; }
+            @compute @workgroup_size(1) fn second() { out[1] = B; }
+        ";
+        let module = naga::front::wgsl::parse_str(src).unwrap();
+        let names = |e| reached_constants(&module, e).unwrap().into_iter().collect::<Vec<_>>();
+        assert_eq!(names("first"), ["A", "D", "LEN", "WG"]);
+        assert_eq!(names("second"), ["B"]);
+        assert!(reached_constants(&module, "third").is_none());
     }
 }
