@@ -10,7 +10,7 @@ use super::texture::TexturePoint;
 use super::{background::background, camera::Camera, material::scatter};
 use super::{primitive::outward_normal, ray::Ray, real::Real, vec3::V3};
 use crate::layout::{material_kind, texture_kind};
-use crate::numerics::Failures;
+use crate::numerics::{Failures, SphereHit};
 use crate::packed_scene::PackedScene;
 use crate::rng::{uniform4, Purpose};
 use crate::settings::RenderSettings;
@@ -107,28 +107,10 @@ pub fn trace_path_observed<T: Real>(
         let origin = spawn_origin(&sp, outward, s.dir, robust);
         if lights_sampled {
             let u = uniform4(pixel, sample, bounce, Purpose::Light, seed);
-            if let Some(mut shadow) = next_event(scene, p, normal, u) {
-                out.rays += 1;
-                shadow.ray.origin = origin;
-                let blocker = occluder_observed(
-                    scene.bvh_nodes(),
-                    &scene.primitives,
-                    &shadow.ray,
-                    (t_min, shadow.t_max),
-                    shadow.light,
-                    sphere,
-                    observer,
-                );
-                match blocker {
-                    None => {
-                        out.radiance =
-                            out.radiance + throughput.mul_elem(s.attenuation).mul_elem(shadow.weight)
-                    }
-                    Some(b) => {
-                        out.failures.shadow_self_hits +=
-                            is_self_hit(&scene.primitives, hit.prim, b.prim, &shadow.ray, b.t) as u64
-                    }
-                }
+            let light =
+                shadow_ray(scene, (p, normal, origin), hit.prim, u, (t_min, sphere), observer, &mut out);
+            if let Some(w) = light {
+                out.radiance = out.radiance + throughput.mul_elem(s.attenuation).mul_elem(w);
             }
         }
         throughput = throughput.mul_elem(s.attenuation);
@@ -147,6 +129,41 @@ pub fn trace_path_observed<T: Real>(
     // Out of depth: as in the book, the unfinished path adds nothing more.
     out.failures.depth_cut = 1;
     out
+}
+
+/// Next-event estimation's shadow ray from `origin`, for hit point `p` with `normal` on
+/// primitive `prim`: the sampled light's weighted radiance where nothing blocks it. Counts the
+/// ray, and a blocker that is the surface itself as a shadow self-hit, in `out`.
+#[inline(always)]
+fn shadow_ray<T: Real>(
+    scene: &PackedScene,
+    (p, normal, origin): (V3<T>, V3<T>, V3<T>),
+    prim: u32,
+    u: [f32; 4],
+    (t_min, sphere): (T, SphereHit),
+    observer: &mut impl PathObserver,
+    out: &mut PathSample<T>,
+) -> Option<V3<T>> {
+    let mut shadow = next_event(scene, p, normal, u)?;
+    out.rays += 1;
+    shadow.ray.origin = origin;
+    let range = (t_min, shadow.t_max);
+    match occluder_observed(
+        scene.bvh_nodes(),
+        &scene.primitives,
+        &shadow.ray,
+        range,
+        shadow.light,
+        sphere,
+        observer,
+    ) {
+        None => Some(shadow.weight),
+        Some(b) => {
+            out.failures.shadow_self_hits +=
+                is_self_hit(&scene.primitives, prim, b.prim, &shadow.ray, b.t) as u64;
+            None
+        }
+    }
 }
 
 /// pbrt-v4's Russian roulette (`PathIntegrator::Li`) at hit `bounce` (0: the camera ray's hit),

@@ -126,38 +126,14 @@ pub fn render(
     // Checked dispatches count failures per accepted attempt (a retried one would count twice).
     let (dispatches, checked_failures) = match (threads, &work, cap) {
         (Some(threads), Some(work), Some(cap)) => {
-            let mut run = Checked {
-                ctx,
-                trace: &trace,
-                accumulate: &accumulate,
-                work,
-                failures: &scene_buffers.failures,
-                counted: Failures::default(),
-                threads,
-                wg: opts.workgroup_size,
-                work_staging: Staging::new(ctx, "work counters read-back", 12),
-                failures_staging: Staging::new(ctx, "failure counters read-back", FAILURE_BYTES),
-            };
+            let mut run =
+                Checked::new(ctx, &trace, &accumulate, work, &scene_buffers.failures, threads, opts);
             let n = run.render(&plan, &params, cap, &mut timer, on_progress)?;
             (n, Some(run.counted))
         }
         _ => {
-            if let Some(work) = &work {
-                ctx.queue.write_buffer(work, 4 * WORK_PATHS_PER_THREAD, bytemuck::bytes_of(&u32::MAX));
-            }
-            let batched = Batched {
-                trace: &trace,
-                accumulate: &accumulate,
-                work: work.as_ref(),
-                threads,
-                wg: opts.workgroup_size,
-            };
-            let n =
-                batched.render(ctx, &plan, &params, opts.dispatches_per_submit, &mut timer, on_progress)?;
-            if let Some(work) = &work {
-                check_finished(ctx, work, settings.sample_count())?;
-            }
-            (n, None)
+            let batched = Batched { trace: &trace, accumulate: &accumulate, work: work.as_ref(), threads };
+            (batched.render(ctx, &plan, &params, opts, settings, &mut timer, on_progress)?, None)
         }
     };
     memory.transient(film_bytes);
@@ -298,22 +274,28 @@ struct Batched<'a> {
     accumulate: &'a Accumulate,
     work: Option<&'a wgpu::Buffer>,
     threads: Option<u32>,
-    wg: u32,
 }
 
 impl Batched<'_> {
-    /// Records and runs the plan; returns the passes dispatched.
+    /// Records and runs the plan; returns the passes dispatched. Regenerating, the threads'
+    /// paths are not capped, and every sample asked must have been taken.
+    #[allow(clippy::too_many_arguments)]
     fn render(
         &self,
         ctx: &GpuContext,
         plan: &[DispatchParams],
         params: &DispatchUniforms,
-        dispatches_per_submit: u32,
+        opts: &MegakernelOptions,
+        settings: &RenderSettings,
         timer: &mut GpuTimer,
         on_progress: &dyn Fn(u64),
     ) -> Result<u64> {
+        if let Some(work) = self.work {
+            ctx.queue.write_buffer(work, 4 * WORK_PATHS_PER_THREAD, bytemuck::bytes_of(&u32::MAX));
+        }
+        let wg = opts.workgroup_size;
         // Two passes (trace, accumulate) per dispatch.
-        let per_submit = dispatches_per_submit.clamp(1, MAX_PASSES_PER_BATCH / 2) as usize;
+        let per_submit = opts.dispatches_per_submit.clamp(1, MAX_PASSES_PER_BATCH / 2) as usize;
         let mut done = 0u64;
         for (batch_index, batch) in plan.chunks(per_submit).enumerate() {
             let mut enc = ctx.device.create_command_encoder(&Default::default());
@@ -324,16 +306,19 @@ impl Batched<'_> {
                     (Some(threads), Some(work)) => {
                         // The dispatch's next sample starts at 0 (the first word only).
                         enc.clear_buffer(work, 0, Some(4));
-                        threads.min(samples.next_multiple_of(self.wg))
+                        threads.min(samples.next_multiple_of(wg))
                     }
                     _ => samples,
                 };
-                self.trace.record(&mut enc, timer, offset, launched, self.wg);
+                self.trace.record(&mut enc, timer, offset, launched, wg);
                 self.accumulate.record(&mut enc, timer, offset, d.pixel_count);
             }
             timer.submit_batch(ctx, enc)?;
             done += batch.iter().map(|d| d.pixel_count as u64 * d.sample_count as u64).sum::<u64>();
             on_progress(done);
+        }
+        if let Some(work) = self.work {
+            check_finished(ctx, work, settings.sample_count())?;
         }
         Ok(2 * plan.len() as u64)
     }
@@ -360,7 +345,30 @@ struct Checked<'a> {
     failures_staging: Staging,
 }
 
-impl Checked<'_> {
+impl<'a> Checked<'a> {
+    fn new(
+        ctx: &'a GpuContext,
+        trace: &'a Trace<'a>,
+        accumulate: &'a Accumulate,
+        work: &'a wgpu::Buffer,
+        failures: &'a wgpu::Buffer,
+        threads: u32,
+        opts: &MegakernelOptions,
+    ) -> Self {
+        Checked {
+            ctx,
+            trace,
+            accumulate,
+            work,
+            failures,
+            counted: Failures::default(),
+            threads,
+            wg: opts.workgroup_size,
+            work_staging: Staging::new(ctx, "work counters read-back", 12),
+            failures_staging: Staging::new(ctx, "failure counters read-back", FAILURE_BYTES),
+        }
+    }
+
     fn render(
         &mut self,
         plan: &[DispatchParams],
