@@ -28,12 +28,15 @@ pub struct PrimitiveRecord {
     pub material: u32,
 }
 
-/// Material kinds as stored in [`MaterialRecord::kind`] (WGSL: `MATERIAL_*` in `material.wgsl`).
+/// Material kinds as stored in [`MaterialRecord::kind`] (WGSL: `MATERIAL_*` in `shared/kinds.wgsl`).
 pub mod material_kind {
     pub const LAMBERTIAN: u32 = 0;
     pub const METAL: u32 = 1;
     pub const DIELECTRIC: u32 = 2;
     pub const EMISSIVE: u32 = 3;
+    /// Kinds in this list (`MATERIAL_KIND_COUNT` in WGSL): the wavefront's material queues,
+    /// shade passes and histogram columns follow it (`wavefront::path_state::QueueLayout`).
+    pub const COUNT: usize = 4;
 }
 
 /// Texture kinds as stored in [`MaterialRecord::texture`] (WGSL: `TEXTURE_*` in `texture.wgsl`).

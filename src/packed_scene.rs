@@ -25,7 +25,7 @@ use glam::Vec3;
 /// Masks with every `layout::primitive_kind`, `material_kind` and `texture_kind` (each list runs
 /// from 0 to its last kind): what `--specialize none` compiles in, and the WGSL defaults.
 pub const EVERY_PRIMITIVE_KIND: u32 = (1 << (primitive_kind::TRIANGLE + 1)) - 1;
-pub const EVERY_MATERIAL_KIND: u32 = (1 << (material_kind::EMISSIVE + 1)) - 1;
+pub const EVERY_MATERIAL_KIND: u32 = (1 << material_kind::COUNT) - 1;
 pub const EVERY_TEXTURE_KIND: u32 = (1 << (texture_kind::IMAGE + 1)) - 1;
 
 #[derive(Clone, Debug)]

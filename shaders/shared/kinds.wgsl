@@ -10,3 +10,12 @@ fn kind_is(kinds: u32, value: u32, k: u32) -> bool {
     }
     return kinds == (1u << k) || value == k;
 }
+
+// Material kinds as stored in `Material.kind` (twin of layout::material_kind), and how many
+// there are: the wavefront's material queues, shade passes and every slot after them follow
+// the count (wavefront/shared/path_state.wgsl).
+const MATERIAL_LAMBERTIAN: u32 = 0u;
+const MATERIAL_METAL: u32 = 1u;
+const MATERIAL_DIELECTRIC: u32 = 2u;
+const MATERIAL_EMISSIVE: u32 = 3u;
+const MATERIAL_KIND_COUNT: u32 = 4u;

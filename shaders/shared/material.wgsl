@@ -1,9 +1,6 @@
 // Scattering by the book's materials; twin of src/cpu/material.rs.
 
-const MATERIAL_LAMBERTIAN: u32 = 0u;
-const MATERIAL_METAL: u32 = 1u;
-const MATERIAL_DIELECTRIC: u32 = 2u;
-const MATERIAL_EMISSIVE: u32 = 3u;
+// The kinds (MATERIAL_*) are listed in shared/kinds.wgsl, included below.
 
 struct Material {
     // Albedo (or its tint for noise and marble, the even squares of a checker), or radiance for

@@ -24,6 +24,10 @@ var<workgroup> scratch: array<vec4<u32>, SCAN_WG>;
 // false: building the material queues (after intersect); true: the next ray queue (after shade).
 override TARGET_RAYS: bool = false;
 
+// After intersect a position's lanes are the material queues, one per kind: a vec4 holds four.
+// A fifth kind needs wider flags (or a scan per four kinds); until then the build says so here.
+const_assert MATERIAL_KIND_COUNT <= 4u;
+
 fn one_hot(q: u32) -> vec4<u32> {
     if q == DEAD {
         return vec4<u32>(0u);

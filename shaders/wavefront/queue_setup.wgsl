@@ -164,7 +164,7 @@ fn queue_setup_intersect() {
     record(bounce, QUEUE_RAY_0, n);
     // A scan after intersect (scan method) covers the ray queue's positions.
     set_compact_args(n, select(0u, 2u, COMPACTION == COMPACTION_SCAN));
-    for (var k = 0u; k < 4u; k++) {
+    for (var k = 0u; k < MATERIAL_KIND_COUNT; k++) {
         atomicStore(&counters[QUEUE_MATERIAL_0 + k], 0u);
     }
     if SHADE_PASSES == SHADE_PER_TEXTURE {
@@ -179,7 +179,7 @@ fn queue_setup_intersect() {
 fn queue_setup_shade() {
     let bounce = current_bounce();
     var positions = 0u;
-    for (var k = 0u; k < 4u; k++) {
+    for (var k = 0u; k < MATERIAL_KIND_COUNT; k++) {
         var n = pool_slots();
         if COMPACTION != COMPACTION_OFF {
             n = atomicLoad(&counters[QUEUE_MATERIAL_0 + k]);
@@ -192,7 +192,7 @@ fn queue_setup_shade() {
         atomicStore(&counters[COUNTER_SHADE_BASE + k], positions);
         positions += n;
     }
-    // --shade sorted: one pass over the four queues end to end.
+    // --shade sorted: one pass over the material queues end to end.
     if SHADE_PASSES == SHADE_SORTED {
         set_args(ARGS_SHADE_0, positions);
         count_dispatches(positions, 1u);
@@ -204,7 +204,7 @@ fn queue_setup_shade() {
         for (var k = 0u; k < PATTERN_QUEUES; k++) {
             let n = atomicLoad(&counters[COUNTER_PATTERN_0 + k]);
             set_args(ARGS_PATTERN_0 + k, n);
-            if (SHADE_MASK & (1u << (4u + k))) != 0u {
+            if (SHADE_MASK & (1u << (MATERIAL_KIND_COUNT + k))) != 0u {
                 count_dispatches(n, 1u);
             }
             record(bounce, QUEUE_MATERIAL_0, n);

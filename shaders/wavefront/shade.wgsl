@@ -256,7 +256,7 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/
 fn shade_sorted(@builtin(global_invocation_id) gid: vec3<u32>, /*@subgroup_size_param*/) {
     instrument_begin(/*@subgroup_size_arg*/);
     var kind = 0u;
-    for (var k = 1u; k < 4u; k++) {
+    for (var k = 1u; k < MATERIAL_KIND_COUNT; k++) {
         if gid.x >= atomicLoad(&counters[COUNTER_SHADE_BASE + k]) {
             kind = k;
         }

@@ -220,18 +220,21 @@ pub fn print_pass_table(t: &Timings, r: &RunReport) {
         // The shadow column only with --nee on in a scene with lights.
         let shadow = !h.shadow.is_empty();
         let shadow_head = if shadow { format!(" {:>12}", "shadow") } else { String::new() };
-        println!(
-            "bounce {:>12} {:>12} {:>12} {:>12} {:>12}{shadow_head}",
-            "rays", "lambertian", "metal", "dielectric", "emissive"
-        );
+        // A column per material kind, named as its shade pass.
+        let kinds: String = crate::gpu::label::SHADE_BY_KIND
+            .iter()
+            .map(|l| format!(" {:>12}", &l["shade_".len()..]))
+            .collect();
+        println!("bounce {:>12}{kinds}{shadow_head}", "rays");
         for (b, rays) in h.rays.iter().enumerate() {
-            let m = |k: usize| h.materials[k].get(b).copied().unwrap_or(0);
+            let m: String =
+                h.materials.iter().map(|m| format!(" {:>12}", m.get(b).copied().unwrap_or(0))).collect();
             let s = if shadow {
                 format!(" {:>12}", h.shadow.get(b).copied().unwrap_or(0))
             } else {
                 String::new()
             };
-            println!("{b:>6} {rays:>12} {:>12} {:>12} {:>12} {:>12}{s}", m(0), m(1), m(2), m(3));
+            println!("{b:>6} {rays:>12}{m}{s}");
         }
     }
 }

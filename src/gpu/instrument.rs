@@ -4,7 +4,7 @@
 //! in their `.instrumented` variants (`shaders/shared/instrument_on.wgsl`); timing runs use the
 //! plain variants and carry no counters.
 //!
-//! Two kinds of slot. The *entry points* (the first 15: a pass's body after its early returns,
+//! Two kinds of slot. The *entry points* (the first [`FIRST_STEP_SLOT`]: a pass's body after its early returns,
 //! the top of a megakernel bounce, a material branch) count each subgroup once per arrival. The
 //! *traversal steps* (`*_traverse_{inner,leaf,primitive}`) count inside the BVH loop, once per
 //! iteration, so a lane whose ray finished early counts idle for every step its neighbours
@@ -21,8 +21,9 @@ use super::memory::{MemoryCategory, MemoryLedger};
 use anyhow::{bail, Result};
 use std::collections::BTreeMap;
 
-/// Slot names, in the order of `shaders/shared/instrument_ids.wgsl`.
-pub const SLOTS: [&str; 27] = [
+/// Slot names, in the order of `shaders/shared/instrument_ids.wgsl`: a megakernel branch and a
+/// shade pass per material kind (`layout::material_kind` order).
+pub const SLOTS: [&str; FIRST_STEP_SLOT + 12] = [
     "megakernel_bounce",
     "megakernel_material",
     "megakernel_lambertian",
@@ -54,7 +55,7 @@ pub const SLOTS: [&str; 27] = [
 
 /// Slots before this one are entry points, counted once per arrival; from it on, traversal
 /// steps counted per loop iteration.
-pub const FIRST_STEP_SLOT: usize = 15;
+pub const FIRST_STEP_SLOT: usize = 7 + 2 * crate::layout::material_kind::COUNT;
 
 /// The frame-level work-weighted figure's key: the counterpart of nvprof's warp execution
 /// efficiency.
@@ -296,15 +297,16 @@ mod tests {
     /// `TRAVERSE_*` order.
     #[test]
     fn slots_match_the_shader_ids() {
-        let ids = include_str!("../../shaders/shared/instrument_ids.wgsl");
-        let consts: BTreeMap<&str, usize> = ids
-            .lines()
-            .filter_map(|l| l.strip_prefix("const "))
-            .filter_map(|l| {
-                let (name, rest) = l.split_once(':')?;
-                let v = rest.split('=').nth(1)?.trim();
-                Some((name, v.split(';').next()?.trim_end_matches('u').parse().ok()?))
+        // The ids as naga folds them (computed from the kind count) in a shader that includes them.
+        let module = naga::front::wgsl::parse_str(crate::gpu::shaders::MEGAKERNEL.plain()).unwrap();
+        let consts: BTreeMap<&str, usize> = module
+            .constants
+            .iter()
+            .filter_map(|(_, c)| match module.global_expressions[c.init] {
+                naga::Expression::Literal(naga::Literal::U32(v)) => Some((c.name.as_deref()?, v as usize)),
+                _ => None,
             })
+            .filter(|(n, _)| n.starts_with("PASS_") || n.starts_with("TRAVERSE_"))
             .collect();
         assert_eq!(consts["PASS_SLOTS"], SLOTS.len());
         let mut checked = 0;

@@ -60,7 +60,7 @@ pub mod label {
     pub const INTERSECT_REGISTERS: &str = "intersect_registers";
     pub const QUEUE_SETUP_SHADE: &str = "queue_setup_shade";
     /// Shade passes by material kind (`layout::material_kind` order).
-    pub const SHADE_BY_KIND: [&str; 4] =
+    pub const SHADE_BY_KIND: [&str; crate::layout::material_kind::COUNT] =
         ["shade_lambertian", "shade_metal", "shade_dielectric", "shade_emissive"];
     /// `--shade per-texture`: the shade passes of the costly patterns (`scene::Pattern::ALL`
     /// order).

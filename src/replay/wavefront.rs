@@ -27,6 +27,7 @@ use crate::cpu::camera::Camera;
 use crate::gpu::label;
 use crate::gpu::wavefront::schedule::{shares, ChunkCounters, Decision, Progress, Ring};
 use crate::gpu::wavefront::{Compaction, QueueOrder, ShadePasses, Tail, WavefrontOptions, DEFAULT_POOL};
+use crate::layout::material_kind::COUNT as KINDS;
 use crate::layout::DispatchParams;
 use crate::options::{PoolSize, RunSchedule, Schedule};
 use crate::packed_scene::PackedScene;
@@ -631,7 +632,7 @@ impl Wave<'_> {
         shadow_pass: bool,
     ) -> Vec<usize> {
         // Intersect: closest hits; hits go to their material's queue in queue order.
-        let mut material: [Vec<usize>; 4] = Default::default();
+        let mut material: [Vec<usize>; KINDS] = Default::default();
         let queue = self.queue(rays);
         self.pass(label::INTERSECT, &queue, |wave, active| {
             active.iter().for_each(|&l| wave.lanes[l].at += 1);
@@ -640,16 +641,17 @@ impl Wave<'_> {
         for &l in rays {
             if let Some(e) = self.lanes[l].next().filter(|&e| is_hit(e)) {
                 let by_kind = matches!(shade, ShadePasses::PerMaterial | ShadePasses::Sorted);
-                let k = if by_kind { (e & 0xff).min(3) as usize } else { 0 };
+                let k = if by_kind { ((e & 0xff) as usize).min(KINDS - 1) } else { 0 };
                 material[k].push(l);
             }
         }
         // Shade, pass by pass in kind order: the next ray queue and the shadow queue.
         let (mut next, mut shadow) = (Vec::new(), Vec::new());
         let passes: Vec<(usize, &str)> = match shade {
-            ShadePasses::PerMaterial => {
-                kinds.iter().map(|&k| (k as usize, label::SHADE_BY_KIND[(k as usize).min(3)])).collect()
-            }
+            ShadePasses::PerMaterial => kinds
+                .iter()
+                .map(|&k| (k as usize, label::SHADE_BY_KIND[(k as usize).min(KINDS - 1)]))
+                .collect(),
             ShadePasses::Single => vec![(0, label::SHADE)],
             // One pass over the kinds' queues end to end, in kind order (queue_setup_shade's
             // positions): subgroups of one kind but at the seams. Its lanes are counted in the

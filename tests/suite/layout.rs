@@ -129,6 +129,7 @@ fn material_kinds_match() {
         ("MATERIAL_METAL", material_kind::METAL),
         ("MATERIAL_DIELECTRIC", material_kind::DIELECTRIC),
         ("MATERIAL_EMISSIVE", material_kind::EMISSIVE),
+        ("MATERIAL_KIND_COUNT", material_kind::COUNT as u32),
         ("BACKGROUND_SKY", background_kind::SKY),
         ("BACKGROUND_CONSTANT", background_kind::CONSTANT),
     ] {
@@ -148,16 +149,111 @@ fn accumulate_range() {
 
 /// The value of WGSL `const name: u32` in `source`, as naga folds it.
 fn wgsl_u32(source: &str, name: &str) -> u64 {
+    wgsl_u32s(source, &[name])[0]
+}
+
+/// The values of WGSL `const`s `names: u32` in `source` (parsed once), as naga folds them.
+fn wgsl_u32s(source: &str, names: &[&str]) -> Vec<u64> {
     let module = naga::front::wgsl::parse_str(source).expect("shader parses");
-    let (_, c) = module
-        .constants
-        .iter()
-        .find(|(_, c)| c.name.as_deref() == Some(name))
-        .unwrap_or_else(|| panic!("WGSL const {name} not found"));
-    match module.global_expressions[c.init] {
-        naga::Expression::Literal(naga::Literal::U32(v)) => v as u64,
-        ref e => panic!("{name} = {e:?}: not a folded u32"),
+    let value = |name: &str| {
+        let (_, c) = module
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("WGSL const {name} not found"));
+        match module.global_expressions[c.init] {
+            naga::Expression::Literal(naga::Literal::U32(v)) => v as u64,
+            ref e => panic!("{name} = {e:?}: not a folded u32"),
+        }
+    };
+    names.iter().map(|n| value(n)).collect()
+}
+
+/// Asserts that `regions` (start, length) follow one another from 0 and fill `total`.
+fn tiles(what: &str, regions: &[(u64, u64)], total: u64) {
+    let mut end = 0;
+    for &(start, len) in regions {
+        assert_eq!(start, end, "{what}: a region starts where the last ended");
+        end = start + len;
     }
+    assert_eq!(end, total, "{what}: the regions fill the buffer");
+}
+
+/// Adding a material kind renumbers nothing (docs/architecture-and-file-map.md): the queue,
+/// counter and argument layout is a function of the kind count, in Rust (`QueueLayout`) and in
+/// WGSL (from `MATERIAL_KIND_COUNT`) alike. With this build's kinds and with one more (the WGSL
+/// recompiled with the count raised), every slot the shaders fold equals the Rust layout's, the
+/// regions still tile their buffers, and each earlier kind keeps its queue and argument slot.
+#[test]
+fn queue_layout_follows_the_kind_count() {
+    use wavetrace::gpu::wavefront::path_state::{self as ps, QueueLayout};
+    let count = material_kind::COUNT as u64;
+    let declared = format!("const MATERIAL_KIND_COUNT: u32 = {count}u;");
+    assert!(shaders::QUEUE_SETUP.contains(&declared), "WGSL counts the kind table's kinds");
+    assert_eq!(ps::LAYOUT, QueueLayout::new(count));
+    let names = [
+        "QUEUE_MATERIAL_0",
+        "QUEUE_SHADOW",
+        "QUEUE_FREE",
+        "QUEUE_COUNT",
+        "QUEUE_PATTERN_0",
+        "COUNTER_STATS",
+        "COUNTER_SHADE_BASE",
+        "COUNTER_NEXT_SAMPLE",
+        "COUNTER_RING_0",
+        "COUNTER_PATTERN_0",
+        "ARGS_SHADE_0",
+        "ARGS_COMPACT",
+        "ARGS_ACCUMULATE",
+        "ARGS_PATTERN_0",
+    ];
+    for kinds in [count, count + 1] {
+        let src =
+            shaders::QUEUE_SETUP.replace(&declared, &format!("const MATERIAL_KIND_COUNT: u32 = {kinds}u;"));
+        let l = QueueLayout::new(kinds);
+        let rust = [
+            ps::QUEUE_MATERIAL_0,
+            l.queue_shadow,
+            l.queue_free,
+            l.queue_count,
+            l.queue_count,
+            l.counter_stats,
+            l.counter_shade_base,
+            l.counter_schedule,
+            l.counter_ring,
+            l.counter_pattern,
+            ps::ARGS_SHADE_0,
+            l.args_compact,
+            l.args_pattern_0 - 1,
+            l.args_pattern_0,
+        ];
+        for ((name, wgsl), rust) in names.iter().zip(wgsl_u32s(&src, &names)).zip(rust) {
+            assert_eq!(wgsl, rust, "{name} with {kinds} material kinds");
+        }
+        // Queue ids: the ray queues, the material queues, the shadow and free queues.
+        tiles("queues", &[(0, 2), (ps::QUEUE_MATERIAL_0, kinds), (l.queue_shadow, 2)], l.queue_count);
+        let counters = [
+            (0, l.queue_count + 2), // queue counts, the iteration, the scan's positions
+            (l.counter_stats, ps::MAX_STATS_BOUNCES * l.queue_count),
+            (l.counter_shade_base, kinds),
+            (l.counter_schedule, ps::schedule_word::WORDS),
+            (l.counter_ring, ps::MAX_RING_CHUNKS),
+            (l.counter_pattern, ps::PATTERN_QUEUES),
+        ];
+        tiles("counters", &counters, l.counter_words);
+        // Intersect, the shade passes, the seven fixed slots, the patterns'.
+        let args =
+            [(0, 1), (ps::ARGS_SHADE_0, kinds), (l.args_compact, 7), (l.args_pattern_0, ps::PATTERN_QUEUES)];
+        tiles("arguments", &args, l.args_slots);
+    }
+    let (now, more) = (QueueLayout::new(count), QueueLayout::new(count + 1));
+    assert_eq!(more.queue_count, now.queue_count + 1, "one queue more");
+    assert_eq!(more.args_slots, now.args_slots + 1, "one argument slot more");
+    assert_eq!(
+        more.counter_words,
+        now.counter_words + 2 + ps::MAX_STATS_BOUNCES,
+        "one queue count, one shade position and a histogram column more"
+    );
 }
 
 /// The counter words the host reads and writes, and the indirect-argument slots it dispatches
@@ -191,6 +287,7 @@ fn path_state_counters_and_arguments() {
     assert_eq!(wgsl_u32(src, "COUNTER_STATS"), ps::COUNTER_STATS);
     assert_eq!(wgsl_u32(src, "QUEUE_COUNT"), ps::QUEUE_COUNT);
     assert_eq!(wgsl_u32(src, "QUEUE_SHADOW"), ps::QUEUE_SHADOW);
+    assert_eq!(wgsl_u32(src, "QUEUE_MATERIAL_0"), ps::QUEUE_MATERIAL_0);
     assert_eq!(wgsl_u32(src, "SCAN_WG"), ps::SCAN_WG, "the scan's and the sweep's workgroups");
     for (name, slot) in [
         ("ARGS_INTERSECT", ps::ARGS_INTERSECT),
@@ -201,6 +298,8 @@ fn path_state_counters_and_arguments() {
         ("ARGS_TAIL", ps::ARGS_TAIL),
         ("ARGS_COMPACT_STATES_FIND", ps::ARGS_COMPACT_STATES_FIND),
         ("ARGS_COMPACT_STATES_MOVE", ps::ARGS_COMPACT_STATES_MOVE),
+        ("ARGS_ACCUMULATE", ps::ARGS_ACCUMULATE),
+        ("ARGS_PATTERN_0", ps::ARGS_PATTERN_0),
     ] {
         assert_eq!(wgsl_u32(src, name), slot, "{name}");
     }

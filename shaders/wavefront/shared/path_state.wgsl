@@ -10,6 +10,7 @@
 // advanced on the GPU by schedule_decide), so the pool drains once per share, not per chunk.
 
 #include "shared/dispatch.wgsl"
+#include "shared/kinds.wgsl"
 
 // Pipeline constant: true with `--schedule regenerate`.
 override REGENERATE: bool = false;
@@ -19,66 +20,71 @@ override REGENERATE: bool = false;
 // A constant, not a uniform, so that without it none of that code is compiled in.
 override REFILL_IN_PLACE: bool = false;
 
+// The queue, counter and argument layout follows MATERIAL_KIND_COUNT (shared/kinds.wgsl): a kind
+// adds a material queue, a shade pass's first scan position and an argument slot, and every slot
+// after them is computed from those. Twin of QueueLayout in src/gpu/wavefront/path_state.rs.
 // Queue ids: regions of `queues`, each `pool` entries long, and their counters.
 const QUEUE_RAY_0: u32 = 0u;        // ray queues alternate by iteration parity
 const QUEUE_MATERIAL_0: u32 = 2u;   // + material kind (one shared queue with --shade single)
-const QUEUE_SHADOW: u32 = 6u;       // shadow rays (--nee on); always appended atomically
-const QUEUE_FREE: u32 = 7u;         // (regenerate) slots whose path ended; always atomic
-const QUEUE_COUNT: u32 = 8u;
+const QUEUE_SHADOW: u32 = QUEUE_MATERIAL_0 + MATERIAL_KIND_COUNT; // shadow rays (--nee on); always appended atomically
+const QUEUE_FREE: u32 = QUEUE_SHADOW + 1u; // (regenerate) slots whose path ended; always atomic
+const QUEUE_COUNT: u32 = QUEUE_FREE + 1u;
 // (--shade per-texture) + texture kind − TEXTURE_NOISE: a queue per costly pattern, regions after
-// the QUEUE_COUNT others (the queues buffer then holds 16), their counts at COUNTER_PATTERN_0.
-const QUEUE_PATTERN_0: u32 = 8u;
+// the QUEUE_COUNT others, their counts at COUNTER_PATTERN_0.
+const QUEUE_PATTERN_0: u32 = QUEUE_COUNT;
 const PATTERN_QUEUES: u32 = 8u;
 // Word indices in `counters` besides the queue counts.
-const COUNTER_BOUNCE: u32 = 8u;     // current iteration (= bounce in waves), advanced by queue_setup_intersect
-const COUNTER_POSITIONS: u32 = 9u;  // queue positions the next scan compaction covers
-const COUNTER_STATS: u32 = 10u;     // + bounce * QUEUE_COUNT + queue: paths queued, summed over waves
-const COUNTER_SHADE_BASE: u32 = 10u + 64u * QUEUE_COUNT; // + kind: first scan position of each shade pass
-// Scheduling counters, read back by the host after each batch (src/gpu/wavefront/schedule.rs).
-const COUNTER_NEXT_SAMPLE: u32 = COUNTER_SHADE_BASE + 4u;  // (regenerate) the share's next sample to start
+const COUNTER_BOUNCE: u32 = QUEUE_COUNT;     // current iteration (= bounce in waves), advanced by queue_setup_intersect
+const COUNTER_POSITIONS: u32 = QUEUE_COUNT + 1u;  // queue positions the next scan compaction covers
+const COUNTER_STATS: u32 = QUEUE_COUNT + 2u;     // + bounce * QUEUE_COUNT + queue: paths queued, summed over waves
+const COUNTER_SHADE_BASE: u32 = COUNTER_STATS + 64u * QUEUE_COUNT; // + kind: first scan position of each shade pass
+// Scheduling counters, read back by the host after each batch (src/gpu/wavefront/schedule.rs);
+// offsets from COUNTER_SCHEDULE are schedule_word's in path_state.rs.
+const COUNTER_SCHEDULE: u32 = COUNTER_SHADE_BASE + MATERIAL_KIND_COUNT;
+const COUNTER_NEXT_SAMPLE: u32 = COUNTER_SCHEDULE + 0u;  // (regenerate) the share's next sample to start
 // (regenerate) first ray-queue entry of this iteration's refill: queue_setup_regenerate reserves
 // the refill's entries, so `regenerate` appends without an atomic.
-const COUNTER_REFILL_QUEUED: u32 = COUNTER_SHADE_BASE + 5u;
-const COUNTER_REGEN_BASE: u32 = COUNTER_SHADE_BASE + 6u;   // (regenerate) first sample of this iteration's refill
-const COUNTER_EMPTY: u32 = COUNTER_SHADE_BASE + 7u;        // indirect dispatches sized to zero workgroups
-const COUNTER_INDIRECT: u32 = COUNTER_SHADE_BASE + 8u;     // indirect dispatches sized
-const COUNTER_INTERSECTED: u32 = COUNTER_SHADE_BASE + 9u;  // paths queued for intersect, summed
-const COUNTER_IDLE: u32 = COUNTER_SHADE_BASE + 10u;        // iterations that found no ray to trace
+const COUNTER_REFILL_QUEUED: u32 = COUNTER_SCHEDULE + 1u;
+const COUNTER_REGEN_BASE: u32 = COUNTER_SCHEDULE + 2u;   // (regenerate) first sample of this iteration's refill
+const COUNTER_EMPTY: u32 = COUNTER_SCHEDULE + 3u;        // indirect dispatches sized to zero workgroups
+const COUNTER_INDIRECT: u32 = COUNTER_SCHEDULE + 4u;     // indirect dispatches sized
+const COUNTER_INTERSECTED: u32 = COUNTER_SCHEDULE + 5u;  // paths queued for intersect, summed
+const COUNTER_IDLE: u32 = COUNTER_SCHEDULE + 6u;        // iterations that found no ray to trace
 // (regenerate) Written by schedule_decide (queue_setup.wgsl):
-const COUNTER_FILL_LIMIT: u32 = COUNTER_SHADE_BASE + 11u;  // refills start samples below this (the ring's end)
-const COUNTER_TAIL_BOUND: u32 = COUNTER_SHADE_BASE + 12u;  // the tail finishes the paths of samples below this
-const COUNTER_FREE_BASE: u32 = COUNTER_SHADE_BASE + 13u;   // (regenerate) first free-queue entry of this refill
-const COUNTER_CLAMPED: u32 = COUNTER_SHADE_BASE + 14u;     // indirect arguments clamped to the adapter's limit (a bug if > 0)
+const COUNTER_FILL_LIMIT: u32 = COUNTER_SCHEDULE + 7u;  // refills start samples below this (the ring's end)
+const COUNTER_TAIL_BOUND: u32 = COUNTER_SCHEDULE + 8u;  // the tail finishes the paths of samples below this
+const COUNTER_FREE_BASE: u32 = COUNTER_SCHEDULE + 9u;   // (regenerate) first free-queue entry of this refill
+const COUNTER_CLAMPED: u32 = COUNTER_SCHEDULE + 10u;     // indirect arguments clamped to the adapter's limit (a bug if > 0)
 // (regenerate, --compact-states on) States moved and compactions run, summed over a share; the
 // free slots at the refill; compactions whose free list and ray queue disagreed (a bug if > 0).
-const COUNTER_STATES_MOVED: u32 = COUNTER_SHADE_BASE + 15u;
-const COUNTER_COMPACTIONS: u32 = COUNTER_SHADE_BASE + 16u;
-const COUNTER_COMPACT_FREE: u32 = COUNTER_SHADE_BASE + 17u;
-const COUNTER_COMPACT_MISMATCH: u32 = COUNTER_SHADE_BASE + 18u;
+const COUNTER_STATES_MOVED: u32 = COUNTER_SCHEDULE + 11u;
+const COUNTER_COMPACTIONS: u32 = COUNTER_SCHEDULE + 12u;
+const COUNTER_COMPACT_FREE: u32 = COUNTER_SCHEDULE + 13u;
+const COUNTER_COMPACT_MISMATCH: u32 = COUNTER_SCHEDULE + 14u;
 // (regenerate) The decision pass's words (schedule_word in path_state.rs; queue_setup.wgsl's
 // schedule_decide): the first chunk not in the film, the samples started at the last check, the
 // share done, its iterations, iterations since the last check, the last check found every sample
 // started, tail passes and paths; written by the host at the share's start: --sync-every, the
 // tail on, the most live paths it runs at; every sample finished with chunks left out (a bug).
-const COUNTER_OLDEST: u32 = COUNTER_SHADE_BASE + 19u;
-const COUNTER_STARTED_BEFORE: u32 = COUNTER_SHADE_BASE + 20u;
-const COUNTER_DONE: u32 = COUNTER_SHADE_BASE + 21u;
-const COUNTER_ITERATION: u32 = COUNTER_SHADE_BASE + 22u;
-const COUNTER_SINCE_CHECK: u32 = COUNTER_SHADE_BASE + 23u;
-const COUNTER_REFILL_DONE: u32 = COUNTER_SHADE_BASE + 24u;
-const COUNTER_TAIL_PASSES: u32 = COUNTER_SHADE_BASE + 25u;
-const COUNTER_TAIL_PATHS: u32 = COUNTER_SHADE_BASE + 26u;
-const COUNTER_SYNC_EVERY: u32 = COUNTER_SHADE_BASE + 27u;
-const COUNTER_TAIL_ON: u32 = COUNTER_SHADE_BASE + 28u;
-const COUNTER_TAIL_MAX_LIVE: u32 = COUNTER_SHADE_BASE + 29u;
-const COUNTER_FAILED: u32 = COUNTER_SHADE_BASE + 30u;
+const COUNTER_OLDEST: u32 = COUNTER_SCHEDULE + 15u;
+const COUNTER_STARTED_BEFORE: u32 = COUNTER_SCHEDULE + 16u;
+const COUNTER_DONE: u32 = COUNTER_SCHEDULE + 17u;
+const COUNTER_ITERATION: u32 = COUNTER_SCHEDULE + 18u;
+const COUNTER_SINCE_CHECK: u32 = COUNTER_SCHEDULE + 19u;
+const COUNTER_REFILL_DONE: u32 = COUNTER_SCHEDULE + 20u;
+const COUNTER_TAIL_PASSES: u32 = COUNTER_SCHEDULE + 21u;
+const COUNTER_TAIL_PATHS: u32 = COUNTER_SCHEDULE + 22u;
+const COUNTER_SYNC_EVERY: u32 = COUNTER_SCHEDULE + 23u;
+const COUNTER_TAIL_ON: u32 = COUNTER_SCHEDULE + 24u;
+const COUNTER_TAIL_MAX_LIVE: u32 = COUNTER_SCHEDULE + 25u;
+const COUNTER_FAILED: u32 = COUNTER_SCHEDULE + 26u;
 // (regenerate, --refill in-place) Samples claimed by slots refilled where their paths ended
 // since the claims were last settled (`settle_claims`): the next samples are the share's next
 // sample + the claim's ticket. Then the slots refilled so, by intersect and by shade.
-const COUNTER_CLAIMS: u32 = COUNTER_SHADE_BASE + 31u;
-const COUNTER_REFILLED_INTERSECT: u32 = COUNTER_SHADE_BASE + 32u;
-const COUNTER_REFILLED_SHADE: u32 = COUNTER_SHADE_BASE + 33u;
-const COUNTER_RING_0: u32 = COUNTER_SHADE_BASE + 34u;      // + ring chunk: its samples finished
+const COUNTER_CLAIMS: u32 = COUNTER_SCHEDULE + 27u;
+const COUNTER_REFILLED_INTERSECT: u32 = COUNTER_SCHEDULE + 28u;
+const COUNTER_REFILLED_SHADE: u32 = COUNTER_SCHEDULE + 29u;
+const COUNTER_RING_0: u32 = COUNTER_SCHEDULE + 30u;      // + ring chunk: its samples finished
 // (--shade per-texture) + pattern: the pattern queues' counts, after the ring's 1024 chunks.
 const COUNTER_PATTERN_0: u32 = COUNTER_RING_0 + 1024u;
 // (regenerate, CAMERA_IN_PLACE) Camera rays that hit, and paths going on from that hit: in
@@ -90,14 +96,14 @@ const COUNTER_FIRST_CONTINUING: u32 = COUNTER_STATS + QUEUE_COUNT + 1u;
 // Indirect-dispatch argument slots (3 words each) in queue_setup's `indirect`.
 const ARGS_INTERSECT: u32 = 0u;
 const ARGS_SHADE_0: u32 = 1u;       // + material kind
-const ARGS_COMPACT: u32 = 5u;       // the scan passes over the positions just produced
-const ARGS_SHADOW: u32 = 6u;
-const ARGS_REGENERATE: u32 = 7u;
-const ARGS_TAIL: u32 = 8u;
-const ARGS_COMPACT_STATES_FIND: u32 = 9u;  // (--compact-states on) the find pass, then the move pass
-const ARGS_COMPACT_STATES_MOVE: u32 = 10u;
-const ARGS_ACCUMULATE: u32 = 11u;  // (regenerate) accumulate_range, sized by schedule_decide
-const ARGS_PATTERN_0: u32 = 12u;   // (--shade per-texture) + pattern: its shade pass
+const ARGS_COMPACT: u32 = ARGS_SHADE_0 + MATERIAL_KIND_COUNT; // the scan passes over the positions just produced
+const ARGS_SHADOW: u32 = ARGS_COMPACT + 1u;
+const ARGS_REGENERATE: u32 = ARGS_COMPACT + 2u;
+const ARGS_TAIL: u32 = ARGS_COMPACT + 3u;
+const ARGS_COMPACT_STATES_FIND: u32 = ARGS_COMPACT + 4u;  // (--compact-states on) the find pass, then the move pass
+const ARGS_COMPACT_STATES_MOVE: u32 = ARGS_COMPACT + 5u;
+const ARGS_ACCUMULATE: u32 = ARGS_COMPACT + 6u;  // (regenerate) accumulate_range, sized by schedule_decide
+const ARGS_PATTERN_0: u32 = ARGS_COMPACT + 7u;   // (--shade per-texture) + pattern: its shade pass
 // Workgroup size of the passes ARGS_COMPACT sizes: the scan (wavefront/compact.wgsl) and slot
 // order's sweep (wavefront/slot_sweep.wgsl). SCAN_WG in path_state.rs.
 const SCAN_WG: u32 = 256u;
@@ -134,8 +140,8 @@ const SHADE_PER_MATERIAL: u32 = 0u;
 const SHADE_PER_TEXTURE: u32 = 1u;
 const SHADE_SINGLE: u32 = 2u;
 const SHADE_SORTED: u32 = 3u;
-// Bit k: the shade pass of queue QUEUE_MATERIAL_0 + k is recorded; bit 4 + p: the pattern p's
-// (to count the empty ones).
+// Bit k: the shade pass of queue QUEUE_MATERIAL_0 + k is recorded; bit MATERIAL_KIND_COUNT + p:
+// the pattern p's (to count the empty ones).
 override SHADE_MASK: u32 = 0u;
 // The order of the paths in each queue (`--queue-order`): as they arrive; slot order (the ray
 // queue, free list and shadow queue built by a pass over the pool's slots: the scan, or the

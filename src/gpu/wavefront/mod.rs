@@ -103,13 +103,14 @@ use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::Result;
 // The options live in `crate::options`; the wavefront's are re-exported where it is built.
+use crate::layout::material_kind;
 pub use crate::options::{
     Append, CompactStates, Compaction, ComputePasses, Launch, QueueOrder, RaySort, Refill, ResolvedWavefront,
     RunSchedule, Scan, Schedule, ShadePasses, ShadowRays, Tail, WavefrontOptions, BATCHES_IN_FLIGHT,
     MAX_BATCHES_IN_FLIGHT,
 };
 use drive::Drive;
-use path_state::{QUEUE_COUNT, QUEUE_SHADOW};
+use path_state::{QUEUE_COUNT, QUEUE_MATERIAL_0, QUEUE_SHADOW};
 use plan::Plan;
 pub use plan::STATS_BOUNCES;
 pub use pool::{max_pool, DEFAULT_POOL};
@@ -125,7 +126,7 @@ use std::time::Instant;
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct QueueHistogram {
     pub rays: Vec<u64>,
-    pub materials: [Vec<u64>; 4],
+    pub materials: [Vec<u64>; material_kind::COUNT],
     #[serde(default)]
     pub shadow: Vec<u64>,
 }
@@ -351,8 +352,8 @@ fn traffic_items(
     let regenerate = stats.schedule == Schedule::Regenerate;
     traffic::Items {
         samples,
-        rays: q[0] + q[1],
-        hits: [q[2], q[3], q[4], q[5]],
+        rays: q[0] + q[1], // the two ray queues
+        hits: std::array::from_fn(|k| q[QUEUE_MATERIAL_0 as usize + k]),
         shadow: q[QUEUE_SHADOW as usize],
         tail_paths: stats.tail_paths,
         // Passes over every slot: the pool per iteration, or each wave's paths per bounce.
@@ -378,7 +379,7 @@ fn add_histogram_rows(h: &mut QueueHistogram, rows: &[u32], bounces: usize) {
     for (k, m) in h.materials.iter_mut().enumerate() {
         m.resize(bounces, 0);
         for (b, v) in m.iter_mut().enumerate() {
-            *v += row(b, 2 + k);
+            *v += row(b, QUEUE_MATERIAL_0 as usize + k);
         }
     }
     h.shadow.resize(bounces, 0);

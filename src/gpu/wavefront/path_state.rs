@@ -9,25 +9,87 @@ use crate::layout::WaveUniform;
 use anyhow::Result;
 use wgpu::util::DeviceExt;
 
-/// Queue regions (two ray queues, four material queues, the shadow queue, the free slots), as
-/// `QUEUE_COUNT` in WGSL.
-pub const QUEUE_COUNT: u64 = 8;
-/// `--shade per-texture`: a queue per costly pattern after those (`QUEUE_PATTERN_0`,
-/// `PATTERN_QUEUES`), counted at `COUNTER_PATTERN_0`.
-pub const QUEUE_PATTERN_0: u64 = 8;
-pub const PATTERN_QUEUES: u64 = 8;
-/// The shadow queue's region (`QUEUE_SHADOW`).
-pub const QUEUE_SHADOW: u64 = 6;
-/// Words of `counters` before the bounce histogram (`COUNTER_STATS`).
-pub const COUNTER_STATS: u64 = 10;
+/// Where the queues, counters and indirect arguments sit for `kinds` material kinds: a kind
+/// adds a material queue (and its histogram column), a shade pass's first scan position and
+/// an argument slot, and every slot after those follows; nothing is numbered by hand. Its WGSL
+/// twin computes the same slots from `MATERIAL_KIND_COUNT` (wavefront/shared/path_state.wgsl,
+/// shared/kinds.wgsl); tests/suite/layout.rs checks both for this build's kinds and one more.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct QueueLayout {
+    pub kinds: u64,
+    /// Queue ids (regions of `queues`, each counted at `counters[id]`): the two ray queues,
+    /// one per material kind from `QUEUE_MATERIAL_0`, the shadow queue, the free slots; with
+    /// `--shade per-texture`, `PATTERN_QUEUES` more from `queue_count` (`QUEUE_PATTERN_0`).
+    pub queue_shadow: u64,
+    pub queue_free: u64,
+    pub queue_count: u64,
+    /// Words of `counters` after the queue counts, the iteration and the scan's positions: the
+    /// bounce histogram (`MAX_STATS_BOUNCES` rows of `queue_count`), each shade pass's first
+    /// scan position, the scheduling words, the ring's chunks, the pattern queues' counts.
+    pub counter_stats: u64,
+    pub counter_shade_base: u64,
+    pub counter_schedule: u64,
+    pub counter_ring: u64,
+    pub counter_pattern: u64,
+    pub counter_words: u64,
+    /// Indirect-argument slots after intersect's and one per material kind: the scan passes,
+    /// the shadow pass, the refill, the tail, the state compaction's two passes, the
+    /// regenerating accumulate, one per costly pattern (`--shade per-texture`).
+    pub args_compact: u64,
+    pub args_pattern_0: u64,
+    pub args_slots: u64,
+}
+
+pub const QUEUE_MATERIAL_0: u64 = 2;
+pub const ARGS_INTERSECT: u64 = 0;
+pub const ARGS_SHADE_0: u64 = 1;
 /// Histogram rows the counters have room for (`COUNTER_SHADE_BASE` follows them).
 pub const MAX_STATS_BOUNCES: u64 = 64;
-/// `COUNTER_SHADE_BASE`: the four shade passes' first scan positions.
-const COUNTER_SHADE_BASE: u64 = COUNTER_STATS + MAX_STATS_BOUNCES * QUEUE_COUNT;
+/// Most chunks in the sample ring (`--chunk-pools` is at most this).
+pub const MAX_RING_CHUNKS: u64 = 1024;
+/// `--shade per-texture`: a queue per costly pattern (`PATTERN_QUEUES`).
+pub const PATTERN_QUEUES: u64 = 8;
+
+impl QueueLayout {
+    pub const fn new(kinds: u64) -> Self {
+        let queue_shadow = QUEUE_MATERIAL_0 + kinds;
+        let queue_count = queue_shadow + 2;
+        let counter_stats = queue_count + 2;
+        let counter_shade_base = counter_stats + MAX_STATS_BOUNCES * queue_count;
+        let counter_schedule = counter_shade_base + kinds;
+        let counter_ring = counter_schedule + schedule_word::WORDS;
+        let counter_pattern = counter_ring + MAX_RING_CHUNKS;
+        let args_compact = ARGS_SHADE_0 + kinds;
+        // ARGS_COMPACT … ARGS_ACCUMULATE: seven slots.
+        let args_pattern_0 = args_compact + 7;
+        QueueLayout {
+            kinds,
+            queue_shadow,
+            queue_free: queue_shadow + 1,
+            queue_count,
+            counter_stats,
+            counter_shade_base,
+            counter_schedule,
+            counter_ring,
+            counter_pattern,
+            counter_words: counter_pattern + PATTERN_QUEUES,
+            args_compact,
+            args_pattern_0,
+            args_slots: args_pattern_0 + PATTERN_QUEUES,
+        }
+    }
+}
+
+/// This build's layout: one material queue per `layout::material_kind`.
+pub const LAYOUT: QueueLayout = QueueLayout::new(crate::layout::material_kind::COUNT as u64);
+pub const QUEUE_COUNT: u64 = LAYOUT.queue_count;
+pub const QUEUE_SHADOW: u64 = LAYOUT.queue_shadow;
+/// Words of `counters` before the bounce histogram (`COUNTER_STATS`).
+pub const COUNTER_STATS: u64 = LAYOUT.counter_stats;
 /// The scheduling counters (`COUNTER_NEXT_SAMPLE` … `COUNTER_FAILED`): the host reads them back
 /// after batches of submissions; the regenerating schedule's decision pass writes the fill limit
 /// and the tail bound.
-pub const COUNTER_SCHEDULE: u64 = COUNTER_SHADE_BASE + 4;
+pub const COUNTER_SCHEDULE: u64 = LAYOUT.counter_schedule;
 /// Offsets from [`COUNTER_SCHEDULE`].
 pub mod schedule_word {
     pub const NEXT_SAMPLE: usize = 0;
@@ -75,30 +137,17 @@ pub mod schedule_word {
     pub const WORDS: u64 = 30;
 }
 /// `COUNTER_RING_0`: the finished samples of each chunk of the sample ring.
-pub const COUNTER_RING: u64 = COUNTER_SCHEDULE + schedule_word::WORDS;
-/// Most chunks in the sample ring (`--chunk-pools` is at most this).
-pub const MAX_RING_CHUNKS: u64 = 1024;
-/// `COUNTER_PATTERN_0`: the pattern queues' counts (`--shade per-texture`).
-pub const COUNTER_PATTERN: u64 = COUNTER_RING + MAX_RING_CHUNKS;
-/// Words of `counters`: header, histogram, shade positions, scheduling counters, ring counters,
-/// pattern queue counts.
-const COUNTER_WORDS: u64 = COUNTER_PATTERN + PATTERN_QUEUES;
-/// Indirect-argument slots: intersect, one per material kind, the scan passes, the shadow pass,
-/// the refill, the tail, the state compaction's two passes, the regenerating accumulate, one per
-/// costly pattern (`--shade per-texture`).
-const ARGS_SLOTS: u64 = 20;
-pub const ARGS_INTERSECT: u64 = 0;
-pub const ARGS_SHADE_0: u64 = 1;
-pub const ARGS_COMPACT: u64 = 5;
-pub const ARGS_SHADOW: u64 = 6;
-pub const ARGS_REGENERATE: u64 = 7;
-pub const ARGS_TAIL: u64 = 8;
-pub const ARGS_COMPACT_STATES_FIND: u64 = 9;
-pub const ARGS_COMPACT_STATES_MOVE: u64 = 10;
+pub const COUNTER_RING: u64 = LAYOUT.counter_ring;
+pub const ARGS_COMPACT: u64 = LAYOUT.args_compact;
+pub const ARGS_SHADOW: u64 = ARGS_COMPACT + 1;
+pub const ARGS_REGENERATE: u64 = ARGS_COMPACT + 2;
+pub const ARGS_TAIL: u64 = ARGS_COMPACT + 3;
+pub const ARGS_COMPACT_STATES_FIND: u64 = ARGS_COMPACT + 4;
+pub const ARGS_COMPACT_STATES_MOVE: u64 = ARGS_COMPACT + 5;
 /// (regenerate) `accumulate_range`, sized by the decision pass.
-pub const ARGS_ACCUMULATE: u64 = 11;
+pub const ARGS_ACCUMULATE: u64 = ARGS_COMPACT + 6;
 /// `--shade per-texture`: each pattern's shade pass.
-pub const ARGS_PATTERN_0: u64 = 12;
+pub const ARGS_PATTERN_0: u64 = LAYOUT.args_pattern_0;
 /// Which per-slot buffers a render's pool holds beyond the path itself: a buffer no pass of
 /// the render reads is bound as one 16-byte element, so memory follows the scene and the knobs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -125,7 +174,7 @@ impl PoolLayout {
     }
 
     /// Bytes of GPU memory per pool slot: origin, direction, throughput and radiance (16 each)
-    /// and eight queue entries (4 each; sixteen with pattern queues) always; the shadow ray and weight (16 each), the queue
+    /// and an entry per queue region (4 each) always; the shadow ray and weight (16 each), the queue
     /// target (4), the scan's two words (4 each) and the slot's sample and bounce (8) where used.
     pub const fn bytes_per_path(self) -> u64 {
         4 * 16
@@ -197,10 +246,11 @@ impl PathState {
         let counters = buffer(
             Mem::Counters,
             "queue counters",
-            COUNTER_WORDS * 4,
+            LAYOUT.counter_words * 4,
             wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
         )?;
-        let indirect = buffer(Mem::Queues, "indirect args", ARGS_SLOTS * 12, wgpu::BufferUsages::INDIRECT)?;
+        let indirect =
+            buffer(Mem::Queues, "indirect args", LAYOUT.args_slots * 12, wgpu::BufferUsages::INDIRECT)?;
         // Per slot where used, else one element (no pass of this render reads it).
         let per_slot = |used: bool, bytes: u64| if used { pool64 * bytes } else { 16 };
         let next_queue = buffer(Mem::Queues, "queue targets", per_slot(uses.targets, 4), none)?;

@@ -9,6 +9,7 @@ use super::{
     Append, CompactStates, Compaction, ComputePasses, Launch, QueueOrder, RaySort, Refill, RunSchedule, Scan,
     ShadePasses, ShadowRays, WavefrontOptions,
 };
+use crate::layout::material_kind::COUNT as KINDS;
 use crate::layout::DispatchParams;
 use crate::layout::WaveUniform;
 use crate::options::{Named, PoolSize};
@@ -106,13 +107,14 @@ impl Plan {
             ring: if regenerate { ring.ring } else { 0 },
             refill_live: refill::refill_live(opts.refill_below, pool),
         };
-        // Bits 0–3: the material kinds' passes; 4–11: the patterns'; none for the sorted pass
+        // A bit per material kind's pass, then one per pattern's; none for the sorted pass
         // (queue_setup_shade counts it itself).
         let shade_mask = match opts.shade {
             ShadePasses::Single => 1,
             ShadePasses::Sorted => 0,
             ShadePasses::PerMaterial | ShadePasses::PerTexture => {
-                kinds.iter().fold(0, |m, k| m | 1 << k) | patterns.iter().fold(0, |m, p| m | 1 << (4 + p))
+                kinds.iter().fold(0, |m, k| m | 1 << k)
+                    | patterns.iter().fold(0, |m, p| m | 1 << (KINDS as u32 + p))
             }
         };
         let flag = |on: bool| on as u32 as f64;

@@ -24,7 +24,7 @@ pub struct Items {
     /// Rays queued for intersect.
     pub rays: u64,
     /// Hits queued for shading, by material kind (`layout::material_kind` order).
-    pub hits: [u64; 4],
+    pub hits: [u64; crate::layout::material_kind::COUNT],
     /// Shadow rays queued.
     pub shadow: u64,
     /// Paths the megakernel tail finished.
