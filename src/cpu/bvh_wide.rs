@@ -54,9 +54,8 @@ pub fn traverse<T: Real>(
             let slot = (bit - 24) ^ octinv;
             let n = &nodes[(base + (imask & ((1 << slot) - 1)).count_ones()) as usize];
             observer.inner();
-            let hits = hit_children(n, &slabs, (q.t_min, closest), octinv);
+            let hits = hit_children(n, &slabs, (q.t_min, closest), octinv, (nodes, q.prims));
             group = (n.child_base, (hits & 0xff00_0000) | n.imask() as u32);
-            prefetch_children(nodes, n, hits, octinv, q.prims);
             let mut prims = hits & 0x00ff_ffff;
             if prims != 0 {
                 let mut tested = 0u32;
@@ -101,7 +100,13 @@ pub fn traverse<T: Real>(
 /// operands never being NaN: finite planes and origin, and `safe_inverse` is finite and
 /// nonzero), so a ray entering a binary node's box enters the wider wide one.
 #[inline(always)]
-fn hit_children<T: Real>(n: &WideNode, r: &Slabs<T>, (t_min, t_max): (T, T), octinv: u32) -> u32 {
+fn hit_children<T: Real>(
+    n: &WideNode,
+    r: &Slabs<T>,
+    (t_min, t_max): (T, T),
+    octinv: u32,
+    (nodes, prims): (&[WideNode], &[PrimitiveRecord]),
+) -> u32 {
     let mut near = [t_min; 8];
     let mut far = [t_max; 8];
     for a in 0..3 {
@@ -120,14 +125,20 @@ fn hit_children<T: Real>(n: &WideNode, r: &Slabs<T>, (t_min, t_max): (T, T), oct
         entered |= ((near[slot] <= far[slot]) as u32 & (n.meta[slot] != 0) as u32) << slot;
     }
     // An inner child's meta holds 24 + slot in its low bits: xor with octinv gives its bit.
+    // Each entered child is prefetched too (the node of an inner child, the primitives of a
+    // leaf), picked without a branch, so that the cache misses of a large scene overlap.
     let imask = n.imask() as u32;
     let mut hits = 0u32;
     while entered != 0 {
         let slot = entered.trailing_zeros();
         entered &= entered - 1;
         let meta = n.meta[slot as usize] as u32;
-        let inner = 0u32.wrapping_sub(imask >> slot & 1);
-        hits |= (meta >> 5) << ((meta & 31) ^ (octinv & inner));
+        let is_inner = imask >> slot & 1;
+        hits |= (meta >> 5) << ((meta & 31) ^ (octinv & 0u32.wrapping_sub(is_inner)));
+        let child =
+            nodes.as_ptr().wrapping_add((n.child_base + (imask & ((1 << slot) - 1)).count_ones()) as usize);
+        let first = prims.as_ptr().wrapping_add((n.prim_base + (meta & 31)) as usize);
+        prefetch(if is_inner == 1 { child.cast::<i8>() } else { first.cast::<i8>() });
     }
     hits
 }
@@ -148,46 +159,22 @@ impl<T: Real> Slabs<T> {
     }
 }
 
-/// Starts fetching what the ray will read next, so that the cache misses of a large scene
-/// overlap instead of following one another: the hit inner children (contiguous from
-/// `child_base`, visited from the stack of groups in the iterations to come) and the hit leaves'
-/// primitives (tested next).
+/// Hints the cache to load the bytes from `p` on: a PREFETCHT0 at `p`, 72 and 143 bytes on,
+/// which covers a wide node (80 bytes) or a leaf's at most 3 primitives (144 bytes) wherever
+/// the cache lines fall (x86-64; elsewhere nothing).
 #[inline(always)]
-fn prefetch_children(nodes: &[WideNode], n: &WideNode, hits: u32, octinv: u32, prims: &[PrimitiveRecord]) {
-    let imask = n.imask() as u32;
-    let mut inner = hits >> 24;
-    while inner != 0 {
-        let slot = inner.trailing_zeros() ^ octinv;
-        inner &= inner - 1;
-        if let Some(child) = nodes.get((n.child_base + (imask & ((1 << slot) - 1)).count_ones()) as usize) {
-            prefetch(child);
-        }
-    }
-    let mut leaf = hits & 0x00ff_ffff;
-    while leaf != 0 {
-        let k = leaf.trailing_zeros();
-        leaf &= leaf - 1;
-        if let Some(p) = prims.get((n.prim_base + k) as usize) {
-            prefetch(p);
-        }
-    }
-}
-
-/// Hints the cache to load `x`'s bytes (x86-64: a PREFETCHT0 at its first and last byte, which
-/// cover a value of up to two cache lines; elsewhere nothing).
-#[inline(always)]
-fn prefetch<X>(x: &X) {
+fn prefetch(p: *const i8) {
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        let p = (x as *const X).cast::<i8>();
-        // SAFETY: a prefetch reads nothing architecturally and never faults; both addresses
-        // lie within `x`.
+        // SAFETY: a prefetch reads nothing architecturally and never faults, whatever the
+        // address; the addresses are only formed with wrapping arithmetic.
         unsafe {
             _mm_prefetch::<_MM_HINT_T0>(p);
-            _mm_prefetch::<_MM_HINT_T0>(p.add(std::mem::size_of::<X>() - 1));
+            _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(72));
+            _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(143));
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
-    let _ = x;
+    let _ = p;
 }
