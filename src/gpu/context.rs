@@ -35,6 +35,10 @@ pub struct AdapterSummary {
     pub max_buffer_size: u64,
     pub max_compute_workgroups_per_dimension: u32,
     pub max_compute_invocations_per_workgroup: u32,
+    /// Bytes of workgroup memory one workgroup may use (`--stack workgroup` takes the most).
+    pub max_compute_workgroup_storage_size: u32,
+    /// Storage buffers one pipeline may bind for the compute stage, over all its bind groups.
+    pub max_storage_buffers_per_shader_stage: u32,
     /// wgpu validates every indirect dispatch with an extra dispatch (on by default in wgpu 30;
     /// `WGPU_VALIDATION_INDIRECT_CALL=0` turns it off).
     pub indirect_validation: bool,
@@ -61,6 +65,8 @@ impl AdapterSummary {
             max_buffer_size: l.max_buffer_size,
             max_compute_workgroups_per_dimension: l.max_compute_workgroups_per_dimension,
             max_compute_invocations_per_workgroup: l.max_compute_invocations_per_workgroup,
+            max_compute_workgroup_storage_size: l.max_compute_workgroup_storage_size,
+            max_storage_buffers_per_shader_stage: l.max_storage_buffers_per_shader_stage,
             indirect_validation: instance_flags().contains(wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL),
         }
     }
@@ -224,6 +230,8 @@ impl GpuContext {
         layouts: &[&wgpu::BindGroupLayout],
         constants: &[(&str, f64)],
     ) -> Result<wgpu::ComputePipeline> {
+        let storage = layouts.iter().map(|l| self.stages.storage_buffers(l)).sum();
+        super::pipeline_limits::check(&self.summary, label, storage, constants)?;
         let scopes =
             [wgpu::ErrorFilter::Validation, wgpu::ErrorFilter::OutOfMemory, wgpu::ErrorFilter::Internal]
                 .map(|f| self.device.push_error_scope(f));

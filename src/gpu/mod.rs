@@ -11,6 +11,7 @@ pub mod instrument;
 pub mod loop_limit;
 pub mod megakernel;
 pub mod memory;
+pub mod pipeline_limits;
 pub mod preheat;
 pub mod scene_buffers;
 pub mod scene_split;

@@ -31,6 +31,8 @@ struct PipelineKey {
 #[derive(Default)]
 struct Entries {
     layouts: HashMap<Vec<wgpu::BindGroupLayoutEntry>, wgpu::BindGroupLayout>,
+    /// Per layout made here: its storage-buffer bindings (`pipeline_limits`).
+    storage: HashMap<wgpu::BindGroupLayout, u32>,
     /// By label, a hash of the composed source, and the runtime checks it was compiled with.
     modules: HashMap<(&'static str, u64, super::shader_checks::ShaderChecks), wgpu::ShaderModule>,
     pipelines: HashMap<PipelineKey, wgpu::ComputePipeline>,
@@ -55,7 +57,20 @@ impl StageCache {
         make: impl FnOnce() -> wgpu::BindGroupLayout,
     ) -> wgpu::BindGroupLayout {
         let mut e = self.entries.lock().unwrap();
-        e.layouts.entry(entries.to_vec()).or_insert_with(make).clone()
+        let layout = e.layouts.entry(entries.to_vec()).or_insert_with(make).clone();
+        let storage = entries
+            .iter()
+            .filter(|b| {
+                matches!(b.ty, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { .. }, .. })
+            })
+            .count() as u32;
+        e.storage.insert(layout.clone(), storage);
+        layout
+    }
+
+    /// Storage-buffer bindings of `layout` (0 for a layout not made by [`Self::layout`]).
+    pub fn storage_buffers(&self, layout: &wgpu::BindGroupLayout) -> u32 {
+        self.entries.lock().unwrap().storage.get(layout).copied().unwrap_or(0)
     }
 
     /// The cached module for `label`, `source` and `checks`, or the one `make` builds (cached

@@ -110,6 +110,34 @@ fn scenes_split_over_bindings_give_the_one_binding_film() {
     assert!(err.contains("primitives") && err.contains("at most 4"), "{err}");
 }
 
+/// A pipeline past the adapter's limits is refused before wgpu creates it, naming the limit,
+/// the need and the knob: too few storage buffers per stage for the scene's 13 bindings plus
+/// the pass's own, and too little workgroup memory for `--stack workgroup`'s short stacks
+/// (8 entries × 2 arrays × 4 bytes × 64 threads = 4096 bytes) on a device posing as smaller.
+#[test]
+fn pipelines_past_the_adapters_limits_are_refused_before_creation() {
+    let Some(shared) = common::gpu() else { return };
+    let scene = Scene::resolve("three-spheres").unwrap();
+    let s = RenderSettings { width: 16, height: 8, spp: 1, ..settings(false) };
+    let mut posing = wavetrace::gpu::context::GpuContext::new(Some(&shared.summary.name)).unwrap();
+    let refusal = |posing: &wavetrace::gpu::context::GpuContext, opts: &MethodOptions| {
+        render(Method::Megakernel, &scene, &s, opts, Some(posing), &|_| {}).err().unwrap().to_string()
+    };
+    posing.summary.max_storage_buffers_per_shader_stage = 12;
+    let err = refusal(&posing, &MethodOptions::default());
+    assert!(err.contains("max_storage_buffers_per_shader_stage") && err.contains("allows 12"), "{err}");
+    assert!(err.contains("storage buffers but") && !err.contains("Validation"), "{err}");
+    posing.summary.max_storage_buffers_per_shader_stage = shared.summary.max_storage_buffers_per_shader_stage;
+    posing.summary.max_compute_workgroup_storage_size = 4095;
+    let workgroup = MethodOptions { stack: wavetrace::bvh::stack::BvhStack::Workgroup, ..Default::default() };
+    let err = refusal(&posing, &workgroup);
+    assert!(err.contains("max_compute_workgroup_storage_size") && err.contains("needs 4096 bytes"), "{err}");
+    assert!(err.contains("--stack function") && err.contains("--workgroup-size of at most 63"), "{err}");
+    // At the need, it renders.
+    posing.summary.max_compute_workgroup_storage_size = 4096;
+    render(Method::Megakernel, &scene, &s, &workgroup, Some(&posing), &|_| {}).unwrap();
+}
+
 /// A row of 4096 spheres along the view axis: a camera ray enters both children at every level
 /// of the binary BVH and pushes the farther one, 10 entries deep, past the short stack's 8.
 fn sphere_row() -> Scene {
