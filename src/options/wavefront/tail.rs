@@ -1,0 +1,34 @@
+//! `--tail`: whether the regenerating wavefront finishes its last paths in one megakernel-style
+//! pass (`gpu/wavefront/tail.rs`).
+
+use super::*;
+
+/// Whether regenerated paths end with a megakernel pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Tail {
+    /// Iterate the passes until the last path ends.
+    Off,
+    /// Once the live paths are fewer than `tail_threshold` × pool, finish them in one pass.
+    Megakernel,
+}
+enum_values!(Tail);
+
+pub const DEFAULT: Tail = Tail::Off;
+
+flag! {
+    /// Wavefront, regenerate: finish paths in one megakernel-style pass: the image's last ones
+    /// once at most --tail-threshold × pool are left, and the oldest chunks' last ones (each at
+    /// most that many) when the sample ring would stop the refills.
+    #[arg(long, value_enum, default_value_t = DEFAULT, hide_short_help = true)]
+    tail: Tail
+}
+
+pub const KNOB: Knob = knob!("tail", "tail", WAVEFRONT, Tail, o => o.wavefront.tail);
+
+pub const RULE: Rule = Rule {
+    knob: "tail",
+    why: "finishes regenerated paths",
+    set: |o| name(o.tail == Tail::Megakernel, o.tail),
+    needs: regenerating,
+};
