@@ -15,12 +15,10 @@ pub enum Append {
 }
 enum_values!(Append);
 
-pub const DEFAULT: Append = Append::Auto;
-
 flag! {
     /// Wavefront: append paths to queues with one atomic per subgroup and queue (where the
     /// adapter has subgroups: `auto`) or one per lane.
-    #[arg(long, value_enum, default_value_t = DEFAULT, hide_short_help = true)]
+    #[arg(long, value_enum, default_value_t, hide_short_help = true)]
     append: Append
 }
 

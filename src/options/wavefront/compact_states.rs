@@ -4,10 +4,11 @@
 use super::*;
 
 /// Whether live path states are compacted below the live count before each refill.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum CompactStates {
     /// Refills take the free slots wherever they are.
+    #[default]
     Off,
     /// Before each refill, move the live paths above the live count into the free slots below
     /// it, so the refill's consecutive samples take one contiguous run of slots.
@@ -15,13 +16,11 @@ pub enum CompactStates {
 }
 enum_values!(CompactStates);
 
-pub const DEFAULT: CompactStates = CompactStates::Off;
-
 flag! {
     /// Wavefront, --schedule regenerate: before each refill, move the live paths above the live
     /// count into the free slots below it (Cycles' compact_states), so the refill's consecutive
     /// samples take one contiguous run of slots. Needs --compaction on.
-    #[arg(long, value_enum, default_value_t = DEFAULT, hide_short_help = true)]
+    #[arg(long, value_enum, default_value_t, hide_short_help = true)]
     compact_states: CompactStates
 }
 

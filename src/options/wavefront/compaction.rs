@@ -4,19 +4,18 @@
 use super::*;
 
 /// How queues are kept dense.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Compaction {
     /// No queues: every pass runs over the whole pool, dead lanes idle.
     Off,
     /// Each pass appends surviving paths to the next queue with an atomic counter.
+    #[default]
     Atomic,
     /// Passes mark each path's next queue; a stable prefix-sum scan builds the queue.
     Scan,
 }
 enum_values!(Compaction);
-
-pub const DEFAULT: Compaction = Compaction::Atomic;
 
 pub const KNOB: Knob = knob!("compaction", "compaction", WAVEFRONT, Compaction, o => o.wavefront.compaction);
 

@@ -25,12 +25,10 @@ pub enum ComputePasses {
 }
 enum_values!(ComputePasses);
 
-pub const DEFAULT: ComputePasses = ComputePasses::Shared;
-
 flag! {
     /// Wavefront: one compute pass per dispatch, or consecutive dispatches sharing one (up to the
     /// next copy or submission; only where passes are not timed: with `--timing frame`).
-    #[arg(long, value_enum, default_value_t = DEFAULT, hide_short_help = true)]
+    #[arg(long, value_enum, default_value_t, hide_short_help = true)]
     compute_passes: ComputePasses
 }
 

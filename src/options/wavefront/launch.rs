@@ -1,5 +1,5 @@
-//! `--launch`: how the passes that consume a queue are launched (issue 42). Its edit to the
-//! graph is `Launch::Queue` (`gpu/wavefront/pass.rs`), which the recorder sizes by this constant.
+//! `--launch`: how the passes that consume a queue are launched (issue 42): the recorder sizes
+//! their `Launch::Queue` (`gpu/wavefront/mod.rs`), the shaders read the constant.
 
 use super::*;
 
@@ -18,13 +18,11 @@ pub enum Launch {
 }
 enum_values!(Launch);
 
-pub const DEFAULT: Launch = Launch::Indirect;
-
 flag! {
     /// Wavefront: launch the passes that consume a queue (intersect, shade, shadow, the refill)
     /// with the workgroups a setup pass wrote from the queue's length (`indirect`), or at the
     /// pool's size, threads past the queue's length returning at once (`pool`, pbrt-v4's way).
-    #[arg(long, value_enum, default_value_t = DEFAULT, hide_short_help = true)]
+    #[arg(long, value_enum, default_value_t, hide_short_help = true)]
     launch: Launch
 }
 

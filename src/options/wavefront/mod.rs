@@ -23,24 +23,26 @@ pub mod sync_every;
 pub mod tail;
 pub mod tail_threshold;
 
-pub use append::Append;
-pub use batches_in_flight::{BATCHES_IN_FLIGHT, MAX_BATCHES_IN_FLIGHT};
-pub use chunk_pools::{CHUNK_POOLS, MAX_CHUNK_POOLS};
-pub use compact_states::CompactStates;
-pub use compaction::Compaction;
-pub use compute_passes::ComputePasses;
-pub use launch::Launch;
-pub use pool_size::PoolSize;
-pub use queue_order::{QueueOrder, AUTO_SLOT_POOLS};
-pub use ray_sort::RaySort;
-pub use refill::Refill;
-pub use refill_below::DEFAULT_REFILL_BELOW;
-pub use scan::Scan;
-pub use shade::ShadePasses;
-pub use shadow_rays::ShadowRays;
-pub use sync_every::{DEFAULT_SYNC_EVERY, MAX_SYNC_EVERY};
-pub use tail::Tail;
-pub use tail_threshold::DEFAULT_THRESHOLD;
+pub use self::{
+    append::Append,
+    batches_in_flight::{BATCHES_IN_FLIGHT, MAX_BATCHES_IN_FLIGHT},
+    chunk_pools::{CHUNK_POOLS, MAX_CHUNK_POOLS},
+    compact_states::CompactStates,
+    compaction::Compaction,
+    compute_passes::ComputePasses,
+    launch::Launch,
+    pool_size::PoolSize,
+    queue_order::{QueueOrder, AUTO_SLOT_POOLS},
+    ray_sort::RaySort,
+    refill::Refill,
+    refill_below::DEFAULT_REFILL_BELOW,
+    scan::Scan,
+    shade::ShadePasses,
+    shadow_rays::ShadowRays,
+    sync_every::{DEFAULT_SYNC_EVERY, MAX_SYNC_EVERY},
+    tail::Tail,
+    tail_threshold::DEFAULT_THRESHOLD,
+};
 
 use super::knob::{enum_values, flag, knob, Knob, KnobValue, WAVEFRONT};
 use super::option_error::{fraction, in_range, OptionError, Problem};
@@ -106,25 +108,25 @@ wavefront_options! {
     /// methods.
     skip workgroup_size: u32 = DEFAULT_WORKGROUP_SIZE,
     /// `--compaction on|off` and `--compaction-method` on the command line.
-    skip compaction: Compaction = compaction::DEFAULT,
-    flag shade: ShadePasses = shade::DEFAULT,
+    skip compaction: Compaction = Default::default(),
+    flag shade: ShadePasses = Default::default(),
     /// `--schedule`, which the command line sets for both GPU methods.
     skip schedule: Schedule = Schedule::Waves,
     flag sync_every: u32 = DEFAULT_SYNC_EVERY,
     flag batches_in_flight: u32 = BATCHES_IN_FLIGHT,
-    flag tail: Tail = tail::DEFAULT,
+    flag tail: Tail = Default::default(),
     flag tail_threshold: f64 = DEFAULT_THRESHOLD,
     flag chunk_pools: u32 = CHUNK_POOLS,
-    flag scan: Scan = scan::DEFAULT,
-    flag append: Append = append::DEFAULT,
-    flag compute_passes: ComputePasses = compute_passes::DEFAULT,
-    flag launch: Launch = launch::DEFAULT,
-    flag shadow_rays: ShadowRays = shadow_rays::DEFAULT,
-    flag queue_order: QueueOrder = queue_order::DEFAULT,
+    flag scan: Scan = Default::default(),
+    flag append: Append = Default::default(),
+    flag compute_passes: ComputePasses = Default::default(),
+    flag launch: Launch = Default::default(),
+    flag shadow_rays: ShadowRays = Default::default(),
+    flag queue_order: QueueOrder = Default::default(),
     flag refill_below: f64 = DEFAULT_REFILL_BELOW,
-    flag refill: Refill = refill::DEFAULT,
-    flag compact_states: CompactStates = compact_states::DEFAULT,
-    flag ray_sort: RaySort = ray_sort::DEFAULT,
+    flag refill: Refill = Default::default(),
+    flag compact_states: CompactStates = Default::default(),
+    flag ray_sort: RaySort = Default::default(),
 }
 
 /// Each knob's range, checked before any rule (the first refusal is the one reported).

@@ -24,8 +24,6 @@ pub enum QueueOrder {
 }
 enum_values!(QueueOrder);
 
-pub const DEFAULT: QueueOrder = QueueOrder::Auto;
-
 /// `auto` takes slot order for regenerating jobs of at least this many pools of samples. On
 /// llvmpipe (experiments/results/llvmpipe-2core/queue_order) slot order lost at 1.4 pools
 /// (400x225x16) and won at 12.4 (1200x675x16) on every scene with atomic appends; 4 lies
@@ -39,7 +37,7 @@ flag! {
     /// of appends (runs of ascending slots) with atomic; optionally keyed by depth (`slot-depth`,
     /// always a scan: a refill's first bounces in one run, as in a wave); `auto`: slot order when
     /// regenerating a job of at least 4 pools of samples, arrival order otherwise.
-    #[arg(long, value_enum, default_value_t = DEFAULT, hide_short_help = true)]
+    #[arg(long, value_enum, default_value_t, hide_short_help = true)]
     queue_order: QueueOrder
 }
 

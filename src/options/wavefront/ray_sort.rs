@@ -17,14 +17,12 @@ pub enum RaySort {
 }
 enum_values!(RaySort);
 
-pub const DEFAULT: RaySort = RaySort::Off;
-
 flag! {
     /// Wavefront: before each intersect, sort the ray queue by the ray direction's octant
     /// (`octant`), or by octant and the origin's cell of a 4x4x4 grid over the scene
     /// (`octant-cell`), so a subgroup's lanes traverse the same part of the BVH (a counting sort:
     /// three passes). Needs --compaction on.
-    #[arg(long, value_enum, default_value_t = DEFAULT, hide_short_help = true)]
+    #[arg(long, value_enum, default_value_t, hide_short_help = true)]
     ray_sort: RaySort
 }
 

@@ -19,14 +19,12 @@ pub enum Refill {
 }
 enum_values!(Refill);
 
-pub const DEFAULT: Refill = Refill::Pass;
-
 flag! {
     /// Wavefront, --schedule regenerate: start the next samples in a pass over the free slots
     /// (`pass`), or in the slot of each path that ends, in intersect or shade, as it ends
     /// (`in-place`: generate fused into them; needs --compaction-method atomic and refills at
     /// every iteration).
-    #[arg(long, value_enum, default_value_t = DEFAULT, hide_short_help = true)]
+    #[arg(long, value_enum, default_value_t, hide_short_help = true)]
     refill: Refill
 }
 

@@ -16,12 +16,10 @@ pub enum Scan {
 }
 enum_values!(Scan);
 
-pub const DEFAULT: Scan = Scan::Auto;
-
 flag! {
     /// Wavefront, --compaction-method scan: scan workgroups with subgroup operations (where the
     /// adapter has them: `auto`) or with the Hillis–Steele workgroup scan.
-    #[arg(long, value_enum, default_value_t = DEFAULT, hide_short_help = true)]
+    #[arg(long, value_enum, default_value_t, hide_short_help = true)]
     scan: Scan
 }
 

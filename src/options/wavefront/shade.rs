@@ -3,10 +3,11 @@
 use super::*;
 
 /// How shading is dispatched.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ShadePasses {
     /// One pass per material kind the scene uses.
+    #[default]
     PerMaterial,
     /// As per-material, and a pass of its own for each costly procedural pattern (noise,
     /// marble, ...) the scene's diffuse and metal materials use, so that each pattern is shaded
@@ -22,14 +23,12 @@ pub enum ShadePasses {
 }
 enum_values!(ShadePasses);
 
-pub const DEFAULT: ShadePasses = ShadePasses::PerMaterial;
-
 flag! {
     /// Wavefront: one shade pass per material kind, one per material kind and costly pattern
     /// (`per-texture`: each pattern shaded in a pass of its own; needs atomic queues), one
     /// with a material switch (`single`), or one over the material queues end to end (`sorted`:
     /// subgroups of one kind, one dispatch; needs queues).
-    #[arg(long, value_enum, default_value_t = DEFAULT, hide_short_help = true)]
+    #[arg(long, value_enum, default_value_t, hide_short_help = true)]
     shade: ShadePasses
 }
 

@@ -18,13 +18,11 @@ pub enum ShadowRays {
 }
 enum_values!(ShadowRays);
 
-pub const DEFAULT: ShadowRays = ShadowRays::Pass;
-
 flag! {
     /// Wavefront, --nee on: trace the shadow rays in a pass of their own, queued with their
     /// weights (`pass`), or in shade where the light is sampled, storing nothing but the
     /// radiance (`inline`, the megakernel's way; needs queues).
-    #[arg(long, value_enum, default_value_t = DEFAULT, hide_short_help = true)]
+    #[arg(long, value_enum, default_value_t, hide_short_help = true)]
     shadow_rays: ShadowRays
 }
 

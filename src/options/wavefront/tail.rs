@@ -4,23 +4,22 @@
 use super::*;
 
 /// Whether regenerated paths end with a megakernel pass.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Tail {
     /// Iterate the passes until the last path ends.
+    #[default]
     Off,
     /// Once the live paths are fewer than `tail_threshold` × pool, finish them in one pass.
     Megakernel,
 }
 enum_values!(Tail);
 
-pub const DEFAULT: Tail = Tail::Off;
-
 flag! {
     /// Wavefront, regenerate: finish paths in one megakernel-style pass: the image's last ones
     /// once at most --tail-threshold × pool are left, and the oldest chunks' last ones (each at
     /// most that many) when the sample ring would stop the refills.
-    #[arg(long, value_enum, default_value_t = DEFAULT, hide_short_help = true)]
+    #[arg(long, value_enum, default_value_t, hide_short_help = true)]
     tail: Tail
 }
 
