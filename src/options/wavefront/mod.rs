@@ -130,7 +130,7 @@ wavefront_options! {
 }
 
 /// Each knob's range, checked before any rule (the first refusal is the one reported).
-const RANGES: &[fn(&WavefrontOptions) -> Result<(), OptionError>] = &[
+const RANGES: &[Range] = &[
     |o| in_range("workgroup_size", o.workgroup_size, 1, MAX_WORKGROUP_SIZE, ""),
     pool_size::range,
     sync_every::range,
@@ -184,6 +184,9 @@ pub struct Rule {
     set: fn(&WavefrontOptions) -> Option<(String, bool)>,
     needs: fn(&WavefrontOptions) -> Needs,
 }
+
+/// A knob's range: the error when its value is outside it.
+type Range = fn(&WavefrontOptions) -> Result<(), OptionError>;
 
 /// The knob a rule's knob needs and its values.
 type Needs = Option<(&'static str, &'static [&'static str])>;
