@@ -1,14 +1,15 @@
-//! Every method knob an experiment config can set, in one table: its name (the config's key,
-//! the report's and runs.csv's column), the methods that take it, its label in variant names,
-//! and where it lives in [`MethodOptions`]. Configs read knobs through it, reports write them
-//! through it, and variant labels are made by it; adding a knob is a field in the options and a
-//! row here (and a rule in `check.rs` if it needs one).
+//! Every method knob an experiment config can set, in one table ([`KNOBS`], each wavefront
+//! knob's row stated in its module, `wavefront/<knob>.rs`), and runs.csv's columns
+//! ([`COLUMNS`]). Configs read knobs through it, reports write them through it, and variant
+//! labels are made by it.
 
-use super::{
-    Append, CompactStates, Compaction, ComputePasses, Launch, Method, MethodOptions, Named, PoolSize,
-    QueueOrder, RaySort, Refill, Scan, Schedule, ShadePasses, ShaderChecks, ShadowRays, Specialize, Tail,
-    Timing,
+pub use super::knob::Knob;
+use super::knob::{knob, KnobValue, ALL, GPU, MEGAKERNEL};
+use super::wavefront::{
+    append, batches_in_flight, chunk_pools, compact_states, compaction, compute_passes, launch, pool_size,
+    queue_order, ray_sort, refill, refill_below, scan, shade, shadow_rays, sync_every, tail, tail_threshold,
 };
+use super::{Method, MethodOptions, Schedule, ShaderChecks, Specialize, Timing};
 use crate::bvh::collapse::Collapse;
 use crate::bvh::stack::BvhStack;
 use crate::bvh::BvhLayout;
@@ -16,191 +17,8 @@ use crate::light_options::{LightSampling, LightSelect};
 use crate::numerics::{Fresnel, RayOffset, SphereHit};
 use crate::render_space::RenderSpace;
 use crate::scene::stress::StressTransform;
-use crate::strict_json::{describe, did_you_mean, quoted_list};
+use crate::strict_json::describe;
 use serde_json::Value;
-
-/// One knob.
-pub struct Knob {
-    /// As configs, reports and runs.csv spell it.
-    pub name: &'static str,
-    /// Its part of a variant's label (`wg` in `wg=64`).
-    pub label: &'static str,
-    /// The methods that take it.
-    pub methods: &'static [Method],
-    /// Reads one value into the options (the reason when it cannot be read).
-    set: fn(&mut MethodOptions, &Value) -> Result<(), String>,
-    /// The value as reports record it, for a method.
-    get: fn(&MethodOptions, Method) -> Value,
-    /// The value as labels show it, for a method.
-    show: fn(&MethodOptions, Method) -> String,
-}
-
-impl Knob {
-    pub fn set(&self, o: &mut MethodOptions, v: &Value) -> Result<(), String> {
-        (self.set)(o, v)
-    }
-
-    pub fn get(&self, o: &MethodOptions, method: Method) -> Value {
-        (self.get)(o, method)
-    }
-
-    /// `wg=64`.
-    pub fn label(&self, o: &MethodOptions, method: Method) -> String {
-        format!("{}={}", self.label, (self.show)(o, method))
-    }
-
-    pub fn applies_to(&self, method: Method) -> bool {
-        self.methods.contains(&method)
-    }
-
-    /// Its values as a config writes them: one value, or a list (a sweep). `translate` takes a
-    /// vector of three numbers as one value (a list of three numbers is one translation).
-    pub fn values<'v>(&self, v: &'v Value) -> Option<&'v [Value]> {
-        match v {
-            Value::Array(a) if self.name == "translate" && a.len() == 3 && a.iter().all(Value::is_number) => {
-                None
-            }
-            Value::Array(a) => Some(a),
-            _ => None,
-        }
-    }
-}
-
-/// A knob's value type: how a config writes it and a label shows it.
-trait KnobValue: Sized + serde::Serialize {
-    fn read(v: &Value) -> Result<Self, String>;
-    fn show(&self) -> String;
-}
-
-macro_rules! enum_values {
-    ($($t:ty),*) => {$(
-        impl KnobValue for $t {
-            fn read(v: &Value) -> Result<Self, String> {
-                use clap::ValueEnum;
-                let names: Vec<String> = Self::value_variants().iter().map(|x| Named::name(x)).collect();
-                let names: Vec<&str> = names.iter().map(String::as_str).collect();
-                let s = v.as_str().ok_or_else(|| format!("expected a string, found {}", describe(v)))?;
-                Self::from_str(s, false).map_err(|_| {
-                    format!("unknown value {s:?}{}; expected {}", did_you_mean(s, &names), quoted_list(&names))
-                })
-            }
-            fn show(&self) -> String {
-                Named::name(self)
-            }
-        }
-    )*};
-}
-
-enum_values!(
-    Compaction,
-    ShadePasses,
-    Schedule,
-    Tail,
-    Scan,
-    Append,
-    QueueOrder,
-    CompactStates,
-    RaySort,
-    ComputePasses,
-    Launch,
-    ShadowRays,
-    Refill,
-    ShaderChecks,
-    Specialize,
-    Timing,
-    LightSampling,
-    LightSelect,
-    SphereHit,
-    Fresnel,
-    RenderSpace,
-    BvhLayout,
-    Collapse,
-    BvhStack
-);
-
-impl KnobValue for u32 {
-    fn read(v: &Value) -> Result<Self, String> {
-        v.as_u64()
-            .and_then(|x| u32::try_from(x).ok())
-            .ok_or_else(|| format!("expected a whole number in 0..={}, found {}", u32::MAX, describe(v)))
-    }
-    fn show(&self) -> String {
-        self.to_string()
-    }
-}
-
-impl KnobValue for u64 {
-    fn read(v: &Value) -> Result<Self, String> {
-        v.as_u64().ok_or_else(|| format!("expected a whole number, found {}", describe(v)))
-    }
-    fn show(&self) -> String {
-        self.to_string()
-    }
-}
-
-/// A count, or null for the method's own choice (`auto` in labels).
-impl KnobValue for Option<u32> {
-    fn read(v: &Value) -> Result<Self, String> {
-        match v {
-            Value::Null => Ok(None),
-            v => u32::read(v).map(Some).map_err(|e| format!("{e} (or null for the default)")),
-        }
-    }
-    fn show(&self) -> String {
-        self.map_or("auto".into(), |x| x.to_string())
-    }
-}
-
-/// A count, `"device"` (Cycles' rule), or null for the default (`auto` in labels).
-impl KnobValue for Option<PoolSize> {
-    fn read(v: &Value) -> Result<Self, String> {
-        match v {
-            Value::Null => Ok(None),
-            Value::String(s) if s == "device" => Ok(Some(PoolSize::Device)),
-            v => u32::read(v)
-                .map(|n| Some(PoolSize::Paths(n)))
-                .map_err(|e| format!("{e} (or \"device\", or null for the default)")),
-        }
-    }
-    fn show(&self) -> String {
-        self.map_or("auto".into(), |x| x.to_string())
-    }
-}
-
-impl KnobValue for f64 {
-    fn read(v: &Value) -> Result<Self, String> {
-        v.as_f64().ok_or_else(|| format!("expected a number, found {}", describe(v)))
-    }
-    fn show(&self) -> String {
-        self.to_string()
-    }
-}
-
-impl KnobValue for RayOffset {
-    fn read(v: &Value) -> Result<Self, String> {
-        RayOffset::parse(v.as_str().ok_or_else(|| format!("expected a string, found {}", describe(v)))?)
-    }
-    fn show(&self) -> String {
-        self.name()
-    }
-}
-
-/// `knob!(name, label, methods, Type, o => o.field.path)`: a knob held by one field.
-macro_rules! knob {
-    ($name:literal, $label:literal, $methods:expr, $t:ty, $o:ident => $($field:tt)+) => {
-        Knob {
-            name: $name,
-            label: $label,
-            methods: $methods,
-            set: |$o, v| {
-                $($field)+ = <$t as KnobValue>::read(v)?;
-                Ok(())
-            },
-            get: |$o, _| serde_json::to_value(&$($field)+).unwrap_or(Value::Null),
-            show: |$o, _| KnobValue::show(&$($field)+),
-        }
-    };
-}
 
 /// `shared!(name, label, Type, field)`: a knob of both GPU methods, set on both; each reports
 /// its own.
@@ -221,14 +39,10 @@ macro_rules! shared {
                     .unwrap_or(Value::Null)
             },
             show: |o, m| per_method(m, o.megakernel.$field, o.wavefront.$field).show(),
+            spelled_alike: <$t as KnobValue>::spelled_alike,
         }
     };
 }
-
-const ALL: &[Method] = &[Method::Cpu, Method::CpuF64, Method::Megakernel, Method::Wavefront];
-const GPU: &[Method] = &[Method::Megakernel, Method::Wavefront];
-const MEGAKERNEL: &[Method] = &[Method::Megakernel];
-const WAVEFRONT: &[Method] = &[Method::Wavefront];
 
 /// Every knob, in the order a config's sweeps expand (and variant labels list them).
 pub static KNOBS: &[Knob] = &[
@@ -237,25 +51,25 @@ pub static KNOBS: &[Knob] = &[
     shared!("workgroup_size", "wg", u32, workgroup_size),
     knob!("samples_per_dispatch", "spd", MEGAKERNEL, u64, o => o.megakernel.samples_per_dispatch),
     knob!("threads", "threads", MEGAKERNEL, Option<u32>, o => o.megakernel.threads),
-    knob!("pool_size", "pool", WAVEFRONT, Option<PoolSize>, o => o.wavefront.pool_size),
-    knob!("compaction", "compaction", WAVEFRONT, Compaction, o => o.wavefront.compaction),
-    knob!("shade", "shade", WAVEFRONT, ShadePasses, o => o.wavefront.shade),
+    pool_size::KNOB,
+    compaction::KNOB,
+    shade::KNOB,
     shared!("schedule", "schedule", Schedule, schedule),
-    knob!("sync_every", "sync", WAVEFRONT, u32, o => o.wavefront.sync_every),
-    knob!("batches_in_flight", "in_flight", WAVEFRONT, u32, o => o.wavefront.batches_in_flight),
-    knob!("tail", "tail", WAVEFRONT, Tail, o => o.wavefront.tail),
-    knob!("tail_threshold", "tail-threshold", WAVEFRONT, f64, o => o.wavefront.tail_threshold),
-    knob!("chunk_pools", "chunk-pools", WAVEFRONT, u32, o => o.wavefront.chunk_pools),
-    knob!("scan", "scan", WAVEFRONT, Scan, o => o.wavefront.scan),
-    knob!("append", "append", WAVEFRONT, Append, o => o.wavefront.append),
-    knob!("queue_order", "queue-order", WAVEFRONT, QueueOrder, o => o.wavefront.queue_order),
-    knob!("refill_below", "refill-below", WAVEFRONT, f64, o => o.wavefront.refill_below),
-    knob!("compact_states", "compact-states", WAVEFRONT, CompactStates, o => o.wavefront.compact_states),
-    knob!("ray_sort", "ray-sort", WAVEFRONT, RaySort, o => o.wavefront.ray_sort),
-    knob!("compute_passes", "compute-passes", WAVEFRONT, ComputePasses, o => o.wavefront.compute_passes),
-    knob!("launch", "launch", WAVEFRONT, Launch, o => o.wavefront.launch),
-    knob!("shadow_rays", "shadow-rays", WAVEFRONT, ShadowRays, o => o.wavefront.shadow_rays),
-    knob!("refill", "refill", WAVEFRONT, Refill, o => o.wavefront.refill),
+    sync_every::KNOB,
+    batches_in_flight::KNOB,
+    tail::KNOB,
+    tail_threshold::KNOB,
+    chunk_pools::KNOB,
+    scan::KNOB,
+    append::KNOB,
+    queue_order::KNOB,
+    refill_below::KNOB,
+    compact_states::KNOB,
+    ray_sort::KNOB,
+    compute_passes::KNOB,
+    launch::KNOB,
+    shadow_rays::KNOB,
+    refill::KNOB,
     knob!("shader_checks", "shader-checks", GPU, ShaderChecks, o => o.shader_checks),
     knob!("specialize", "specialize", GPU, Specialize, o => o.specialize),
     knob!("timing", "timing", GPU, Timing, o => o.timing),
@@ -281,6 +95,7 @@ pub static KNOBS: &[Knob] = &[
         },
         get: |o, _| serde_json::to_value(o.stress.scale).unwrap_or(Value::Null),
         show: |o, _| compact(o.stress.scale),
+        spelled_alike: || true,
     },
     Knob {
         name: "translate",
@@ -292,6 +107,7 @@ pub static KNOBS: &[Knob] = &[
         },
         get: |o, _| serde_json::to_value(o.stress.translate).unwrap_or(Value::Null),
         show: |o, _| translate_name(o.stress.translate),
+        spelled_alike: || true,
     },
 ];
 
@@ -413,33 +229,12 @@ mod tests {
     /// spelling only if they agree, value by value.
     #[test]
     fn serde_and_clap_spell_every_value_alike() {
-        fn same<T: clap::ValueEnum + serde::Serialize>() {
-            for v in T::value_variants() {
-                assert_eq!(serde_json::to_value(v).unwrap(), Value::String(Named::name(v)));
-            }
+        for k in KNOBS {
+            assert!(k.spelled_alike(), "{}", k.name);
         }
-        same::<Compaction>();
-        same::<ShadePasses>();
-        same::<Schedule>();
-        same::<Tail>();
-        same::<Scan>();
-        same::<Append>();
-        same::<QueueOrder>();
-        same::<CompactStates>();
-        same::<RaySort>();
-        same::<ComputePasses>();
-        same::<ShaderChecks>();
-        same::<Specialize>();
-        same::<Timing>();
-        same::<LightSampling>();
-        same::<LightSelect>();
-        same::<SphereHit>();
-        same::<Fresnel>();
-        same::<RenderSpace>();
-        same::<BvhLayout>();
-        same::<Collapse>();
-        same::<BvhStack>();
-        same::<Method>();
+        for v in <Method as clap::ValueEnum>::value_variants() {
+            assert_eq!(serde_json::to_value(v).unwrap(), Value::String(super::super::Named::name(v)));
+        }
     }
 
     /// Each knob reads back what it records, and its label shows the value.

@@ -1,20 +1,23 @@
-//! The methods' options, stated once: every knob's type, default and documentation, the rules
-//! between knobs (`check.rs`), and how configs, reports and labels name them (`knobs.rs`).
+//! The methods' options, stated once: every knob's type, default and documentation (each
+//! wavefront knob in a module of its own, `wavefront/<knob>.rs`, with its flag, config row,
+//! rule and pipeline constant), the one check (`check.rs`), and the table configs, reports and
+//! labels name them by (`knobs.rs`).
 //! Free of wgpu: the experiment config reads and checks options without a device, and the
 //! renderers (`gpu/`) take them as they are.
 
 mod check;
+mod knob;
 pub mod knobs;
 mod measure;
 mod megakernel;
-mod pool_size;
+mod option_error;
 mod schedule;
-mod wavefront;
+pub mod wavefront;
 
-pub use check::{check, check_bvh, check_megakernel, check_wavefront, OptionError, Problem};
+pub use check::{check, check_bvh, check_megakernel};
 pub use measure::*;
 pub use megakernel::MegakernelOptions;
-pub use pool_size::PoolSize;
+pub use option_error::{OptionError, Problem};
 pub use schedule::{RunSchedule, Schedule};
 pub use wavefront::*;
 

@@ -6,12 +6,13 @@ use super::super::context::GpuContext;
 use super::path_state::{self, PoolLayout};
 use super::{pool, refill, schedule, traffic, ScheduleStats};
 use super::{
-    Append, CompactStates, Compaction, ComputePasses, Launch, QueueOrder, RaySort, Refill, RunSchedule, Scan,
+    Append, CompactStates, Compaction, ComputePasses, QueueOrder, RaySort, Refill, RunSchedule, Scan,
     ShadePasses, ShadowRays, WavefrontOptions,
 };
 use crate::layout::material_kind::COUNT as KINDS;
 use crate::layout::DispatchParams;
 use crate::layout::WaveUniform;
+use crate::options::wavefront as knob;
 use crate::options::{Named, PoolSize};
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
@@ -120,14 +121,14 @@ impl Plan {
         let flag = |on: bool| on as u32 as f64;
         let knobs = vec![
             ("REGENERATE", flag(regenerate)),
-            ("REFILL_IN_PLACE", flag(regenerate && opts.refill == Refill::InPlace)),
-            ("COMPACTION", opts.compaction as u32 as f64),
-            ("SHADE_PASSES", opts.shade as u32 as f64),
+            knob::refill::constant(opts, regenerate),
+            knob::compaction::constant(opts),
+            knob::shade::constant(opts),
             ("SHADE_MASK", shade_mask as f64),
             ("QUEUE_ORDER", queue_order.word() as f64),
-            ("COMPACT_STATES", flag(opts.compact_states == CompactStates::On)),
+            knob::compact_states::constant(opts),
             ("CAMERA_IN_PLACE", flag(camera_in_place)),
-            ("LAUNCH_POOL", flag(opts.launch == Launch::Pool)),
+            knob::launch::constant(opts),
         ];
         let lit = settings.nee && !scene.lights.is_empty();
         let shadow_pass = lit && opts.shadow_rays == ShadowRays::Pass;

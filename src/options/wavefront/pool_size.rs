@@ -2,6 +2,8 @@
 //! device's multiprocessors, `gpu::wavefront::pool`). Configs and reports spell a count as a
 //! number and the rule as the string "device"; a report records the count that ran.
 
+use super::*;
+use serde_json::Value;
 use std::fmt;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -40,6 +42,40 @@ impl serde::Serialize for PoolSize {
             PoolSize::Paths(n) => s.serialize_u32(*n),
             PoolSize::Device => s.serialize_str("device"),
         }
+    }
+}
+
+flag! {
+    /// Wavefront: paths in flight (default about a million, less where the adapter's storage
+    /// bindings are smaller; a pool that does not fit is reduced with a notice), or `device`:
+    /// Cycles' rule, max(SMs × threads per SM, 65536) × 16 (about 4.3 million on an H100 or
+    /// H200; the SM count from NVIDIA's NVML, the default pool where it is unknown).
+    #[arg(long, value_parser = PoolSize::parse, hide_short_help = true)]
+    pool_size: Option<PoolSize>
+}
+
+pub const KNOB: Knob = knob!("pool_size", "pool", WAVEFRONT, Option<PoolSize>, o => o.wavefront.pool_size);
+
+pub fn range(o: &WavefrontOptions) -> Result<(), OptionError> {
+    if o.pool_size == Some(PoolSize::Paths(0)) {
+        return Err(OptionError::range("pool_size", "must be at least 1".into()));
+    }
+    Ok(())
+}
+
+/// A count, `"device"` (Cycles' rule), or null for the default (`auto` in labels).
+impl KnobValue for Option<PoolSize> {
+    fn read(v: &Value) -> Result<Self, String> {
+        match v {
+            Value::Null => Ok(None),
+            Value::String(s) if s == "device" => Ok(Some(PoolSize::Device)),
+            v => u32::read(v)
+                .map(|n| Some(PoolSize::Paths(n)))
+                .map_err(|e| format!("{e} (or \"device\", or null for the default)")),
+        }
+    }
+    fn show(&self) -> String {
+        self.map_or("auto".into(), |x| x.to_string())
     }
 }
 
