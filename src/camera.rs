@@ -50,18 +50,10 @@ impl CameraFrame {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::Vec3;
 
     #[test]
     fn centre_pixel_looks_at_lookat() {
-        let spec = CameraSpec {
-            lookfrom: Vec3::new(13.0, 2.0, 3.0),
-            lookat: Vec3::ZERO,
-            vup: Vec3::Y,
-            vfov: 20.0,
-            defocus_angle: 0.6,
-            focus_dist: 10.0,
-        };
+        let spec = crate::scene::builtin::rtiow_camera();
         let f = CameraFrame::new(&spec, 201, 101);
         let centre = f.pixel00 + 100.0 * f.pixel_delta_u + 50.0 * f.pixel_delta_v;
         let dir = (centre - f.center).normalize();

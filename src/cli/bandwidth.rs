@@ -1,10 +1,8 @@
 //! `wavetrace bandwidth`: what this GPU's memory delivers to a streaming pass (issue 44).
 
-use std::path::PathBuf;
-
 use anyhow::{bail, Result};
 
-use crate::gpu::GpuContext;
+use super::measurement::Measurement;
 use crate::measure::bandwidth;
 
 const EXAMPLES: &str = "\
@@ -26,22 +24,15 @@ pub struct BandwidthArgs {
     /// Timed repetitions per way (after one untimed round; the ways take turns).
     #[arg(long, default_value_t = 9)]
     pub repetitions: u32,
-    /// Also write the measurements as JSON (schema wavetrace-bandwidth/1).
-    #[arg(long)]
-    pub json: Option<PathBuf>,
-    /// Use the adapter whose name contains this (case-insensitive); see `wavetrace info`.
-    #[arg(long)]
-    pub adapter: Option<String>,
+    #[command(flatten)]
+    pub measurement: Measurement,
 }
 
 pub fn run(a: BandwidthArgs) -> Result<()> {
-    let ctx = GpuContext::new(a.adapter.as_deref())?;
+    let ctx = a.measurement.context()?;
     let largest = ctx.summary.max_storage_buffer_binding_size.min(ctx.summary.max_buffer_size) >> 20;
     let report = bandwidth::measure(&ctx, a.mib.unwrap_or(largest.min(256)), a.repetitions)?;
-    print!("{}", report.table());
-    if let Some(path) = &a.json {
-        super::write_json(path, &report)?;
-    }
+    a.measurement.publish(&report.table(), &report)?;
     if !report.copy_ok {
         bail!("the copy's destination does not hold its source on this adapter");
     }

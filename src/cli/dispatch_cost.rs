@@ -1,10 +1,8 @@
 //! `wavetrace dispatch-cost`: what one dispatch costs on this GPU, by itself (issue 42).
 
-use std::path::PathBuf;
-
 use anyhow::{bail, Result};
 
-use crate::gpu::GpuContext;
+use super::measurement::Measurement;
 use crate::measure::dispatch_cost;
 
 const EXAMPLES: &str = "\
@@ -25,21 +23,14 @@ pub struct DispatchCostArgs {
     /// Timed chains per variant (after one untimed round; the variants take turns).
     #[arg(long, default_value_t = 9)]
     pub repetitions: u32,
-    /// Also write the measurements as JSON (schema wavetrace-dispatch-cost/1).
-    #[arg(long)]
-    pub json: Option<PathBuf>,
-    /// Use the adapter whose name contains this (case-insensitive); see `wavetrace info`.
-    #[arg(long)]
-    pub adapter: Option<String>,
+    #[command(flatten)]
+    pub measurement: Measurement,
 }
 
 pub fn run(a: DispatchCostArgs) -> Result<()> {
-    let ctx = GpuContext::new(a.adapter.as_deref())?;
+    let ctx = a.measurement.context()?;
     let report = dispatch_cost::measure(&ctx, a.dispatches, a.repetitions)?;
-    print!("{}", report.table());
-    if let Some(path) = &a.json {
-        super::write_json(path, &report)?;
-    }
+    a.measurement.publish(&report.table(), &report)?;
     if report.variants.iter().any(|v| !v.counter_ok) {
         bail!("the read-write chain's counter is wrong: dispatches were lost or reordered on this adapter");
     }

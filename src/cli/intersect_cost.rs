@@ -1,11 +1,9 @@
 //! `wavetrace intersect-cost`: the wavefront's intersect pass against its diagnostic twin that
 //! keeps the ray in registers, over the same camera rays (issue 44, item 1b).
 
-use std::path::PathBuf;
-
 use anyhow::Result;
 
-use crate::gpu::GpuContext;
+use super::measurement::Measurement;
 use crate::measure::intersect_cost::{self, IntersectCost};
 use crate::scene::Scene;
 use crate::settings::{Accel, RenderSettings};
@@ -44,17 +42,13 @@ pub struct IntersectCostArgs {
     /// Timed rounds after one untimed round (the two passes taking turns).
     #[arg(long, default_value_t = 5)]
     pub repetitions: u32,
-    /// Also write the figures as JSON (schema wavetrace-intersect-cost/1).
-    #[arg(long)]
-    pub json: Option<PathBuf>,
-    /// Use the adapter whose name contains this (case-insensitive); see `wavetrace info`.
-    #[arg(long)]
-    pub adapter: Option<String>,
+    #[command(flatten)]
+    pub measurement: Measurement,
 }
 
 pub fn run(a: IntersectCostArgs) -> Result<()> {
     let scene = Scene::resolve(&a.scene)?;
-    let ctx = GpuContext::new(a.adapter.as_deref())?;
+    let ctx = a.measurement.context()?;
     let job = IntersectCost {
         settings: RenderSettings {
             width: a.width,
@@ -72,9 +66,6 @@ pub fn run(a: IntersectCostArgs) -> Result<()> {
         preheat_seconds: crate::options::DEFAULT_PREHEAT_SECONDS,
     };
     let report = intersect_cost::measure(&ctx, &scene, &job)?;
-    print!("{}", report.table());
-    if let Some(path) = &a.json {
-        super::write_json(path, &report)?;
-    }
+    a.measurement.publish(&report.table(), &report)?;
     Ok(())
 }

@@ -7,6 +7,7 @@ pub mod experiment;
 pub mod info;
 pub mod intersect_cost;
 pub mod job;
+pub mod measurement;
 pub mod plan;
 pub mod render;
 pub mod replay;

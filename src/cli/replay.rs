@@ -12,7 +12,7 @@ use crate::options::Named;
 use crate::options::{PoolSize, Schedule};
 use crate::packed_scene::PackedScene;
 use crate::replay::lockstep::SlotCounts;
-use crate::replay::{megakernel, regenerate, wavefront, width};
+use crate::replay::{megakernel, regenerate, wavefront, width, ReplayJob};
 use crate::scene::Scene;
 use crate::settings::{Accel, RenderSettings};
 use anyhow::{anyhow, bail, Result};
@@ -298,6 +298,10 @@ struct Job<'a> {
 type WidthCounts = Vec<(u32, SlotCounts)>;
 
 impl Job<'_> {
+    fn job(&self) -> ReplayJob<'_> {
+        ReplayJob::new(self.packed, self.frame, self.settings, self.widths)
+    }
+
     /// Replays one method: its counts per width and what the report says of its launch.
     fn replay(&self, m: ReplayMethod) -> Result<(WidthCounts, serde_json::Value)> {
         match m {
@@ -315,7 +319,7 @@ impl Job<'_> {
             max_threads: 65535u32.saturating_mul(a.workgroup_size),
             every: a.every,
         };
-        let r = megakernel::replay(self.packed, self.frame, self.settings, self.widths, launch);
+        let r = megakernel::replay(self.job(), launch);
         let about = serde_json::json!({
             "dispatches": r.dispatches, "every": a.every, "blocks": r.blocks, "blocks_replayed": r.blocks_replayed,
         });
@@ -332,7 +336,7 @@ impl Job<'_> {
             resident: a.resident_subgroups,
             every: a.every,
         };
-        let r = regenerate::replay(self.packed, self.frame, self.settings, self.widths, launch)?;
+        let r = regenerate::replay(self.job(), launch)?;
         let about = serde_json::json!({
             "dispatches": r.dispatches, "threads": a.threads, "paths_per_thread": self.paths_per_thread,
             "resident_subgroups": a.resident_subgroups, "every": a.every,
@@ -356,7 +360,7 @@ impl Job<'_> {
             chunk_pools: wf.chunk_pools,
             every: a.every,
         };
-        let r = wavefront::replay(self.packed, self.frame, self.settings, self.widths, launch)?;
+        let r = wavefront::replay(self.job(), launch)?;
         let mut about = serde_json::json!({
             "dispatches": r.dispatches, "shares": r.waves, "shares_replayed": r.waves_replayed,
             "samples_replayed": r.samples_replayed, "every": a.every, "pool": self.pool,

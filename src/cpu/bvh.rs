@@ -76,6 +76,67 @@ impl<T: Real> Query<'_, T> {
     pub fn hit(&self, slot: u32, t_max: T) -> Option<T> {
         hit_primitive(&self.prims[slot as usize], self.ray, self.t_min, t_max, self.sphere)
     }
+
+    /// Tests a leaf's primitives, `slots` with each one's bit in the observer's mask, narrowing
+    /// `closest` and `hit`; true where an any-hit query found one (the traversal ends). Every
+    /// layout's leaf loop.
+    #[inline(always)]
+    pub fn leaf(
+        &self,
+        slots: impl Iterator<Item = (u32, u32)>,
+        closest: &mut T,
+        hit: &mut Option<Hit<T>>,
+        observer: &mut impl PathObserver,
+    ) -> bool {
+        let mut tested = 0u32;
+        for (slot, bit) in slots {
+            if slot == self.skip {
+                continue;
+            }
+            tested |= 1 << bit;
+            if let Some(t) = self.hit(slot, *closest) {
+                *closest = t;
+                *hit = Some(Hit { t, prim: slot });
+                if self.any_hit {
+                    break;
+                }
+            }
+        }
+        observer.leaf(tested);
+        self.any_hit && hit.is_some()
+    }
+}
+
+/// The child to visit next of two, `a` and `b` with their entry distances: the nearer where both
+/// are hit (the farther pushed on `stack`), the one hit, or none.
+#[inline(always)]
+pub fn nearer_child<N: Copy, T: Real>(
+    (a, ta): (N, Option<T>),
+    (b, tb): (N, Option<T>),
+    stack: &mut [N],
+    top: &mut usize,
+    observer: &mut impl PathObserver,
+) -> Option<N> {
+    match (ta, tb) {
+        (Some(ta), Some(tb)) => {
+            let (near, far) = if ta <= tb { (a, b) } else { (b, a) };
+            stack[*top] = far;
+            *top += 1;
+            observer.stack(*top);
+            Some(near)
+        }
+        (Some(_), None) => Some(a),
+        (None, Some(_)) => Some(b),
+        (None, None) => None,
+    }
+}
+
+/// The node on top of the traversal stack, taken off it; none when the stack is empty (the
+/// traversal is over).
+#[inline(always)]
+pub fn pop<N: Copy>(stack: &[N], top: &mut usize) -> Option<N> {
+    *top = top.checked_sub(1)?;
+    Some(stack[*top])
 }
 
 /// The nearest hit in (t_min, ∞), spheres met by the `sphere` formula.
@@ -109,23 +170,10 @@ pub fn closest_hit_observed<T: Real>(
 pub const NO_SKIP: u32 = u32::MAX;
 
 /// A primitive but the one in slot `skip` (the light a shadow ray aims at) on the ray in
-/// (t_min, t_max), the first the traversal finds, if any: the shadow-ray query.
+/// (t_min, t_max), the first the traversal finds, if any: the shadow-ray query, reporting its
+/// steps to `observer` (`&mut ()`: none).
 #[inline(always)]
 pub fn occluder<T: Real>(
-    bvh: BvhRef,
-    prims: &[PrimitiveRecord],
-    ray: &Ray<T>,
-    (t_min, t_max): (T, T),
-    skip: u32,
-    sphere: SphereHit,
-) -> Option<Hit<T>> {
-    let q = Query { prims, ray, t_min, t_max, any_hit: true, skip, sphere };
-    traverse(bvh, &q, &mut ())
-}
-
-/// [`occluder`], reporting its steps to `observer`.
-#[inline(always)]
-pub fn occluder_observed<T: Real>(
     bvh: BvhRef,
     prims: &[PrimitiveRecord],
     ray: &Ray<T>,
@@ -149,7 +197,7 @@ pub fn occluded<T: Real>(
     t_max: T,
     skip: u32,
 ) -> bool {
-    occluder(bvh, prims, ray, (t_min, t_max), skip, SphereHit::Stable).is_some()
+    occluder(bvh, prims, ray, (t_min, t_max), skip, SphereHit::Stable, &mut ()).is_some()
 }
 
 /// The query on the layout's own traversal loop.
@@ -182,53 +230,23 @@ fn traverse_binary<T: Real>(
     loop {
         let n = &nodes[current as usize];
         if n.count > 0 {
-            let mut tested = 0u32;
-            for slot in n.left_or_first..n.left_or_first + n.count {
-                if slot == q.skip {
-                    continue;
-                }
-                tested |= 1 << (slot - n.left_or_first);
-                if let Some(t) = q.hit(slot, closest) {
-                    closest = t;
-                    hit = Some(Hit { t, prim: slot });
-                    if q.any_hit {
-                        observer.leaf(tested);
-                        return hit;
-                    }
-                }
+            let first = n.left_or_first;
+            if q.leaf((first..first + n.count).map(|s| (s, s - first)), &mut closest, &mut hit, observer) {
+                return hit;
             }
-            observer.leaf(tested);
         } else {
             observer.inner();
             let (a, b) = (current + 1, n.left_or_first);
             let ta = hit_box(&nodes[a as usize], ray.origin, inv, q.t_min, closest);
             let tb = hit_box(&nodes[b as usize], ray.origin, inv, q.t_min, closest);
-            match (ta, tb) {
-                (Some(ta), Some(tb)) => {
-                    // Visit the nearer child first; the farther waits on the stack.
-                    let (near, far) = if ta <= tb { (a, b) } else { (b, a) };
-                    stack[top] = far;
-                    top += 1;
-                    observer.stack(top);
-                    current = near;
-                    continue;
-                }
-                (Some(_), None) => {
-                    current = a;
-                    continue;
-                }
-                (None, Some(_)) => {
-                    current = b;
-                    continue;
-                }
-                (None, None) => {}
+            // Visit the nearer child first; the farther waits on the stack.
+            if let Some(next) = nearer_child((a, ta), (b, tb), &mut stack, &mut top, observer) {
+                current = next;
+                continue;
             }
         }
-        if top == 0 {
-            return hit;
-        }
-        top -= 1;
-        current = stack[top];
+        let Some(next) = pop(&stack, &mut top) else { return hit };
+        current = next;
     }
 }
 

@@ -3,7 +3,7 @@
 //! farther on the stack), but a child is tested from its parent's node, and the stack holds
 //! child references (first, count), so a leaf is never fetched as a node.
 
-use super::bvh::{hit_bounds, safe_inverse, Hit, Query};
+use super::bvh::{hit_bounds, nearer_child, pop, safe_inverse, Hit, Query};
 use super::observe::PathObserver;
 use super::real::Real;
 use crate::bvh::aila_laine::{AilaLaineNode, LEAF};
@@ -29,52 +29,22 @@ pub fn traverse<T: Real>(
     loop {
         let (first, count) = current;
         if count != 0 {
-            let mut tested = 0u32;
-            for slot in first..first + (count & !LEAF) {
-                if slot == q.skip {
-                    continue;
-                }
-                tested |= 1 << (slot - first);
-                if let Some(t) = q.hit(slot, closest) {
-                    closest = t;
-                    hit = Some(Hit { t, prim: slot });
-                    if q.any_hit {
-                        observer.leaf(tested);
-                        return hit;
-                    }
-                }
+            let slots = (first..first + (count & !LEAF)).map(|s| (s, s - first));
+            if q.leaf(slots, &mut closest, &mut hit, observer) {
+                return hit;
             }
-            observer.leaf(tested);
         } else {
             observer.inner();
             let n = &nodes[first as usize];
             let (a, b) = ((n.left.first, n.left.count), (n.right.first, n.right.count));
             let ta = hit_bounds(n.left.min, n.left.max, ray.origin, inv, q.t_min, closest);
             let tb = hit_bounds(n.right.min, n.right.max, ray.origin, inv, q.t_min, closest);
-            match (ta, tb) {
-                (Some(ta), Some(tb)) => {
-                    let (near, far) = if ta <= tb { (a, b) } else { (b, a) };
-                    stack[top] = far;
-                    top += 1;
-                    observer.stack(top);
-                    current = near;
-                    continue;
-                }
-                (Some(_), None) => {
-                    current = a;
-                    continue;
-                }
-                (None, Some(_)) => {
-                    current = b;
-                    continue;
-                }
-                (None, None) => {}
+            if let Some(next) = nearer_child((a, ta), (b, tb), &mut stack, &mut top, observer) {
+                current = next;
+                continue;
             }
         }
-        if top == 0 {
-            return hit;
-        }
-        top -= 1;
-        current = stack[top];
+        let Some(next) = pop(&stack, &mut top) else { return hit };
+        current = next;
     }
 }

@@ -9,7 +9,7 @@
 //! loop's step for step, which the `--instrument` counts rely on. What the CPU adds: the eight
 //! children tested as SoA lanes, and prefetches of the hit children and leaf primitives.
 
-use super::bvh::{safe_inverse, Hit, Query};
+use super::bvh::{pop, safe_inverse, Hit, Query};
 use super::observe::PathObserver;
 use super::real::Real;
 use super::vec3::V3;
@@ -58,33 +58,21 @@ pub fn traverse<T: Real>(
             group = (n.child_base, (hits & 0xff00_0000) | n.imask() as u32);
             let mut prims = hits & 0x00ff_ffff;
             if prims != 0 {
-                let mut tested = 0u32;
-                while prims != 0 {
-                    let k = prims.trailing_zeros();
-                    prims &= prims - 1;
-                    let slot = n.prim_base + k;
-                    if slot == q.skip {
-                        continue;
-                    }
-                    tested |= 1 << k;
-                    if let Some(t) = q.hit(slot, closest) {
-                        closest = t;
-                        hit = Some(Hit { t, prim: slot });
-                        if q.any_hit {
-                            observer.leaf(tested);
-                            return hit;
-                        }
-                    }
+                let slots = std::iter::from_fn(|| {
+                    (prims != 0).then(|| {
+                        let k = prims.trailing_zeros();
+                        prims &= prims - 1;
+                        (n.prim_base + k, k)
+                    })
+                });
+                if q.leaf(slots, &mut closest, &mut hit, observer) {
+                    return hit;
                 }
-                observer.leaf(tested);
             }
         }
         if group.1 <= 0x00ff_ffff {
-            if top == 0 {
-                return hit;
-            }
-            top -= 1;
-            group = stack[top];
+            let Some(next) = pop(&stack, &mut top) else { return hit };
+            group = next;
         }
     }
 }

@@ -1,7 +1,7 @@
 //! One path from camera to light: the book's `ray_color` as a loop; twin of the megakernel's
 //! `trace_path` in `shaders/megakernel.wgsl`.
 
-use super::bvh::{closest_hit_observed, occluder_observed};
+use super::bvh::{closest_hit_observed, occluder};
 use super::image_texture::surface_uv;
 use super::light::{diffuse_pdf, emission_weight, next_event};
 use super::observe::PathObserver;
@@ -25,21 +25,10 @@ pub struct PathSample<T> {
     pub failures: Failures,
 }
 
-/// Radiance carried by sample `sample` of pixel (x, y), and the rays it took.
-pub fn trace_path<T: Real>(
-    scene: &PackedScene,
-    camera: &Camera<T>,
-    settings: &RenderSettings,
-    x: u32,
-    y: u32,
-    sample: u32,
-) -> PathSample<T> {
-    trace_path_observed(scene, camera, settings, x, y, sample, &mut ())
-}
-
-/// [`trace_path`], reporting each block the path runs to `observer` (the SIMD replay's recorder).
+/// Radiance carried by sample `sample` of pixel (x, y), and the rays it took, reporting each
+/// block the path runs to `observer` (the SIMD replay's recorder; `&mut ()`: none).
 #[inline(always)]
-pub fn trace_path_observed<T: Real>(
+pub fn trace_path<T: Real>(
     scene: &PackedScene,
     camera: &Camera<T>,
     settings: &RenderSettings,
@@ -148,15 +137,7 @@ fn shadow_ray<T: Real>(
     out.rays += 1;
     shadow.ray.origin = origin;
     let range = (t_min, shadow.t_max);
-    match occluder_observed(
-        scene.bvh_nodes(),
-        &scene.primitives,
-        &shadow.ray,
-        range,
-        shadow.light,
-        sphere,
-        observer,
-    ) {
+    match occluder(scene.bvh_nodes(), &scene.primitives, &shadow.ray, range, shadow.light, sphere, observer) {
         None => Some(shadow.weight),
         Some(b) => {
             out.failures.shadow_self_hits +=

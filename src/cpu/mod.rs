@@ -52,7 +52,7 @@ pub fn render<T: Real>(
         for (x, px) in row.iter_mut().enumerate() {
             let mut stats = PixelStats::default();
             for s in 0..settings.spp {
-                let path = integrator::trace_path(scene, &camera, settings, x as u32, y as u32, s);
+                let path = integrator::trace_path(scene, &camera, settings, x as u32, y as u32, s, &mut ());
                 stats.add(path.radiance.to_f64());
                 stats.rays += path.rays as u64;
                 row_failures.add(&path.failures);

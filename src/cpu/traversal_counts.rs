@@ -5,7 +5,7 @@
 //! it (DESIGN.md §12). Counted over a sample of the frame's path samples, spread evenly.
 
 use super::camera::Camera;
-use super::integrator::trace_path_observed;
+use super::integrator::trace_path;
 use super::observe::PathObserver;
 use crate::bvh::BvhLayout;
 use crate::camera::CameraFrame;
@@ -113,7 +113,7 @@ pub fn count(scene: &PackedScene, frame: &CameraFrame, settings: &RenderSettings
         let k = i * total / paths;
         let (pixel, sample) = (k % pixels, (k / pixels) as u32);
         let (x, y) = ((pixel % settings.width as u64) as u32, (pixel / settings.width as u64) as u32);
-        trace_path_observed(scene, &camera, settings, x, y, sample, &mut c);
+        trace_path(scene, &camera, settings, x, y, sample, &mut c);
     }
     let layout = scene.bvh.layout;
     let [a, b] = c.kinds;

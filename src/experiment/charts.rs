@@ -44,6 +44,13 @@ pub struct Chart {
     pub height: u32,
 }
 
+impl Chart {
+    /// A chart drawn across scenes at one resolution (`(0, 0)`: across resolutions too).
+    fn across(kind: &'static str, stem: String, title: String, svg: String, (w, h): (u32, u32)) -> Self {
+        Self { stem, kind, title, svg, scene: String::new(), width: w, height: h }
+    }
+}
+
 /// Every chart the report's data supports (kinds without data in a group are left out).
 pub fn charts(report: &ExperimentReport) -> Vec<Chart> {
     let mut groups: BTreeMap<(String, u32, u32), Vec<&RunRecord>> = BTreeMap::new();
@@ -194,15 +201,8 @@ fn shading_cost(report: &ExperimentReport, colour: ColourOf) -> Vec<Chart> {
             series,
             ..Default::default()
         };
-        out.push(Chart {
-            stem: format!("shading-cost-{w}x{h}-{spp}spp-d{depth}{}", settings_stem(nee, roulette)),
-            kind: "shading-cost",
-            title,
-            svg: chart.to_svg_with(colour),
-            scene: String::new(),
-            width: w,
-            height: h,
-        });
+        let stem = format!("shading-cost-{w}x{h}-{spp}spp-d{depth}{}", settings_stem(nee, roulette));
+        out.push(Chart::across("shading-cost", stem, title, chart.to_svg_with(colour), (w, h)));
     }
     out
 }
@@ -300,15 +300,9 @@ fn crossover(report: &ExperimentReport, colour: ColourOf) -> Vec<Chart> {
             x_zero: false,
             series,
         };
-        out.push(Chart {
-            stem: format!("crossover-{}-d{depth}{}", file_safe(&scene), settings_stem(nee, roulette)),
-            kind: "crossover",
-            title,
-            svg: chart.to_svg_with(colour),
-            scene: scene.clone(),
-            width: 0,
-            height: 0,
-        });
+        let stem = format!("crossover-{}-d{depth}{}", file_safe(&scene), settings_stem(nee, roulette));
+        let svg = chart.to_svg_with(colour);
+        out.push(Chart { scene: scene.clone(), ..Chart::across("crossover", stem, title, svg, (0, 0)) });
     }
     out
 }
@@ -350,15 +344,8 @@ fn time_by_scene(report: &ExperimentReport, colour: ColourOf) -> Vec<Chart> {
             percent: false,
             groups,
         };
-        out.push(Chart {
-            stem: format!("time-by-scene-{w}x{h}-{spp}spp-d{depth}{}", settings_stem(nee, roulette)),
-            kind: "time-by-scene",
-            title,
-            svg: chart.to_svg_with(colour),
-            scene: String::new(),
-            width: w,
-            height: h,
-        });
+        let stem = format!("time-by-scene-{w}x{h}-{spp}spp-d{depth}{}", settings_stem(nee, roulette));
+        out.push(Chart::across("time-by-scene", stem, title, chart.to_svg_with(colour), (w, h)));
     }
     out
 }
@@ -786,13 +773,14 @@ fn simd(runs: &[&RunRecord], group: &str) -> Option<GroupedBarChart> {
 mod tests {
     use super::{crossover_at, CHART_KINDS};
 
-    /// The kinds written in this file (`push("kind", …)`, `kind: "kind"`) are [`CHART_KINDS`].
+    /// The kinds written in this file (`push("kind", …)`, `kind: "kind"`, `Chart::across("kind",
+    /// …)`) are [`CHART_KINDS`].
     #[test]
     fn every_kind_drawn_is_listed() {
         let code = include_str!("charts.rs");
         let code = &code[..code.find("#[cfg(test)]").unwrap()];
         let mut written: Vec<&str> = Vec::new();
-        for marker in ["push(\"", "kind: \""] {
+        for marker in ["push(\"", "kind: \"", "Chart::across(\""] {
             for (i, _) in code.match_indices(marker) {
                 let rest = &code[i + marker.len()..];
                 written.push(&rest[..rest.find('"').unwrap()]);

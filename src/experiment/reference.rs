@@ -394,18 +394,11 @@ mod tests {
         // the knobs existed: identity text without a knob line.
         let scene = crate::scene::builtin::by_name("three-spheres").unwrap();
         let s = RenderSettings::default();
+        let RenderSettings { width, height, spp, max_depth, seed, accel, nee, .. } = s.clone();
+        let (v, json) = (env!("CARGO_PKG_VERSION"), crate::scene::export::to_json(&scene));
+        let digest = mesh_digest(&scene);
         let identity = format!(
-            "{}\n{}\n{}\n{}x{} spp {} depth {} seed {} accel {:?} nee {} cpu-f64",
-            env!("CARGO_PKG_VERSION"),
-            crate::scene::export::to_json(&scene),
-            mesh_digest(&scene),
-            s.width,
-            s.height,
-            s.spp,
-            s.max_depth,
-            s.seed,
-            s.accel,
-            s.nee
+            "{v}\n{json}\n{digest}\n{width}x{height} spp {spp} depth {max_depth} seed {seed} accel {accel:?} nee {nee} cpu-f64"
         );
         let key = cache_key(&scene, &s, "cpu-f64", &MethodOptions::default());
         assert!(key.ends_with(&format!("{:016x}", fnv1a(identity.as_bytes()))), "{key}");

@@ -152,18 +152,23 @@ impl StageCache {
     }
 }
 
-/// The named overrides entry point `entry` of `module` reaches, directly or through the
-/// functions it calls, array sizes, its workgroup size and other overrides' initializers:
-/// naga's compaction of the module cut to that entry point keeps exactly those. `None` when the
-/// module has no such entry point.
-pub fn reached_constants(module: &naga::Module, entry: &str) -> Option<BTreeSet<String>> {
+/// `module` cut to its entry point `entry` and compacted by naga: what that entry point reaches,
+/// directly or through the functions it calls (global variables, functions, constants, and the
+/// overrides its code, array sizes, workgroup size and other overrides' initializers name).
+/// `None` when the module has no such entry point.
+pub fn reached(module: &naga::Module, entry: &str) -> Option<naga::Module> {
     let mut m = module.clone();
     m.entry_points.retain(|e| e.name == entry);
     if m.entry_points.is_empty() {
         return None;
     }
     naga::compact::compact(&mut m, naga::compact::KeepUnused::No);
-    Some(m.overrides.iter().filter_map(|(_, o)| o.name.clone()).collect())
+    Some(m)
+}
+
+/// The named overrides entry point `entry` of `module` reaches ([`reached`]).
+pub fn reached_constants(module: &naga::Module, entry: &str) -> Option<BTreeSet<String>> {
+    reached(module, entry).map(|m| m.overrides.iter().filter_map(|(_, o)| o.name.clone()).collect())
 }
 
 #[cfg(test)]

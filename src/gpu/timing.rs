@@ -78,6 +78,20 @@ pub struct Timings {
 }
 
 impl Timings {
+    /// Nothing timed yet, from `source`.
+    pub fn new(source: TimeSource) -> Self {
+        Self {
+            source,
+            frame_seconds: 0.0,
+            host_gap_seconds: 0.0,
+            submissions: 0,
+            waits: 0,
+            preheat_seconds: 0.0,
+            passes: BTreeMap::new(),
+            per_bounce: BTreeMap::new(),
+        }
+    }
+
     /// The sum of pass times (timestamps), or of submission times (wall clock).
     pub fn total_seconds(&self) -> f64 {
         self.passes.values().map(|p| p.seconds).sum()
@@ -190,16 +204,7 @@ impl GpuTimer {
         Self {
             queries,
             labels: Vec::new(),
-            timings: Timings {
-                source,
-                frame_seconds: 0.0,
-                host_gap_seconds: 0.0,
-                submissions: 0,
-                waits: 0,
-                preheat_seconds: 0.0,
-                passes: BTreeMap::new(),
-                per_bounce: BTreeMap::new(),
-            },
+            timings: Timings::new(source),
             submitted_at: None,
             first_submitted: None,
             last_done: None,
@@ -338,16 +343,7 @@ mod tests {
     use super::*;
 
     fn timings(source: TimeSource) -> Timings {
-        Timings {
-            source,
-            frame_seconds: 0.0,
-            host_gap_seconds: 0.0,
-            submissions: 0,
-            waits: 0,
-            preheat_seconds: 0.0,
-            passes: BTreeMap::new(),
-            per_bounce: BTreeMap::new(),
-        }
+        Timings::new(source)
     }
 
     #[test]

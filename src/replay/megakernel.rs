@@ -7,7 +7,7 @@ use super::lockstep::{slot, traverse, Lane, SlotCounts};
 use super::paths::Paths;
 use super::recorder::{is_hit, CLOSEST, SHADOW};
 use super::width::MAX_WIDTH;
-use crate::camera::CameraFrame;
+use super::ReplayJob;
 use crate::cpu::camera::Camera;
 use crate::gpu::dispatch_plan;
 use crate::layout::DispatchParams;
@@ -37,13 +37,8 @@ pub struct Replayed {
 }
 
 /// Replays the naive megakernel at every width in `widths` (checked by `width::check`).
-pub fn replay(
-    scene: &PackedScene,
-    frame: &CameraFrame,
-    settings: &RenderSettings,
-    widths: &[u32],
-    launch: Launch,
-) -> Replayed {
+pub fn replay(job: ReplayJob, launch: Launch) -> Replayed {
+    let ReplayJob { scene, frame, settings, widths } = job;
     let camera = Camera::<f32>::new(frame);
     let pixels = settings.width * settings.height;
     let plan = dispatch_plan::plan(pixels, settings.spp, launch.samples_per_dispatch, launch.max_threads);

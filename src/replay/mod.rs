@@ -19,3 +19,28 @@ pub mod recorder;
 pub mod regenerate;
 pub mod wavefront;
 pub mod width;
+
+use crate::camera::CameraFrame;
+use crate::packed_scene::PackedScene;
+use crate::settings::RenderSettings;
+
+/// What a replay runs: the scene, its camera, the job's settings, and the SIMD widths to count
+/// at (checked by `width::check`).
+#[derive(Clone, Copy)]
+pub struct ReplayJob<'a> {
+    pub scene: &'a PackedScene,
+    pub frame: &'a CameraFrame,
+    pub settings: &'a RenderSettings,
+    pub widths: &'a [u32],
+}
+
+impl<'a> ReplayJob<'a> {
+    pub fn new(
+        scene: &'a PackedScene,
+        frame: &'a CameraFrame,
+        settings: &'a RenderSettings,
+        widths: &'a [u32],
+    ) -> Self {
+        Self { scene, frame, settings, widths }
+    }
+}

@@ -5,7 +5,7 @@
 
 use super::lockstep::Lane;
 use super::recorder::Recorder;
-use crate::cpu::{camera::Camera, integrator::trace_path_observed};
+use crate::cpu::{camera::Camera, integrator::trace_path};
 use crate::layout::DispatchParams;
 use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
@@ -40,7 +40,7 @@ impl Paths {
                     let sample = d.sample_start + (i / d.pixel_count as u64) as u32;
                     let start = rec.events.len();
                     let (x, y) = (pixel % settings.width, pixel / settings.width);
-                    trace_path_observed(scene, camera, settings, x, y, sample, &mut rec);
+                    trace_path(scene, camera, settings, x, y, sample, &mut rec);
                     spans.push(start..rec.events.len());
                 }
                 (rec.events, spans)

@@ -15,10 +15,9 @@ use super::lockstep::{extrapolate, Lane, SlotCounts};
 use super::megakernel::bounce;
 use super::paths::Paths;
 use super::wavefront::regenerating_subset;
-use crate::camera::CameraFrame;
+use super::ReplayJob;
 use crate::cpu::camera::Camera;
 use crate::gpu::dispatch_plan;
-use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
 use rayon::prelude::*;
@@ -58,13 +57,8 @@ pub struct Replayed {
 }
 
 /// Replays the regenerating megakernel at every width in `widths`.
-pub fn replay(
-    scene: &PackedScene,
-    frame: &CameraFrame,
-    settings: &RenderSettings,
-    widths: &[u32],
-    launch: Launch,
-) -> Result<Replayed> {
+pub fn replay(job: ReplayJob, launch: Launch) -> Result<Replayed> {
+    let settings = job.settings;
     if launch.threads == 0 || launch.workgroup_size == 0 || launch.resident == Some(0) {
         bail!("replay of the regenerating megakernel: threads, workgroup size and resident subgroups must be at least 1");
     }
@@ -78,11 +72,11 @@ pub fn replay(
         (threads as u64).min((settings.sample_count()).next_multiple_of(launch.workgroup_size as u64));
     let short = regenerating_subset(settings, launch.every, job_threads, "--every")?;
     if short.spp == settings.spp {
-        return replay_job(scene, frame, settings, widths, launch);
+        return replay_job(job, launch);
     }
     let long = RenderSettings { spp: 2 * short.spp, ..settings.clone() };
-    let a = replay_job(scene, frame, &short, widths, launch)?;
-    let b = replay_job(scene, frame, &long, widths, launch)?;
+    let a = replay_job(ReplayJob { settings: &short, ..job }, launch)?;
+    let b = replay_job(ReplayJob { settings: &long, ..job }, launch)?;
     let f = (settings.sample_count() - short.sample_count()) as f64
         / (long.sample_count() - short.sample_count()) as f64;
     Ok(Replayed {
@@ -98,13 +92,8 @@ pub fn replay(
 }
 
 /// [`replay`] of the whole of `settings`' frame.
-fn replay_job(
-    scene: &PackedScene,
-    frame: &CameraFrame,
-    settings: &RenderSettings,
-    widths: &[u32],
-    launch: Launch,
-) -> Result<Replayed> {
+fn replay_job(job: ReplayJob, launch: Launch) -> Result<Replayed> {
+    let ReplayJob { scene, frame, settings, widths } = job;
     let camera = Camera::<f32>::new(frame);
     let threads = launch.launched_threads();
     let per_thread = launch.paths_per_thread.map_or(u64::MAX, |p| p.max(1) as u64);

@@ -22,6 +22,7 @@ use super::lockstep::{extrapolate, slot, traverse, Lane, SlotCounts};
 use super::megakernel::bounce;
 use super::paths::Paths;
 use super::recorder::{is_hit, is_step, CLOSEST, SHADOW};
+use super::ReplayJob;
 use crate::camera::CameraFrame;
 use crate::cpu::camera::Camera;
 use crate::gpu::label;
@@ -34,7 +35,7 @@ use crate::packed_scene::PackedScene;
 use crate::settings::RenderSettings;
 use anyhow::{bail, Result};
 use rayon::prelude::*;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 /// The label of the megakernel tail's pass (`src/gpu/wavefront/tail.rs`'s stage): its dispatches
 /// are counted under it, its blocks in the `megakernel_*` slots (`work:megakernel`), as on the
@@ -239,13 +240,8 @@ pub fn regenerating_subset(
 }
 
 /// Replays the wavefront at every width in `widths`.
-pub fn replay(
-    scene: &PackedScene,
-    frame: &CameraFrame,
-    settings: &RenderSettings,
-    widths: &[u32],
-    launch: Launch,
-) -> Result<Replayed> {
+pub fn replay(job: ReplayJob, launch: Launch) -> Result<Replayed> {
+    let ReplayJob { scene, frame, settings, widths } = job;
     if launch.pool == 0 {
         bail!("replay of the wavefront: the pool must hold at least 1 path");
     }
@@ -491,8 +487,7 @@ impl Wave<'_> {
         let n = self.lanes.len();
         let paths = r.paths;
         let slot_order = !self.slot_of.is_empty();
-        let mut free: std::collections::BTreeSet<usize> =
-            if slot_order { (0..pool).collect() } else { Default::default() };
+        let mut free: BTreeSet<usize> = if slot_order { (0..pool).collect() } else { Default::default() };
         let (mut next, mut rays) = (0usize, Vec::new());
         // Which lanes are still queued after an iteration (reset after each use).
         let mut live = vec![false; n];
@@ -514,19 +509,7 @@ impl Wave<'_> {
                     Vec::new()
                 };
                 next += fresh.len();
-                if !self.first_bounce.is_empty() {
-                    rays.iter().for_each(|&l: &usize| self.first_bounce[l] = false);
-                    fresh.iter().for_each(|&l| self.first_bounce[l] = true);
-                }
-                if slot_order {
-                    for &l in &fresh {
-                        self.slot_of[l] = free.pop_first().expect("a free slot for every refill");
-                    }
-                }
-                if refill {
-                    let threads: Vec<Option<usize>> = fresh.iter().map(|&l| Some(l)).collect();
-                    self.pass(label::GENERATE, &threads, |_, _| {});
-                }
+                self.refill(refill, &fresh, &rays, &mut free);
                 rays.extend(fresh);
                 let before = std::mem::take(&mut rays);
                 rays = self.iteration(&before, kinds, shade, shadow_pass);
@@ -584,6 +567,25 @@ impl Wave<'_> {
             if c.finished == paths {
                 bail!("replay of the regenerating wavefront: every sample finished but {oldest} of {} chunks added", r.chunks());
             }
+        }
+    }
+
+    /// The refill's pass (recorded while the last check found samples to start): `fresh` lanes
+    /// start their first bounce beside the queued `rays`; in slot order each takes the lowest
+    /// free slot.
+    fn refill(&mut self, recorded: bool, fresh: &[usize], rays: &[usize], free: &mut BTreeSet<usize>) {
+        if !self.first_bounce.is_empty() {
+            rays.iter().for_each(|&l| self.first_bounce[l] = false);
+            fresh.iter().for_each(|&l| self.first_bounce[l] = true);
+        }
+        if !self.slot_of.is_empty() {
+            for &l in fresh {
+                self.slot_of[l] = free.pop_first().expect("a free slot for every refill");
+            }
+        }
+        if recorded {
+            let threads: Vec<Option<usize>> = fresh.iter().map(|&l| Some(l)).collect();
+            self.pass(label::GENERATE, &threads, |_, _| {});
         }
     }
 

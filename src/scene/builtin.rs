@@ -282,7 +282,7 @@ impl Builder {
 }
 
 /// The book's final camera.
-fn rtiow_camera() -> CameraSpec {
+pub(crate) fn rtiow_camera() -> CameraSpec {
     CameraSpec {
         lookfrom: Vec3::new(13.0, 2.0, 3.0),
         lookat: Vec3::ZERO,

@@ -125,16 +125,20 @@ fn the_wavefront_ends_the_megakernels_paths_for_every_knob() {
     let wavefront = |wf: WavefrontOptions| {
         run_with(Method::Wavefront, "cornell", &s, &MethodOptions { wavefront: wf, ..Default::default() })
     };
+    // Each compaction method once, the shade passes in turn (each run compiles its own
+    // pipelines: most of this test's cost with a cold shader cache).
     let mut knobs = Vec::new();
-    for compaction in [Compaction::Off, Compaction::Atomic, Compaction::Scan] {
-        for shade in [ShadePasses::PerMaterial, ShadePasses::Single] {
-            knobs.push(WavefrontOptions {
-                pool_size: Some(PoolSize::Paths(700)),
-                compaction,
-                shade,
-                ..Default::default()
-            });
-        }
+    for (compaction, shade) in [
+        (Compaction::Off, ShadePasses::PerMaterial),
+        (Compaction::Atomic, ShadePasses::Single),
+        (Compaction::Scan, ShadePasses::PerMaterial),
+    ] {
+        knobs.push(WavefrontOptions {
+            pool_size: Some(PoolSize::Paths(700)),
+            compaction,
+            shade,
+            ..Default::default()
+        });
     }
     knobs.push(WavefrontOptions {
         pool_size: Some(PoolSize::Paths(700)),

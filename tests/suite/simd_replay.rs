@@ -110,18 +110,29 @@ fn validation_scenes() -> Vec<(&'static str, wavetrace::scene::Scene, bool)> {
 /// every validation scene: the same slots reached, each within 3 percentage points, pooled
 /// figures included. None where the driver picks the width per pipeline (nothing to replay).
 fn assert_replay_matches(label: &str, method: Method, opts: &MethodOptions) {
-    assert_replay_matches_with(label, method, opts, false);
+    assert_replay_matches_with(label, method, opts, false, None);
 }
 
-/// [`assert_replay_matches`], with Russian roulette on or off.
-fn assert_replay_matches_with(label: &str, method: Method, opts: &MethodOptions, roulette: bool) {
-    use wavetrace::replay::{megakernel, regenerate, wavefront};
+/// [`assert_replay_matches`], with Russian roulette on or off, on every validation scene or (the
+/// `turn`-th of a test's knob sets) on every other one in turn: the even turns on rtiow-final
+/// and mesh_box, the odd ones on cornell and spheres-64, so each set meets a scene with NEE and
+/// each scene half the sets (each instrumented render compiles its own pipelines: most of these
+/// tests' cost with a cold shader cache).
+fn assert_replay_matches_with(
+    label: &str,
+    method: Method,
+    opts: &MethodOptions,
+    roulette: bool,
+    turn: Option<usize>,
+) {
+    use wavetrace::replay::{megakernel, regenerate, wavefront, ReplayJob};
     let Some(ctx) = common::gpu() else { return };
     let w = ctx.summary.subgroup_min_size;
     if !ctx.summary.subgroups || w != ctx.summary.subgroup_max_size {
         return; // a width the driver picks per pipeline cannot be replayed as one
     }
-    for (scene, scene_data, nee) in validation_scenes() {
+    let scenes = validation_scenes().into_iter().enumerate();
+    for (_, (scene, scene_data, nee)) in scenes.filter(|(j, _)| turn.is_none_or(|t| (t + j) % 2 == 0)) {
         let s = RenderSettings { roulette, ..settings(nee) };
         let out = render(method, &scene_data, &s, opts, Some(ctx), &|_| {}).unwrap();
         let device = out.simd.unwrap();
@@ -134,7 +145,7 @@ fn assert_replay_matches_with(label: &str, method: Method, opts: &MethodOptions,
                 let launch = wavefront::Launch::from_options(
                     &opts.wavefront.resolve(ctx.summary.is_software()).options,
                 );
-                let r = wavefront::replay(&packed, &frame, &s, &[w], launch).unwrap();
+                let r = wavefront::replay(ReplayJob::new(&packed, &frame, &s, &[w]), launch).unwrap();
                 // The host's schedule replayed: the same iterations and tail passes, and the
                 // tail's paths up to those that the device's rounding ends at another bounce
                 // than the CPU's (common::F32_RAY_TOLERANCE; an H200: 250 against 251 on the
@@ -159,7 +170,7 @@ fn assert_replay_matches_with(label: &str, method: Method, opts: &MethodOptions,
                     resident: wavetrace::gpu::loop_limit::has_loop_limit(ctx).then_some(LLVMPIPE_RESIDENT),
                     every: 1,
                 };
-                regenerate::replay(&packed, &frame, &s, &[w], launch).unwrap().counts
+                regenerate::replay(ReplayJob::new(&packed, &frame, &s, &[w]), launch).unwrap().counts
             }
             _ => {
                 let launch = megakernel::Launch {
@@ -167,7 +178,7 @@ fn assert_replay_matches_with(label: &str, method: Method, opts: &MethodOptions,
                     max_threads: 65535 * mk.workgroup_size,
                     every: 1,
                 };
-                megakernel::replay(&packed, &frame, &s, &[w], launch).counts
+                megakernel::replay(ReplayJob::new(&packed, &frame, &s, &[w]), launch).counts
             }
         };
         let replayed = counts[0].1.efficiencies().unwrap();
@@ -226,16 +237,17 @@ fn megakernel_replay_matches_the_device() {
 fn replay_matches_the_device_with_roulette() {
     use wavetrace::gpu::wavefront::{Compaction, QueueOrder, Tail};
     let opts = MethodOptions { instrument: true, ..Default::default() };
-    assert_replay_matches_with("megakernel, roulette", Method::Megakernel, &opts, true);
+    assert_replay_matches_with("megakernel, roulette", Method::Megakernel, &opts, true, Some(0));
     let mut opts = MethodOptions { instrument: true, ..Default::default() };
     opts.wavefront.compaction = Compaction::Scan;
     opts.wavefront.queue_order = QueueOrder::Slot;
-    assert_replay_matches_with("wavefront slot, roulette", Method::Wavefront, &opts, true);
+    assert_replay_matches_with("wavefront slot, roulette", Method::Wavefront, &opts, true, Some(1));
     opts.wavefront.schedule = Schedule::Regenerate;
     opts.wavefront.tail = Tail::Megakernel;
     opts.wavefront.tail_threshold = 0.5;
     opts.wavefront.pool_size = Some(PoolSize::Paths(128));
-    assert_replay_matches_with("wavefront regenerate slot, tail, roulette", Method::Wavefront, &opts, true);
+    let label = "wavefront regenerate slot, tail, roulette";
+    assert_replay_matches_with(label, Method::Wavefront, &opts, true, Some(2));
 }
 
 #[test]
@@ -247,22 +259,25 @@ fn regenerate_replay_matches_the_device() {
 /// The wavefront per pass, in the deterministic scan order, one shade pass per material, one
 /// over every hit and one over the material queues end to end (its subgroups mixed only at the
 /// queues' seams); and in slot order, where the scan lists the shadow queue too, so the
-/// shadow pass is compared as well.
+/// shadow pass is compared as well. The knob sets take the validation scenes in turn.
 #[test]
 fn wavefront_replay_matches_the_device() {
     use wavetrace::gpu::wavefront::{Compaction, QueueOrder, ShadePasses};
     let mut opts = MethodOptions { instrument: true, ..Default::default() };
     opts.wavefront.compaction = Compaction::Scan;
-    for (order, shade, label) in [
+    for (turn, (order, shade, label)) in [
         (QueueOrder::Arrival, ShadePasses::PerMaterial, "wavefront"),
         (QueueOrder::Arrival, ShadePasses::Single, "wavefront single shade"),
         (QueueOrder::Arrival, ShadePasses::Sorted, "wavefront sorted shade"),
         (QueueOrder::Slot, ShadePasses::PerMaterial, "wavefront, slot order"),
         (QueueOrder::Slot, ShadePasses::Single, "wavefront single shade, slot order"),
-    ] {
+    ]
+    .into_iter()
+    .enumerate()
+    {
         opts.wavefront.queue_order = order;
         opts.wavefront.shade = shade;
-        assert_replay_matches(label, Method::Wavefront, &opts);
+        assert_replay_matches_with(label, Method::Wavefront, &opts, false, Some(turn));
     }
 }
 
@@ -362,7 +377,7 @@ fn replay_cli_refuses_bad_widths() {
 /// threads keep lanes busy: fewer subgroup-iterations issued.
 #[test]
 fn regenerating_with_a_thread_per_sample_replays_as_the_naive_megakernel() {
-    use wavetrace::replay::{megakernel, regenerate};
+    use wavetrace::replay::{megakernel, regenerate, ReplayJob};
     let s = settings(true);
     let scene = builtin::by_name("cornell").unwrap();
     let opts = MethodOptions::default();
@@ -371,7 +386,7 @@ fn regenerating_with_a_thread_per_sample_replays_as_the_naive_megakernel() {
     let mk = &opts.megakernel;
     let naive_launch =
         megakernel::Launch { samples_per_dispatch: mk.samples_per_dispatch, max_threads: 1 << 20, every: 1 };
-    let naive = megakernel::replay(&packed, &frame, &s, &widths, naive_launch);
+    let naive = megakernel::replay(ReplayJob::new(&packed, &frame, &s, &widths), naive_launch);
     let launch = |threads| regenerate::Launch {
         samples_per_dispatch: mk.samples_per_dispatch,
         threads,
@@ -381,8 +396,8 @@ fn regenerating_with_a_thread_per_sample_replays_as_the_naive_megakernel() {
         every: 1,
     };
     let samples = s.sample_count() as u32;
-    let same = regenerate::replay(&packed, &frame, &s, &widths, launch(samples)).unwrap();
-    let fewer = regenerate::replay(&packed, &frame, &s, &widths, launch(64)).unwrap();
+    let same = regenerate::replay(ReplayJob::new(&packed, &frame, &s, &widths), launch(samples)).unwrap();
+    let fewer = regenerate::replay(ReplayJob::new(&packed, &frame, &s, &widths), launch(64)).unwrap();
     let issued = |c: &wavetrace::replay::lockstep::SlotCounts| c.slots.iter().map(|s| s[1]).sum::<u64>();
     for (i, w) in widths.iter().enumerate() {
         assert_eq!(naive.counts[i].1.slots, same.counts[i].1.slots, "W={w}");
@@ -463,7 +478,7 @@ fn sampled_subsets_agree_with_the_full_replay() {
     use std::collections::BTreeMap;
     use wavetrace::gpu::instrument::SimdEfficiency;
     use wavetrace::gpu::wavefront::{schedule::shares, Compaction, QueueOrder, WavefrontOptions};
-    use wavetrace::replay::{megakernel, regenerate, wavefront};
+    use wavetrace::replay::{megakernel, regenerate, wavefront, ReplayJob};
     let widths = [8, 32];
     let s = RenderSettings {
         width: 64,
@@ -506,7 +521,7 @@ fn sampled_subsets_agree_with_the_full_replay() {
         let (packed, frame) = wavetrace::method::prepare(Method::Megakernel, &scene_data, &s, &opts).unwrap();
         let naive = |every| {
             let launch = megakernel::Launch { samples_per_dispatch: 1 << 22, max_threads: 65535 * 64, every };
-            pooled(&megakernel::replay(&packed, &frame, &s, &widths, launch).counts)
+            pooled(&megakernel::replay(ReplayJob::new(&packed, &frame, &s, &widths), launch).counts)
         };
         let regen = |s: &RenderSettings, every| {
             let launch = regenerate::Launch {
@@ -517,7 +532,7 @@ fn sampled_subsets_agree_with_the_full_replay() {
                 resident: None,
                 every,
             };
-            pooled(&regenerate::replay(&packed, &frame, s, &widths, launch).unwrap().counts)
+            pooled(&regenerate::replay(ReplayJob::new(&packed, &frame, s, &widths), launch).unwrap().counts)
         };
         let mut wf = wavefront::Launch::from_options(&WavefrontOptions {
             schedule: Schedule::Waves,
@@ -528,7 +543,7 @@ fn sampled_subsets_agree_with_the_full_replay() {
         });
         let waves = |wf: wavefront::Launch, every| {
             let launch = wavefront::Launch { every, ..wf };
-            pooled(&wavefront::replay(&packed, &frame, &s, &widths, launch).unwrap().counts)
+            pooled(&wavefront::replay(ReplayJob::new(&packed, &frame, &s, &widths), launch).unwrap().counts)
         };
         let what = |m: &str| format!("{scene} {m}");
         assert!(gap(&what("naive megakernel, 1 block in 4"), &naive(1), &naive(4)) <= SUBSET_TOLERANCE);

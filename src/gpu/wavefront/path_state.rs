@@ -221,6 +221,35 @@ pub struct PathState {
     pub pool: u32,
 }
 
+/// The path-state bind group: the dispatch and wave uniforms (bindings 0 and 1), then the
+/// storage buffers in binding order from 2 (`shaders/wavefront/shared/path_state.wgsl`).
+fn bind_path_state(
+    ctx: &GpuContext,
+    params: &DispatchUniforms,
+    wave: &wgpu::Buffer,
+    storage: &[&wgpu::Buffer],
+) -> (wgpu::BindGroupLayout, wgpu::BindGroup) {
+    let mut entries = vec![uniform_entry(0, true), uniform_entry(1, false)];
+    entries.extend((2..storage.len() as u32 + 2).map(|b| storage_entry(b, false)));
+    let layout = ctx.bind_group_layout("path state", &entries);
+    let mut bind = vec![
+        wgpu::BindGroupEntry { binding: 0, resource: params.binding() },
+        wgpu::BindGroupEntry { binding: 1, resource: wave.as_entire_binding() },
+    ];
+    bind.extend(
+        storage
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32 + 2, resource: b.as_entire_binding() }),
+    );
+    let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("path state"),
+        layout: &layout,
+        entries: &bind,
+    });
+    (layout, bind_group)
+}
+
 impl PathState {
     pub fn new(
         ctx: &GpuContext,
@@ -275,9 +304,6 @@ impl PathState {
             usage: wgpu::BufferUsages::UNIFORM,
         });
         memory.add(Mem::Parameters, wave_buf.size());
-        let mut entries = vec![uniform_entry(0, true), uniform_entry(1, false)];
-        entries.extend((2..=15).map(|b| storage_entry(b, false)));
-        let layout = ctx.bind_group_layout("path state", &entries);
         let storage = [
             &origin,
             &dir,
@@ -294,21 +320,7 @@ impl PathState {
             &path_sample,
             &samples,
         ];
-        let mut bind = vec![
-            wgpu::BindGroupEntry { binding: 0, resource: params.binding() },
-            wgpu::BindGroupEntry { binding: 1, resource: wave_buf.as_entire_binding() },
-        ];
-        bind.extend(
-            storage.iter().enumerate().map(|(i, b)| wgpu::BindGroupEntry {
-                binding: i as u32 + 2,
-                resource: b.as_entire_binding(),
-            }),
-        );
-        let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("path state"),
-            layout: &layout,
-            entries: &bind,
-        });
+        let (layout, bind_group) = bind_path_state(ctx, params, &wave_buf, &storage);
         let indirect_layout = ctx.bind_group_layout("indirect args", &[storage_entry(0, false)]);
         let indirect_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("indirect args"),

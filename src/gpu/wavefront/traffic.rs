@@ -179,8 +179,8 @@ impl StateTraffic {
 
     /// The model for a render of `shape` with `items`.
     pub fn model(shape: &Shape, items: &Items) -> Self {
-        let s = shape;
-        let n = items;
+        let (s, n) = (shape, items);
+        let f = Flow::new(s, n);
         let mut passes = Vec::new();
         let mut add = |label: &str, items: u64, read: u64, written: u64| {
             passes.push(PassTraffic {
@@ -192,121 +192,11 @@ impl StateTraffic {
                 bytes_per_second: None,
             })
         };
-        let nee = s.layout.shadow;
-        let hits: u64 = n.hits.iter().sum();
-        let escapes = n.rays.saturating_sub(hits);
-        // Every sample ends once: escaping in intersect, in shade, or in the tail.
-        let shade_ends = n.samples.saturating_sub(escapes + n.tail_paths).min(hits);
-        let continuing = hits - shade_ends;
-        // Camera rays' escapes and hits read no radiance or throughput (none is stored yet);
-        // the paths going on from bounce 0 write their first radiance.
-        // Without the per-bounce counts: no camera ray's escape or hit spared a read, and every
-        // path charged a first radiance.
-        let (camera_escapes, camera_hits, first_continuing) = match n.first_bounce {
-            Some((h, c)) => (n.samples.saturating_sub(h).min(escapes), h.min(hits), c.min(continuing)),
-            None => (0, 0, continuing.min(n.samples)),
-        };
-        let first_ends = camera_hits.saturating_sub(first_continuing).min(shade_ends);
-        let (finish_r, finish_w) = s.finish();
-
-        // Camera rays: origin and direction (unless made in place), the slot's sample and bounce
-        // (regenerate); the queue entry (waves: written, and the slot-order mark; regenerate:
-        // the free slot read and the ray queue entry written).
-        let camera_ray = if s.camera_in_place { 0 } else { 2 * VEC4 };
-        let start_w = camera_ray + if s.regenerate { PATH_SAMPLE } else { 0 };
-        // (A wave's camera rays made in place need no queue: intersect takes its slots in order.)
-        let (start_qr, start_qw) = match (s.regenerate, s.camera_in_place) {
-            (true, _) => (WORD, WORD),
-            (false, true) => (0, 0),
-            (false, false) => (0, WORD),
-        };
-        let slot_mark = if s.slot_order && !s.regenerate { WORD } else { 0 };
-        let label = if s.regenerate { label::REGENERATE } else { label::GENERATE };
-        // (--refill in-place) A sample started where a path ended: its start and queue entry
-        // written by intersect or shade, instead of the slot's free-list entry (written there,
-        // read by the refill pass).
-        let (refilled_i, refilled_s) = n.refilled;
-        let started = n.samples.saturating_sub(refilled_i + refilled_s);
-        let free_w = if s.regenerate && !s.slot_order { WORD } else { 0 };
-        let restart_w = (start_w + WORD).saturating_sub(free_w);
-        add(label, started, started * start_qr, started * (start_w + start_qw + slot_mark));
-        if s.regenerate {
-            // Every slot freed: its queue entry, dead direction word and slot-order mark.
-            let w = WORD + WORD + if s.slot_order { WORD } else { 0 };
-            add(label::REGENERATE_INIT, n.init_slots, 0, n.init_slots * w);
-        }
-
-        // intersect: the queue entry, the ray (origin.xyz, direction with the primitive it
-        // left; a camera ray made in place reads only, when regenerating, its sample); a hit
-        // writes its distance and primitive and queues the material; an escape adds the
-        // background to the radiance (past bounce 0: read with the throughput) and ends.
-        let hit_w = 2 * WORD + s.enqueue();
-        let later_escapes = escapes - camera_escapes;
-        // (In place: regenerating, the marked queue entry and the sample; a wave's, nothing.)
-        let (camera_rays, camera_read) = match (s.camera_in_place, s.regenerate) {
-            (false, _) => (0, 0),
-            (true, true) => (n.samples.min(n.rays), WORD + PATH_SAMPLE),
-            (true, false) => (n.samples.min(n.rays), 0),
-        };
-        add(
-            label::INTERSECT,
-            n.rays,
-            camera_rays * camera_read
-                + (n.rays - camera_rays) * (WORD + XYZ + VEC4)
-                + later_escapes * (XYZ + VEC4)
-                + escapes * finish_r,
-            hits * hit_w + escapes * (WORD + s.retire() + finish_w) + refilled_i * restart_w,
-        );
-
-        // shade: the queue entry, the ray with its hit, the throughput and MIS density (past
-        // bounce 0), the slot's sample and bounce; a path going on writes its next ray and
-        // throughput (and bounce; from bounce 0 its first radiance) and queues it, and at a
-        // diffuse hit with NEE its shadow ray and weight; an ending path adds what it found to
-        // its radiance (past bounce 0: read) and ends.
-        let shade_r = WORD + 2 * VEC4 + if s.regenerate { PATH_SAMPLE } else { 0 };
-        // A camera hit made in place reads its hit's distance and primitive, not the ray.
-        let camera_spared = if s.camera_in_place { 2 * VEC4 - 2 * WORD } else { 0 };
-        let go_w = 3 * VEC4 + if s.regenerate { WORD } else { 0 } + s.enqueue();
-        let end_w = WORD + s.retire() + finish_w;
-        // A shadow ray queued: its ray and weight (and queue entry) written for the shadow pass;
-        // traced inline: the radiance read and written with what it found (an upper bound: from
-        // bounce 0 no radiance is read, and the write repeats the first one).
-        let (shadow_r, shadow_w) = if s.inline_shadow {
-            (VEC4, VEC4)
-        } else {
-            (0, 2 * VEC4 + if s.atomic && !s.slot_order { WORD } else { 0 })
-        };
-        let shade_read = n.shadow * shadow_r
-            + hits * shade_r
-            + (hits - camera_hits) * VEC4
-            + shade_ends * finish_r
-            + (shade_ends - first_ends) * VEC4
-            - camera_hits * camera_spared;
-        let shade_written = continuing * go_w
-            + first_continuing * VEC4
-            + shade_ends * end_w
-            + n.shadow * shadow_w
-            + refilled_s * restart_w;
-        add("shade", hits, shade_read, shade_written);
-
-        if s.sweep {
-            // Every slot's mark read; continuing rays, shadow rays and (regenerate) ended paths'
-            // slots appended.
-            let queued_shadow = if s.inline_shadow { 0 } else { n.shadow };
-            let appends = continuing + queued_shadow + if s.regenerate { n.samples } else { 0 };
-            add(label::SLOT_SWEEP, n.slot_visits, n.slot_visits * WORD, appends * WORD);
-        } else if !s.atomic || s.slot_order {
-            // The scan: each position's mark read by the scan and the scatter, its offset written
-            // and read, its slot read (arrival order), its queue entry written; after intersect
-            // (scan method: the material queues) and after shade (the next ray queue).
-            let per = 2 * WORD + 2 * WORD + if s.slot_order { 0 } else { WORD };
-            let after_shade = if s.slot_order { n.slot_visits } else { hits };
-            let positions = after_shade + if s.atomic { 0 } else { n.rays };
-            let entries = continuing + if s.atomic { 0 } else { hits };
-            add("compact", positions, positions * (per - WORD), positions * WORD + entries * WORD);
-        }
-
-        if nee {
+        s.start(n, &mut add);
+        s.intersect(n, &f, &mut add);
+        s.shade(n, &f, &mut add);
+        s.compaction(n, &f, &mut add);
+        if s.layout.shadow {
             // shadow: the queue entry, weight and light, ray, origin, the primitive it left, and
             // the radiance, which gets the unblocked light and the ray's count.
             let r = WORD + VEC4 + VEC4 + XYZ + WORD + VEC4;
@@ -328,6 +218,178 @@ impl StateTraffic {
             bytes_per_sample: total as f64 / n.samples.max(1) as f64,
             passes,
             first_bounce: n.first_bounce.map(|(h, c)| [h, c]),
+        }
+    }
+}
+
+/// How the counted items divide among the passes' cases.
+struct Flow {
+    hits: u64,
+    escapes: u64,
+    /// Paths that end in shade, and those that go on from it.
+    shade_ends: u64,
+    continuing: u64,
+    /// Camera rays that escape and that hit, and paths that go on from a camera ray's hit
+    /// (from bounce 0), and those that end there.
+    camera_escapes: u64,
+    camera_hits: u64,
+    first_continuing: u64,
+    first_ends: u64,
+    /// Bytes an ending path reads and writes (`finish_path`).
+    finish_r: u64,
+    finish_w: u64,
+    /// Bytes a sample started in place writes (`--refill in-place`).
+    restart_w: u64,
+}
+
+impl Flow {
+    fn new(s: &Shape, n: &Items) -> Self {
+        let hits: u64 = n.hits.iter().sum();
+        let escapes = n.rays.saturating_sub(hits);
+        // Every sample ends once: escaping in intersect, in shade, or in the tail.
+        let shade_ends = n.samples.saturating_sub(escapes + n.tail_paths).min(hits);
+        let continuing = hits - shade_ends;
+        // Camera rays' escapes and hits read no radiance or throughput (none is stored yet);
+        // the paths going on from bounce 0 write their first radiance.
+        // Without the per-bounce counts: no camera ray's escape or hit spared a read, and every
+        // path charged a first radiance.
+        let (camera_escapes, camera_hits, first_continuing) = match n.first_bounce {
+            Some((h, c)) => (n.samples.saturating_sub(h).min(escapes), h.min(hits), c.min(continuing)),
+            None => (0, 0, continuing.min(n.samples)),
+        };
+        let first_ends = camera_hits.saturating_sub(first_continuing).min(shade_ends);
+        let (finish_r, finish_w) = s.finish();
+        // (--refill in-place) A sample started where a path ended: its start and queue entry
+        // written by intersect or shade, instead of the slot's free-list entry (written there,
+        // read by the refill pass).
+        let free_w = if s.regenerate && !s.slot_order { WORD } else { 0 };
+        let restart_w = (s.start_written() + WORD).saturating_sub(free_w);
+        Self {
+            hits,
+            escapes,
+            shade_ends,
+            continuing,
+            camera_escapes,
+            camera_hits,
+            first_continuing,
+            first_ends,
+            finish_r,
+            finish_w,
+            restart_w,
+        }
+    }
+}
+
+type Add<'a> = dyn FnMut(&str, u64, u64, u64) + 'a;
+
+impl Shape {
+    /// Bytes a camera ray's start writes: origin and direction (unless made in place), the
+    /// slot's sample and bounce (regenerate).
+    fn start_written(&self) -> u64 {
+        let camera_ray = if self.camera_in_place { 0 } else { 2 * VEC4 };
+        camera_ray + if self.regenerate { PATH_SAMPLE } else { 0 }
+    }
+
+    /// Camera rays started by the generate (or refill) pass, and (regenerate) the slots emptied
+    /// at a share's start.
+    fn start(&self, n: &Items, add: &mut Add) {
+        let s = self;
+        // The queue entry (waves: written, and the slot-order mark; regenerate: the free slot
+        // read and the ray queue entry written). (A wave's camera rays made in place need no
+        // queue: intersect takes its slots in order.)
+        let (start_qr, start_qw) = match (s.regenerate, s.camera_in_place) {
+            (true, _) => (WORD, WORD),
+            (false, true) => (0, 0),
+            (false, false) => (0, WORD),
+        };
+        let slot_mark = if s.slot_order && !s.regenerate { WORD } else { 0 };
+        let label = if s.regenerate { label::REGENERATE } else { label::GENERATE };
+        let (refilled_i, refilled_s) = n.refilled;
+        let started = n.samples.saturating_sub(refilled_i + refilled_s);
+        let written = s.start_written() + start_qw + slot_mark;
+        add(label, started, started * start_qr, started * written);
+        if s.regenerate {
+            // Every slot freed: its queue entry, dead direction word and slot-order mark.
+            let w = WORD + WORD + if s.slot_order { WORD } else { 0 };
+            add(label::REGENERATE_INIT, n.init_slots, 0, n.init_slots * w);
+        }
+    }
+
+    /// intersect: the queue entry, the ray (origin.xyz, direction with the primitive it left; a
+    /// camera ray made in place reads only, when regenerating, its sample); a hit writes its
+    /// distance and primitive and queues the material; an escape adds the background to the
+    /// radiance (past bounce 0: read with the throughput) and ends.
+    fn intersect(&self, n: &Items, f: &Flow, add: &mut Add) {
+        let s = self;
+        let hit_w = 2 * WORD + s.enqueue();
+        let later_escapes = f.escapes - f.camera_escapes;
+        // (In place: regenerating, the marked queue entry and the sample; a wave's, nothing.)
+        let (camera_rays, camera_read) = match (s.camera_in_place, s.regenerate) {
+            (false, _) => (0, 0),
+            (true, true) => (n.samples.min(n.rays), WORD + PATH_SAMPLE),
+            (true, false) => (n.samples.min(n.rays), 0),
+        };
+        let read = camera_rays * camera_read
+            + (n.rays - camera_rays) * (WORD + XYZ + VEC4)
+            + later_escapes * (XYZ + VEC4)
+            + f.escapes * f.finish_r;
+        let written =
+            f.hits * hit_w + f.escapes * (WORD + s.retire() + f.finish_w) + n.refilled.0 * f.restart_w;
+        add(label::INTERSECT, n.rays, read, written);
+    }
+
+    /// shade: the queue entry, the ray with its hit, the throughput and MIS density (past bounce
+    /// 0), the slot's sample and bounce; a path going on writes its next ray and throughput (and
+    /// bounce; from bounce 0 its first radiance) and queues it, and at a diffuse hit with NEE its
+    /// shadow ray and weight; an ending path adds what it found to its radiance (past bounce 0:
+    /// read) and ends.
+    fn shade(&self, n: &Items, f: &Flow, add: &mut Add) {
+        let s = self;
+        let shade_r = WORD + 2 * VEC4 + if s.regenerate { PATH_SAMPLE } else { 0 };
+        // A camera hit made in place reads its hit's distance and primitive, not the ray.
+        let camera_spared = if s.camera_in_place { 2 * VEC4 - 2 * WORD } else { 0 };
+        let go_w = 3 * VEC4 + if s.regenerate { WORD } else { 0 } + s.enqueue();
+        let end_w = WORD + s.retire() + f.finish_w;
+        // A shadow ray queued: its ray and weight (and queue entry) written for the shadow pass;
+        // traced inline: the radiance read and written with what it found (an upper bound: from
+        // bounce 0 no radiance is read, and the write repeats the first one).
+        let (shadow_r, shadow_w) = if s.inline_shadow {
+            (VEC4, VEC4)
+        } else {
+            (0, 2 * VEC4 + if s.atomic && !s.slot_order { WORD } else { 0 })
+        };
+        let read = n.shadow * shadow_r
+            + f.hits * shade_r
+            + (f.hits - f.camera_hits) * VEC4
+            + f.shade_ends * f.finish_r
+            + (f.shade_ends - f.first_ends) * VEC4
+            - f.camera_hits * camera_spared;
+        let written = f.continuing * go_w
+            + f.first_continuing * VEC4
+            + f.shade_ends * end_w
+            + n.shadow * shadow_w
+            + n.refilled.1 * f.restart_w;
+        add("shade", f.hits, read, written);
+    }
+
+    /// The pass that builds the next queues from marks: slot order's sweep, or the scan.
+    fn compaction(&self, n: &Items, f: &Flow, add: &mut Add) {
+        let s = self;
+        if s.sweep {
+            // Every slot's mark read; continuing rays, shadow rays and (regenerate) ended paths'
+            // slots appended.
+            let queued_shadow = if s.inline_shadow { 0 } else { n.shadow };
+            let appends = f.continuing + queued_shadow + if s.regenerate { n.samples } else { 0 };
+            add(label::SLOT_SWEEP, n.slot_visits, n.slot_visits * WORD, appends * WORD);
+        } else if !s.atomic || s.slot_order {
+            // The scan: each position's mark read by the scan and the scatter, its offset written
+            // and read, its slot read (arrival order), its queue entry written; after intersect
+            // (scan method: the material queues) and after shade (the next ray queue).
+            let per = 2 * WORD + 2 * WORD + if s.slot_order { 0 } else { WORD };
+            let after_shade = if s.slot_order { n.slot_visits } else { f.hits };
+            let positions = after_shade + if s.atomic { 0 } else { n.rays };
+            let entries = f.continuing + if s.atomic { 0 } else { f.hits };
+            add("compact", positions, positions * (per - WORD), positions * WORD + entries * WORD);
         }
     }
 }
@@ -462,108 +524,31 @@ mod tests {
     /// calls), read or written.
     fn reached(source: &str, entry: &str) -> BTreeSet<String> {
         let module = naga::front::wgsl::parse_str(source).expect("the composed shader parses");
-        let ep = module.entry_points.iter().find(|e| e.name == entry).expect("entry point");
-        let mut names = BTreeSet::new();
-        let mut stack = vec![&ep.function];
-        let mut seen = BTreeSet::new();
-        while let Some(f) = stack.pop() {
-            for (_, e) in f.expressions.iter() {
-                match e {
-                    naga::Expression::GlobalVariable(g) => {
-                        if let Some(n) = &module.global_variables[*g].name {
-                            if STATE.contains(&n.as_str()) {
-                                names.insert(n.clone());
-                            }
-                        }
-                    }
-                    naga::Expression::CallResult(h) if seen.insert(*h) => stack.push(&module.functions[*h]),
-                    _ => {}
-                }
-            }
-            // Calls without a result are statements.
-            fn calls(block: &naga::Block, out: &mut Vec<naga::Handle<naga::Function>>) {
-                for s in block.iter() {
-                    match s {
-                        naga::Statement::Call { function, .. } => out.push(*function),
-                        naga::Statement::Block(b) => calls(b, out),
-                        naga::Statement::If { accept, reject, .. } => {
-                            calls(accept, out);
-                            calls(reject, out);
-                        }
-                        naga::Statement::Loop { body, continuing, .. } => {
-                            calls(body, out);
-                            calls(continuing, out);
-                        }
-                        naga::Statement::Switch { cases, .. } => {
-                            for c in cases {
-                                calls(&c.body, out);
-                            }
-                        }
-                        _ => {}
-                    }
-                }
-            }
-            let mut called = Vec::new();
-            calls(&f.body, &mut called);
-            for h in called {
-                if seen.insert(h) {
-                    stack.push(&module.functions[h]);
-                }
-            }
-        }
-        names
+        let m = crate::gpu::stage_cache::reached(&module, entry).expect("entry point");
+        let names = m.global_variables.iter().filter_map(|(_, g)| g.name.clone());
+        names.filter(|n| STATE.contains(&n.as_str())).collect()
     }
 
     /// The fields the model charges a pass with, under any of the shapes.
     fn modelled(label: &str) -> BTreeSet<String> {
-        let fields: &[&str] = match label {
+        // What intersect and shade both reach.
+        let path =
+            "queues path_origin path_dir path_throughput radiance next_queue scan_slot path_sample samples";
+        let fields: String = match label {
             // shadow_weight: cleared without queues only, where the model does not apply.
-            "generate" => {
-                &["path_origin", "path_dir", "shadow_weight", "queues", "next_queue", "path_sample"]
-            }
-            "regenerate" => &["path_origin", "path_dir", "shadow_weight", "queues", "path_sample"],
-            "regenerate_init" => &["queues", "path_dir", "next_queue", "shadow_weight"],
+            "generate" => "path_origin path_dir shadow_weight queues next_queue path_sample".into(),
+            "regenerate" => "path_origin path_dir shadow_weight queues path_sample".into(),
+            "regenerate_init" => "queues path_dir next_queue shadow_weight".into(),
             // shadow_weight: reached through a refill in place's `start_path`, which clears it
             // without queues only (a refill in place needs them).
-            "intersect" => &[
-                "queues",
-                "path_origin",
-                "path_dir",
-                "path_throughput",
-                "radiance",
-                "next_queue",
-                "scan_slot",
-                "path_sample",
-                "samples",
-                "shadow_weight",
-            ],
-            "shade" => &[
-                "queues",
-                "path_origin",
-                "path_dir",
-                "path_throughput",
-                "radiance",
-                "next_queue",
-                "scan_slot",
-                "path_sample",
-                "samples",
-                "shadow_ray",
-                "shadow_weight",
-            ],
-            "shadow" => &["queues", "shadow_weight", "shadow_ray", "path_origin", "path_dir", "radiance"],
-            "tail" => &[
-                "queues",
-                "path_origin",
-                "path_dir",
-                "path_throughput",
-                "radiance",
-                "path_sample",
-                "samples",
-            ],
-            "slot_sweep" => &["next_queue", "queues"],
+            "intersect" => format!("{path} shadow_weight"),
+            "shade" => format!("{path} shadow_ray shadow_weight"),
+            "shadow" => "queues shadow_weight shadow_ray path_origin path_dir radiance".into(),
+            "tail" => "queues path_origin path_dir path_throughput radiance path_sample samples".into(),
+            "slot_sweep" => "next_queue queues".into(),
             other => panic!("no model for {other}"),
         };
-        fields.iter().map(|s| s.to_string()).collect()
+        fields.split_whitespace().map(str::to_string).collect()
     }
 
     /// Each modelled pass's shader reaches exactly the path-state variables the model charges it
