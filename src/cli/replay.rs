@@ -3,7 +3,6 @@
 //! execution efficiency and the subgroup-iterations an ideal W-lane machine issues.
 
 use super::job::{CompactionMethod, OnOff};
-use crate::camera::CameraFrame;
 use crate::chart::{LineChart, Series};
 use crate::gpu::instrument::FRAME_KEY;
 use crate::gpu::megakernel::{MegakernelOptions, DEFAULT_THREADS_DISCRETE};
@@ -177,10 +176,7 @@ pub fn run(a: ReplayArgs) -> Result<()> {
     );
     let job = Job {
         a: &a,
-        packed: &packed,
-        frame: &frame,
-        settings: &settings,
-        widths: &widths,
+        target: ReplayJob::new(&packed, &frame, &settings, &widths),
         wf: &wf,
         pool,
         paths_per_thread,
@@ -286,10 +282,8 @@ fn paths_per_thread(a: &ReplayArgs, packed: &PackedScene, settings: &RenderSetti
 /// What every method's replay reads.
 struct Job<'a> {
     a: &'a ReplayArgs,
-    packed: &'a PackedScene,
-    frame: &'a CameraFrame,
-    settings: &'a RenderSettings,
-    widths: &'a [u32],
+    /// The scene, camera, settings and widths every method replays.
+    target: ReplayJob<'a>,
     wf: &'a WavefrontOptions,
     pool: u32,
     paths_per_thread: Option<u32>,
@@ -298,10 +292,6 @@ struct Job<'a> {
 type WidthCounts = Vec<(u32, SlotCounts)>;
 
 impl Job<'_> {
-    fn job(&self) -> ReplayJob<'_> {
-        ReplayJob::new(self.packed, self.frame, self.settings, self.widths)
-    }
-
     /// Replays one method: its counts per width and what the report says of its launch.
     fn replay(&self, m: ReplayMethod) -> Result<(WidthCounts, serde_json::Value)> {
         match m {
@@ -319,7 +309,7 @@ impl Job<'_> {
             max_threads: 65535u32.saturating_mul(a.workgroup_size),
             every: a.every,
         };
-        let r = megakernel::replay(self.job(), launch);
+        let r = megakernel::replay(self.target, launch);
         let about = serde_json::json!({
             "dispatches": r.dispatches, "every": a.every, "blocks": r.blocks, "blocks_replayed": r.blocks_replayed,
         });
@@ -336,7 +326,7 @@ impl Job<'_> {
             resident: a.resident_subgroups,
             every: a.every,
         };
-        let r = regenerate::replay(self.job(), launch)?;
+        let r = regenerate::replay(self.target, launch)?;
         let about = serde_json::json!({
             "dispatches": r.dispatches, "threads": a.threads, "paths_per_thread": self.paths_per_thread,
             "resident_subgroups": a.resident_subgroups, "every": a.every,
@@ -360,7 +350,7 @@ impl Job<'_> {
             chunk_pools: wf.chunk_pools,
             every: a.every,
         };
-        let r = wavefront::replay(self.job(), launch)?;
+        let r = wavefront::replay(self.target, launch)?;
         let mut about = serde_json::json!({
             "dispatches": r.dispatches, "shares": r.waves, "shares_replayed": r.waves_replayed,
             "samples_replayed": r.samples_replayed, "every": a.every, "pool": self.pool,

@@ -180,7 +180,7 @@ impl StateTraffic {
     /// The model for a render of `shape` with `items`.
     pub fn model(shape: &Shape, items: &Items) -> Self {
         let (s, n) = (shape, items);
-        let f = Flow::new(s, n);
+        let f = Flow::new(n);
         let mut passes = Vec::new();
         let mut add = |label: &str, items: u64, read: u64, written: u64| {
             passes.push(PassTraffic {
@@ -235,15 +235,10 @@ struct Flow {
     camera_hits: u64,
     first_continuing: u64,
     first_ends: u64,
-    /// Bytes an ending path reads and writes (`finish_path`).
-    finish_r: u64,
-    finish_w: u64,
-    /// Bytes a sample started in place writes (`--refill in-place`).
-    restart_w: u64,
 }
 
 impl Flow {
-    fn new(s: &Shape, n: &Items) -> Self {
+    fn new(n: &Items) -> Self {
         let hits: u64 = n.hits.iter().sum();
         let escapes = n.rays.saturating_sub(hits);
         // Every sample ends once: escaping in intersect, in shade, or in the tail.
@@ -258,12 +253,6 @@ impl Flow {
             None => (0, 0, continuing.min(n.samples)),
         };
         let first_ends = camera_hits.saturating_sub(first_continuing).min(shade_ends);
-        let (finish_r, finish_w) = s.finish();
-        // (--refill in-place) A sample started where a path ended: its start and queue entry
-        // written by intersect or shade, instead of the slot's free-list entry (written there,
-        // read by the refill pass).
-        let free_w = if s.regenerate && !s.slot_order { WORD } else { 0 };
-        let restart_w = (s.start_written() + WORD).saturating_sub(free_w);
         Self {
             hits,
             escapes,
@@ -273,9 +262,6 @@ impl Flow {
             camera_hits,
             first_continuing,
             first_ends,
-            finish_r,
-            finish_w,
-            restart_w,
         }
     }
 }
@@ -290,27 +276,34 @@ impl Shape {
         camera_ray + if self.regenerate { PATH_SAMPLE } else { 0 }
     }
 
+    /// (--refill in-place) Bytes a sample started where a path ended writes: its start and queue
+    /// entry, written by intersect or shade, instead of the slot's free-list entry (written
+    /// there, read by the refill pass).
+    fn restart_written(&self) -> u64 {
+        let free_w = if self.regenerate && !self.slot_order { WORD } else { 0 };
+        (self.start_written() + WORD).saturating_sub(free_w)
+    }
+
     /// Camera rays started by the generate (or refill) pass, and (regenerate) the slots emptied
     /// at a share's start.
     fn start(&self, n: &Items, add: &mut Add) {
-        let s = self;
         // The queue entry (waves: written, and the slot-order mark; regenerate: the free slot
         // read and the ray queue entry written). (A wave's camera rays made in place need no
         // queue: intersect takes its slots in order.)
-        let (start_qr, start_qw) = match (s.regenerate, s.camera_in_place) {
+        let (start_qr, start_qw) = match (self.regenerate, self.camera_in_place) {
             (true, _) => (WORD, WORD),
             (false, true) => (0, 0),
             (false, false) => (0, WORD),
         };
-        let slot_mark = if s.slot_order && !s.regenerate { WORD } else { 0 };
-        let label = if s.regenerate { label::REGENERATE } else { label::GENERATE };
+        let slot_mark = if self.slot_order && !self.regenerate { WORD } else { 0 };
+        let label = if self.regenerate { label::REGENERATE } else { label::GENERATE };
         let (refilled_i, refilled_s) = n.refilled;
         let started = n.samples.saturating_sub(refilled_i + refilled_s);
-        let written = s.start_written() + start_qw + slot_mark;
+        let written = self.start_written() + start_qw + slot_mark;
         add(label, started, started * start_qr, started * written);
-        if s.regenerate {
+        if self.regenerate {
             // Every slot freed: its queue entry, dead direction word and slot-order mark.
-            let w = WORD + WORD + if s.slot_order { WORD } else { 0 };
+            let w = WORD + WORD + if self.slot_order { WORD } else { 0 };
             add(label::REGENERATE_INIT, n.init_slots, 0, n.init_slots * w);
         }
     }
@@ -320,11 +313,11 @@ impl Shape {
     /// distance and primitive and queues the material; an escape adds the background to the
     /// radiance (past bounce 0: read with the throughput) and ends.
     fn intersect(&self, n: &Items, f: &Flow, add: &mut Add) {
-        let s = self;
-        let hit_w = 2 * WORD + s.enqueue();
+        let (finish_r, finish_w) = self.finish();
+        let hit_w = 2 * WORD + self.enqueue();
         let later_escapes = f.escapes - f.camera_escapes;
         // (In place: regenerating, the marked queue entry and the sample; a wave's, nothing.)
-        let (camera_rays, camera_read) = match (s.camera_in_place, s.regenerate) {
+        let (camera_rays, camera_read) = match (self.camera_in_place, self.regenerate) {
             (false, _) => (0, 0),
             (true, true) => (n.samples.min(n.rays), WORD + PATH_SAMPLE),
             (true, false) => (n.samples.min(n.rays), 0),
@@ -332,9 +325,10 @@ impl Shape {
         let read = camera_rays * camera_read
             + (n.rays - camera_rays) * (WORD + XYZ + VEC4)
             + later_escapes * (XYZ + VEC4)
-            + f.escapes * f.finish_r;
-        let written =
-            f.hits * hit_w + f.escapes * (WORD + s.retire() + f.finish_w) + n.refilled.0 * f.restart_w;
+            + f.escapes * finish_r;
+        let written = f.hits * hit_w
+            + f.escapes * (WORD + self.retire() + finish_w)
+            + n.refilled.0 * self.restart_written();
         add(label::INTERSECT, n.rays, read, written);
     }
 
@@ -344,51 +338,50 @@ impl Shape {
     /// shadow ray and weight; an ending path adds what it found to its radiance (past bounce 0:
     /// read) and ends.
     fn shade(&self, n: &Items, f: &Flow, add: &mut Add) {
-        let s = self;
-        let shade_r = WORD + 2 * VEC4 + if s.regenerate { PATH_SAMPLE } else { 0 };
+        let (finish_r, finish_w) = self.finish();
+        let shade_r = WORD + 2 * VEC4 + if self.regenerate { PATH_SAMPLE } else { 0 };
         // A camera hit made in place reads its hit's distance and primitive, not the ray.
-        let camera_spared = if s.camera_in_place { 2 * VEC4 - 2 * WORD } else { 0 };
-        let go_w = 3 * VEC4 + if s.regenerate { WORD } else { 0 } + s.enqueue();
-        let end_w = WORD + s.retire() + f.finish_w;
+        let camera_spared = if self.camera_in_place { 2 * VEC4 - 2 * WORD } else { 0 };
+        let go_w = 3 * VEC4 + if self.regenerate { WORD } else { 0 } + self.enqueue();
+        let end_w = WORD + self.retire() + finish_w;
         // A shadow ray queued: its ray and weight (and queue entry) written for the shadow pass;
         // traced inline: the radiance read and written with what it found (an upper bound: from
         // bounce 0 no radiance is read, and the write repeats the first one).
-        let (shadow_r, shadow_w) = if s.inline_shadow {
+        let (shadow_r, shadow_w) = if self.inline_shadow {
             (VEC4, VEC4)
         } else {
-            (0, 2 * VEC4 + if s.atomic && !s.slot_order { WORD } else { 0 })
+            (0, 2 * VEC4 + if self.atomic && !self.slot_order { WORD } else { 0 })
         };
         let read = n.shadow * shadow_r
             + f.hits * shade_r
             + (f.hits - f.camera_hits) * VEC4
-            + f.shade_ends * f.finish_r
+            + f.shade_ends * finish_r
             + (f.shade_ends - f.first_ends) * VEC4
             - f.camera_hits * camera_spared;
         let written = f.continuing * go_w
             + f.first_continuing * VEC4
             + f.shade_ends * end_w
             + n.shadow * shadow_w
-            + n.refilled.1 * f.restart_w;
+            + n.refilled.1 * self.restart_written();
         add("shade", f.hits, read, written);
     }
 
     /// The pass that builds the next queues from marks: slot order's sweep, or the scan.
     fn compaction(&self, n: &Items, f: &Flow, add: &mut Add) {
-        let s = self;
-        if s.sweep {
+        if self.sweep {
             // Every slot's mark read; continuing rays, shadow rays and (regenerate) ended paths'
             // slots appended.
-            let queued_shadow = if s.inline_shadow { 0 } else { n.shadow };
-            let appends = f.continuing + queued_shadow + if s.regenerate { n.samples } else { 0 };
+            let queued_shadow = if self.inline_shadow { 0 } else { n.shadow };
+            let appends = f.continuing + queued_shadow + if self.regenerate { n.samples } else { 0 };
             add(label::SLOT_SWEEP, n.slot_visits, n.slot_visits * WORD, appends * WORD);
-        } else if !s.atomic || s.slot_order {
+        } else if !self.atomic || self.slot_order {
             // The scan: each position's mark read by the scan and the scatter, its offset written
             // and read, its slot read (arrival order), its queue entry written; after intersect
             // (scan method: the material queues) and after shade (the next ray queue).
-            let per = 2 * WORD + 2 * WORD + if s.slot_order { 0 } else { WORD };
-            let after_shade = if s.slot_order { n.slot_visits } else { f.hits };
-            let positions = after_shade + if s.atomic { 0 } else { n.rays };
-            let entries = f.continuing + if s.atomic { 0 } else { f.hits };
+            let per = 2 * WORD + 2 * WORD + if self.slot_order { 0 } else { WORD };
+            let after_shade = if self.slot_order { n.slot_visits } else { f.hits };
+            let positions = after_shade + if self.atomic { 0 } else { n.rays };
+            let entries = f.continuing + if self.atomic { 0 } else { f.hits };
             add("compact", positions, positions * (per - WORD), positions * WORD + entries * WORD);
         }
     }
