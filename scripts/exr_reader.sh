@@ -21,7 +21,7 @@ if ! { command -v python3 >/dev/null && python3 -m venv --help >/dev/null 2>&1 &
   sudo=""
   if [ "$(id -u)" != 0 ]; then sudo="sudo"; fi
   $sudo apt-get update -qq >&2
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq python3 python3-venv >/dev/null
+  $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq python3 python3-venv >/dev/null
 fi
 rm -rf "$venv"
 python3 -m venv "$venv" >&2

@@ -25,7 +25,7 @@ done
 if ! command -v chromium >/dev/null; then
   sudo=; [ "$(id -u)" -ne 0 ] && sudo=sudo
   $sudo apt-get update -qq
-  $sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends chromium >/dev/null
+  $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends chromium >/dev/null
 fi
 if [ ! -f "$report" ] && [ "$report" = out/quick/report.html ]; then
   bash scripts/main.sh >/dev/null

@@ -18,7 +18,7 @@ if ! WGPU_BACKEND=vulkan "$WAVETRACE_BIN" info >/dev/null 2>&1; then
   sudo=""
   if [ "$(id -u)" != 0 ]; then sudo="sudo"; fi
   $sudo apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq mesa-vulkan-drivers >/dev/null
+  $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq mesa-vulkan-drivers >/dev/null
   WGPU_BACKEND=vulkan "$WAVETRACE_BIN" info >/dev/null || { WGPU_BACKEND=vulkan "$WAVETRACE_BIN" info; exit 1; }
 fi
 "$WAVETRACE_BIN" info | sed -n '1,/^chosen/p'
