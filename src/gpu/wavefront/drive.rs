@@ -53,19 +53,16 @@ impl Drive<'_> {
     ) -> Result<u32> {
         let (ctx, state) = (self.ctx, &self.b.state);
         let tail = self.stages.graph.phase(Phase::Decided).any(|p| p.label == crate::gpu::label::TAIL);
-        let sync_every = self.opts.sync_every;
         self.start_share(r, tail);
-        let mut stall = schedule::Progress::new(r.paths, self.max_depth, sync_every);
+        let mut stall = schedule::Progress::new(r.paths, self.max_depth, self.opts.sync_every);
         // Whether the first refill starts every sample (it starts a pool of them, up to the
         // ring's end): then later iterations record no refill passes.
         let one_refill = r.paths <= self.pool.min(r.fill_limit(0));
         let bytes = schedule::ChunkCounters::bytes(r);
         let mut pending = std::collections::VecDeque::new();
         let mut next_staging = 0;
-        // Iterations recorded, and the dispatches and compute passes recorded up to each one's
-        // end (its decision passes included): the share's own counts once the GPU says how many
-        // it ran.
-        let mut recorded = 0u32;
+        // The dispatches and compute passes recorded up to each iteration's end (its decision
+        // passes included): the share's own counts once the GPU says how many it ran.
         let mut dispatches_at = Vec::new();
         let mut ran = None;
         // Reads a batch's counters back once mapped: Some(iterations) when the share is done.
@@ -106,20 +103,7 @@ impl Drive<'_> {
                 ran = read(req, k)?;
                 continue;
             }
-            for _ in 0..sync_every {
-                if wave.timer.remaining() < self.stages.graph.per_iteration() + 1 {
-                    wave.submit_and_wait(ctx)?;
-                }
-                // With the tail the GPU may check after any iteration (every one once every
-                // sample has started), so it decides after each; else after every batch.
-                let decide = tail || (recorded + 1).is_multiple_of(sync_every);
-                self.stages.record(wave, Phase::Iteration, recorded, recorded == 0 || !one_refill, decide);
-                if decide {
-                    self.stages.record(wave, Phase::Decided, recorded, false, false);
-                }
-                recorded += 1;
-                dispatches_at.push((wave.dispatches, wave.compute_passes));
-            }
+            self.record_batch(wave, tail, one_refill, &mut dispatches_at)?;
             let k = next_staging;
             next_staging = (k + 1) % staging.len();
             staging[k].copy(wave.encoder().0, &state.counters, bytes);
@@ -142,6 +126,33 @@ impl Drive<'_> {
         let ran = ran.expect("the loop ends once a read-back says the share is done");
         own_counts(wave, stats, ran, &dispatches_at)?;
         Ok(ran)
+    }
+
+    /// (regenerate) Records one batch of `--sync-every` iterations after the `dispatches_at.len()`
+    /// recorded so far, pushing each one's dispatch and compute-pass counts.
+    fn record_batch(
+        &self,
+        wave: &mut WaveRecorder<'_>,
+        tail: bool,
+        one_refill: bool,
+        dispatches_at: &mut Vec<(u64, u64)>,
+    ) -> Result<()> {
+        let sync_every = self.opts.sync_every;
+        for _ in 0..sync_every {
+            let recorded = dispatches_at.len() as u32;
+            if wave.timer.remaining() < self.stages.graph.per_iteration() + 1 {
+                wave.submit_and_wait(self.ctx)?;
+            }
+            // With the tail the GPU may check after any iteration (every one once every sample
+            // has started), so it decides after each; else after every batch.
+            let decide = tail || (recorded + 1).is_multiple_of(sync_every);
+            self.stages.record(wave, Phase::Iteration, recorded, recorded == 0 || !one_refill, decide);
+            if decide {
+                self.stages.record(wave, Phase::Decided, recorded, false, false);
+            }
+            dispatches_at.push((wave.dispatches, wave.compute_passes));
+        }
+        Ok(())
     }
 
     /// (regenerate) The decision pass's knobs and the refills' first limit, written before a

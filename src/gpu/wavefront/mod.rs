@@ -95,7 +95,7 @@ use super::gpu_render::GpuRender;
 use super::instrument::Coherence;
 use super::loop_limit::check_loop_limit;
 use super::memory::{MemoryCategory, MemoryLedger};
-use super::timing::{GpuTimer, Measure};
+use super::timing::{GpuTimer, Measure, Timings};
 use crate::camera::CameraFrame;
 use crate::film::Film;
 use crate::layout::FilmPixel;
@@ -247,16 +247,7 @@ pub fn render(
         count_when_done(ctx, &finished, paths as u64, on_progress)?;
     }
 
-    if let Some(h) = histogram.as_mut() {
-        h.trim();
-    }
-    if opts.compaction != Compaction::Off {
-        stats.state_traffic = Some(model_traffic(&plan, opts, settings, &stats, histogram.as_ref()));
-    }
-    let timings = timer.into_timings();
-    if let Some(t) = &mut stats.state_traffic {
-        t.add_times(&timings);
-    }
+    let timings = close_counts(&plan, opts, settings, &mut stats, histogram.as_mut(), timer);
     memory.transient(film_bytes);
     let film =
         Film::from_gpu(settings.width, settings.height, settings.spp, &read_back(ctx, &film, film_bytes)?);
@@ -281,6 +272,30 @@ pub fn render(
         coherence,
         resolved: plan.resolved(opts, shared_passes),
     })
+}
+
+/// The render's timings, once its counts are closed: the histogram trimmed, and the state
+/// traffic modelled from the counts (with queues) and given the passes' times.
+fn close_counts(
+    plan: &Plan,
+    opts: &WavefrontOptions,
+    settings: &RenderSettings,
+    stats: &mut ScheduleStats,
+    histogram: Option<&mut QueueHistogram>,
+    timer: GpuTimer,
+) -> Timings {
+    let histogram = histogram.map(|h| {
+        h.trim();
+        &*h
+    });
+    if opts.compaction != Compaction::Off {
+        stats.state_traffic = Some(model_traffic(plan, opts, settings, stats, histogram));
+    }
+    let timings = timer.into_timings();
+    if let Some(t) = &mut stats.state_traffic {
+        t.add_times(&timings);
+    }
+    timings
 }
 
 /// Adds `paths` to `finished` once the GPU has done what is submitted, and reports what has

@@ -69,6 +69,19 @@ pub struct Plan {
     pub layout: PoolLayout,
 }
 
+/// The shade passes' queue bits: one per material kind's pass, then one per pattern's; none for
+/// the sorted pass (queue_setup_shade counts it itself).
+fn shade_mask(shade: ShadePasses, kinds: &[u32], patterns: &[u32]) -> u32 {
+    match shade {
+        ShadePasses::Single => 1,
+        ShadePasses::Sorted => 0,
+        ShadePasses::PerMaterial | ShadePasses::PerTexture => {
+            kinds.iter().fold(0, |m, k| m | 1 << k)
+                | patterns.iter().fold(0, |m, p| m | 1 << (KINDS as u32 + p))
+        }
+    }
+}
+
 impl Plan {
     /// The plan of `opts` (resolved: `schedule` is what runs) for this scene and job.
     pub fn new(
@@ -108,23 +121,13 @@ impl Plan {
             ring: if regenerate { ring.ring } else { 0 },
             refill_live: refill::refill_live(opts.refill_below, pool),
         };
-        // A bit per material kind's pass, then one per pattern's; none for the sorted pass
-        // (queue_setup_shade counts it itself).
-        let shade_mask = match opts.shade {
-            ShadePasses::Single => 1,
-            ShadePasses::Sorted => 0,
-            ShadePasses::PerMaterial | ShadePasses::PerTexture => {
-                kinds.iter().fold(0, |m, k| m | 1 << k)
-                    | patterns.iter().fold(0, |m, p| m | 1 << (KINDS as u32 + p))
-            }
-        };
         let flag = |on: bool| on as u32 as f64;
         let knobs = vec![
             ("REGENERATE", flag(regenerate)),
             knob::refill::constant(opts, regenerate),
             knob::compaction::constant(opts),
             knob::shade::constant(opts),
-            ("SHADE_MASK", shade_mask as f64),
+            ("SHADE_MASK", shade_mask(opts.shade, &kinds, &patterns) as f64),
             ("QUEUE_ORDER", queue_order.word() as f64),
             knob::compact_states::constant(opts),
             ("CAMERA_IN_PLACE", flag(camera_in_place)),
