@@ -30,9 +30,9 @@ if [ -z "${XDG_RUNTIME_DIR:-}" ]; then export NODEVICE_SELECT=${NODEVICE_SELECT:
 skipped="${CARGO_TARGET_DIR:-target}/tmp/skipped-checks.txt"
 rm -f "$skipped"
 # Twice as many test threads as cores: a GPU test waits while its device's queue runs, and the
-# suite gives tests running at once their own devices (tests/suite/common: up to four), so on
-# the software driver a third and fourth test keep the cores busy (the suite with a cold shader
-# cache on 2 cores: 402 s with two threads and one device, 372 s with four and four).
+# suite gives tests running at once devices of their own (tests/suite/common: up to two), so
+# the other tests keep the cores busy (the suite with a cold shader cache on 2 cores: 402 s with
+# two threads and one device, 361 s with four threads and two devices).
 export RUST_TEST_THREADS=${RUST_TEST_THREADS:-$((2 * $(nproc)))}
 status=0
 cargo test --release --locked "$@" || status=$?

@@ -241,6 +241,7 @@ impl GpuContext {
             bind_group_layouts: &layouts,
             immediate_size: 0,
         });
+        let started = std::time::Instant::now();
         let pipeline = self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(label),
             layout: Some(&layout),
@@ -249,6 +250,9 @@ impl GpuContext {
             compilation_options: wgpu::PipelineCompilationOptions { constants, ..Default::default() },
             cache: None,
         });
+        // What the driver's compiler costs (RUST_LOG=wavetrace=debug): on the software driver,
+        // most of the test suite's time.
+        log::debug!("pipeline {label}: created in {:.3} s", started.elapsed().as_secs_f64());
         for scope in scopes.into_iter().rev() {
             if let Some(e) = pollster::block_on(scope.pop()) {
                 if self.adapter.get_info().backend == wgpu::Backend::Gl {

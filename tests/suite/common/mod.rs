@@ -10,10 +10,11 @@ use wavetrace::stats::z_test;
 /// The most GPU contexts (devices) the tests open at once. Tests running at the same time each
 /// get a context of their own while there are fewer than this: one device's queue runs its
 /// submissions one after another, and on the software driver a render's small dispatches leave
-/// cores idle that another test's queue can use (the wavefront tests ran in 83 s instead of 115 s
-/// on 2 cores with four contexts and four test threads). Each context keeps its own stage cache;
-/// Mesa's shader cache still compiles a pipeline once for all of them.
-const MAX_CONTEXTS: usize = 4;
+/// cores idle that another test's queue can use. But each device compiles its own pipelines
+/// (lavapipe caches no compiled shader across devices), and with a cold shader cache compiling
+/// is about half of the suite. The suite on 2 cores, four test threads, cold cache: one device
+/// 429 s (314 s of pipeline creation, 162% CPU), two 361 s (354 s), four 396 s (487 s).
+const MAX_CONTEXTS: usize = 2;
 
 struct Slot {
     ctx: OnceLock<Option<GpuContext>>,
