@@ -10,10 +10,10 @@ use wavetrace::stats::z_test;
 /// The most GPU contexts (devices) the tests open at once. Tests running at the same time each
 /// get a context of their own while there are fewer than this: one device's queue runs its
 /// submissions one after another, and on the software driver a render's small dispatches leave
-/// cores idle that another test's queue can use. But each device compiles its own pipelines
-/// (lavapipe caches no compiled shader across devices), and with a cold shader cache compiling
-/// is about half of the suite. The suite on 2 cores, four test threads, cold cache: one device
-/// 429 s (314 s of pipeline creation, 162% CPU), two 361 s (354 s), four 396 s (487 s).
+/// cores idle that another test's queue can use. But each device creates its own pipelines, and
+/// on lavapipe with a cold shader cache that is about half of the suite, paid again per device.
+/// The suite on 2 cores, four test threads, cold cache: one device 429 s (314 s of pipeline
+/// creation, 162% CPU), two 361 s (354 s), four 396 s (487 s).
 const MAX_CONTEXTS: usize = 2;
 
 struct Slot {
