@@ -44,7 +44,7 @@ fn bvh_traversal(c: &mut Criterion) {
                 b.iter(|| {
                     let (nodes, prims) = (packed.bvh_nodes(), &packed.primitives);
                     rays.iter()
-                        .filter(|r| closest_hit(nodes, prims, r, t_min, SphereHit::Stable).is_some())
+                        .filter(|r| closest_hit(nodes, prims, r, t_min, SphereHit::Stable, &mut ()).is_some())
                         .count()
                 })
             });
@@ -68,7 +68,7 @@ fn path_rays(
             let ray = camera.ray(x, y, [0.5, 0.5, 0.5, 0.5]);
             rays.push(ray);
             let nodes = packed.bvh_nodes();
-            if let Some(h) = closest_hit(nodes, &packed.primitives, &ray, t_min, SphereHit::Stable) {
+            if let Some(h) = closest_hit(nodes, &packed.primitives, &ray, t_min, SphereHit::Stable, &mut ()) {
                 let n = outward_normal(&packed.primitives[h.prim as usize], ray.at(h.t));
                 let n = if n.dot(ray.dir) > 0.0 { n * -1.0 } else { n };
                 let r = V3::new(s.range(-1.0, 1.0), s.range(-1.0, 1.0), s.range(-1.0, 1.0));

@@ -139,21 +139,10 @@ pub fn pop<N: Copy>(stack: &[N], top: &mut usize) -> Option<N> {
     Some(stack[*top])
 }
 
-/// The nearest hit in (t_min, ∞), spheres met by the `sphere` formula.
+/// The nearest hit in (t_min, ∞), spheres met by the `sphere` formula, reporting its steps to
+/// `observer` (`&mut ()`: none).
 #[inline(always)]
 pub fn closest_hit<T: Real>(
-    bvh: BvhRef,
-    prims: &[PrimitiveRecord],
-    ray: &Ray<T>,
-    t_min: T,
-    sphere: SphereHit,
-) -> Option<Hit<T>> {
-    closest_hit_observed(bvh, prims, ray, t_min, sphere, &mut ())
-}
-
-/// [`closest_hit`], reporting its steps to `observer`.
-#[inline(always)]
-pub fn closest_hit_observed<T: Real>(
     bvh: BvhRef,
     prims: &[PrimitiveRecord],
     ray: &Ray<T>,
@@ -280,9 +269,12 @@ mod tests {
         let ray = Ray { origin: V3::new(0.0f32, 0.0, 5.0), dir: V3::new(0.0, 0.0, -1.0) };
         for layout in [BvhLayout::Binary, BvhLayout::AilaLaine, BvhLayout::Wide] {
             let e = PackedScene::new(&empty, Accel::Bvh).with_bvh(layout, Default::default()).unwrap();
-            assert_eq!(closest_hit(e.bvh_nodes(), &e.primitives, &ray, 1e-3, SphereHit::Stable), None);
+            assert_eq!(
+                closest_hit(e.bvh_nodes(), &e.primitives, &ray, 1e-3, SphereHit::Stable, &mut ()),
+                None
+            );
             let s = PackedScene::new(&one, Accel::Bvh).with_bvh(layout, Default::default()).unwrap();
-            let hit = closest_hit(s.bvh_nodes(), &s.primitives, &ray, 1e-3, SphereHit::Stable);
+            let hit = closest_hit(s.bvh_nodes(), &s.primitives, &ray, 1e-3, SphereHit::Stable, &mut ());
             let want = super::hit_primitive(&s.primitives[0], &ray, 1e-3, f32::INFINITY, SphereHit::Stable);
             assert_eq!(hit.map(|h| (h.t, h.prim)), want.map(|t| (t, 0)), "{layout:?}");
             assert!(want.is_some());
@@ -316,8 +308,8 @@ mod tests {
             let dir = V3::new(s.range(-1.0, 1.0), s.range(-1.0, 0.5), s.range(-1.0, 1.0)).normalize();
             let ray = Ray { origin, dir };
             let (nodes, lin) = (bvh.bvh_nodes(), linear.bvh_nodes());
-            let a = closest_hit(nodes, &bvh.primitives, &ray, 1e-3f32, SphereHit::Stable);
-            let b = closest_hit(lin, &linear.primitives, &ray, 1e-3f32, SphereHit::Stable);
+            let a = closest_hit(nodes, &bvh.primitives, &ray, 1e-3f32, SphereHit::Stable, &mut ());
+            let b = closest_hit(lin, &linear.primitives, &ray, 1e-3f32, SphereHit::Stable, &mut ());
             if let Some(a) = a {
                 // Any-hit agrees: something before the closest hit's far side, nothing before it.
                 assert!(occluded(nodes, &bvh.primitives, &ray, 1e-3, a.t * 1.001, u32::MAX), "ray {i}");

@@ -1,7 +1,7 @@
 //! One path from camera to light: the book's `ray_color` as a loop; twin of the megakernel's
 //! `trace_path` in `shaders/megakernel.wgsl`.
 
-use super::bvh::{closest_hit_observed, occluder};
+use super::bvh::{closest_hit, occluder};
 use super::image_texture::surface_uv;
 use super::light::{diffuse_pdf, emission_weight, next_event};
 use super::observe::PathObserver;
@@ -53,8 +53,7 @@ pub fn trace_path<T: Real>(
     let mut from = NO_ORIGIN;
     for bounce in 0..max_depth {
         out.rays += 1;
-        let Some(hit) =
-            closest_hit_observed(scene.bvh_nodes(), &scene.primitives, &ray, t_min, sphere, observer)
+        let Some(hit) = closest_hit(scene.bvh_nodes(), &scene.primitives, &ray, t_min, sphere, observer)
         else {
             out.radiance = out.radiance + throughput.mul_elem(background(&scene.background, ray.dir));
             return out;

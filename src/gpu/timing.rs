@@ -342,13 +342,9 @@ impl GpuTimer {
 mod tests {
     use super::*;
 
-    fn timings(source: TimeSource) -> Timings {
-        Timings::new(source)
-    }
-
     #[test]
     fn timestamps_time_each_pass() {
-        let mut t = timings(TimeSource::Timestamps);
+        let mut t = Timings::new(TimeSource::Timestamps);
         let zeros =
             t.add_batch(&[("intersect", Some(0)), ("shade", Some(0))], Some(&[10, 30, 30, 40]), 1e6, 9.0);
         assert!(!zeros);
@@ -365,7 +361,7 @@ mod tests {
     /// Without timestamps no pass is given a share of its batch's time: it goes to `frame`.
     #[test]
     fn the_wall_clock_times_batches_not_passes() {
-        let mut t = timings(TimeSource::WallClock);
+        let mut t = Timings::new(TimeSource::WallClock);
         t.add_batch(&[("intersect", Some(0)), ("shade", Some(0))], None, 1.0, 0.5);
         t.add_batch(&[("intersect", Some(1))], None, 1.0, 0.25);
         assert_eq!(t.passes["intersect"], PassTime { seconds: 0.0, passes: 2 });
@@ -379,7 +375,7 @@ mod tests {
     /// source becomes the wall clock, earlier pass times move to `frame`.
     #[test]
     fn zero_timestamps_count_as_missing() {
-        let mut t = timings(TimeSource::Timestamps);
+        let mut t = Timings::new(TimeSource::Timestamps);
         assert!(!t.add_batch(&[("intersect", Some(0))], Some(&[0, 1000]), 1.0, 0.5));
         assert!(t.add_batch(&[("intersect", Some(1)), ("shade", Some(1))], Some(&[0, 0, 0, 0]), 1.0, 0.5));
         assert_eq!(t.source, TimeSource::WallClock);
